@@ -1,0 +1,568 @@
+use std::collections::HashMap;
+use std::fmt;
+
+use crate::parry::query::{PointQuery, RayCast};
+use crate::parry::shape::TriMesh;
+use crate::parry_adapter::{point_from_parry, point_to_parry, to_parry_pose, to_parry_vec, vec_from_parry};
+use crate::{Aabb, GeomError, Isometry3, Matrix3, Point3, Ray, Real, Vector3, parry};
+
+/// A triangle mesh in its own frame (for a scene object: the object frame), with a parry
+/// [`TriMesh`] and its bounding-volume hierarchy built once at construction.
+///
+/// Construction drops zero-area triangles and makes the winding consistent across every
+/// edge shared by exactly two triangles; a closed component is then turned outward (positive
+/// volume). Triangles are otherwise kept as given, so a mesh loaded from a file keeps its
+/// vertex order. Share one mesh between every object that uses the same asset by wrapping it
+/// in an `Arc`.
+///
+/// A mesh is a surface. [`Mesh::contains_point`] nevertheless answers "is this point inside the
+/// object" with the generalized winding number, which is exact for closed meshes and degrades
+/// gracefully for meshes with small holes (the usual state of real furniture assets).
+#[derive(Clone)]
+pub struct Mesh {
+    vertices: Vec<Point3>,
+    triangles: Vec<[u32; 3]>,
+    aabb: Aabb,
+    area: Real,
+    closed: bool,
+    shape: TriMesh,
+}
+
+impl fmt::Debug for Mesh {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Mesh")
+            .field("vertices", &self.vertices.len())
+            .field("triangles", &self.triangles.len())
+            .field("aabb", &self.aabb)
+            .field("closed", &self.closed)
+            .finish()
+    }
+}
+
+impl PartialEq for Mesh {
+    /// Meshes are equal when their vertices and triangles are.
+    fn eq(&self, other: &Self) -> bool {
+        self.vertices == other.vertices && self.triangles == other.triangles
+    }
+}
+
+/// The first hit of a ray on a mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayHit {
+    /// Ray parameter of the hit (metres when the ray direction is unit length).
+    pub toi: Real,
+    /// Hit point in world coordinates.
+    pub point: Point3,
+    /// Unit normal of the hit triangle in world coordinates (its sign follows the winding).
+    pub normal: Vector3,
+}
+
+impl Mesh {
+    /// A mesh from vertices and counter-clockwise (outward) triangles.
+    ///
+    /// # Errors
+    /// [`GeomError::EmptyMesh`], [`GeomError::NonFiniteVertex`],
+    /// [`GeomError::IndexOutOfRange`] or [`GeomError::DegenerateMesh`] (every triangle has zero
+    /// area).
+    pub fn new(vertices: Vec<Point3>, triangles: Vec<[u32; 3]>) -> Result<Self, GeomError> {
+        if vertices.is_empty() || triangles.is_empty() {
+            return Err(GeomError::EmptyMesh);
+        }
+        for (index, v) in vertices.iter().enumerate() {
+            if !v.iter().all(|c| c.is_finite()) {
+                return Err(GeomError::NonFiniteVertex {
+                    index,
+                    value: [v.x, v.y, v.z],
+                });
+            }
+        }
+        let n = vertices.len();
+        for (triangle, t) in triangles.iter().enumerate() {
+            if let Some(&index) = t.iter().find(|&&i| i as usize >= n) {
+                return Err(GeomError::IndexOutOfRange {
+                    triangle,
+                    index,
+                    vertex_count: n,
+                });
+            }
+        }
+        let given = triangles.len();
+        let mut triangles: Vec<[u32; 3]> = triangles
+            .into_iter()
+            .filter(|t| triangle_area(&vertices, t) > 0.0)
+            .collect();
+        if triangles.is_empty() {
+            return Err(GeomError::DegenerateMesh { triangles: given });
+        }
+        let closed = orient_consistently(&vertices, &mut triangles);
+        // Every vertex is finite, so the bounds exist.
+        let aabb =
+            Aabb::from_points(vertices.iter()).unwrap_or(Aabb::new(Point3::origin(), Point3::origin()));
+        let area = triangles.iter().map(|t| triangle_area(&vertices, t)).sum();
+        let shape = TriMesh::new(vertices.iter().map(point_to_parry).collect(), triangles.clone())
+            .map_err(|_| GeomError::EmptyMesh)?;
+        Ok(Mesh {
+            vertices,
+            triangles,
+            aabb,
+            area,
+            closed,
+            shape,
+        })
+    }
+
+    /// A closed box centred at the origin with the given half extents (8 vertices, 12
+    /// outward triangles). Zero half extents are allowed along at most one axis (a flat box).
+    pub fn cuboid(half_extents: &Vector3) -> Result<Self, GeomError> {
+        if !half_extents.iter().all(|v| v.is_finite()) {
+            return Err(GeomError::NonFinite {
+                what: "box half extents",
+            });
+        }
+        if half_extents.iter().any(|&v| v < 0.0) {
+            return Err(GeomError::NegativeExtent((*half_extents).into()));
+        }
+        let h = half_extents;
+        let vertices = (0..8)
+            .map(|k| {
+                Point3::new(
+                    if k & 1 == 0 { -h.x } else { h.x },
+                    if k & 2 == 0 { -h.y } else { h.y },
+                    if k & 4 == 0 { -h.z } else { h.z },
+                )
+            })
+            .collect();
+        // Outward, counter-clockwise seen from outside.
+        let triangles = vec![
+            [0, 2, 1],
+            [1, 2, 3], // -z
+            [4, 5, 6],
+            [5, 7, 6], // +z
+            [0, 1, 4],
+            [1, 5, 4], // -y
+            [2, 6, 3],
+            [3, 6, 7], // +y
+            [0, 4, 2],
+            [2, 4, 6], // -x
+            [1, 3, 5],
+            [3, 7, 5], // +x
+        ];
+        Mesh::new(vertices, triangles)
+    }
+
+    /// This mesh mapped by the affine map `p -> linear * p + translation`. A map with negative
+    /// determinant (a mirror) reverses every triangle so that the winding stays outward.
+    pub fn transformed(&self, linear: &Matrix3, translation: &Vector3) -> Result<Self, GeomError> {
+        if !linear.iter().chain(translation.iter()).all(|v| v.is_finite()) {
+            return Err(GeomError::NonFinite {
+                what: "mesh transform",
+            });
+        }
+        let vertices = self
+            .vertices
+            .iter()
+            .map(|p| Point3::from(linear * p.coords + translation))
+            .collect();
+        let mut triangles = self.triangles.clone();
+        if linear.determinant() < 0.0 {
+            for t in &mut triangles {
+                t.swap(1, 2);
+            }
+        }
+        Mesh::new(vertices, triangles)
+    }
+
+    /// Vertex positions in the mesh frame.
+    #[inline]
+    pub fn vertices(&self) -> &[Point3] {
+        &self.vertices
+    }
+
+    /// Triangles as vertex index triples (zero-area triangles removed, winding made consistent).
+    #[inline]
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// The three corners of triangle `i` in the mesh frame.
+    #[inline]
+    pub fn triangle(&self, i: usize) -> [Point3; 3] {
+        let t = self.triangles[i];
+        [
+            self.vertices[t[0] as usize],
+            self.vertices[t[1] as usize],
+            self.vertices[t[2] as usize],
+        ]
+    }
+
+    /// Bounds in the mesh frame.
+    #[inline]
+    pub fn aabb(&self) -> &Aabb {
+        &self.aabb
+    }
+
+    /// Exact world bounds of the mesh placed by `pose` (every vertex transformed).
+    pub fn world_aabb(&self, pose: &Isometry3) -> Aabb {
+        let mut it = self.vertices.iter().map(|v| pose * v);
+        let first = it.next().unwrap_or_else(|| pose * Point3::origin());
+        it.fold(Aabb::new(first, first), |acc, p| acc.including(&p))
+    }
+
+    /// Total surface area in square metres.
+    #[inline]
+    pub fn surface_area(&self) -> Real {
+        self.area
+    }
+
+    /// Whether the mesh is watertight: after merging vertices at identical positions, every
+    /// edge is shared by exactly two consistently wound triangles.
+    #[inline]
+    pub fn is_closed(&self) -> bool {
+        self.closed
+    }
+
+    /// Enclosed volume for a closed mesh (divergence theorem), `None` for an open one.
+    pub fn volume(&self) -> Option<Real> {
+        self.closed
+            .then(|| signed_volume(&self.vertices, self.triangles.iter()).abs())
+    }
+
+    /// The parry shape, for queries this type does not wrap (mesh frame).
+    #[inline]
+    pub fn parry_shape(&self) -> &TriMesh {
+        &self.shape
+    }
+
+    /// Whether the surfaces of two placed meshes touch or cross. Surface test only: a mesh
+    /// nested entirely inside another does not intersect it (combine with
+    /// [`Mesh::contains_point`] to detect containment).
+    pub fn intersects(&self, pose: &Isometry3, other: &Mesh, other_pose: &Isometry3) -> bool {
+        parry::query::intersection_test(
+            &to_parry_pose(pose),
+            &self.shape,
+            &to_parry_pose(other_pose),
+            &other.shape,
+        )
+        .is_ok_and(|r| r.intersecting)
+    }
+
+    /// Distance between the surfaces of two placed meshes, 0 when they touch or cross.
+    ///
+    /// # Performance
+    /// An intersection test runs first, because parry's distance query is slow (milliseconds
+    /// for 5k-triangle meshes) when the meshes overlap and fast when they are apart.
+    pub fn distance(&self, pose: &Isometry3, other: &Mesh, other_pose: &Isometry3) -> Real {
+        if self.intersects(pose, other, other_pose) {
+            return 0.0;
+        }
+        parry::query::distance(
+            &to_parry_pose(pose),
+            &self.shape,
+            &to_parry_pose(other_pose),
+            &other.shape,
+        )
+        .map_or(Real::NAN, |d| d.distance)
+    }
+
+    /// The first hit of `ray` (world coordinates) on the placed mesh's surface within
+    /// `max_toi`. A ray starting inside a closed mesh hits the surface from inside.
+    ///
+    /// A single ray can slip through an edge shared by two triangles (parry issue #444);
+    /// never let one ray decide a contact.
+    pub fn cast_ray(&self, pose: &Isometry3, ray: &Ray, max_toi: Real) -> Option<RayHit> {
+        let pray = parry::query::Ray::new(point_to_parry(&ray.origin), to_parry_vec(&ray.dir));
+        let hit = self
+            .shape
+            .cast_ray_and_get_normal(&to_parry_pose(pose), &pray, max_toi, false)?;
+        Some(RayHit {
+            toi: hit.time_of_impact,
+            point: ray.point_at(hit.time_of_impact),
+            normal: vec_from_parry(hit.normal),
+        })
+    }
+
+    /// The point of the placed mesh's surface closest to the world point `p`.
+    pub fn closest_point(&self, pose: &Isometry3, p: &Point3) -> Point3 {
+        let proj = self
+            .shape
+            .project_point(&to_parry_pose(pose), point_to_parry(p), false);
+        point_from_parry(proj.point)
+    }
+
+    /// Distance from the world point `p` to the placed mesh's surface (unsigned).
+    pub fn distance_to_point(&self, pose: &Isometry3, p: &Point3) -> Real {
+        (self.closest_point(pose, p) - p).norm()
+    }
+
+    /// Whether the world point `p` is inside the placed mesh: its generalized winding number
+    /// is at least 0.5 in magnitude. Exact for closed meshes; for open meshes it measures how
+    /// much of the surface surrounds the point.
+    pub fn contains_point(&self, pose: &Isometry3, p: &Point3) -> bool {
+        let local = pose.inverse_transform_point(p);
+        self.aabb.contains_point(&local) && self.winding_number(&local).abs() >= 0.5
+    }
+
+    /// The generalized winding number of the mesh-frame point `p` (Jacobson et al. 2013):
+    /// 1 inside and 0 outside a closed outward mesh. Costs one solid angle per triangle.
+    pub fn winding_number(&self, p: &Point3) -> Real {
+        let mut total = 0.0;
+        for t in &self.triangles {
+            let a = self.vertices[t[0] as usize] - p;
+            let b = self.vertices[t[1] as usize] - p;
+            let c = self.vertices[t[2] as usize] - p;
+            let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
+            let num = a.dot(&b.cross(&c));
+            let den = la * lb * lc + a.dot(&b) * lc + b.dot(&c) * la + c.dot(&a) * lb;
+            total += 2.0 * num.atan2(den);
+        }
+        total / (4.0 * std::f64::consts::PI)
+    }
+}
+
+fn triangle_area(v: &[Point3], t: &[u32; 3]) -> Real {
+    let (a, b, c) = (v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+    (b - a).cross(&(c - a)).norm() * 0.5
+}
+
+fn signed_volume<'a>(v: &[Point3], tris: impl Iterator<Item = &'a [u32; 3]>) -> Real {
+    tris.map(|t| {
+        let (a, b, c) = (v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+        a.coords.dot(&b.coords.cross(&c.coords)) / 6.0
+    })
+    .sum()
+}
+
+/// Makes triangle winding consistent across edges shared by exactly two triangles (breadth
+/// first from the lowest-numbered triangle of each component), then turns each closed
+/// component outward. Returns whether the whole mesh is closed and consistently orientable.
+fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool {
+    // Weld vertices at identical positions so that split seams (normals, UVs) still connect.
+    let mut weld: HashMap<[u64; 3], u32> = HashMap::with_capacity(vertices.len());
+    let ids: Vec<u32> = vertices
+        .iter()
+        .map(|p| {
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            let next = weld.len() as u32;
+            *weld.entry(key).or_insert(next)
+        })
+        .collect();
+    let welded = |t: &[u32; 3]| [ids[t[0] as usize], ids[t[1] as usize], ids[t[2] as usize]];
+
+    // Undirected edge -> triangles using it.
+    let mut edges: HashMap<(u32, u32), Vec<u32>> = HashMap::with_capacity(triangles.len() * 3 / 2);
+    for (ti, t) in triangles.iter().enumerate() {
+        let w = welded(t);
+        for k in 0..3 {
+            let (a, b) = (w[k], w[(k + 1) % 3]);
+            if a != b {
+                edges.entry((a.min(b), a.max(b))).or_default().push(ti as u32);
+            }
+        }
+    }
+    let mut closed = edges.values().all(|users| users.len() == 2);
+
+    let directed = |t: &[u32; 3], a: u32, b: u32| {
+        let w = welded(t);
+        (0..3).any(|k| w[k] == a && w[(k + 1) % 3] == b)
+    };
+    let mut component = vec![u32::MAX; triangles.len()];
+    let mut components: Vec<Vec<u32>> = Vec::new();
+    for seed in 0..triangles.len() {
+        if component[seed] != u32::MAX {
+            continue;
+        }
+        let cid = components.len() as u32;
+        let mut members = vec![seed as u32];
+        component[seed] = cid;
+        let mut head = 0;
+        while head < members.len() {
+            let ti = members[head] as usize;
+            head += 1;
+            let w = welded(&triangles[ti]);
+            for k in 0..3 {
+                let (a, b) = (w[k], w[(k + 1) % 3]);
+                let Some(users) = edges.get(&(a.min(b), a.max(b))) else {
+                    continue;
+                };
+                if users.len() != 2 {
+                    continue;
+                }
+                let other = if users[0] as usize == ti {
+                    users[1]
+                } else {
+                    users[0]
+                } as usize;
+                // Consistent neighbours traverse the shared edge in opposite directions.
+                let consistent = directed(&triangles[other], b, a);
+                if component[other] == u32::MAX {
+                    if !consistent {
+                        triangles[other].swap(1, 2);
+                    }
+                    component[other] = cid;
+                    members.push(other as u32);
+                } else if !consistent {
+                    // Non-orientable (or conflicting) surface: cannot be a closed solid.
+                    closed = false;
+                }
+            }
+        }
+        components.push(members);
+    }
+    // Turn each closed component outward (positive signed volume).
+    for members in &components {
+        let component_closed = members.iter().all(|&ti| {
+            let w = welded(&triangles[ti as usize]);
+            (0..3).all(|k| {
+                let (a, b) = (w[k], w[(k + 1) % 3]);
+                edges.get(&(a.min(b), a.max(b))).is_some_and(|u| u.len() == 2)
+            })
+        });
+        if component_closed
+            && signed_volume(vertices, members.iter().map(|&ti| &triangles[ti as usize])) < 0.0
+        {
+            for &ti in members {
+                triangles[ti as usize].swap(1, 2);
+            }
+        }
+    }
+    closed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_box() -> Mesh {
+        Mesh::cuboid(&Vector3::repeat(0.5)).unwrap()
+    }
+
+    #[test]
+    fn cuboid_is_closed_with_expected_measures() {
+        let m = unit_box();
+        assert!(m.is_closed());
+        assert!((m.volume().unwrap() - 1.0).abs() < 1e-12);
+        assert!((m.surface_area() - 6.0).abs() < 1e-12);
+        assert_eq!(m.triangles().len(), 12);
+        assert!((m.winding_number(&Point3::origin()) - 1.0).abs() < 1e-9);
+        assert!(m.winding_number(&Point3::new(2.0, 0.0, 0.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn inconsistent_winding_is_repaired() {
+        let m = unit_box();
+        let mut tris = m.triangles().to_vec();
+        for t in tris.iter_mut().step_by(3) {
+            t.swap(1, 2);
+        }
+        // Also turn the whole thing inside out.
+        for t in &mut tris {
+            t.swap(0, 1);
+        }
+        let fixed = Mesh::new(m.vertices().to_vec(), tris).unwrap();
+        assert!(fixed.is_closed());
+        assert!((fixed.winding_number(&Point3::origin()) - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn split_seams_still_count_as_closed() {
+        // Give every triangle its own three vertices, as glTF exporters do at UV seams.
+        let m = unit_box();
+        let mut vertices = Vec::new();
+        let mut tris = Vec::new();
+        for i in 0..m.triangles().len() {
+            let base = vertices.len() as u32;
+            vertices.extend(m.triangle(i));
+            tris.push([base, base + 1, base + 2]);
+        }
+        let split = Mesh::new(vertices, tris).unwrap();
+        assert!(split.is_closed());
+        assert!((split.volume().unwrap() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn open_mesh_is_not_closed() {
+        let m = unit_box();
+        let open = Mesh::new(m.vertices().to_vec(), m.triangles()[2..].to_vec()).unwrap();
+        assert!(!open.is_closed());
+        assert_eq!(open.volume(), None);
+        // Missing only the bottom, the box still wraps the centre five-sixths of the way.
+        assert!((open.winding_number(&Point3::origin()) - 5.0 / 6.0).abs() < 1e-9);
+        assert!(open.contains_point(&Isometry3::identity(), &Point3::origin()));
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        assert_eq!(Mesh::new(vec![], vec![]).unwrap_err(), GeomError::EmptyMesh);
+        let v = vec![
+            Point3::origin(),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
+        assert!(matches!(
+            Mesh::new(v.clone(), vec![[0, 1, 3]]),
+            Err(GeomError::IndexOutOfRange {
+                triangle: 0,
+                index: 3,
+                vertex_count: 3
+            })
+        ));
+        assert!(matches!(
+            Mesh::new(v.clone(), vec![[0, 1, 1]]),
+            Err(GeomError::DegenerateMesh { triangles: 1 })
+        ));
+        let mut nan = v.clone();
+        nan[1].y = f64::NAN;
+        assert!(matches!(
+            Mesh::new(nan, vec![[0, 1, 2]]),
+            Err(GeomError::NonFiniteVertex { index: 1, .. })
+        ));
+        assert!(Mesh::cuboid(&Vector3::new(-1.0, 1.0, 1.0)).is_err());
+    }
+
+    #[test]
+    fn pairwise_queries() {
+        let a = unit_box();
+        let b = unit_box();
+        let pa = Isometry3::identity();
+        let pb = Isometry3::translation(1.5, 0.0, 0.0);
+        assert!((a.distance(&pa, &b, &pb) - 0.5).abs() < 1e-9);
+        assert!(!a.intersects(&pa, &b, &pb));
+        let overlapping = Isometry3::translation(0.8, 0.0, 0.0);
+        assert!(a.intersects(&pa, &b, &overlapping));
+        assert_eq!(a.distance(&pa, &b, &overlapping), 0.0);
+        // Nested: surfaces do not meet, but the small box's centre is inside the big one.
+        let big = Mesh::cuboid(&Vector3::repeat(2.0)).unwrap();
+        assert!(!big.intersects(&pa, &a, &pa));
+        assert!(big.contains_point(&pa, &Point3::origin()));
+    }
+
+    #[test]
+    fn rays_and_points() {
+        let m = unit_box();
+        let pose = Isometry3::translation(0.0, 0.0, 1.0);
+        let down = Ray::new(Point3::new(0.1, 0.2, 3.0), -Vector3::z());
+        let hit = m.cast_ray(&pose, &down, 10.0).unwrap();
+        assert!((hit.toi - 1.5).abs() < 1e-12);
+        assert!((hit.point - Point3::new(0.1, 0.2, 1.5)).norm() < 1e-12);
+        assert!((hit.normal.z.abs() - 1.0).abs() < 1e-12);
+        assert!(m.cast_ray(&pose, &down, 1.0).is_none());
+        let p = Point3::new(0.0, 0.0, 3.0);
+        assert!((m.distance_to_point(&pose, &p) - 1.5).abs() < 1e-12);
+        assert!((m.closest_point(&pose, &p) - Point3::new(0.0, 0.0, 1.5)).norm() < 1e-12);
+        let w = m.world_aabb(&pose);
+        assert_eq!(
+            w,
+            Aabb::new(Point3::new(-0.5, -0.5, 0.5), Point3::new(0.5, 0.5, 1.5))
+        );
+    }
+
+    #[test]
+    fn mirror_transform_keeps_outward_winding() {
+        let m = unit_box();
+        let mirror = Matrix3::from_diagonal(&Vector3::new(-2.0, 1.0, 1.0));
+        let t = m.transformed(&mirror, &Vector3::new(1.0, 0.0, 0.0)).unwrap();
+        assert!((t.volume().unwrap() - 2.0).abs() < 1e-12);
+        assert!((t.winding_number(&Point3::new(1.0, 0.0, 0.0)) - 1.0).abs() < 1e-9);
+        assert_eq!(t.aabb().min, Point3::new(0.0, -0.5, -0.5));
+    }
+}

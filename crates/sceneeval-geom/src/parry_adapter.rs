@@ -1,0 +1,52 @@
+//! The only place where nalgebra values become parry 0.31 (glam) values and back.
+
+use crate::parry::math::{Pose, Rot3, Vector};
+use crate::{Isometry3, Point3, Vector3};
+
+#[inline]
+pub(crate) fn to_parry_vec(v: &Vector3) -> Vector {
+    Vector::new(v.x, v.y, v.z)
+}
+
+#[inline]
+pub(crate) fn point_to_parry(p: &Point3) -> Vector {
+    Vector::new(p.x, p.y, p.z)
+}
+
+#[inline]
+pub(crate) fn vec_from_parry(v: Vector) -> Vector3 {
+    Vector3::new(v.x, v.y, v.z)
+}
+
+#[inline]
+pub(crate) fn point_from_parry(v: Vector) -> Point3 {
+    Point3::new(v.x, v.y, v.z)
+}
+
+#[inline]
+pub(crate) fn to_parry_pose(iso: &Isometry3) -> Pose {
+    let q = iso.rotation.quaternion();
+    Pose::from_parts(
+        to_parry_vec(&iso.translation.vector),
+        Rot3::from_xyzw(q.i, q.j, q.k, q.w),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pose_conversion_maps_points_identically() {
+        let iso = Isometry3::new(Vector3::new(1.0, -2.0, 0.5), Vector3::new(0.3, -0.2, 1.1));
+        let pose = to_parry_pose(&iso);
+        let p = Point3::new(0.7, 0.1, -0.4);
+        let a = iso * p;
+        let b = point_from_parry(pose.transform_point(point_to_parry(&p)));
+        assert!((a - b).norm() < 1e-14);
+        assert_eq!(
+            vec_from_parry(to_parry_vec(&Vector3::new(1.0, 2.0, 3.0))),
+            Vector3::new(1.0, 2.0, 3.0)
+        );
+    }
+}

@@ -1,0 +1,484 @@
+use crate::{GeomError, Point2, Real, Vector2};
+
+/// A simple polygon in the plane (world x, y), such as a room's floor outline.
+///
+/// Points are kept in the order given (either winding); edge `i` runs from point `i` to point
+/// `i + 1`, wrapping. A closing point equal to the first and consecutive duplicates are dropped
+/// on construction. [`Polygon2::new`] rejects fewer than three distinct points, non-finite
+/// coordinates, zero area and self-intersection.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Polygon2 {
+    points: Vec<Point2>,
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for Polygon2 {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(serde::Deserialize)]
+        struct Raw {
+            points: Vec<Point2>,
+        }
+        let raw = Raw::deserialize(d)?;
+        Polygon2::new(raw.points).map_err(serde::de::Error::custom)
+    }
+}
+
+impl Polygon2 {
+    /// A validated simple polygon.
+    pub fn new(points: Vec<Point2>) -> Result<Self, GeomError> {
+        for (index, p) in points.iter().enumerate() {
+            if !p.x.is_finite() || !p.y.is_finite() {
+                return Err(GeomError::NonFinitePoint {
+                    index,
+                    value: [p.x, p.y],
+                });
+            }
+        }
+        let mut pts: Vec<Point2> = Vec::with_capacity(points.len());
+        for p in points {
+            if pts.last() != Some(&p) {
+                pts.push(p);
+            }
+        }
+        while pts.len() > 1 && pts.first() == pts.last() {
+            pts.pop();
+        }
+        if pts.len() < 3 {
+            return Err(GeomError::TooFewPoints { count: pts.len() });
+        }
+        let poly = Polygon2 { points: pts };
+        if poly.signed_area().abs() <= Real::EPSILON * poly.bbox_diagonal_sq() {
+            return Err(GeomError::ZeroArea);
+        }
+        if let Some((first, second)) = poly.find_self_intersection() {
+            return Err(GeomError::SelfIntersecting { first, second });
+        }
+        Ok(poly)
+    }
+
+    /// An axis-aligned rectangle, counter-clockwise from `min`.
+    pub fn rectangle(min: Point2, max: Point2) -> Result<Self, GeomError> {
+        Polygon2::new(vec![
+            min,
+            Point2::new(max.x, min.y),
+            max,
+            Point2::new(min.x, max.y),
+        ])
+    }
+
+    /// The vertices, in the order given.
+    #[inline]
+    pub fn points(&self) -> &[Point2] {
+        &self.points
+    }
+
+    /// Number of vertices (equal to the number of edges).
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Always false: a valid polygon has at least three points.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// Edge `i`: from point `i` to point `(i + 1) % len`.
+    #[inline]
+    pub fn edge(&self, i: usize) -> (Point2, Point2) {
+        let n = self.points.len();
+        (self.points[i % n], self.points[(i + 1) % n])
+    }
+
+    /// All edges in order.
+    pub fn edges(&self) -> impl Iterator<Item = (Point2, Point2)> + '_ {
+        (0..self.points.len()).map(move |i| self.edge(i))
+    }
+
+    /// Signed area (shoelace): positive when the points run counter-clockwise.
+    pub fn signed_area(&self) -> Real {
+        let o = self.points[0];
+        let mut twice = 0.0;
+        for (a, b) in self.edges() {
+            twice += (a - o).perp(&(b - o));
+        }
+        twice * 0.5
+    }
+
+    /// Enclosed area in square metres.
+    #[inline]
+    pub fn area(&self) -> Real {
+        self.signed_area().abs()
+    }
+
+    /// Whether the points run counter-clockwise (seen from above, z up).
+    #[inline]
+    pub fn is_ccw(&self) -> bool {
+        self.signed_area() > 0.0
+    }
+
+    /// The area centroid (centre of mass of the enclosed region).
+    pub fn centroid(&self) -> Point2 {
+        let o = self.points[0];
+        let mut twice_area = 0.0;
+        let mut acc = Vector2::zeros();
+        for (a, b) in self.edges() {
+            let (a, b) = (a - o, b - o);
+            let cross = a.perp(&b);
+            twice_area += cross;
+            acc += (a + b) * cross;
+        }
+        o + acc / (3.0 * twice_area)
+    }
+
+    /// Lowest and highest corners of the bounding rectangle.
+    pub fn bounds(&self) -> (Point2, Point2) {
+        let mut min = self.points[0];
+        let mut max = self.points[0];
+        for p in &self.points[1..] {
+            min = min.inf(p);
+            max = max.sup(p);
+        }
+        (min, max)
+    }
+
+    fn bbox_diagonal_sq(&self) -> Real {
+        let (min, max) = self.bounds();
+        (max - min).norm_squared()
+    }
+
+    /// Whether `p` lies in the closed polygon (points on an edge count as inside).
+    pub fn contains_point(&self, p: &Point2) -> bool {
+        let mut inside = false;
+        for (a, b) in self.edges() {
+            if point_segment_distance_sq(p, &a, &b) == 0.0 {
+                return true;
+            }
+            if (a.y > p.y) != (b.y > p.y) {
+                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+                if p.x < x {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+
+    /// Distance from `p` to the polygon's boundary (regardless of inside or outside).
+    pub fn distance_to_boundary(&self, p: &Point2) -> Real {
+        self.edges()
+            .map(|(a, b)| point_segment_distance_sq(p, &a, &b))
+            .fold(Real::INFINITY, Real::min)
+            .sqrt()
+    }
+
+    /// Signed distance to the boundary: negative inside, positive outside.
+    pub fn signed_distance(&self, p: &Point2) -> Real {
+        let d = self.distance_to_boundary(p);
+        if self.contains_point(p) { -d } else { d }
+    }
+
+    /// A triangulation of the polygon as index triples into [`Polygon2::points`], each triangle
+    /// counter-clockwise. Uses ear clipping (`earcutr`); the triangles' areas sum to
+    /// [`Polygon2::area`].
+    pub fn triangulate(&self) -> Vec<[usize; 3]> {
+        let flat: Vec<Real> = self.points.iter().flat_map(|p| [p.x, p.y]).collect();
+        let idx = earcutr::earcut(&flat, &[], 2).unwrap_or_default();
+        idx.chunks_exact(3)
+            .map(|t| {
+                let [a, b, c] = [t[0], t[1], t[2]];
+                let (pa, pb, pc) = (self.points[a], self.points[b], self.points[c]);
+                if (pb - pa).perp(&(pc - pa)) < 0.0 {
+                    [a, c, b]
+                } else {
+                    [a, b, c]
+                }
+            })
+            .collect()
+    }
+
+    /// Area of the intersection of this polygon with a convex polygon `convex` (either
+    /// winding). Exact up to rounding: the polygon is triangulated and each triangle clipped
+    /// against `convex` (Sutherland-Hodgman).
+    pub fn intersection_area_with_convex(&self, convex: &[Point2]) -> Real {
+        if convex.len() < 3 {
+            return 0.0;
+        }
+        let ccw = signed_area_of(convex) >= 0.0;
+        let mut scratch_a = Vec::with_capacity(16);
+        let mut scratch_b = Vec::with_capacity(16);
+        self.triangulate()
+            .iter()
+            .map(|t| {
+                scratch_a.clear();
+                scratch_a.extend(t.iter().map(|&i| self.points[i]));
+                clip_convex_in_place(&mut scratch_a, &mut scratch_b, convex, ccw);
+                signed_area_of(&scratch_a).abs()
+            })
+            .sum()
+    }
+
+    /// The fraction of the segment `a`-`b` that lies inside the closed polygon, in `[0, 1]`
+    /// (1 for a degenerate segment whose point is inside).
+    pub fn segment_fraction_inside(&self, a: &Point2, b: &Point2) -> Real {
+        let d = b - a;
+        let len2 = d.norm_squared();
+        if len2 == 0.0 {
+            return if self.contains_point(a) { 1.0 } else { 0.0 };
+        }
+        // Parameters where the segment crosses an edge line, then test each piece's midpoint.
+        let mut ts = vec![0.0, 1.0];
+        for (p, q) in self.edges() {
+            let e = q - p;
+            let denom = d.perp(&e);
+            if denom == 0.0 {
+                continue;
+            }
+            let w = p - a;
+            let t = w.perp(&e) / denom;
+            let s = w.perp(&d) / denom;
+            if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s) {
+                ts.push(t);
+            }
+        }
+        ts.sort_by(|x, y| x.total_cmp(y));
+        let mut inside = 0.0;
+        for w in ts.windows(2) {
+            let (t0, t1) = (w[0], w[1]);
+            if t1 > t0 && self.contains_point(&(a + d * (0.5 * (t0 + t1)))) {
+                inside += t1 - t0;
+            }
+        }
+        inside.clamp(0.0, 1.0)
+    }
+
+    /// The first pair of non-adjacent edges that touch or cross, if any (O(n^2)).
+    fn find_self_intersection(&self) -> Option<(usize, usize)> {
+        let n = self.points.len();
+        for i in 0..n {
+            let (a, b) = self.edge(i);
+            for j in (i + 1)..n {
+                let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+                let (c, d) = self.edge(j);
+                if adjacent {
+                    // Adjacent edges share one point; they are bad only if they fold back on
+                    // each other (collinear and overlapping beyond the shared point).
+                    let shared = if j == i + 1 { b } else { a };
+                    let (u, v) = if j == i + 1 {
+                        (a - shared, d - shared)
+                    } else {
+                        (b - shared, c - shared)
+                    };
+                    if u.perp(&v) == 0.0 && u.dot(&v) > 0.0 {
+                        return Some((i, j));
+                    }
+                    continue;
+                }
+                if segments_intersect(&a, &b, &c, &d) {
+                    return Some((i, j));
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Signed area of a point loop (positive counter-clockwise).
+fn signed_area_of(points: &[Point2]) -> Real {
+    let n = points.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let o = points[0];
+    let mut twice = 0.0;
+    for i in 0..n {
+        twice += (points[i] - o).perp(&(points[(i + 1) % n] - o));
+    }
+    twice * 0.5
+}
+
+/// Clips the loop in `subject` by the convex polygon `clip` (Sutherland-Hodgman); the result
+/// is left in `subject`. `ccw` is the clip polygon's winding.
+fn clip_convex_in_place(subject: &mut Vec<Point2>, out: &mut Vec<Point2>, clip: &[Point2], ccw: bool) {
+    let sign = if ccw { 1.0 } else { -1.0 };
+    let m = clip.len();
+    for k in 0..m {
+        if subject.is_empty() {
+            return;
+        }
+        let (c0, c1) = (clip[k], clip[(k + 1) % m]);
+        let e = c1 - c0;
+        let side = |p: &Point2| sign * e.perp(&(p - c0));
+        out.clear();
+        let n = subject.len();
+        for i in 0..n {
+            let cur = subject[i];
+            let next = subject[(i + 1) % n];
+            let (sc, sn) = (side(&cur), side(&next));
+            if sc >= 0.0 {
+                out.push(cur);
+            }
+            if (sc >= 0.0) != (sn >= 0.0) {
+                let t = sc / (sc - sn);
+                out.push(cur + (next - cur) * t);
+            }
+        }
+        std::mem::swap(subject, out);
+    }
+}
+
+/// Squared distance from `p` to the segment `a`-`b`.
+pub(crate) fn point_segment_distance_sq(p: &Point2, a: &Point2, b: &Point2) -> Real {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + ab * t)).norm_squared()
+}
+
+/// Whether the closed segments `a`-`b` and `c`-`d` share a point.
+fn segments_intersect(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> bool {
+    let o1 = orient(a, b, c);
+    let o2 = orient(a, b, d);
+    let o3 = orient(c, d, a);
+    let o4 = orient(c, d, b);
+    if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+        return true;
+    }
+    (o1 == 0.0 && on_segment(a, b, c))
+        || (o2 == 0.0 && on_segment(a, b, d))
+        || (o3 == 0.0 && on_segment(c, d, a))
+        || (o4 == 0.0 && on_segment(c, d, b))
+}
+
+#[inline]
+fn orient(a: &Point2, b: &Point2, c: &Point2) -> Real {
+    (b - a).perp(&(c - a))
+}
+
+#[inline]
+fn on_segment(a: &Point2, b: &Point2, p: &Point2) -> bool {
+    p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: f64, y: f64) -> Point2 {
+        Point2::new(x, y)
+    }
+
+    fn l_shape() -> Polygon2 {
+        // 4 x 4 square minus the 2 x 2 top-right quadrant: area 12.
+        Polygon2::new(vec![
+            p(0.0, 0.0),
+            p(4.0, 0.0),
+            p(4.0, 2.0),
+            p(2.0, 2.0),
+            p(2.0, 4.0),
+            p(0.0, 4.0),
+        ])
+        .unwrap()
+    }
+
+    #[test]
+    fn area_centroid_orientation() {
+        let l = l_shape();
+        assert_eq!(l.area(), 12.0);
+        assert!(l.is_ccw());
+        // Centroid of the L: (3 squares of area 4 at (1,1), (3,1), (1,3)) -> (5/3, 5/3).
+        let c = l.centroid();
+        assert!((c - p(5.0 / 3.0, 5.0 / 3.0)).norm() < 1e-12);
+        let mut rev = l.points().to_vec();
+        rev.reverse();
+        let cw = Polygon2::new(rev).unwrap();
+        assert!(!cw.is_ccw());
+        assert_eq!(cw.area(), 12.0);
+        assert!((cw.centroid() - c).norm() < 1e-12);
+    }
+
+    #[test]
+    fn containment_including_boundary() {
+        let l = l_shape();
+        assert!(l.contains_point(&p(1.0, 3.0)));
+        assert!(!l.contains_point(&p(3.0, 3.0)), "the missing quadrant");
+        assert!(l.contains_point(&p(4.0, 1.0)), "on an edge");
+        assert!(l.contains_point(&p(2.0, 2.0)), "the reflex corner");
+        assert!(!l.contains_point(&p(-0.1, 1.0)));
+        assert!((l.distance_to_boundary(&p(3.0, 3.0)) - 1.0).abs() < 1e-12);
+        assert!((l.signed_distance(&p(1.0, 1.0)) + 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn triangulation_covers_area() {
+        let l = l_shape();
+        let tris = l.triangulate();
+        assert_eq!(tris.len(), 4);
+        let pts = l.points();
+        let total: f64 = tris
+            .iter()
+            .map(|t| {
+                let a = (pts[t[1]] - pts[t[0]]).perp(&(pts[t[2]] - pts[t[0]])) * 0.5;
+                assert!(a > 0.0, "triangles are counter-clockwise");
+                a
+            })
+            .sum();
+        assert!((total - 12.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn rejects_bad_polygons() {
+        assert_eq!(
+            Polygon2::new(vec![p(0.0, 0.0), p(1.0, 0.0)]),
+            Err(GeomError::TooFewPoints { count: 2 })
+        );
+        assert_eq!(
+            Polygon2::new(vec![p(0.0, 0.0), p(1.0, 0.0), p(1.0, 0.0), p(0.0, 0.0)]),
+            Err(GeomError::TooFewPoints { count: 2 })
+        );
+        assert_eq!(
+            Polygon2::new(vec![p(0.0, 0.0), p(1.0, 0.0), p(2.0, 0.0)]),
+            Err(GeomError::ZeroArea)
+        );
+        assert!(matches!(
+            Polygon2::new(vec![p(0.0, 0.0), p(2.0, 2.0), p(2.0, 0.0), p(0.0, 1.0)]),
+            Err(GeomError::SelfIntersecting { .. })
+        ));
+        assert!(matches!(
+            Polygon2::new(vec![p(0.0, f64::NAN), p(1.0, 1.0), p(1.0, 0.0)]),
+            Err(GeomError::NonFinitePoint { index: 0, .. })
+        ));
+        // A closing duplicate point is accepted and dropped.
+        let sq = Polygon2::new(vec![
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(1.0, 1.0),
+            p(0.0, 1.0),
+            p(0.0, 0.0),
+        ])
+        .unwrap();
+        assert_eq!(sq.len(), 4);
+    }
+
+    #[test]
+    fn clipping_areas() {
+        let l = l_shape();
+        // A unit square straddling the reflex corner: 3/4 of it is inside the L.
+        let sq = [p(1.5, 1.5), p(2.5, 1.5), p(2.5, 2.5), p(1.5, 2.5)];
+        assert!((l.intersection_area_with_convex(&sq) - 0.75).abs() < 1e-12);
+        let mut cw = sq;
+        cw.reverse();
+        assert!((l.intersection_area_with_convex(&cw) - 0.75).abs() < 1e-12);
+        let outside = [p(5.0, 5.0), p(6.0, 5.0), p(6.0, 6.0)];
+        assert_eq!(l.intersection_area_with_convex(&outside), 0.0);
+        // Segment from (1, 3) to (5, 3): inside for x in [1, 2] only.
+        assert!((l.segment_fraction_inside(&p(1.0, 3.0), &p(5.0, 3.0)) - 0.25).abs() < 1e-12);
+        assert_eq!(l.segment_fraction_inside(&p(1.0, 1.0), &p(1.0, 1.0)), 1.0);
+    }
+}

@@ -1,0 +1,50 @@
+//! The in-memory scene model of SceneEval: objects with meshes, poses and oriented boxes, and
+//! the architecture they stand in (rooms with floor polygons, walls with doors and windows,
+//! ceilings).
+//!
+//! This crate knows no file format; `sceneeval-io` reads sceneState JSON and asset files into
+//! these types, and a generator can assemble a [`Scene`] directly with [`Scene::builder`].
+//! Every constructor validates its input and returns a [`SceneError`] naming the object, room,
+//! wall or opening at fault.
+//!
+//! # Conventions
+//! World z up, metres; object front = local -y; an object's OBB is its mesh's bounds in the
+//! object frame placed by its pose (see `sceneeval_geom::conventions`). A wall's segment is its
+//! inner face, its thickness extends away from its room, and its inward normal is decided
+//! against its own room's floor (see [`arch`]).
+//!
+//! # Example
+//! ```
+//! use sceneeval_scene::{RoomBuilder, Scene};
+//! use sceneeval_geom::{Point2, Point3, Vector3, Side};
+//!
+//! let scene = Scene::builder()
+//!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
+//!         .wall_height(2.8)
+//!         .door(0, [1.0, 1.9], [0.0, 2.1]))
+//!     // A desk against the far wall (y = 5), facing into the room (yaw 0: front = -y).
+//!     .add_box("desk", "desk", Point3::new(2.0, 4.7, 0.375), Vector3::new(1.2, 0.6, 0.75), 0.0)
+//!     .build()
+//!     .unwrap();
+//!
+//! let desk = scene.object("desk").unwrap();
+//! assert_eq!(desk.obb().side_direction(Side::Front), Vector3::new(0.0, -1.0, 0.0));
+//! let far_wall = &scene.rooms()[0].walls()[2];
+//! // The desk's back is 0.0 m from the far wall's inner face.
+//! let gap = far_wall.inner_plane().signed_distance(&desk.obb().face_center(Side::Back));
+//! assert!(gap.abs() < 1e-12);
+//! let (_, _, door) = scene.openings().next().unwrap();
+//! assert!((door.width() - 0.9).abs() < 1e-12);
+//! ```
+
+pub mod arch;
+mod error;
+mod ids;
+mod object;
+mod scene;
+
+pub use arch::{Ceiling, InwardEvidence, Opening, OpeningKind, Room, RoomBuilder, Wall, WallSpec};
+pub use error::SceneError;
+pub use ids::{ObjectId, RoomId};
+pub use object::SceneObject;
+pub use scene::{Scene, SceneBuilder};

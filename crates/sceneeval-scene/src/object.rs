@@ -1,0 +1,289 @@
+use std::sync::Arc;
+
+use sceneeval_geom::conventions::rotation_from_yaw;
+use sceneeval_geom::na::{Translation3, UnitQuaternion};
+use sceneeval_geom::{Aabb, Isometry3, Mesh, Obb, Point3, Real, Vector3};
+
+use crate::{ObjectId, SceneError};
+
+/// One object of a scene: a mesh in the object frame placed by a rigid pose, with the metadata
+/// evaluation needs.
+///
+/// The object frame follows the project convention (z up, front = local -y). Any scale the
+/// source applied is already baked into [`SceneObject::mesh`] (see [`SceneObject::scale`]),
+/// so the pose is rigid and the OBB axes are orthonormal. The OBB and the world AABB are cached
+/// and kept in step with the pose by [`SceneObject::set_pose`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneObject {
+    id: ObjectId,
+    model_id: Option<String>,
+    index: Option<i64>,
+    category: Option<String>,
+    description: Option<String>,
+    mesh: Arc<Mesh>,
+    box_half_extents: Option<Vector3>,
+    scale: Vector3,
+    pose: Isometry3,
+    obb: Obb,
+    world_aabb: Aabb,
+}
+
+impl SceneObject {
+    /// An object whose geometry is `mesh` (object frame), placed by `pose` (`world_from_object`).
+    ///
+    /// # Errors
+    /// [`SceneError::NonFinitePose`] when the pose has a NaN or infinite component.
+    pub fn from_mesh(id: impl Into<ObjectId>, mesh: Arc<Mesh>, pose: Isometry3) -> Result<Self, SceneError> {
+        let id = id.into();
+        let pose = checked_pose(&id, pose)?;
+        let obb = Obb::from_local_aabb(mesh.aabb(), &pose);
+        let world_aabb = mesh.world_aabb(&pose);
+        Ok(SceneObject {
+            id,
+            model_id: None,
+            index: None,
+            category: None,
+            description: None,
+            mesh,
+            box_half_extents: None,
+            scale: Vector3::repeat(1.0),
+            pose,
+            obb,
+            world_aabb,
+        })
+    }
+
+    /// A solid box object of full size `size` (width x, depth y, height z in the object frame),
+    /// centred at `center` and turned by `yaw` radians about +z (yaw 0: front = world -y).
+    /// Its mesh is the closed 12-triangle box.
+    pub fn new_box(
+        id: impl Into<ObjectId>,
+        center: Point3,
+        size: Vector3,
+        yaw: Real,
+    ) -> Result<Self, SceneError> {
+        let id = id.into();
+        if !yaw.is_finite() {
+            return Err(SceneError::NonFinitePose {
+                object: id.to_string(),
+            });
+        }
+        let pose = Isometry3::from_parts(
+            Translation3::from(center.coords),
+            UnitQuaternion::from_rotation_matrix(&rotation_from_yaw(yaw)),
+        );
+        SceneObject::new_box_with_pose(id, size * 0.5, pose)
+    }
+
+    /// A solid box object with half extents `half_extents`, its centre at the object origin,
+    /// placed by `pose`.
+    pub fn new_box_with_pose(
+        id: impl Into<ObjectId>,
+        half_extents: Vector3,
+        pose: Isometry3,
+    ) -> Result<Self, SceneError> {
+        let id = id.into();
+        let mesh = Mesh::cuboid(&half_extents)
+            .map_err(|e| SceneError::geometry(format!("object {:?}", id.as_str()), e))?;
+        let mut obj = SceneObject::from_mesh(id, Arc::new(mesh), pose)?;
+        obj.box_half_extents = Some(half_extents);
+        Ok(obj)
+    }
+
+    /// Sets the asset model id (`PREFIX.ID` in sceneState files).
+    pub fn with_model_id(mut self, model_id: impl Into<String>) -> Self {
+        self.model_id = Some(model_id.into());
+        self
+    }
+
+    /// Sets the sceneState `index` of the object.
+    pub fn with_index(mut self, index: i64) -> Self {
+        self.index = Some(index);
+        self
+    }
+
+    /// Sets the category (e.g. `nightstand`).
+    pub fn with_category(mut self, category: impl Into<String>) -> Self {
+        self.category = Some(category.into());
+        self
+    }
+
+    /// Sets the free-text description.
+    pub fn with_description(mut self, description: impl Into<String>) -> Self {
+        self.description = Some(description.into());
+        self
+    }
+
+    /// Records the per-axis scale (object frame) that was baked into the mesh by the loader.
+    /// Informational: the mesh already carries it.
+    pub fn with_scale(mut self, scale: Vector3) -> Self {
+        self.scale = scale;
+        self
+    }
+
+    /// Moves the object, updating its OBB and world AABB.
+    pub fn set_pose(&mut self, pose: Isometry3) -> Result<(), SceneError> {
+        let pose = checked_pose(&self.id, pose)?;
+        self.pose = pose;
+        self.obb = Obb::from_local_aabb(self.mesh.aabb(), &pose);
+        self.world_aabb = self.mesh.world_aabb(&pose);
+        Ok(())
+    }
+
+    /// The stable id.
+    #[inline]
+    pub fn id(&self) -> &ObjectId {
+        &self.id
+    }
+
+    /// The asset model id, if the object came from an asset.
+    #[inline]
+    pub fn model_id(&self) -> Option<&str> {
+        self.model_id.as_deref()
+    }
+
+    /// The sceneState `index`, if the object came from a sceneState file.
+    #[inline]
+    pub fn index(&self) -> Option<i64> {
+        self.index
+    }
+
+    /// The category, if known (from the scene file or the asset's metadata).
+    #[inline]
+    pub fn category(&self) -> Option<&str> {
+        self.category.as_deref()
+    }
+
+    /// The description, if known.
+    #[inline]
+    pub fn description(&self) -> Option<&str> {
+        self.description.as_deref()
+    }
+
+    /// The mesh in the object frame (scale applied), shared between objects of the same asset.
+    #[inline]
+    pub fn mesh(&self) -> &Arc<Mesh> {
+        &self.mesh
+    }
+
+    /// For a box object, its half extents (the mesh is then exactly that box).
+    #[inline]
+    pub fn box_half_extents(&self) -> Option<Vector3> {
+        self.box_half_extents
+    }
+
+    /// The per-axis object-frame scale baked into the mesh (1, 1, 1 when unscaled).
+    #[inline]
+    pub fn scale(&self) -> Vector3 {
+        self.scale
+    }
+
+    /// `world_from_object`.
+    #[inline]
+    pub fn pose(&self) -> &Isometry3 {
+        &self.pose
+    }
+
+    /// The object's oriented box: the mesh bounds in the object frame, placed by the pose.
+    #[inline]
+    pub fn obb(&self) -> &Obb {
+        &self.obb
+    }
+
+    /// The exact world-axis-aligned bounds of the placed mesh.
+    #[inline]
+    pub fn world_aabb(&self) -> &Aabb {
+        &self.world_aabb
+    }
+
+    /// The yaw of the pose (radians about +z; see `sceneeval_geom::conventions::yaw_of`).
+    #[inline]
+    pub fn yaw(&self) -> Real {
+        self.obb.yaw()
+    }
+}
+
+fn checked_pose(id: &ObjectId, pose: Isometry3) -> Result<Isometry3, SceneError> {
+    let q = pose.rotation.quaternion();
+    let finite =
+        pose.translation.vector.iter().all(|v| v.is_finite()) && q.coords.iter().all(|v| v.is_finite());
+    if !finite || q.norm() == 0.0 {
+        return Err(SceneError::NonFinitePose {
+            object: id.to_string(),
+        });
+    }
+    // Renormalise: a quaternion that drifted in an optimiser must still be a rotation.
+    let mut pose = pose;
+    pose.rotation = UnitQuaternion::new_normalize(*q);
+    Ok(pose)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn box_object_has_expected_obb() {
+        let obj = SceneObject::new_box(
+            "bed",
+            Point3::new(2.0, 1.0, 0.3),
+            Vector3::new(1.6, 2.0, 0.6),
+            FRAC_PI_2,
+        )
+        .unwrap()
+        .with_category("bed");
+        let obb = obj.obb();
+        assert!((obb.center - Point3::new(2.0, 1.0, 0.3)).norm() < 1e-12);
+        assert!((obb.half_extents - Vector3::new(0.8, 1.0, 0.3)).norm() < 1e-12);
+        assert!((obj.yaw() - FRAC_PI_2).abs() < 1e-12);
+        // Turned 90 degrees, the bed's 2 m depth lies along world x.
+        let aabb = obj.world_aabb();
+        assert!((aabb.extents() - Vector3::new(2.0, 1.6, 0.6)).norm() < 1e-12);
+        assert_eq!(obj.box_half_extents(), Some(Vector3::new(0.8, 1.0, 0.3)));
+        assert_eq!(obj.category(), Some("bed"));
+    }
+
+    #[test]
+    fn set_pose_moves_cached_boxes() {
+        let mut obj = SceneObject::new_box("a", Point3::origin(), Vector3::repeat(1.0), 0.0).unwrap();
+        obj.set_pose(Isometry3::translation(5.0, 0.0, 0.0)).unwrap();
+        assert!((obj.obb().center - Point3::new(5.0, 0.0, 0.0)).norm() < 1e-12);
+        assert!((obj.world_aabb().center() - Point3::new(5.0, 0.0, 0.0)).norm() < 1e-12);
+        let mut bad = Isometry3::identity();
+        bad.translation.vector.x = f64::NAN;
+        assert!(matches!(obj.set_pose(bad), Err(SceneError::NonFinitePose { .. })));
+    }
+
+    #[test]
+    fn rejects_bad_boxes() {
+        assert!(SceneObject::new_box("a", Point3::origin(), Vector3::new(-1.0, 1.0, 1.0), 0.0).is_err());
+        assert!(SceneObject::new_box("a", Point3::origin(), Vector3::repeat(1.0), f64::NAN).is_err());
+        assert!(
+            SceneObject::new_box(
+                "a",
+                Point3::new(f64::INFINITY, 0.0, 0.0),
+                Vector3::repeat(1.0),
+                0.0
+            )
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn mesh_obb_is_local_bounds_placed_by_pose() {
+        // A mesh whose bounds are off-centre in the object frame: x in [0, 2], y in [-1, 0], z in [0, 1].
+        let mesh = Mesh::cuboid(&Vector3::new(1.0, 0.5, 0.5))
+            .unwrap()
+            .transformed(
+                &sceneeval_geom::Matrix3::identity(),
+                &Vector3::new(1.0, -0.5, 0.5),
+            )
+            .unwrap();
+        let pose = Isometry3::new(Vector3::new(10.0, 0.0, 0.0), Vector3::z() * FRAC_PI_2);
+        let obj = SceneObject::from_mesh("m", Arc::new(mesh), pose).unwrap();
+        // Local centre (1, -0.5, 0.5) turned 90 degrees: (0.5, 1, 0.5), then moved by (10, 0, 0).
+        assert!((obj.obb().center - Point3::new(10.5, 1.0, 0.5)).norm() < 1e-12);
+        assert!((obj.obb().half_extents - Vector3::new(1.0, 0.5, 0.5)).norm() < 1e-12);
+    }
+}
