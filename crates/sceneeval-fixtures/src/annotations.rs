@@ -1,0 +1,1 @@
+//! Work in progress: annotation rows written by the fixtures program.
