@@ -1,5 +1,7 @@
 //! Geometric invariants of the geometry primitives, checked with proptest.
 
+#![allow(clippy::expect_used)]
+
 use proptest::prelude::*;
 use sceneeval_geom::na::{Translation3, UnitQuaternion};
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Polygon2, Side, Vector3};
@@ -131,6 +133,6 @@ proptest! {
         prop_assert!(poly.contains_point(&centroid), "star polygons contain their centroid");
         let square = [Point2::new(-1.0, -1.0), Point2::new(1.0, -1.0), Point2::new(1.0, 1.0), Point2::new(-1.0, 1.0)];
         let clipped = poly.intersection_area_with_convex(&square);
-        prop_assert!(clipped >= -1e-12 && clipped <= 4.0 + 1e-9 && clipped <= poly.area() + 1e-9);
+        prop_assert!((-1e-12..=4.0 + 1e-9).contains(&clipped) && clipped <= poly.area() + 1e-9);
     }
 }

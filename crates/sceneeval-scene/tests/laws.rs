@@ -1,6 +1,8 @@
 //! Invariants of the scene model: walls face into their room whatever the room's shape,
 //! winding and orientation; object boxes follow their poses.
 
+#![allow(clippy::expect_used)]
+
 use proptest::prelude::*;
 use sceneeval_geom::{Point2, Point3, Side, Vector2, Vector3};
 use sceneeval_scene::{InwardEvidence, RoomBuilder, SceneObject};
