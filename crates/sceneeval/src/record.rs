@@ -1,0 +1,181 @@
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::{EvalError, SceneReport};
+
+/// The schema name and version of a scene's `eval.json`.
+pub const RECORD_SCHEMA: &str = "sceneeval.eval/1";
+
+/// The content of one scene's `eval.json`: either its report or why it could not be evaluated.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SceneRecord {
+    /// Always [`RECORD_SCHEMA`].
+    pub schema: String,
+    /// The scene's name (the file stem, e.g. `scene_12`).
+    pub scene: String,
+    /// The scene's benchmark id (the number after the last `_` of the name), if it has one.
+    pub scene_id: Option<String>,
+    /// What happened.
+    #[serde(flatten)]
+    pub outcome: Outcome,
+}
+
+/// Whether a scene was evaluated, and its report or error.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Outcome {
+    /// Evaluated.
+    Ok {
+        /// The report.
+        report: Box<SceneReport>,
+    },
+    /// Not evaluated.
+    Failed {
+        /// Where it failed.
+        stage: Stage,
+        /// The error message.
+        error: String,
+        /// The error's causes, outermost first.
+        causes: Vec<String>,
+    },
+}
+
+/// Where a scene failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// Reading the scene file or its assets.
+    Load,
+    /// Running the metrics.
+    Evaluate,
+}
+
+impl SceneRecord {
+    /// A record of a successful evaluation.
+    pub fn ok(scene: &str, report: SceneReport) -> Self {
+        SceneRecord {
+            schema: RECORD_SCHEMA.to_owned(),
+            scene: scene.to_owned(),
+            scene_id: benchmark_id(scene).map(str::to_owned),
+            outcome: Outcome::Ok {
+                report: Box::new(report),
+            },
+        }
+    }
+
+    /// A record of a failure, keeping the whole error chain.
+    pub fn failed(scene: &str, stage: Stage, error: &(dyn std::error::Error + 'static)) -> Self {
+        let mut causes = Vec::new();
+        let mut next = error.source();
+        while let Some(cause) = next {
+            causes.push(cause.to_string());
+            next = cause.source();
+        }
+        SceneRecord {
+            schema: RECORD_SCHEMA.to_owned(),
+            scene: scene.to_owned(),
+            scene_id: benchmark_id(scene).map(str::to_owned),
+            outcome: Outcome::Failed {
+                stage,
+                error: error.to_string(),
+                causes,
+            },
+        }
+    }
+
+    /// The report, if the scene was evaluated.
+    pub fn report(&self) -> Option<&SceneReport> {
+        match &self.outcome {
+            Outcome::Ok { report } => Some(report),
+            Outcome::Failed { .. } => None,
+        }
+    }
+
+    /// Reads a record, checking its schema.
+    pub fn read(path: &Path) -> Result<Self, EvalError> {
+        let text = std::fs::read_to_string(path).map_err(|source| EvalError::File {
+            path: path.to_owned(),
+            source,
+        })?;
+        let record: SceneRecord = serde_json::from_str(&text).map_err(|e| EvalError::BadRecord {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+        if record.schema != RECORD_SCHEMA {
+            return Err(EvalError::BadRecord {
+                path: path.to_owned(),
+                message: format!("schema {:?}, expected {RECORD_SCHEMA:?}", record.schema),
+            });
+        }
+        Ok(record)
+    }
+
+    /// Writes the record as pretty JSON, atomically (a temporary file renamed into place), so an
+    /// interrupted run never leaves a half-written file behind.
+    pub fn write(&self, path: &Path) -> Result<(), EvalError> {
+        let file_err = |source| EvalError::File {
+            path: path.to_owned(),
+            source,
+        };
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(file_err)?;
+        }
+        let mut text = serde_json::to_string_pretty(self).map_err(|e| EvalError::BadRecord {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+        text.push('\n');
+        let tmp = path.with_extension("json.partial");
+        std::fs::write(&tmp, text).map_err(file_err)?;
+        std::fs::rename(&tmp, path).map_err(file_err)
+    }
+}
+
+/// The benchmark id of a scene name: the digits after its last `_` (`scene_12` -> `12`), the
+/// way the reference numbers scenes.
+pub fn benchmark_id(scene: &str) -> Option<&str> {
+    let (_, id) = scene.rsplit_once('_')?;
+    (!id.is_empty() && id.bytes().all(|b| b.is_ascii_digit())).then_some(id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn benchmark_ids() {
+        assert_eq!(benchmark_id("scene_12"), Some("12"));
+        assert_eq!(benchmark_id("my_scene_007"), Some("007"));
+        assert_eq!(benchmark_id("scene"), None);
+        assert_eq!(benchmark_id("scene_x1"), None);
+        assert_eq!(benchmark_id("scene_"), None);
+    }
+
+    #[test]
+    fn failed_record_keeps_chain_and_round_trips() {
+        let inner = std::io::Error::new(std::io::ErrorKind::NotFound, "raw_model.obj missing");
+        let outer = EvalError::File {
+            path: "assets/x".into(),
+            source: inner,
+        };
+        let rec = SceneRecord::failed("scene_3", Stage::Load, &outer);
+        let Outcome::Failed { stage, error, causes } = &rec.outcome else {
+            panic!("expected a failure")
+        };
+        assert_eq!(*stage, Stage::Load);
+        assert!(error.contains("assets/x"));
+        assert_eq!(causes, &vec!["raw_model.obj missing".to_owned()]);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("scene_3").join("eval.json");
+        rec.write(&path).unwrap();
+        assert_eq!(SceneRecord::read(&path).unwrap(), rec);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("\"status\": \"failed\""), "{text}");
+        std::fs::write(&path, text.replace(RECORD_SCHEMA, "other/9")).unwrap();
+        assert!(matches!(
+            SceneRecord::read(&path),
+            Err(EvalError::BadRecord { .. })
+        ));
+    }
+}

@@ -1,0 +1,303 @@
+use std::fmt::Write as _;
+
+use serde::{Deserialize, Serialize};
+
+use crate::{EvalError, SceneRecord, SceneSummary};
+
+/// The name of the group holding every scene.
+pub const ALL_SCENES: &str = "all";
+/// The group of scenes that have no annotation row when annotations were given.
+pub const UNANNOTATED: &str = "unannotated";
+
+/// The paper's plausibility table (Table 2, and Table 6 by difficulty): one row per group of
+/// scenes, each column the macro-average over the group's evaluated scenes, in percent.
+///
+/// | column | per scene | averaged over |
+/// |---|---|---|
+/// | `COL_ob` | objects in collision / objects | scenes with objects |
+/// | `COL_sc` | 1 if any collision, else 0 | evaluated scenes |
+/// | `SUP` | supported objects / objects | scenes with objects |
+/// | `NAV` | largest free component / free floor | evaluated scenes |
+/// | `ACC` | mean best-side accessibility | scenes with an object with functional sides |
+/// | `OOB` | objects out of bounds / objects | scenes with objects |
+/// | `DOOR_blk` | blocked doors / doors | scenes with a door |
+/// | `WIN_blk` | blocked windows / windows | scenes with a window |
+///
+/// Higher is better for SUP, NAV and ACC; lower for the others. A column is empty when no scene
+/// of the group has a value (the metric did not run, or never applies).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// The groups: [`ALL_SCENES`] first, then easy, medium, hard, other difficulties in name
+    /// order, then [`UNANNOTATED`].
+    pub groups: Vec<GroupSummary>,
+}
+
+/// One row of the [`Summary`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GroupSummary {
+    /// The group's name.
+    pub group: String,
+    /// Scenes in the group.
+    pub scenes: usize,
+    /// Scenes evaluated.
+    pub evaluated: usize,
+    /// Scenes that failed to load or evaluate.
+    pub failed: usize,
+    /// Mean share of objects in collision, percent.
+    pub col_ob: Option<f64>,
+    /// Share of scenes with a collision, percent.
+    pub col_sc: Option<f64>,
+    /// Mean share of supported objects, percent.
+    pub sup: Option<f64>,
+    /// Mean navigability, percent.
+    pub nav: Option<f64>,
+    /// Mean accessibility, percent.
+    pub acc: Option<f64>,
+    /// Mean share of objects out of bounds, percent.
+    pub oob: Option<f64>,
+    /// Mean share of doors blocked, percent.
+    pub door_blocked: Option<f64>,
+    /// Mean share of windows blocked, percent.
+    pub window_blocked: Option<f64>,
+}
+
+const COLUMNS: [&str; 12] = [
+    "group",
+    "scenes",
+    "evaluated",
+    "failed",
+    "COL_ob",
+    "COL_sc",
+    "SUP",
+    "NAV",
+    "ACC",
+    "OOB",
+    "DOOR_blk",
+    "WIN_blk",
+];
+
+impl Summary {
+    /// Summarises scene records; `difficulty` maps a record to its difficulty group, `None` for a
+    /// scene without annotation. Pass `|_| None` when no annotations are available: only the
+    /// [`ALL_SCENES`] row is produced then.
+    pub fn from_records<'a>(
+        records: impl IntoIterator<Item = &'a SceneRecord>,
+        difficulty: impl Fn(&SceneRecord) -> Option<String>,
+    ) -> Self {
+        let records: Vec<&SceneRecord> = records.into_iter().collect();
+        let labels: Vec<Option<String>> = records.iter().map(|r| difficulty(r)).collect();
+        let mut groups = vec![GroupSummary::of(ALL_SCENES, records.iter().copied())];
+        let mut names: Vec<String> = labels.iter().flatten().cloned().collect();
+        let rank = |n: &str| match n {
+            "easy" => 0,
+            "medium" => 1,
+            "hard" => 2,
+            _ => 3,
+        };
+        names.sort_by(|a, b| rank(a).cmp(&rank(b)).then_with(|| a.cmp(b)));
+        names.dedup();
+        for name in &names {
+            let members = records
+                .iter()
+                .zip(&labels)
+                .filter(|(_, l)| l.as_deref() == Some(name.as_str()))
+                .map(|(r, _)| *r);
+            groups.push(GroupSummary::of(name, members));
+        }
+        if !names.is_empty() && labels.iter().any(Option::is_none) {
+            let members = records
+                .iter()
+                .zip(&labels)
+                .filter(|(_, l)| l.is_none())
+                .map(|(r, _)| *r);
+            groups.push(GroupSummary::of(UNANNOTATED, members));
+        }
+        Summary { groups }
+    }
+
+    /// The table as CSV (header row, numbers with four decimals, empty cells for missing values).
+    pub fn to_csv(&self) -> Result<String, EvalError> {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(COLUMNS)?;
+        for g in &self.groups {
+            w.write_record(g.cells(4))?;
+        }
+        let bytes = w
+            .into_inner()
+            .map_err(|e| EvalError::Csv(e.into_error().into()))?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    }
+
+    /// The table as GitHub Markdown (numbers with two decimals, `-` for missing values).
+    pub fn to_markdown(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "| {} |", COLUMNS.join(" | "));
+        let _ = writeln!(out, "|{}", "---|".repeat(COLUMNS.len()));
+        for g in &self.groups {
+            let cells: Vec<String> = g
+                .cells(2)
+                .into_iter()
+                .map(|c| if c.is_empty() { "-".to_owned() } else { c })
+                .collect();
+            let _ = writeln!(out, "| {} |", cells.join(" | "));
+        }
+        out
+    }
+}
+
+impl GroupSummary {
+    fn of<'a>(group: &str, records: impl Iterator<Item = &'a SceneRecord>) -> Self {
+        let mut scenes = 0;
+        let mut summaries: Vec<&SceneSummary> = Vec::new();
+        for r in records {
+            scenes += 1;
+            if let Some(report) = r.report() {
+                summaries.push(&report.summary);
+            }
+        }
+        let mean = |f: &dyn Fn(&SceneSummary) -> Option<f64>| -> Option<f64> {
+            let values: Vec<f64> = summaries.iter().filter_map(|s| f(s)).collect();
+            (!values.is_empty()).then(|| 100.0 * values.iter().sum::<f64>() / values.len() as f64)
+        };
+        let share = |blocked: Option<usize>, total: Option<usize>| match (blocked, total) {
+            (Some(b), Some(t)) if t > 0 => Some(b as f64 / t as f64),
+            _ => None,
+        };
+        GroupSummary {
+            group: group.to_owned(),
+            scenes,
+            evaluated: summaries.len(),
+            failed: scenes - summaries.len(),
+            col_ob: mean(&|s| s.col_ob),
+            col_sc: mean(&|s| s.col_sc.map(|c| if c { 1.0 } else { 0.0 })),
+            sup: mean(&|s| s.sup),
+            nav: mean(&|s| s.nav),
+            acc: mean(&|s| s.acc),
+            oob: mean(&|s| s.oob),
+            door_blocked: mean(&|s| share(s.doors_blocked, s.num_doors)),
+            window_blocked: mean(&|s| share(s.windows_blocked, s.num_windows)),
+        }
+    }
+
+    fn cells(&self, decimals: usize) -> Vec<String> {
+        let num = |v: Option<f64>| v.map(|v| format!("{v:.decimals$}")).unwrap_or_default();
+        vec![
+            self.group.clone(),
+            self.scenes.to_string(),
+            self.evaluated.to_string(),
+            self.failed.to_string(),
+            num(self.col_ob),
+            num(self.col_sc),
+            num(self.sup),
+            num(self.nav),
+            num(self.acc),
+            num(self.oob),
+            num(self.door_blocked),
+            num(self.window_blocked),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Metric, SCENE_REPORT_SCHEMA, SceneReport, Stage};
+
+    fn record(name: &str, summary: SceneSummary) -> SceneRecord {
+        SceneRecord::ok(
+            name,
+            SceneReport {
+                schema: SCENE_REPORT_SCHEMA.into(),
+                scene_id: name.into(),
+                object_ids: vec![],
+                metrics: Metric::GEOMETRY_ONLY.to_vec(),
+                summary,
+                collision: None,
+                support: None,
+                navigability: None,
+                accessibility: None,
+                out_of_bounds: None,
+                opening_clearance: None,
+            },
+        )
+    }
+
+    fn records() -> Vec<SceneRecord> {
+        let a = SceneSummary {
+            col_ob: Some(0.5),
+            col_sc: Some(true),
+            sup: Some(1.0),
+            nav: Some(0.8),
+            acc: None,
+            oob: Some(0.0),
+            num_doors: Some(2),
+            doors_blocked: Some(1),
+            num_windows: Some(0),
+            windows_blocked: Some(0),
+            ..SceneSummary::default()
+        };
+        let b = SceneSummary {
+            col_ob: Some(0.0),
+            col_sc: Some(false),
+            sup: Some(0.5),
+            nav: Some(1.0),
+            acc: Some(0.25),
+            oob: Some(0.25),
+            num_doors: Some(1),
+            doors_blocked: Some(0),
+            ..SceneSummary::default()
+        };
+        let err = std::io::Error::other("broken");
+        vec![
+            record("scene_0", a),
+            record("scene_1", b),
+            SceneRecord::failed("scene_2", Stage::Load, &err),
+        ]
+    }
+
+    #[test]
+    fn macro_averages_by_hand() {
+        let s = Summary::from_records(&records(), |_| None);
+        assert_eq!(s.groups.len(), 1);
+        let all = &s.groups[0];
+        assert_eq!((all.scenes, all.evaluated, all.failed), (3, 2, 1));
+        // COL_ob (0.5 + 0) / 2 = 25 %; COL_sc 1 of 2 = 50 %; SUP (1 + 0.5) / 2 = 75 %;
+        // NAV (0.8 + 1) / 2 = 90 %; ACC only scene_1: 25 %; OOB (0 + 0.25) / 2 = 12.5 %;
+        // doors (1/2 + 0/1) / 2 = 25 %; windows: no scene has one.
+        assert_eq!(all.col_ob, Some(25.0));
+        assert_eq!(all.col_sc, Some(50.0));
+        assert_eq!(all.sup, Some(75.0));
+        assert_eq!(all.nav, Some(90.0));
+        assert_eq!(all.acc, Some(25.0));
+        assert_eq!(all.oob, Some(12.5));
+        assert_eq!(all.door_blocked, Some(25.0));
+        assert_eq!(all.window_blocked, None);
+        let csv = s.to_csv().unwrap();
+        assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
+        assert_eq!(
+            csv.lines().nth(1).unwrap(),
+            "all,3,2,1,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,"
+        );
+        let md = s.to_markdown();
+        assert!(
+            md.contains("| all | 3 | 2 | 1 | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - |"),
+            "{md}"
+        );
+    }
+
+    #[test]
+    fn groups_by_difficulty() {
+        let recs = records();
+        let s = Summary::from_records(&recs, |r| match r.scene.as_str() {
+            "scene_0" => Some("hard".into()),
+            "scene_1" => Some("easy".into()),
+            _ => None,
+        });
+        let names: Vec<&str> = s.groups.iter().map(|g| g.group.as_str()).collect();
+        assert_eq!(names, vec!["all", "easy", "hard", UNANNOTATED]);
+        assert_eq!(s.groups[1].sup, Some(50.0));
+        assert_eq!(s.groups[2].sup, Some(100.0));
+        assert_eq!(s.groups[3].evaluated, 0);
+        assert_eq!(s.groups[3].sup, None);
+    }
+}
