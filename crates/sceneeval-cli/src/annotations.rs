@@ -1,15 +1,111 @@
-//! `sceneeval annotations` (being built).
+//! `sceneeval annotations check|stats`: validate a SceneEval-500 annotation file or print its
+//! statistics (the paper's Table 1).
 
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+use anyhow::Context;
+use sceneeval::annotation::{Annotations, Finding, Summary};
+use serde::Serialize;
 
 /// Subcommands of `sceneeval annotations`.
 #[derive(Debug, clap::Subcommand)]
 pub enum Command {
-    /// Validate an annotation file.
-    Check {},
+    /// Validate an annotation file and print every finding. Exits with status 1 when there is
+    /// at least one error (warnings alone exit 0), and 1 with a message when the file cannot
+    /// be read.
+    Check {
+        /// The annotation file: `.json` for the JSON form, anything else is read as CSV.
+        file: PathBuf,
+        /// Print one JSON document (file, rows, errors, warnings, findings) instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print the paper's Table 1 per difficulty: scenes, words per description, objects
+    /// specified, and entries per field (averages per scene).
+    Stats {
+        /// The annotation file: `.json` for the JSON form, anything else is read as CSV.
+        file: PathBuf,
+        /// Print JSON instead of a Markdown table.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// The JSON document of `check --json`.
+#[derive(Debug, Serialize)]
+struct CheckReport<'a> {
+    file: &'a Path,
+    rows: usize,
+    errors: usize,
+    warnings: usize,
+    findings: &'a [Finding],
 }
 
 /// Runs the subcommand.
-pub fn run(_cmd: Command) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`sceneeval annotations` is not available yet")
+pub fn run(cmd: Command) -> anyhow::Result<ExitCode> {
+    let stdout = io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    let code = match cmd {
+        Command::Check { file, json } => check(&file, json, &mut out)?,
+        Command::Stats { file, json } => stats(&file, json, &mut out)?,
+    };
+    out.flush().context("writing to standard output")?;
+    Ok(code)
+}
+
+fn read(file: &Path) -> anyhow::Result<Annotations> {
+    Annotations::read(file).with_context(|| format!("cannot read annotation file {}", file.display()))
+}
+
+fn check(file: &Path, json: bool, out: &mut impl Write) -> anyhow::Result<ExitCode> {
+    let annotations = read(file)?;
+    let findings = annotations.validate();
+    let summary = Summary::of(&findings);
+    tracing::info!(
+        rows = annotations.rows.len(),
+        errors = summary.errors,
+        warnings = summary.warnings,
+        "checked"
+    );
+    if json {
+        let report = CheckReport {
+            file,
+            rows: annotations.rows.len(),
+            errors: summary.errors,
+            warnings: summary.warnings,
+            findings: &findings,
+        };
+        serde_json::to_writer_pretty(&mut *out, &report).context("writing JSON")?;
+        writeln!(out)?;
+    } else {
+        for f in &findings {
+            writeln!(out, "{f}")?;
+        }
+        writeln!(
+            out,
+            "{}: {} rows, {} error(s), {} warning(s)",
+            file.display(),
+            annotations.rows.len(),
+            summary.errors,
+            summary.warnings
+        )?;
+    }
+    Ok(if summary.errors > 0 {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn stats(file: &Path, json: bool, out: &mut impl Write) -> anyhow::Result<ExitCode> {
+    let stats = read(file)?.stats();
+    if json {
+        serde_json::to_writer_pretty(&mut *out, &stats).context("writing JSON")?;
+        writeln!(out)?;
+    } else {
+        write!(out, "{}", stats.to_markdown())?;
+    }
+    Ok(ExitCode::SUCCESS)
 }

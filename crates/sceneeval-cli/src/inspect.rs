@@ -1,12 +1,436 @@
-//! `sceneeval inspect` (being built).
+//! `sceneeval inspect SCENE.json --assets PREFIX=DIR ...`: load a sceneState file and print its
+//! objects (id, model id, category, OBB centre, size, yaw), rooms, walls and openings, as
+//! aligned tables or (`--json`) as one JSON document.
+//!
+//! A scene that fails to load is an error: `main` prints its chain (the file, the JSON
+//! pointer, the asset) and the process exits with status 1.
 
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+use anyhow::Context;
+use sceneeval::geom::Real;
+use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
+use sceneeval::scene::{Room, Scene, SceneObject, Wall};
+use serde::Serialize;
 
 /// Arguments of `sceneeval inspect`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// The sceneState JSON file.
+    pub scene: PathBuf,
+    /// Where the assets of a model id prefix live: `PREFIX=DIR` (layout from the prefix:
+    /// `3dfModel` 3D-FUTURE, `objaverse` Objathor, `fpModel` HSSD, `layoutvlm-objaverse`
+    /// LayoutVLM, anything else a plain folder of `ID.glb`/`ID.gltf`/`ID.obj`) or
+    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of `3d-future`, `objathor`, `hssd`, `layoutvlm`,
+    /// `plain`. Repeatable.
+    #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
+    pub assets: Vec<String>,
+    /// Print one JSON document (`scene`, `objects`, `rooms` with their walls and openings)
+    /// instead of tables.
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// Runs the subcommand.
-pub fn run(_args: Args) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`sceneeval inspect` is not available yet")
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let library = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
+    let scene = read_scene_state(&args.scene, &library, &ReadOptions::default())
+        .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
+    tracing::info!(
+        objects = scene.objects().len(),
+        rooms = scene.rooms().len(),
+        assets_read = library.files_read(),
+        "scene loaded"
+    );
+    let report = Report::new(&args.scene, &scene);
+    let stdout = io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    if args.json {
+        serde_json::to_writer_pretty(&mut out, &report).context("writing JSON")?;
+        writeln!(out)?;
+    } else {
+        report.write_tables(&mut out)?;
+    }
+    out.flush().context("writing to standard output")?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The JSON document of `inspect --json`. Lengths in metres, angles in radians.
+#[derive(Debug, Serialize)]
+struct Report<'a> {
+    /// The scene's name (the file stem).
+    scene: Option<&'a str>,
+    file: &'a Path,
+    objects: Vec<ObjectReport<'a>>,
+    rooms: Vec<RoomReport<'a>>,
+}
+
+#[derive(Debug, Serialize)]
+struct ObjectReport<'a> {
+    id: &'a str,
+    index: Option<i64>,
+    model_id: Option<&'a str>,
+    category: Option<&'a str>,
+    description: Option<&'a str>,
+    /// Whether the object is a plain box (no asset mesh).
+    is_box: bool,
+    /// OBB centre, world coordinates.
+    center: [Real; 3],
+    /// OBB full size: width (x), depth (y), height (z) in the object frame.
+    size: [Real; 3],
+    /// Rotation about +z; 0 means the front faces world -y.
+    yaw: Real,
+    /// Object-frame scale baked into the mesh.
+    scale: [Real; 3],
+}
+
+#[derive(Debug, Serialize)]
+struct RoomReport<'a> {
+    id: &'a str,
+    kind: Option<&'a str>,
+    floor_id: &'a str,
+    floor_z: Real,
+    ceiling_z: Option<Real>,
+    floor_area: Real,
+    floor: Vec<[Real; 2]>,
+    walls: Vec<WallReport<'a>>,
+}
+
+#[derive(Debug, Serialize)]
+struct WallReport<'a> {
+    id: &'a str,
+    start: [Real; 2],
+    end: [Real; 2],
+    base_z: Real,
+    height: Real,
+    thickness: Real,
+    length: Real,
+    /// Unit normal of the inner face, pointing into the room.
+    inward_normal: [Real; 2],
+    openings: Vec<OpeningReport<'a>>,
+}
+
+#[derive(Debug, Serialize)]
+struct OpeningReport<'a> {
+    id: &'a str,
+    kind: &'static str,
+    /// Start and end along the wall, from its start point.
+    along: [Real; 2],
+    /// Bottom and top above the wall's base.
+    height: [Real; 2],
+}
+
+impl<'a> Report<'a> {
+    fn new(file: &'a Path, scene: &'a Scene) -> Self {
+        Report {
+            scene: scene.id(),
+            file,
+            objects: scene.objects().iter().map(ObjectReport::new).collect(),
+            rooms: scene.rooms().iter().map(RoomReport::new).collect(),
+        }
+    }
+
+    fn write_tables(&self, out: &mut impl Write) -> io::Result<()> {
+        let walls: usize = self.rooms.iter().map(|r| r.walls.len()).sum();
+        let openings: usize = self
+            .rooms
+            .iter()
+            .flat_map(|r| &r.walls)
+            .map(|w| w.openings.len())
+            .sum();
+        writeln!(
+            out,
+            "scene {} ({}): {}, {}, {}, {}",
+            self.scene.unwrap_or("-"),
+            self.file.display(),
+            count(self.objects.len(), "object"),
+            count(self.rooms.len(), "room"),
+            count(walls, "wall"),
+            count(openings, "opening"),
+        )?;
+
+        writeln!(
+            out,
+            "\nObjects (centre and size in metres, yaw in degrees; size = width x depth x height)"
+        )?;
+        let rows = self
+            .objects
+            .iter()
+            .map(|o| {
+                vec![
+                    o.id.to_owned(),
+                    o.model_id
+                        .unwrap_or(if o.is_box { "(box)" } else { "-" })
+                        .to_owned(),
+                    o.category.unwrap_or("-").to_owned(),
+                    num(o.center[0]),
+                    num(o.center[1]),
+                    num(o.center[2]),
+                    format!("{} x {} x {}", num(o.size[0]), num(o.size[1]), num(o.size[2])),
+                    format!("{:.1}", o.yaw.to_degrees()),
+                ]
+            })
+            .collect();
+        table(
+            out,
+            &["id", "model id", "category", "x", "y", "z", "size", "yaw"],
+            &[false, false, false, true, true, true, false, true],
+            rows,
+        )?;
+
+        writeln!(out, "\nRooms")?;
+        let rows = self
+            .rooms
+            .iter()
+            .map(|r| {
+                vec![
+                    r.id.to_owned(),
+                    r.kind.unwrap_or("-").to_owned(),
+                    r.floor_id.to_owned(),
+                    num(r.floor_z),
+                    r.ceiling_z.map_or_else(|| "-".to_owned(), num),
+                    num(r.floor_area),
+                    r.walls.len().to_string(),
+                ]
+            })
+            .collect();
+        table(
+            out,
+            &[
+                "id",
+                "type",
+                "floor id",
+                "floor z",
+                "ceiling z",
+                "area m2",
+                "walls",
+            ],
+            &[false, false, false, true, true, true, true],
+            rows,
+        )?;
+
+        writeln!(
+            out,
+            "\nWalls (start and end of the inner face; inward = normal into the room)"
+        )?;
+        let rows = self
+            .rooms
+            .iter()
+            .flat_map(|r| r.walls.iter().map(move |w| (r, w)))
+            .map(|(r, w)| {
+                vec![
+                    r.id.to_owned(),
+                    w.id.to_owned(),
+                    format!("({}, {})", num(w.start[0]), num(w.start[1])),
+                    format!("({}, {})", num(w.end[0]), num(w.end[1])),
+                    num(w.length),
+                    num(w.base_z),
+                    num(w.height),
+                    num(w.thickness),
+                    format!("({}, {})", num(w.inward_normal[0]), num(w.inward_normal[1])),
+                    w.openings.len().to_string(),
+                ]
+            })
+            .collect();
+        table(
+            out,
+            &[
+                "room",
+                "id",
+                "start",
+                "end",
+                "length",
+                "base z",
+                "height",
+                "thickness",
+                "inward",
+                "openings",
+            ],
+            &[false, false, false, false, true, true, true, true, false, true],
+            rows,
+        )?;
+
+        writeln!(
+            out,
+            "\nOpenings (along the wall from its start; height above its base)"
+        )?;
+        let rows = self
+            .rooms
+            .iter()
+            .flat_map(|r| r.walls.iter().map(move |w| (r, w)))
+            .flat_map(|(r, w)| w.openings.iter().map(move |o| (r, w, o)))
+            .map(|(r, w, o)| {
+                vec![
+                    r.id.to_owned(),
+                    w.id.to_owned(),
+                    o.id.to_owned(),
+                    o.kind.to_owned(),
+                    format!("{} - {}", num(o.along[0]), num(o.along[1])),
+                    format!("{} - {}", num(o.height[0]), num(o.height[1])),
+                ]
+            })
+            .collect();
+        table(
+            out,
+            &["room", "wall", "id", "kind", "along", "height"],
+            &[false, false, false, false, false, false],
+            rows,
+        )
+    }
+}
+
+impl<'a> ObjectReport<'a> {
+    fn new(o: &'a SceneObject) -> Self {
+        let obb = o.obb();
+        let size = obb.extents();
+        ObjectReport {
+            id: o.id().as_str(),
+            index: o.index(),
+            model_id: o.model_id(),
+            category: o.category(),
+            description: o.description(),
+            is_box: o.box_half_extents().is_some(),
+            center: [obb.center.x, obb.center.y, obb.center.z],
+            size: [size.x, size.y, size.z],
+            yaw: o.yaw(),
+            scale: [o.scale().x, o.scale().y, o.scale().z],
+        }
+    }
+}
+
+impl<'a> RoomReport<'a> {
+    fn new(r: &'a Room) -> Self {
+        RoomReport {
+            id: r.id().as_str(),
+            kind: r.kind(),
+            floor_id: r.floor_id(),
+            floor_z: r.floor_z(),
+            ceiling_z: r.ceiling_z(),
+            floor_area: r.floor().area(),
+            floor: r.floor().points().iter().map(|p| [p.x, p.y]).collect(),
+            walls: r.walls().iter().map(WallReport::new).collect(),
+        }
+    }
+}
+
+impl<'a> WallReport<'a> {
+    fn new(w: &'a Wall) -> Self {
+        let n = w.inward_normal();
+        WallReport {
+            id: w.id(),
+            start: [w.start().x, w.start().y],
+            end: [w.end().x, w.end().y],
+            base_z: w.base_z(),
+            height: w.height(),
+            thickness: w.thickness(),
+            length: w.length(),
+            inward_normal: [n.x, n.y],
+            openings: w
+                .openings()
+                .iter()
+                .map(|o| OpeningReport {
+                    id: &o.id,
+                    kind: o.kind.name(),
+                    along: o.along,
+                    height: o.height,
+                })
+                .collect(),
+        }
+    }
+}
+
+/// `1 room`, `2 rooms`.
+fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
+/// A number with three decimals (millimetres), without a negative zero.
+fn num(v: Real) -> String {
+    let s = format!("{v:.3}");
+    if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
+        s[1..].to_owned()
+    } else {
+        s
+    }
+}
+
+/// Writes an aligned table: a header, a rule, and the rows; `right` marks right-aligned
+/// (numeric) columns. An empty table prints `(none)`.
+fn table(out: &mut impl Write, header: &[&str], right: &[bool], rows: Vec<Vec<String>>) -> io::Result<()> {
+    if rows.is_empty() {
+        return writeln!(out, "  (none)");
+    }
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for row in &rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.chars().count());
+        }
+    }
+    let line = |cells: &[String]| {
+        let mut s = String::from(" ");
+        for (i, cell) in cells.iter().enumerate() {
+            let pad = widths[i].saturating_sub(cell.chars().count());
+            s.push(' ');
+            if right.get(i).copied().unwrap_or(false) {
+                s.push_str(&" ".repeat(pad));
+                s.push_str(cell);
+            } else {
+                s.push_str(cell);
+                s.push_str(&" ".repeat(pad));
+            }
+            s.push(' ');
+        }
+        s.trim_end().to_owned()
+    };
+    let header: Vec<String> = header.iter().map(|h| (*h).to_owned()).collect();
+    writeln!(out, "{}", line(&header))?;
+    let rule: Vec<String> = widths.iter().map(|w| "-".repeat(*w)).collect();
+    writeln!(out, "{}", line(&rule))?;
+    for row in &rows {
+        writeln!(out, "{}", line(row))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_have_three_decimals_and_no_negative_zero() {
+        assert_eq!(num(1.23456), "1.235");
+        assert_eq!(num(-0.0001), "0.000");
+        assert_eq!(num(-2.5), "-2.500");
+        assert_eq!(count(1, "room"), "1 room");
+        assert_eq!(count(0, "room"), "0 rooms");
+    }
+
+    #[test]
+    fn tables_align_columns() {
+        let mut out = Vec::new();
+        table(
+            &mut out,
+            &["id", "x"],
+            &[false, true],
+            vec![
+                vec!["a".into(), "1.000".into()],
+                vec!["long".into(), "10.000".into()],
+            ],
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(
+            text,
+            "  id         x\n  ----  ------\n  a      1.000\n  long  10.000\n"
+        );
+        let mut out = Vec::new();
+        table(&mut out, &["id"], &[false], vec![]).unwrap();
+        assert_eq!(String::from_utf8(out).unwrap(), "  (none)\n");
+    }
 }

@@ -212,9 +212,13 @@ fn checked_pose(id: &ObjectId, pose: Isometry3) -> Result<Isometry3, SceneError>
             object: id.to_string(),
         });
     }
-    // Renormalise: a quaternion that drifted in an optimiser must still be a rotation.
+    // Renormalise a quaternion that drifted (e.g. in an optimiser) so it is still a rotation, but
+    // leave one that is unit up to rounding bit for bit: poses must survive a write/read round
+    // trip unchanged.
     let mut pose = pose;
-    pose.rotation = UnitQuaternion::new_normalize(*q);
+    if (q.norm_squared() - 1.0).abs() > 1e-12 {
+        pose.rotation = UnitQuaternion::new_normalize(*q);
+    }
     Ok(pose)
 }
 

@@ -1,0 +1,279 @@
+//! The per-run asset cache.
+
+use std::collections::{BTreeMap, HashMap};
+use std::fmt;
+use std::hash::Hash;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
+
+use sceneeval_geom::conventions::object_from_asset;
+use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Vector3};
+use sceneeval_scene::{ObjectId, SceneObject};
+
+use super::{AssetInfo, AssetSource, AssetSpec, split_model_id};
+use crate::IoError;
+use crate::mesh_load::read_mesh_file;
+
+/// A loaded asset: its mesh in the **object frame** (z up, front -y; unscaled) and its
+/// metadata.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Asset {
+    /// The model id `PREFIX.ID`.
+    pub model_id: String,
+    /// The mesh file it was read from.
+    pub path: PathBuf,
+    /// Category and description from the source's metadata.
+    pub info: AssetInfo,
+    /// The mesh in the object frame: `object_from_asset() * p` for the file's vertices `p`
+    /// (after the source's alignment, if any).
+    pub mesh: Arc<Mesh>,
+}
+
+type Slot<V> = Arc<Mutex<Option<V>>>;
+type Cache<K, V> = Mutex<HashMap<K, Slot<V>>>;
+
+/// Asset sources by model id prefix, and a cache that loads each asset (and each scaled
+/// variant of it) once.
+///
+/// The library is `Sync`: share one by reference across scenes and threads. Two threads
+/// asking for the same asset wait for one load; different assets load in parallel. Failed
+/// loads are not cached (asking again retries and fails again with the same error).
+///
+/// ```
+/// use sceneeval_io::{AssetLibrary, GlbMesh, write_glb};
+/// use sceneeval_io::assets::PlainFolderSource;
+/// use sceneeval_geom::Vector3;
+///
+/// let dir = tempfile::tempdir().unwrap();
+/// // A unit triangle standing in the asset's x-y plane (y up).
+/// let tri = GlbMesh::new("t", vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![0, 1, 2]);
+/// write_glb(&dir.path().join("tri.glb"), &[tri]).unwrap();
+///
+/// let library = AssetLibrary::new().with_source("fixture", PlainFolderSource::new(dir.path()));
+/// let asset = library.asset("fixture.tri").unwrap();
+/// // Asset +y (up) is object +z.
+/// assert_eq!(asset.mesh.aabb().max.z, 1.0);
+/// let a = library.mesh("fixture.tri", &Vector3::repeat(1.0)).unwrap();
+/// let b = library.mesh("fixture.tri", &Vector3::repeat(1.0)).unwrap();
+/// assert!(std::sync::Arc::ptr_eq(&a, &b), "one mesh per asset");
+/// assert_eq!(library.files_read(), 1);
+/// ```
+#[derive(Default)]
+pub struct AssetLibrary {
+    sources: BTreeMap<String, Box<dyn AssetSource>>,
+    assets: Cache<String, Arc<Asset>>,
+    scaled: Cache<(String, [u64; 3]), Arc<Mesh>>,
+    files_read: AtomicUsize,
+}
+
+impl fmt::Debug for AssetLibrary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut m = f.debug_map();
+        for (prefix, source) in &self.sources {
+            m.entry(
+                prefix,
+                &format_args!("{} {}", source.layout(), source.root().display()),
+            );
+        }
+        m.finish()
+    }
+}
+
+impl AssetLibrary {
+    /// A library with no sources (enough for scenes made only of box objects).
+    pub fn new() -> Self {
+        AssetLibrary::default()
+    }
+
+    /// Registers `source` for model ids `PREFIX.*`, replacing any source registered for that
+    /// prefix.
+    pub fn with_source(mut self, prefix: impl Into<String>, source: impl AssetSource + 'static) -> Self {
+        self.sources.insert(prefix.into(), Box::new(source));
+        self
+    }
+
+    /// Registers a boxed source for `prefix`.
+    ///
+    /// # Errors
+    /// [`IoError::BadAssetSpec`] when a source is already registered for the prefix.
+    pub fn add_source(
+        &mut self,
+        prefix: impl Into<String>,
+        source: Box<dyn AssetSource>,
+    ) -> Result<(), IoError> {
+        let prefix = prefix.into();
+        if let Some(old) = self.sources.get(&prefix) {
+            return Err(IoError::BadAssetSpec {
+                spec: format!("{prefix}={}", source.root().display()),
+                reason: format!(
+                    "prefix {prefix:?} is already registered for {}",
+                    old.root().display()
+                ),
+            });
+        }
+        self.sources.insert(prefix, source);
+        Ok(())
+    }
+
+    /// A library from `--assets` specifications (see [`AssetSpec::parse`]).
+    ///
+    /// # Errors
+    /// [`IoError::BadAssetSpec`] when a specification does not parse, its folder is not a
+    /// directory, or two name the same prefix.
+    pub fn from_specs<S: AsRef<str>>(specs: &[S]) -> Result<Self, IoError> {
+        let mut library = AssetLibrary::new();
+        for spec in specs {
+            let spec_str = spec.as_ref();
+            let parsed = AssetSpec::parse(spec_str)?;
+            if !parsed.dir.is_dir() {
+                return Err(IoError::BadAssetSpec {
+                    spec: spec_str.to_owned(),
+                    reason: format!("{} is not a directory", parsed.dir.display()),
+                });
+            }
+            library.add_source(parsed.prefix, parsed.layout.source(parsed.dir))?;
+        }
+        Ok(library)
+    }
+
+    /// The source registered for `prefix`.
+    pub fn source(&self, prefix: &str) -> Option<&dyn AssetSource> {
+        self.sources.get(prefix).map(|s| s.as_ref())
+    }
+
+    /// The registered prefixes, sorted.
+    pub fn prefixes(&self) -> impl Iterator<Item = &str> + '_ {
+        self.sources.keys().map(String::as_str)
+    }
+
+    /// How many mesh files have been read so far (each asset is read once).
+    pub fn files_read(&self) -> usize {
+        self.files_read.load(Ordering::Relaxed)
+    }
+
+    /// The asset `model_id` (`PREFIX.ID`), loading it on first use.
+    ///
+    /// # Errors
+    /// [`IoError::BadModelId`], [`IoError::UnknownPrefix`], the source's errors
+    /// ([`IoError::AssetNotFound`], [`IoError::BadMetadata`]), the mesh reader's errors
+    /// ([`IoError::File`], [`IoError::BadAssetFile`], [`IoError::EmptyMesh`]) and
+    /// [`IoError::AssetGeometry`].
+    pub fn asset(&self, model_id: &str) -> Result<Arc<Asset>, IoError> {
+        let slot = slot(&self.assets, model_id.to_owned());
+        cached(&slot, || self.load(model_id).map(Arc::new))
+    }
+
+    /// The object-frame mesh of `model_id` scaled by `scale` (object frame: x width, y
+    /// depth, z height), shared by every caller asking for the same asset and scale. A scale
+    /// of `(1, 1, 1)` returns the asset's own mesh.
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::asset`]; [`IoError::BadScale`] when a scale component is zero or
+    /// not finite.
+    pub fn mesh(&self, model_id: &str, scale: &Vector3) -> Result<Arc<Mesh>, IoError> {
+        if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
+            return Err(IoError::BadScale {
+                model_id: model_id.to_owned(),
+                scale: [scale.x, scale.y, scale.z],
+            });
+        }
+        let asset = self.asset(model_id)?;
+        if *scale == Vector3::repeat(1.0) {
+            return Ok(Arc::clone(&asset.mesh));
+        }
+        let key = (model_id.to_owned(), [scale.x, scale.y, scale.z].map(f64::to_bits));
+        let slot = slot(&self.scaled, key);
+        cached(&slot, || {
+            asset
+                .mesh
+                .transformed(&Matrix3::from_diagonal(scale), &Vector3::zeros())
+                .map(Arc::new)
+                .map_err(|source| IoError::AssetGeometry {
+                    path: asset.path.clone(),
+                    source,
+                })
+        })
+    }
+
+    /// A scene object showing asset `model_id` at `pose` with the object-frame `scale`, with
+    /// the asset's category and description. This is how code that builds scenes places
+    /// assets: the frame conversion stays in this crate.
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::mesh`]; [`IoError::BadObject`] when the pose is not finite.
+    pub fn object(
+        &self,
+        id: impl Into<ObjectId>,
+        model_id: &str,
+        pose: Isometry3,
+        scale: Vector3,
+    ) -> Result<SceneObject, IoError> {
+        let id = id.into();
+        let asset = self.asset(model_id)?;
+        let mesh = self.mesh(model_id, &scale)?;
+        let mut object = SceneObject::from_mesh(id.clone(), mesh, pose)
+            .map_err(|source| IoError::BadObject {
+                object: id.to_string(),
+                source,
+            })?
+            .with_model_id(model_id)
+            .with_scale(scale);
+        if let Some(c) = &asset.info.category {
+            object = object.with_category(c.clone());
+        }
+        if let Some(d) = &asset.info.description {
+            object = object.with_description(d.clone());
+        }
+        Ok(object)
+    }
+
+    fn load(&self, model_id: &str) -> Result<Asset, IoError> {
+        let (prefix, asset_id) = split_model_id(model_id)?;
+        let Some(source) = self.sources.get(prefix) else {
+            return Err(IoError::UnknownPrefix {
+                model_id: model_id.to_owned(),
+                prefix: prefix.to_owned(),
+                registered: self.sources.keys().cloned().collect(),
+            });
+        };
+        let location = source.locate(model_id, asset_id)?;
+        let raw = read_mesh_file(&location.path)?;
+        self.files_read.fetch_add(1, Ordering::Relaxed);
+        let to_object = match &location.alignment {
+            Some(e) => object_from_asset().matrix() * e.matrix(),
+            None => *object_from_asset().matrix(),
+        };
+        let vertices = raw
+            .positions
+            .iter()
+            .map(|p| Point3::from(to_object * p.coords))
+            .collect();
+        let mesh = Mesh::new(vertices, raw.triangles).map_err(|source| IoError::AssetGeometry {
+            path: location.path.clone(),
+            source,
+        })?;
+        tracing::debug!(model_id, file = %location.path.display(), "asset loaded");
+        Ok(Asset {
+            model_id: model_id.to_owned(),
+            path: location.path,
+            info: location.info,
+            mesh: Arc::new(mesh),
+        })
+    }
+}
+
+fn slot<K: Eq + Hash, V>(cache: &Cache<K, V>, key: K) -> Slot<V> {
+    let mut map = cache.lock().unwrap_or_else(PoisonError::into_inner);
+    Arc::clone(map.entry(key).or_default())
+}
+
+fn cached<V: Clone>(slot: &Slot<V>, load: impl FnOnce() -> Result<V, IoError>) -> Result<V, IoError> {
+    let mut guard = slot.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some(v) = guard.as_ref() {
+        return Ok(v.clone());
+    }
+    let v = load()?;
+    *guard = Some(v.clone());
+    Ok(v)
+}

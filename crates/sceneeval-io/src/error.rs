@@ -1,0 +1,279 @@
+use std::path::PathBuf;
+
+use sceneeval_geom::GeomError;
+use sceneeval_scene::SceneError;
+use thiserror::Error;
+
+/// Everything that can go wrong reading or writing scenes and assets.
+///
+/// Every variant says which input was wrong and where: the file (`path`), the RFC 6901 JSON
+/// pointer of the offending value inside a sceneState file (`pointer`, e.g.
+/// `/scene/object/3/transform/data/12`), and/or the asset's model id. Errors raised while
+/// loading an asset for a scene object are wrapped in [`IoError::ObjectAsset`], which adds the
+/// scene file and the object's pointer to the asset error (see [`std::error::Error::source`]).
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum IoError {
+    /// Reading, creating or writing a file failed.
+    #[error("{}: {source}", .path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The text is not valid JSON.
+    #[error("{}:{line}:{column}: malformed JSON: {message}", .path.display())]
+    MalformedJson {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column of the error.
+        column: usize,
+        /// What the parser expected.
+        message: String,
+    },
+    /// A required field is absent.
+    #[error("{}: {pointer}: missing field {field:?}", .path.display())]
+    MissingField {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the JSON object that lacks the field.
+        pointer: String,
+        /// The field's name.
+        field: &'static str,
+    },
+    /// A value has the wrong JSON type (or the wrong number of elements).
+    #[error("{}: {pointer}: expected {expected}, found {found}", .path.display())]
+    WrongType {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the value.
+        pointer: String,
+        /// What was expected, e.g. `a number` or `an array of 16 numbers`.
+        expected: &'static str,
+        /// What was found, e.g. `a string` or `an array of 12 elements`.
+        found: String,
+    },
+    /// A value has the right type but is not acceptable (non-finite, unknown enum value,
+    /// too few points, ...).
+    #[error("{}: {pointer}: {reason}", .path.display())]
+    InvalidValue {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the value.
+        pointer: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// An object's `transform.data` cannot be turned into a pose (not finite, not affine,
+    /// singular, or with shear).
+    #[error("{}: {pointer}: bad transform: {reason}", .path.display())]
+    BadTransform {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the transform's `data` array (or one of its elements).
+        pointer: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// Two object entries produce the same object id.
+    #[error("{}: object id {id:?} is used by both {first} and {second}", .path.display())]
+    DuplicateObjectId {
+        /// The file.
+        path: PathBuf,
+        /// The repeated id.
+        id: String,
+        /// Pointer to the first object entry with that id.
+        first: String,
+        /// Pointer to the second one.
+        second: String,
+    },
+    /// Two elements of one kind (e.g. two `Floor`s) claim the same room, or two walls share
+    /// an id.
+    #[error("{}: {pointer}: {what} (first given at {first})", .path.display())]
+    DuplicateElement {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the second element.
+        pointer: String,
+        /// Pointer to the first element.
+        first: String,
+        /// What is duplicated, e.g. `second Floor for room "r0"`.
+        what: String,
+    },
+    /// The scene model rejected an element (zero-length wall, bad floor polygon, ...).
+    #[error("{}: {pointer}: {source}", .path.display())]
+    Scene {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the element that caused the error.
+        pointer: String,
+        /// The scene model's error.
+        #[source]
+        source: SceneError,
+    },
+    /// An asset could not be loaded for the object at `pointer`.
+    #[error("{}: {pointer}: cannot load asset {model_id:?}", .path.display())]
+    ObjectAsset {
+        /// The scene file.
+        path: PathBuf,
+        /// Pointer to the object entry.
+        pointer: String,
+        /// The object's model id.
+        model_id: String,
+        /// The asset error.
+        #[source]
+        source: Box<IoError>,
+    },
+    /// A model id is not of the form `PREFIX.ID`.
+    #[error("model id {model_id:?} is not of the form PREFIX.ID")]
+    BadModelId {
+        /// The model id.
+        model_id: String,
+    },
+    /// No asset source is registered for a model id's prefix.
+    #[error("model id {model_id:?}: no asset source for prefix {prefix:?} (registered: {})",
+        if .registered.is_empty() { "none; pass --assets PREFIX=DIR".to_owned() } else { .registered.join(", ") })]
+    UnknownPrefix {
+        /// The model id.
+        model_id: String,
+        /// Its prefix.
+        prefix: String,
+        /// The prefixes that are registered.
+        registered: Vec<String>,
+    },
+    /// An asset source has no file for an asset id.
+    #[error("asset {model_id:?} not found (looked for {})",
+        .tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "))]
+    AssetNotFound {
+        /// The model id.
+        model_id: String,
+        /// The paths that were tried.
+        tried: Vec<PathBuf>,
+    },
+    /// An asset file could not be parsed (corrupt GLB/glTF/OBJ, unsupported extension).
+    #[error("{}: cannot read mesh: {message}", .path.display())]
+    BadAssetFile {
+        /// The asset file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
+    /// An asset file holds no triangles.
+    #[error("{}: the file holds no triangles", .path.display())]
+    EmptyMesh {
+        /// The asset file.
+        path: PathBuf,
+    },
+    /// An asset's geometry was rejected (non-finite vertices, out-of-range indices, every
+    /// triangle degenerate).
+    #[error("{}: {source}", .path.display())]
+    AssetGeometry {
+        /// The asset file.
+        path: PathBuf,
+        /// The geometric problem.
+        #[source]
+        source: GeomError,
+    },
+    /// An asset metadata file (`model_info.json`, `annotations.json`, `fpmodels.csv`,
+    /// `data.json`, a sidecar `ID.json`) is malformed.
+    #[error("{}: {location}: {message}", .path.display())]
+    BadMetadata {
+        /// The metadata file.
+        path: PathBuf,
+        /// Where in the file: a JSON pointer, or `row N` / `row N, column C` for CSV.
+        location: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An `--assets` specification could not be parsed.
+    #[error("bad asset specification {spec:?}: {reason}")]
+    BadAssetSpec {
+        /// The specification as given.
+        spec: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A scale for an asset mesh has a zero or non-finite component.
+    #[error("asset {model_id:?}: scale {scale:?} must be finite and non-zero along every axis")]
+    BadScale {
+        /// The model id.
+        model_id: String,
+        /// The scale asked for (object frame).
+        scale: [f64; 3],
+    },
+    /// A scene object could not be made (e.g. its pose is not finite).
+    #[error("object {object:?}: {source}")]
+    BadObject {
+        /// The object's id.
+        object: String,
+        /// The scene model's error.
+        #[source]
+        source: SceneError,
+    },
+    /// A scene object cannot be written to a sceneState file.
+    #[error("object {object:?} cannot be written: {reason}")]
+    Unwritable {
+        /// The object's id (or the room/wall id for architecture).
+        object: String,
+        /// Why.
+        reason: String,
+    },
+    /// A mesh handed to the GLB writer is invalid.
+    #[error("GLB mesh {name:?}: {reason}")]
+    BadGlbMesh {
+        /// The mesh's name.
+        name: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+}
+
+impl IoError {
+    pub(crate) fn file(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        IoError::File {
+            path: path.into(),
+            source,
+        }
+    }
+
+    /// The JSON pointer the error refers to, if it refers to a place in a sceneState file.
+    pub fn pointer(&self) -> Option<&str> {
+        match self {
+            IoError::MissingField { pointer, .. }
+            | IoError::WrongType { pointer, .. }
+            | IoError::InvalidValue { pointer, .. }
+            | IoError::BadTransform { pointer, .. }
+            | IoError::DuplicateElement { pointer, .. }
+            | IoError::Scene { pointer, .. }
+            | IoError::ObjectAsset { pointer, .. } => Some(pointer),
+            IoError::DuplicateObjectId { second, .. } => Some(second),
+            _ => None,
+        }
+    }
+
+    /// The file the error refers to (the scene file for scene errors, the asset or metadata
+    /// file for asset errors), if any.
+    pub fn path(&self) -> Option<&std::path::Path> {
+        match self {
+            IoError::File { path, .. }
+            | IoError::MalformedJson { path, .. }
+            | IoError::MissingField { path, .. }
+            | IoError::WrongType { path, .. }
+            | IoError::InvalidValue { path, .. }
+            | IoError::BadTransform { path, .. }
+            | IoError::DuplicateObjectId { path, .. }
+            | IoError::DuplicateElement { path, .. }
+            | IoError::Scene { path, .. }
+            | IoError::ObjectAsset { path, .. }
+            | IoError::BadAssetFile { path, .. }
+            | IoError::EmptyMesh { path }
+            | IoError::AssetGeometry { path, .. }
+            | IoError::BadMetadata { path, .. } => Some(path),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,352 @@
+//! Writing binary glTF 2.0 (`.glb`) files: one node and one triangle mesh per [`GlbMesh`].
+//!
+//! The writer exists for generated test assets (the fixtures) and for exporting meshes; it
+//! writes geometry only (positions and indices, no normals or materials). Output is
+//! deterministic: identical input gives byte-identical files.
+//!
+//! Layout of the file: one little-endian binary buffer holding, for each mesh in order, its
+//! positions (`f32` x, y, z) then its indices (`u32`); per mesh a `POSITION` accessor with
+//! `min`/`max` and an index accessor; per mesh one node (no transform, named like the mesh)
+//! that is a root of the single, default scene.
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use gltf_json as json;
+use json::validation::Checked::Valid;
+use json::validation::USize64;
+
+use crate::IoError;
+
+/// A named triangle mesh for [`write_glb`], in the file's own coordinates (for assets: y up,
+/// front toward +z, metres).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct GlbMesh {
+    /// The mesh's (and its node's) name.
+    pub name: String,
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Triangle vertex indices, three per triangle, counter-clockwise seen from outside.
+    pub indices: Vec<u32>,
+}
+
+impl GlbMesh {
+    /// A mesh from its parts.
+    pub fn new(name: impl Into<String>, positions: Vec<[f32; 3]>, indices: Vec<u32>) -> Self {
+        GlbMesh {
+            name: name.into(),
+            positions,
+            indices,
+        }
+    }
+
+    fn check(&self) -> Result<(), IoError> {
+        let bad = |reason: String| IoError::BadGlbMesh {
+            name: self.name.clone(),
+            reason,
+        };
+        if self.positions.is_empty() || self.indices.is_empty() {
+            return Err(bad("has no vertices or no triangles".into()));
+        }
+        if !self.indices.len().is_multiple_of(3) {
+            return Err(bad(format!(
+                "has {} indices, not a multiple of 3",
+                self.indices.len()
+            )));
+        }
+        if let Some((i, p)) = self
+            .positions
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(bad(format!("vertex {i} is not finite: {p:?}")));
+        }
+        let n = self.positions.len();
+        if let Some((k, &i)) = self.indices.iter().enumerate().find(|&(_, &i)| i as usize >= n) {
+            return Err(bad(format!("index {k} is {i}, but there are {n} vertices")));
+        }
+        Ok(())
+    }
+
+    fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        let mut min = [f32::INFINITY; 3];
+        let mut max = [f32::NEG_INFINITY; 3];
+        for p in &self.positions {
+            for k in 0..3 {
+                min[k] = min[k].min(p[k]);
+                max[k] = max[k].max(p[k]);
+            }
+        }
+        (min, max)
+    }
+}
+
+/// Writes `meshes` as a binary glTF 2.0 file at `path`: one node (no transform, named like
+/// the mesh) and one triangle mesh per [`GlbMesh`], all roots of the single, default scene;
+/// one little-endian buffer holding each mesh's `f32` positions then its `u32` indices; a
+/// `POSITION` accessor with `min`/`max` and an index accessor per mesh; no normals or
+/// materials. Identical input gives byte-identical files.
+///
+/// # Errors
+/// [`IoError::BadGlbMesh`] when a mesh has no triangles, a non-finite vertex, an index out of
+/// range or an index count that is not a multiple of 3 (also when `meshes` is empty);
+/// [`IoError::File`] when the file cannot be written.
+pub fn write_glb(path: &Path, meshes: &[GlbMesh]) -> Result<(), IoError> {
+    let bytes = write_glb_to_vec(meshes)?;
+    std::fs::write(path, bytes).map_err(|e| IoError::file(path, e))
+}
+
+/// The bytes of the binary glTF file [`write_glb`] would write.
+///
+/// ```
+/// use sceneeval_io::{GlbMesh, write_glb_to_vec};
+/// let tri = GlbMesh::new("tri", vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![0, 1, 2]);
+/// let bytes = write_glb_to_vec(&[tri.clone()]).unwrap();
+/// assert_eq!(&bytes[..4], b"glTF");
+/// assert_eq!(bytes, write_glb_to_vec(&[tri]).unwrap(), "deterministic");
+/// ```
+///
+/// # Errors
+/// As [`write_glb`], without the file error.
+pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
+    if meshes.is_empty() {
+        return Err(IoError::BadGlbMesh {
+            name: String::new(),
+            reason: "no meshes to write".into(),
+        });
+    }
+    for m in meshes {
+        m.check()?;
+    }
+    let mut root = json::Root {
+        asset: json::Asset {
+            generator: Some("sceneeval-io".into()),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut bin: Vec<u8> = Vec::new();
+    // The buffer is pushed first so that it has index 0; its length is set at the end.
+    let buffer = root.push(json::Buffer {
+        byte_length: USize64(0),
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        uri: None,
+    });
+    let mut nodes = Vec::with_capacity(meshes.len());
+    for m in meshes {
+        let positions_offset = bin.len();
+        for p in &m.positions {
+            for c in p {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        let positions_len = bin.len() - positions_offset;
+        let indices_offset = bin.len();
+        for i in &m.indices {
+            bin.extend_from_slice(&i.to_le_bytes());
+        }
+        let indices_len = bin.len() - indices_offset;
+
+        let view = |root: &mut json::Root, offset: usize, len: usize, target| {
+            root.push(json::buffer::View {
+                buffer,
+                byte_length: USize64::from(len),
+                byte_offset: Some(USize64::from(offset)),
+                byte_stride: None,
+                extensions: Default::default(),
+                extras: Default::default(),
+                name: None,
+                target: Some(Valid(target)),
+            })
+        };
+        let positions_view = view(
+            &mut root,
+            positions_offset,
+            positions_len,
+            json::buffer::Target::ArrayBuffer,
+        );
+        let indices_view = view(
+            &mut root,
+            indices_offset,
+            indices_len,
+            json::buffer::Target::ElementArrayBuffer,
+        );
+        let (min, max) = m.bounds();
+        let positions = root.push(json::Accessor {
+            buffer_view: Some(positions_view),
+            byte_offset: None,
+            count: USize64::from(m.positions.len()),
+            component_type: Valid(json::accessor::GenericComponentType(
+                json::accessor::ComponentType::F32,
+            )),
+            extensions: Default::default(),
+            extras: Default::default(),
+            type_: Valid(json::accessor::Type::Vec3),
+            min: Some(json::Value::from(min.to_vec())),
+            max: Some(json::Value::from(max.to_vec())),
+            name: None,
+            normalized: false,
+            sparse: None,
+        });
+        let indices = root.push(json::Accessor {
+            buffer_view: Some(indices_view),
+            byte_offset: None,
+            count: USize64::from(m.indices.len()),
+            component_type: Valid(json::accessor::GenericComponentType(
+                json::accessor::ComponentType::U32,
+            )),
+            extensions: Default::default(),
+            extras: Default::default(),
+            type_: Valid(json::accessor::Type::Scalar),
+            min: None,
+            max: None,
+            name: None,
+            normalized: false,
+            sparse: None,
+        });
+        let mesh = root.push(json::Mesh {
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: Some(m.name.clone()),
+            primitives: vec![json::mesh::Primitive {
+                attributes: BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]),
+                extensions: Default::default(),
+                extras: Default::default(),
+                indices: Some(indices),
+                material: None,
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            }],
+            weights: None,
+        });
+        nodes.push(root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(m.name.clone()),
+            ..Default::default()
+        }));
+    }
+    root.buffers[0].byte_length = USize64::from(bin.len());
+    let scene = root.push(json::Scene {
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        nodes,
+    });
+    root.scene = Some(scene);
+
+    let text = json::serialize::to_string(&root).map_err(|e| IoError::BadGlbMesh {
+        name: meshes[0].name.clone(),
+        reason: format!("cannot serialise the glTF JSON: {e}"),
+    })?;
+    let glb = gltf::binary::Glb {
+        header: gltf::binary::Header {
+            magic: *b"glTF",
+            version: 2,
+            // Recomputed by the writer.
+            length: 0,
+        },
+        json: Cow::Owned(text.into_bytes()),
+        bin: Some(Cow::Owned(bin)),
+    };
+    glb.to_vec().map_err(|e| IoError::BadGlbMesh {
+        name: meshes[0].name.clone(),
+        reason: format!("cannot assemble the binary glTF: {e}"),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube(name: &str, offset: f32) -> GlbMesh {
+        let positions = (0..8)
+            .map(|k| {
+                [
+                    if k & 1 == 0 { -0.5 } else { 0.5 } + offset,
+                    if k & 2 == 0 { 0.0 } else { 1.0 },
+                    if k & 4 == 0 { -0.25 } else { 0.25 },
+                ]
+            })
+            .collect();
+        let indices = vec![
+            0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3,
+            5, 3, 7, 5,
+        ];
+        GlbMesh::new(name, positions, indices)
+    }
+
+    #[test]
+    fn output_is_a_valid_deterministic_glb() {
+        let meshes = [cube("a", 0.0), cube("b", 2.0)];
+        let bytes = write_glb_to_vec(&meshes).unwrap();
+        assert_eq!(bytes, write_glb_to_vec(&meshes).unwrap());
+        assert_eq!(&bytes[0..4], b"glTF");
+        assert_eq!(u32::from_le_bytes(bytes[4..8].try_into().unwrap()), 2);
+        assert_eq!(
+            u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize,
+            bytes.len()
+        );
+        assert_eq!(bytes.len() % 4, 0);
+
+        // Read it back with the gltf crate and check the accessors.
+        let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+        let blob = gltf.blob.clone().unwrap();
+        // Two meshes of 8 vertices (96 bytes) and 36 indices (144 bytes).
+        assert_eq!(blob.len(), 2 * (96 + 144));
+        assert_eq!(gltf.meshes().count(), 2);
+        assert_eq!(gltf.nodes().count(), 2);
+        let scene = gltf.default_scene().unwrap();
+        assert_eq!(scene.nodes().count(), 2);
+        let names: Vec<_> = gltf.nodes().map(|n| n.name().unwrap().to_owned()).collect();
+        assert_eq!(names, ["a", "b"]);
+        let mesh_b = gltf.meshes().nth(1).unwrap();
+        let prim = mesh_b.primitives().next().unwrap();
+        let bounds = prim.bounding_box();
+        assert_eq!(bounds.min, [1.5, 0.0, -0.25]);
+        assert_eq!(bounds.max, [2.5, 1.0, 0.25]);
+        let reader = prim.reader(|_| Some(&blob[..]));
+        let pos: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+        assert_eq!(pos, meshes[1].positions);
+        let idx: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
+        assert_eq!(idx, meshes[1].indices);
+    }
+
+    #[test]
+    fn invalid_meshes_are_rejected() {
+        let err = |m: GlbMesh| match write_glb_to_vec(&[m]) {
+            Err(IoError::BadGlbMesh { reason, .. }) => reason,
+            other => panic!("expected BadGlbMesh, got {other:?}"),
+        };
+        let mut m = cube("c", 0.0);
+        m.indices.push(0);
+        assert!(err(m).contains("multiple of 3"));
+        let mut m = cube("c", 0.0);
+        m.indices[5] = 8;
+        assert!(err(m).contains("8 vertices"));
+        let mut m = cube("c", 0.0);
+        m.positions[3][1] = f32::NAN;
+        assert!(err(m).contains("vertex 3"));
+        assert!(err(GlbMesh::new("e", vec![], vec![])).contains("no vertices"));
+        assert!(write_glb_to_vec(&[]).is_err());
+    }
+
+    #[test]
+    fn writes_a_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cube.glb");
+        write_glb(&path, &[cube("c", 0.0)]).unwrap();
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            write_glb_to_vec(&[cube("c", 0.0)]).unwrap()
+        );
+        let missing = dir.path().join("no/such/dir/cube.glb");
+        assert!(matches!(
+            write_glb(&missing, &[cube("c", 0.0)]),
+            Err(IoError::File { .. })
+        ));
+    }
+}

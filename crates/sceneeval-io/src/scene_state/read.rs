@@ -1,0 +1,760 @@
+//! Reading sceneState JSON into a [`Scene`].
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use sceneeval_geom::na::{Quaternion, Translation3, UnitQuaternion};
+use sceneeval_geom::{Isometry3, Point2, Polygon2, Real, Vector3};
+use sceneeval_scene::{Ceiling, Opening, OpeningKind, Room, Scene, SceneError, SceneObject, WallSpec};
+use serde_json::{Map, Value};
+
+use super::json_in::{Doc, optional, parse, ptr_index, ptr_key};
+use super::{ARCH_VERSION, FORMAT, SCENE_VERSION, derived_object_id};
+use crate::frames::{
+    FrameError, PlacedObject, asset_pose_from_sstk, box_pose_from_sstk, sstk_from_asset_pose,
+    sstk_from_box_pose,
+};
+use crate::{AssetLibrary, IoError};
+
+/// What to do about architecture when reading a sceneState file.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ArchitectureMode {
+    /// Use `scene.arch`; when the file has no `arch` at all, build the reference's simple
+    /// architecture around the objects (see [`ReadOptions`]). The reference's default.
+    #[default]
+    FileOrSimple,
+    /// Use `scene.arch`; when the file has none, the scene has no rooms.
+    FileOnly,
+    /// Ignore `scene.arch` and always build the simple architecture (the reference's
+    /// `method_use_simple_architecture`).
+    AlwaysSimple,
+}
+
+/// Where the simple architecture's floor goes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SimpleFloorHeight {
+    /// At the lowest point of any object, as the reference does (so the lowest object always
+    /// stands on the floor).
+    #[default]
+    LowestObject,
+    /// At world `z = 0`.
+    Zero,
+}
+
+/// Options for [`read_scene_state`].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ReadOptions {
+    /// What to do about architecture.
+    pub architecture: ArchitectureMode,
+    /// Height of the simple architecture's walls (the reference's 3 m).
+    pub simple_wall_height: Real,
+    /// Where the simple architecture's floor goes.
+    pub simple_floor: SimpleFloorHeight,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        ReadOptions {
+            architecture: ArchitectureMode::default(),
+            simple_wall_height: 3.0,
+            simple_floor: SimpleFloorHeight::default(),
+        }
+    }
+}
+
+/// Reads the sceneState file at `path`, loading asset meshes through `assets`. The scene is
+/// named after the file's stem (`scene_12.json` -> `scene_12`).
+///
+/// # Errors
+/// Every problem is an [`IoError`] naming the file and the JSON pointer of the offending value
+/// (see the crate docs for the list); nothing panics.
+pub fn read_scene_state(path: &Path, assets: &AssetLibrary, options: &ReadOptions) -> Result<Scene, IoError> {
+    let text = std::fs::read_to_string(path).map_err(|e| IoError::file(path, e))?;
+    read_scene_state_str(&text, path, assets, options)
+}
+
+/// Reads sceneState JSON `text` (asset files are still read through `assets`); `path` only
+/// names the text in errors and gives the scene's name (its stem).
+///
+/// # Errors
+/// As [`read_scene_state`].
+pub fn read_scene_state_str(
+    text: &str,
+    path: &Path,
+    assets: &AssetLibrary,
+    options: &ReadOptions,
+) -> Result<Scene, IoError> {
+    let doc = Doc { path };
+    let root = parse(text, path)?;
+    let root = doc.object(&root, "")?;
+    let format = doc.required(root, "", "format")?;
+    if doc.string(format, "/format")? != FORMAT {
+        return Err(doc.invalid("/format", format!("expected \"{FORMAT}\", found {format}")));
+    }
+    let scene = doc.object(doc.required(root, "", "scene")?, "/scene")?;
+    check_version(&doc, scene, "/scene", SCENE_VERSION);
+
+    let objects = read_objects(&doc, scene, assets)?;
+    let arch = optional(scene, "arch");
+    let rooms = match (options.architecture, arch) {
+        (ArchitectureMode::AlwaysSimple, _) | (ArchitectureMode::FileOrSimple, None) => {
+            simple_architecture(&doc, &objects, options)?
+        }
+        (ArchitectureMode::FileOnly, None) => Vec::new(),
+        (_, Some(arch)) => read_arch(&doc, arch)?,
+    };
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned());
+    Scene::new(name, objects, rooms).map_err(|source| IoError::Scene {
+        path: doc.path_buf(),
+        pointer: "/scene".into(),
+        source,
+    })
+}
+
+fn check_version(doc: &Doc<'_>, o: &Map<String, Value>, ptr: &str, expected: &str) {
+    match optional(o, "version").and_then(Value::as_str) {
+        Some(v) if v != expected => tracing::warn!(
+            file = %doc.path.display(),
+            pointer = %ptr_key(ptr, "version"),
+            "version {v:?}, this reader follows {expected:?}"
+        ),
+        Some(_) => {}
+        None => tracing::debug!(file = %doc.path.display(), pointer = ptr, "no version"),
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Objects
+
+fn read_objects(
+    doc: &Doc<'_>,
+    scene: &Map<String, Value>,
+    assets: &AssetLibrary,
+) -> Result<Vec<SceneObject>, IoError> {
+    let Some(list) = optional(scene, "object") else {
+        return Ok(Vec::new());
+    };
+    let list = doc.array(list, "/scene/object")?;
+    let mut seen: HashMap<String, String> = HashMap::with_capacity(list.len());
+    let mut objects = Vec::with_capacity(list.len());
+    for (i, entry) in list.iter().enumerate() {
+        let ptr = ptr_index("/scene/object", i);
+        let object = read_object(doc, entry, &ptr, i, assets)?;
+        if let Some(first) = seen.insert(object.id().to_string(), ptr.clone()) {
+            return Err(IoError::DuplicateObjectId {
+                path: doc.path_buf(),
+                id: object.id().to_string(),
+                first,
+                second: ptr,
+            });
+        }
+        objects.push(object);
+    }
+    Ok(objects)
+}
+
+fn bad_transform(doc: &Doc<'_>, data_ptr: &str, e: &FrameError) -> IoError {
+    let pointer = match e {
+        FrameError::NonFinite { index, .. } => ptr_index(data_ptr, *index),
+        _ => data_ptr.to_owned(),
+    };
+    IoError::BadTransform {
+        path: doc.path_buf(),
+        pointer,
+        reason: e.to_string(),
+    }
+}
+
+const IDENTITY: [Real; 16] = [
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+];
+
+fn read_object(
+    doc: &Doc<'_>,
+    entry: &Value,
+    ptr: &str,
+    position: usize,
+    assets: &AssetLibrary,
+) -> Result<SceneObject, IoError> {
+    let o = doc.object(entry, ptr)?;
+    let field = |key: &str| optional(o, key).map(|v| (v, ptr_key(ptr, key)));
+    let index = match field("index") {
+        Some((v, p)) => doc.integer(v, &p)?,
+        None => position as i64,
+    };
+    let model_id = field("modelId").map(|(v, p)| doc.string(v, &p)).transpose()?;
+    let text_field = |key: &str| {
+        field(key)
+            .map(|(v, p)| doc.string(v, &p).map(str::to_owned))
+            .transpose()
+    };
+    let category = text_field("category")?;
+    let description = text_field("description")?;
+    let id = text_field("objectId")?.unwrap_or_else(|| derived_object_id(index, model_id));
+
+    let box_size = match field("box") {
+        Some((v, p)) => {
+            let b = doc.object(v, &p)?;
+            let size_ptr = ptr_key(&p, "size");
+            let size = doc.numbers::<3>(doc.required(b, &p, "size")?, &size_ptr, "an array of 3 numbers")?;
+            if let Some(k) = size.iter().position(|&s| s < 0.0) {
+                return Err(doc.invalid(
+                    &ptr_index(&size_ptr, k),
+                    format!("box size {} is negative", size[k]),
+                ));
+            }
+            Some(Vector3::from(size))
+        }
+        None => None,
+    };
+    if box_size.is_none() && model_id.is_none() {
+        return Err(IoError::MissingField {
+            path: doc.path_buf(),
+            pointer: ptr.to_owned(),
+            field: "modelId",
+        });
+    }
+
+    let data_ptr = ptr_key(&ptr_key(ptr, "transform"), "data");
+    let data = match field("transform") {
+        None => IDENTITY,
+        Some((v, p)) => {
+            let t = doc.object(v, &p)?;
+            doc.numbers::<16>(doc.required(t, &p, "data")?, &data_ptr, "an array of 16 numbers")?
+        }
+    };
+    let is_box = box_size.is_some();
+    let placed = if is_box {
+        box_pose_from_sstk(&data)
+    } else {
+        asset_pose_from_sstk(&data)
+    }
+    .map_err(|e| bad_transform(doc, &data_ptr, &e))?;
+    // The pose, the scale applied to the geometry, and the scale recorded on the object. A
+    // box written by this crate has its scale already in its size and a rigid transform; its
+    // `objectPose.scale` only records the scale that was baked in.
+    let (pose, applied_scale, recorded_scale) = match field("objectPose") {
+        Some((v, p)) => match exact_pose(doc, v, &p, &data, is_box)? {
+            Some(exact) if is_box => (exact.pose, Vector3::repeat(1.0), exact.scale),
+            Some(exact) => (exact.pose, exact.scale, exact.scale),
+            None => (placed.pose, placed.scale, placed.scale),
+        },
+        None => (placed.pose, placed.scale, placed.scale),
+    };
+
+    let scene_err = |source: SceneError| IoError::Scene {
+        path: doc.path_buf(),
+        pointer: ptr.to_owned(),
+        source,
+    };
+    let unit = Vector3::repeat(1.0);
+    let mut object = match box_size {
+        Some(size) => {
+            let half = (size * 0.5).component_mul(&applied_scale.abs());
+            let obj = SceneObject::new_box_with_pose(id, half, pose).map_err(scene_err)?;
+            if let Some(m) = model_id {
+                obj.with_model_id(m)
+            } else {
+                obj
+            }
+        }
+        None => {
+            // `model_id` is present: checked above.
+            let model_id = model_id.unwrap_or_default();
+            let wrap = |source: IoError| IoError::ObjectAsset {
+                path: doc.path_buf(),
+                pointer: ptr.to_owned(),
+                model_id: model_id.to_owned(),
+                source: Box::new(source),
+            };
+            let asset = assets.asset(model_id).map_err(wrap)?;
+            let mesh = assets.mesh(model_id, &applied_scale).map_err(wrap)?;
+            let obj = SceneObject::from_mesh(id, mesh, pose)
+                .map_err(scene_err)?
+                .with_model_id(model_id);
+            let obj = match (&category, &asset.info.category) {
+                (None, Some(c)) => obj.with_category(c.clone()),
+                _ => obj,
+            };
+            match (&description, &asset.info.description) {
+                (None, Some(d)) => obj.with_description(d.clone()),
+                _ => obj,
+            }
+        }
+    };
+    object = object.with_index(index);
+    if recorded_scale != unit {
+        object = object.with_scale(recorded_scale);
+    }
+    if let Some(c) = category {
+        object = object.with_category(c);
+    }
+    if let Some(d) = description {
+        object = object.with_description(d);
+    }
+    Ok(object)
+}
+
+/// The exact pose from `objectPose` (written by this crate), if it reproduces
+/// `transform.data` exactly; `None` (with a debug message) when it does not, e.g. because the
+/// matrix was edited by hand.
+fn exact_pose(
+    doc: &Doc<'_>,
+    v: &Value,
+    ptr: &str,
+    data: &[Real; 16],
+    is_box: bool,
+) -> Result<Option<PlacedObject>, IoError> {
+    let o = doc.object(v, ptr)?;
+    let rotation_ptr = ptr_key(ptr, "rotation");
+    let q = doc.numbers::<4>(
+        doc.required(o, ptr, "rotation")?,
+        &rotation_ptr,
+        "an array of 4 numbers",
+    )?;
+    let scale = match optional(o, "scale") {
+        Some(s) => Vector3::from(doc.numbers::<3>(s, &ptr_key(ptr, "scale"), "an array of 3 numbers")?),
+        None => Vector3::repeat(1.0),
+    };
+    let quaternion = Quaternion::new(q[3], q[0], q[1], q[2]);
+    if (quaternion.norm() - 1.0).abs() > 1e-9 {
+        tracing::debug!(file = %doc.path.display(), pointer = ptr, "objectPose rotation is not a unit quaternion; ignored");
+        return Ok(None);
+    }
+    let pose = Isometry3::from_parts(
+        Translation3::new(data[12], data[13], data[14]),
+        UnitQuaternion::new_unchecked(quaternion),
+    );
+    let recomposed = if is_box {
+        sstk_from_box_pose(&pose, &Vector3::repeat(1.0))
+    } else {
+        sstk_from_asset_pose(&pose, &scale)
+    };
+    if recomposed == *data {
+        Ok(Some(PlacedObject { pose, scale }))
+    } else {
+        tracing::debug!(file = %doc.path.display(), pointer = ptr, "objectPose does not match transform.data; using the matrix");
+        Ok(None)
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Architecture
+
+struct FloorElement {
+    ptr: String,
+    id: Option<String>,
+    room: String,
+    kind: Option<String>,
+    polygon: Polygon2,
+    z: Real,
+}
+
+struct CeilingElement {
+    ptr: String,
+    id: Option<String>,
+    room: Option<String>,
+    polygon: Polygon2,
+    z: Real,
+}
+
+struct WallElement {
+    ptr: String,
+    room: Option<String>,
+    spec: WallSpec,
+    hole_ptrs: Vec<String>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ElementType {
+    Floor,
+    Ceiling,
+    Wall,
+}
+
+fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
+    let arch = doc.object(arch, "/scene/arch")?;
+    check_version(doc, arch, "/scene/arch", ARCH_VERSION);
+    let Some(elements) = optional(arch, "elements") else {
+        return Ok(Vec::new());
+    };
+    let elements = doc.array(elements, "/scene/arch/elements")?;
+    let mut floors: Vec<FloorElement> = Vec::new();
+    let mut ceilings: Vec<CeilingElement> = Vec::new();
+    let mut walls: Vec<WallElement> = Vec::new();
+    for (k, e) in elements.iter().enumerate() {
+        let ptr = ptr_index("/scene/arch/elements", k);
+        let o = doc.object(e, &ptr)?;
+        let type_ptr = ptr_key(&ptr, "type");
+        let kind = doc.string(doc.required(o, &ptr, "type")?, &type_ptr)?;
+        let kind = match kind.to_ascii_lowercase().as_str() {
+            "floor" => ElementType::Floor,
+            "ceiling" => ElementType::Ceiling,
+            "wall" => ElementType::Wall,
+            _ => {
+                return Err(doc.invalid(
+                    &type_ptr,
+                    format!("unknown element type {kind:?} (expected Floor, Ceiling or Wall)"),
+                ));
+            }
+        };
+        let id = optional(o, "id")
+            .map(|v| doc.id(v, &ptr_key(&ptr, "id")))
+            .transpose()?;
+        let room = optional(o, "roomId")
+            .map(|v| doc.id(v, &ptr_key(&ptr, "roomId")))
+            .transpose()?;
+        match kind {
+            ElementType::Floor => {
+                let Some(room) = room else {
+                    return Err(IoError::MissingField {
+                        path: doc.path_buf(),
+                        pointer: ptr,
+                        field: "roomId",
+                    });
+                };
+                if let Some(first) = floors.iter().find(|f| f.room == room) {
+                    return Err(IoError::DuplicateElement {
+                        path: doc.path_buf(),
+                        pointer: ptr,
+                        first: first.ptr.clone(),
+                        what: format!("second Floor for room {room:?}"),
+                    });
+                }
+                let kind = optional(o, "roomType")
+                    .map(|v| doc.string(v, &ptr_key(&ptr, "roomType")).map(str::to_owned))
+                    .transpose()?;
+                let (polygon, z) = read_polygon(doc, o, &ptr, "floor")?;
+                floors.push(FloorElement {
+                    ptr,
+                    id,
+                    room,
+                    kind,
+                    polygon,
+                    z,
+                });
+            }
+            ElementType::Ceiling => {
+                let (polygon, z) = read_polygon(doc, o, &ptr, "ceiling")?;
+                ceilings.push(CeilingElement {
+                    ptr,
+                    id,
+                    room,
+                    polygon,
+                    z,
+                });
+            }
+            ElementType::Wall => {
+                let id = id.unwrap_or_else(|| format!("wall_{k}"));
+                if let Some(first) = walls.iter().find(|w| w.spec.id == id) {
+                    return Err(IoError::DuplicateElement {
+                        path: doc.path_buf(),
+                        pointer: ptr,
+                        first: first.ptr.clone(),
+                        what: format!("wall id {id:?} is used twice"),
+                    });
+                }
+                walls.push(read_wall(doc, o, ptr, id, room)?);
+            }
+        }
+    }
+    assemble_rooms(doc, floors, ceilings, walls)
+}
+
+/// Reads the `points` of a Floor or Ceiling: at least 3 `[x, y, z]`, a simple polygon, one z.
+fn read_polygon(
+    doc: &Doc<'_>,
+    o: &Map<String, Value>,
+    ptr: &str,
+    what: &str,
+) -> Result<(Polygon2, Real), IoError> {
+    let points_ptr = ptr_key(ptr, "points");
+    let points = read_points(doc, doc.required(o, ptr, "points")?, &points_ptr)?;
+    if points.len() < 3 {
+        return Err(doc.invalid(
+            &points_ptr,
+            format!("a {what} polygon needs at least 3 points, got {}", points.len()),
+        ));
+    }
+    let z = common_z(doc, &points, &points_ptr);
+    let polygon = Polygon2::new(points.iter().map(|p| Point2::new(p[0], p[1])).collect())
+        .map_err(|e| doc.invalid(&points_ptr, format!("{what} polygon: {e}")))?;
+    Ok((polygon, z))
+}
+
+fn read_points(doc: &Doc<'_>, v: &Value, ptr: &str) -> Result<Vec<[Real; 3]>, IoError> {
+    doc.array(v, ptr)?
+        .iter()
+        .enumerate()
+        .map(|(i, p)| doc.numbers::<3>(p, &ptr_index(ptr, i), "an [x, y, z] array of 3 numbers"))
+        .collect()
+}
+
+/// The z shared by `points`; if they differ, their mean (with a warning): floors, ceilings
+/// and wall bases are horizontal in the scene model.
+fn common_z(doc: &Doc<'_>, points: &[[Real; 3]], ptr: &str) -> Real {
+    let z0 = points.first().map_or(0.0, |p| p[2]);
+    if points.iter().all(|p| p[2] == z0) {
+        return z0;
+    }
+    let mean = points.iter().map(|p| p[2]).sum::<Real>() / points.len() as Real;
+    tracing::warn!(file = %doc.path.display(), pointer = ptr, mean, "points have different z; using their mean");
+    mean
+}
+
+fn read_wall(
+    doc: &Doc<'_>,
+    o: &Map<String, Value>,
+    ptr: String,
+    id: String,
+    room: Option<String>,
+) -> Result<WallElement, IoError> {
+    let points_ptr = ptr_key(&ptr, "points");
+    let points = read_points(doc, doc.required(o, &ptr, "points")?, &points_ptr)?;
+    if points.len() != 2 {
+        return Err(doc.invalid(
+            &points_ptr,
+            format!("a wall needs exactly 2 points, got {}", points.len()),
+        ));
+    }
+    let base_z = common_z(doc, &points, &points_ptr);
+    let height = doc.number(doc.required(o, &ptr, "height")?, &ptr_key(&ptr, "height"))?;
+    let thickness = optional(o, "depth")
+        .map(|v| doc.number(v, &ptr_key(&ptr, "depth")))
+        .transpose()?
+        .unwrap_or(0.0);
+    let mut spec = WallSpec::new(
+        id.clone(),
+        Point2::new(points[0][0], points[0][1]),
+        Point2::new(points[1][0], points[1][1]),
+        base_z,
+        height,
+        thickness,
+    );
+    let mut hole_ptrs = Vec::new();
+    if let Some(holes) = optional(o, "holes") {
+        let holes_ptr = ptr_key(&ptr, "holes");
+        for (h, hole) in doc.array(holes, &holes_ptr)?.iter().enumerate() {
+            let hptr = ptr_index(&holes_ptr, h);
+            let ho = doc.object(hole, &hptr)?;
+            let type_ptr = ptr_key(&hptr, "type");
+            let kind = doc.string(doc.required(ho, &hptr, "type")?, &type_ptr)?;
+            let kind = match kind.to_ascii_lowercase().as_str() {
+                "door" => OpeningKind::Door,
+                "window" => OpeningKind::Window,
+                _ => {
+                    tracing::warn!(file = %doc.path.display(), pointer = %type_ptr, "skipping a hole of type {kind:?} (not Door or Window)");
+                    continue;
+                }
+            };
+            let box_ptr = ptr_key(&hptr, "box");
+            let b = doc.object(doc.required(ho, &hptr, "box")?, &box_ptr)?;
+            let min = doc.numbers::<2>(
+                doc.required(b, &box_ptr, "min")?,
+                &ptr_key(&box_ptr, "min"),
+                "an array of 2 numbers",
+            )?;
+            let max = doc.numbers::<2>(
+                doc.required(b, &box_ptr, "max")?,
+                &ptr_key(&box_ptr, "max"),
+                "an array of 2 numbers",
+            )?;
+            let opening_id = match optional(ho, "id") {
+                Some(v) => doc.id(v, &ptr_key(&hptr, "id"))?,
+                None => {
+                    let k = spec.openings.iter().filter(|o| o.kind == kind).count();
+                    format!("{id}_{}_{k}", kind.name())
+                }
+            };
+            spec.openings
+                .push(Opening::new(opening_id, kind, [min[0], max[0]], [min[1], max[1]]));
+            hole_ptrs.push(hptr);
+        }
+    }
+    Ok(WallElement {
+        ptr,
+        room,
+        spec,
+        hole_ptrs,
+    })
+}
+
+/// The index of the floor that `room` names, or else of the floor nearest to `p` (with a
+/// warning naming the element at `ptr`); `None` when there are no floors.
+fn room_for(
+    doc: &Doc<'_>,
+    floors: &[FloorElement],
+    room: Option<&str>,
+    p: Point2,
+    ptr: &str,
+) -> Option<usize> {
+    if let Some(i) = room.and_then(|r| floors.iter().position(|f| f.room == r)) {
+        return Some(i);
+    }
+    let distance = |f: &FloorElement| {
+        if f.polygon.contains_point(&p) {
+            0.0
+        } else {
+            f.polygon.distance_to_boundary(&p)
+        }
+    };
+    let nearest = (0..floors.len()).min_by(|&a, &b| distance(&floors[a]).total_cmp(&distance(&floors[b])))?;
+    tracing::warn!(
+        file = %doc.path.display(),
+        pointer = ptr,
+        room = ?room,
+        attached_to = %floors[nearest].room,
+        "no Floor for this element's roomId; attached to the room whose floor is nearest"
+    );
+    Some(nearest)
+}
+
+fn assemble_rooms(
+    doc: &Doc<'_>,
+    floors: Vec<FloorElement>,
+    ceilings: Vec<CeilingElement>,
+    walls: Vec<WallElement>,
+) -> Result<Vec<Room>, IoError> {
+    let mut room_walls: Vec<Vec<WallElement>> = floors.iter().map(|_| Vec::new()).collect();
+    for w in walls {
+        let mid = Point2::from((w.spec.start.coords + w.spec.end.coords) * 0.5);
+        let Some(i) = room_for(doc, &floors, w.room.as_deref(), mid, &w.ptr) else {
+            return Err(doc.invalid(&w.ptr, "the file has no Floor element to attach this wall to"));
+        };
+        room_walls[i].push(w);
+    }
+    let mut room_ceilings: Vec<Option<CeilingElement>> = floors.iter().map(|_| None).collect();
+    for c in ceilings {
+        let Some(i) = room_for(doc, &floors, c.room.as_deref(), c.polygon.centroid(), &c.ptr) else {
+            return Err(doc.invalid(&c.ptr, "the file has no Floor element to attach this ceiling to"));
+        };
+        if let Some(first) = &room_ceilings[i] {
+            return Err(IoError::DuplicateElement {
+                path: doc.path_buf(),
+                pointer: c.ptr,
+                first: first.ptr.clone(),
+                what: format!("second Ceiling for room {:?}", floors[i].room),
+            });
+        }
+        room_ceilings[i] = Some(c);
+    }
+    let mut rooms = Vec::with_capacity(floors.len());
+    for ((floor, walls), ceiling) in floors.into_iter().zip(room_walls).zip(room_ceilings) {
+        let mut wall_ptrs: HashMap<String, &str> = HashMap::new();
+        let mut hole_ptrs: HashMap<(String, String), &str> = HashMap::new();
+        for w in &walls {
+            wall_ptrs.insert(w.spec.id.clone(), &w.ptr);
+            for (o, p) in w.spec.openings.iter().zip(&w.hole_ptrs) {
+                hole_ptrs.insert((w.spec.id.clone(), o.id.clone()), p);
+            }
+        }
+        let ceiling_ptr = ceiling.as_ref().map(|c| c.ptr.clone());
+        let ceiling = ceiling.map(|c| Ceiling {
+            id: c.id.unwrap_or_else(|| format!("ceiling_{}", floor.room)),
+            polygon: c.polygon,
+            z: c.z,
+        });
+        let specs = walls.iter().map(|w| w.spec.clone()).collect();
+        let floor_id = floor
+            .id
+            .clone()
+            .unwrap_or_else(|| format!("floor_{}", floor.room));
+        let room = Room::new(
+            floor.room.clone(),
+            floor_id,
+            floor.polygon,
+            floor.z,
+            specs,
+            ceiling,
+        )
+        .map_err(|source| {
+            let pointer = match &source {
+                SceneError::ZeroLengthWall { wall }
+                | SceneError::BadWallHeight { wall, .. }
+                | SceneError::BadWallThickness { wall, .. }
+                | SceneError::NonFiniteWall { wall, .. } => wall_ptrs.get(wall).map(|p| p.to_string()),
+                SceneError::BadOpening { wall, opening, .. } => hole_ptrs
+                    .get(&(wall.clone(), opening.clone()))
+                    .or_else(|| wall_ptrs.get(wall))
+                    .map(|p| p.to_string()),
+                SceneError::Geometry { what, .. } if what.contains("ceiling") => ceiling_ptr.clone(),
+                SceneError::Geometry { what, .. } => wall_ptrs
+                    .iter()
+                    .find(|(id, _)| what.contains(&format!("{id:?}")))
+                    .map(|(_, p)| p.to_string()),
+                _ => None,
+            }
+            .unwrap_or_else(|| floor.ptr.clone());
+            IoError::Scene {
+                path: doc.path_buf(),
+                pointer,
+                source,
+            }
+        })?;
+        rooms.push(match floor.kind {
+            Some(k) => room.with_kind(k),
+            None => room,
+        });
+    }
+    Ok(rooms)
+}
+
+/// The reference's simple architecture: a floor over the objects' plan bounds and four walls
+/// along its edges (`wall_0` at max y, `wall_1` at min x, `wall_2` at min y, `wall_3` at max
+/// x), `simple_wall_height` high, in a room `room` with floor id `floor`.
+fn simple_architecture(
+    doc: &Doc<'_>,
+    objects: &[SceneObject],
+    options: &ReadOptions,
+) -> Result<Vec<Room>, IoError> {
+    let Some(bounds) = objects.iter().map(|o| *o.world_aabb()).reduce(|a, b| a.union(&b)) else {
+        tracing::warn!("no objects to build the simple architecture around; the scene has no rooms");
+        return Ok(Vec::new());
+    };
+    let (min, max) = (bounds.min, bounds.max);
+    if !(max.x > min.x && max.y > min.y) {
+        tracing::warn!("the objects' plan bounds have no area; the scene has no rooms");
+        return Ok(Vec::new());
+    }
+    let z = match options.simple_floor {
+        SimpleFloorHeight::LowestObject => min.z,
+        SimpleFloorHeight::Zero => 0.0,
+    };
+    let corner = |x: Real, y: Real| Point2::new(x, y);
+    let floor = [
+        corner(min.x, min.y),
+        corner(max.x, min.y),
+        corner(max.x, max.y),
+        corner(min.x, max.y),
+    ];
+    let edges = [(2, 3), (3, 0), (0, 1), (1, 2)];
+    let walls = edges
+        .iter()
+        .enumerate()
+        .map(|(i, &(a, b))| {
+            WallSpec::new(
+                format!("wall_{i}"),
+                floor[a],
+                floor[b],
+                z,
+                options.simple_wall_height,
+                0.0,
+            )
+        })
+        .collect();
+    let scene_error = |source: SceneError| IoError::Scene {
+        path: doc.path_buf(),
+        pointer: "/scene".into(),
+        source,
+    };
+    let polygon = Polygon2::new(floor.to_vec()).map_err(|source| {
+        scene_error(SceneError::Geometry {
+            what: "simple architecture floor".into(),
+            source,
+        })
+    })?;
+    let room = Room::new("room", "floor", polygon, z, walls, None).map_err(scene_error)?;
+    Ok(vec![room])
+}
