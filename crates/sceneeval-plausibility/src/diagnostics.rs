@@ -1,0 +1,192 @@
+//! Diagnostic PNGs: the navigability occupancy map, the access strips and the occlusion maps
+//! of blocked openings.
+
+use std::path::{Path, PathBuf};
+
+use image::{ImageFormat, Rgb, RgbImage};
+use sceneeval_scene::Scene;
+
+use crate::clearance::{OcclusionMap, OpeningFrame, intruding_parts};
+use crate::raster::Grid;
+use crate::{PlausibilityError, PlausibilityParams, Sources};
+
+const OFF_FLOOR: Rgb<u8> = Rgb([40, 40, 40]);
+const BLOCKED: Rgb<u8> = Rgb([200, 70, 60]);
+const FREE_OTHER: Rgb<u8> = Rgb([240, 200, 60]);
+const FREE_LARGEST: Rgb<u8> = Rgb([70, 170, 90]);
+const FLOOR: Rgb<u8> = Rgb([205, 205, 205]);
+const FOOTPRINT: Rgb<u8> = Rgb([140, 105, 75]);
+const STRIP_FREE: Rgb<u8> = Rgb([60, 120, 220]);
+const STRIP_BLOCKED: Rgb<u8> = Rgb([220, 60, 200]);
+const CLEAR: Rgb<u8> = Rgb([235, 235, 235]);
+const OCCLUDED: Rgb<u8> = Rgb([220, 50, 50]);
+
+/// Writes the diagnostic images of `scene` into `dir` (created if needed) and returns their
+/// paths:
+///
+/// - `navigability.png`: the occupancy raster of the navigability metric, north up; off-floor
+///   dark grey, blocked floor red, the largest free region green, other free regions yellow.
+/// - `accessibility.png`: floor light grey, obstructing footprints brown, and each functional
+///   side's access strip blue where free and magenta where blocked (on the navigability grid).
+/// - `opening_<opening>_<side>.png` for every blocked side of a door or window: the opening
+///   seen from the checked side, occluded pixels red.
+///
+/// The bytes are deterministic (same scene and parameters, same files).
+///
+/// # Errors
+/// The metrics' parameter errors, [`PlausibilityError::Io`] when a file cannot be written,
+/// [`PlausibilityError::Image`] when a PNG cannot be encoded.
+pub fn write_diagnostics(
+    scene: &Scene,
+    params: &PlausibilityParams,
+    sources: &Sources,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlausibilityError> {
+    std::fs::create_dir_all(dir).map_err(|source| PlausibilityError::Io {
+        path: dir.to_owned(),
+        source,
+    })?;
+    let mut written = Vec::new();
+    let map = crate::occupancy_map(scene, &params.navigability)?;
+    let grid = map.grid;
+    let (labels, sizes) = map.components();
+    let largest = (0..sizes.len()).max_by(|&a, &b| sizes[a].cmp(&sizes[b]).then(b.cmp(&a)));
+    let nav = image_from(&grid, |k| {
+        if !map.floor[k] {
+            OFF_FLOOR
+        } else if !map.free[k] {
+            BLOCKED
+        } else if Some(labels[k] as usize) == largest {
+            FREE_LARGEST
+        } else {
+            FREE_OTHER
+        }
+    });
+    written.push(save(&nav, &dir.join("navigability.png"))?);
+
+    let infos = crate::objects::object_infos(scene);
+    let pieces = crate::accessibility::scene_floor_pieces(scene);
+    let acc = crate::accessibility::accessibility_with(
+        scene,
+        &params.accessibility,
+        sources.functional_sides.as_ref(),
+        &infos,
+        &pieces,
+    )?;
+    let mut occupied = vec![false; grid.len()];
+    let p = &params.accessibility;
+    for info in infos
+        .iter()
+        .filter(|i| i.obstructs(p.height_cutoff, p.walkable_height))
+    {
+        grid.for_convex_within(&info.footprint, 0.0, |k| occupied[k] = true);
+    }
+    let mut colours: Vec<Rgb<u8>> = (0..grid.len())
+        .map(|k| match (map.floor[k], occupied[k]) {
+            (false, _) => OFF_FLOOR,
+            (true, true) => FOOTPRINT,
+            (true, false) => FLOOR,
+        })
+        .collect();
+    for side in acc.objects.iter().flat_map(|o| &o.sides) {
+        grid.for_convex_within(&side.strip, 0.0, |k| {
+            colours[k] = if map.floor[k] && !occupied[k] {
+                STRIP_FREE
+            } else {
+                STRIP_BLOCKED
+            };
+        });
+    }
+    let acc_img = image_from(&grid, |k| colours[k]);
+    written.push(save(&acc_img, &dir.join("accessibility.png"))?);
+
+    let clearance = crate::clearance::opening_clearance_with(scene, &params.opening_clearance, &infos)?;
+    for (room, wall, opening) in scene.openings() {
+        let Some(report) = clearance
+            .openings
+            .iter()
+            .find(|o| o.opening == opening.id && o.wall == wall.id() && o.room == room.id().as_str())
+        else {
+            continue;
+        };
+        for side in report.sides.iter().filter(|s| s.blocked) {
+            let frame = OpeningFrame::new(
+                wall,
+                opening,
+                side.side,
+                side.depth,
+                params.opening_clearance.touch_tolerance,
+            );
+            let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre);
+            let mut mask = vec![false; occ.nu * occ.nw];
+            for (_, parts) in intruding_parts(scene, &infos, &frame, params.opening_clearance.walkable_height)
+            {
+                for part in &parts {
+                    occ.fill(part, |i| mask[i] = true);
+                }
+            }
+            let img = RgbImage::from_fn(occ.nu as u32, occ.nw as u32, |x, y| {
+                let j = occ.nw - 1 - y as usize;
+                if mask[j * occ.nu + x as usize] {
+                    OCCLUDED
+                } else {
+                    CLEAR
+                }
+            });
+            let side_name = match side.side {
+                crate::OpeningSide::Room => "room",
+                crate::OpeningSide::Far => "far",
+            };
+            let name = format!("opening_{}_{side_name}.png", sanitize(&report.opening));
+            written.push(save(&img, &dir.join(name))?);
+        }
+    }
+    Ok(written)
+}
+
+/// An image of the grid, north (highest y) up.
+fn image_from(grid: &Grid, colour: impl Fn(usize) -> Rgb<u8>) -> RgbImage {
+    RgbImage::from_fn(grid.width as u32, grid.height as u32, |x, y| {
+        let j = grid.height - 1 - y as usize;
+        colour(grid.index(x as usize, j))
+    })
+}
+
+fn save(img: &RgbImage, path: &Path) -> Result<PathBuf, PlausibilityError> {
+    img.save_with_format(path, ImageFormat::Png)
+        .map_err(|e| match e {
+            image::ImageError::IoError(source) => PlausibilityError::Io {
+                path: path.to_owned(),
+                source,
+            },
+            other => PlausibilityError::Image {
+                path: path.to_owned(),
+                message: other.to_string(),
+            },
+        })?;
+    Ok(path.to_owned())
+}
+
+/// A file-name-safe form of an id: characters other than ASCII letters, digits, `-`, `_` and
+/// `.` become `_`.
+fn sanitize(id: &str) -> String {
+    id.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sanitizes_ids() {
+        assert_eq!(sanitize("r0_wall_0/door 1"), "r0_wall_0_door_1");
+    }
+}

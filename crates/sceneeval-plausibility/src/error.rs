@@ -1,0 +1,78 @@
+use std::path::PathBuf;
+
+use thiserror::Error;
+
+/// What was wrong with the input of a plausibility metric.
+///
+/// Variants name the metric and parameter (or the file) at fault. Geometry problems of the scene
+/// itself cannot occur here: a [`sceneeval_scene::Scene`] is validated when it is built.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum PlausibilityError {
+    /// A parameter is out of its documented range (negative width, NaN, zero resolution, ...).
+    #[error("{metric} parameter `{name}` = {value} is invalid: {reason}")]
+    InvalidParameter {
+        /// The metric whose parameter is wrong (`collision`, `support`, `navigability`, ...).
+        metric: &'static str,
+        /// The parameter's field name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What the value must satisfy.
+        reason: &'static str,
+    },
+    /// A raster would have more pixels than the metric allows (a too fine metres-per-pixel
+    /// resolution for a large floor).
+    #[error("{metric} raster of {width} x {height} pixels exceeds the limit of {max} pixels")]
+    RasterTooLarge {
+        /// The metric building the raster.
+        metric: &'static str,
+        /// Raster width in pixels.
+        width: usize,
+        /// Raster height in pixels.
+        height: usize,
+        /// The largest pixel count allowed.
+        max: usize,
+    },
+    /// A diagnostic file or folder could not be written.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A diagnostic image could not be encoded.
+    #[error("cannot encode image {path}: {message}")]
+    Image {
+        /// The file being written.
+        path: PathBuf,
+        /// The encoder's message.
+        message: String,
+    },
+}
+
+/// Checks that `value` is finite and `>= 0` (or `> 0` when `positive`).
+pub(crate) fn check_non_negative(
+    metric: &'static str,
+    name: &'static str,
+    value: f64,
+    positive: bool,
+) -> Result<(), PlausibilityError> {
+    let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
+    if ok {
+        Ok(())
+    } else {
+        Err(PlausibilityError::InvalidParameter {
+            metric,
+            name,
+            value,
+            reason: if positive {
+                "must be finite and positive"
+            } else {
+                "must be finite and non-negative"
+            },
+        })
+    }
+}

@@ -1,0 +1,379 @@
+//! Navigability (NAV): how much of the free floor is one connected region.
+
+use sceneeval_geom::{Point2, Real};
+use sceneeval_scene::{ObjectId, OpeningKind, Scene, Wall};
+use serde::{Deserialize, Serialize};
+
+use crate::PlausibilityError;
+use crate::error::check_non_negative;
+use crate::objects::{ObjectInfo, object_infos};
+use crate::plane::{ccw, exposed_boundary};
+use crate::raster::{Grid, Resolution, components8};
+
+/// Parameters of the navigability metric (reference yaml `NavigabilityMetric`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct NavigabilityParams {
+    /// Raster resolution (reference `image_resolution`: 256 pixels over the floors' extent).
+    pub resolution: Resolution,
+    /// Margin in metres around the floors' extent (reference `scale_margin`, 0.2).
+    pub margin: Real,
+    /// Width of the robot in metres (reference `robot_width`, 0.2): free space is every point
+    /// at least half of it away from any obstacle and from the edge of the floor.
+    pub robot_width: Real,
+    /// Objects with any part lower than this above their floor obstruct, in metres (reference
+    /// `obj_height_threshold`, 2.0, applied there to the OBB centre).
+    pub height_cutoff: Real,
+    /// Objects whose top is at most this above their floor are walked over (rugs), in metres.
+    /// Default 0: every object obstructs, as in the reference.
+    pub walkable_height: Real,
+    /// A door whose bottom is at most this above its wall's base is passable, in metres
+    /// (default 0.05). Windows never are.
+    pub door_max_sill: Real,
+    /// Depth in metres of the strip in front of a door, on its room's side, from which a room
+    /// counts as reachable (default 0.5).
+    pub door_strip_depth: Real,
+}
+
+impl Default for NavigabilityParams {
+    fn default() -> Self {
+        NavigabilityParams {
+            resolution: Resolution::Pixels(256),
+            margin: 0.2,
+            robot_width: 0.2,
+            height_cutoff: 2.0,
+            walkable_height: 0.0,
+            door_max_sill: 0.05,
+            door_strip_depth: 0.5,
+        }
+    }
+}
+
+impl NavigabilityParams {
+    fn validate(&self) -> Result<(), PlausibilityError> {
+        let m = "navigability";
+        check_non_negative(m, "margin", self.margin, false)?;
+        check_non_negative(m, "robot_width", self.robot_width, false)?;
+        check_non_negative(m, "height_cutoff", self.height_cutoff, false)?;
+        check_non_negative(m, "walkable_height", self.walkable_height, false)?;
+        check_non_negative(m, "door_max_sill", self.door_max_sill, false)?;
+        check_non_negative(m, "door_strip_depth", self.door_strip_depth, true)
+    }
+}
+
+/// Reachability of one room.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RoomNavigability {
+    /// The room.
+    pub room: String,
+    /// Free pixels whose centre lies on this room's floor.
+    pub free_pixels: usize,
+    /// Passable doors in this room's walls.
+    pub num_doors: usize,
+    /// Whether the room can be entered: some free pixel lies in the strip in front of one of
+    /// its doors on the room's side. `None` for a room without a passable door.
+    pub reachable: Option<bool>,
+    /// Share of the room's free pixels connected to the strip in front of one of its doors.
+    /// `None` without a passable door or without free pixels.
+    pub reachable_fraction: Option<Real>,
+}
+
+/// The navigability metric of a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NavigabilityReport {
+    /// The raster used.
+    pub grid: Grid,
+    /// Pixels whose centre lies on a floor.
+    pub floor_pixels: usize,
+    /// Free pixels (on the floor, at least half the robot width from every obstacle).
+    pub free_pixels: usize,
+    /// Free area in square metres (free pixels times pixel area).
+    pub free_area: Real,
+    /// Number of 8-connected free regions.
+    pub num_components: usize,
+    /// Pixels of the largest region.
+    pub largest_component_pixels: usize,
+    /// **NAV**: largest region over all free pixels, in [0, 1]; 0 without free pixels (as the
+    /// reference).
+    pub nav: Real,
+    /// Objects drawn as obstacles, in scene order.
+    pub obstacles: Vec<ObjectId>,
+    /// Objects ignored (entirely above the height cut-off, or walkable).
+    pub ignored: Vec<ObjectId>,
+    /// Per room, in scene order.
+    pub rooms: Vec<RoomNavigability>,
+    /// Whether every room with a passable door is reachable; `None` when no room has one.
+    pub all_rooms_reachable: Option<bool>,
+}
+
+/// The floor-plan raster behind the navigability metric: which pixels are floor and which are
+/// free for the robot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OccupancyMap {
+    /// The raster.
+    pub grid: Grid,
+    /// Pixel centre on a floor, row-major from the lowest y.
+    pub floor: Vec<bool>,
+    /// Pixel free for the robot.
+    pub free: Vec<bool>,
+}
+
+impl OccupancyMap {
+    /// Labels of the 8-connected free regions (scan order; `u32::MAX` where not free) and their
+    /// sizes in pixels.
+    pub fn components(&self) -> (Vec<u32>, Vec<usize>) {
+        components8(&self.grid, &self.free)
+    }
+}
+
+/// Builds the occupancy map of [`navigability`].
+///
+/// # Errors
+/// As [`navigability`].
+pub fn occupancy_map(scene: &Scene, params: &NavigabilityParams) -> Result<OccupancyMap, PlausibilityError> {
+    params.validate()?;
+    let infos = object_infos(scene);
+    Ok(build_map(scene, params, &infos)?.0)
+}
+
+/// Computes the navigability metric.
+///
+/// The floor plan is rasterised over the union of the floors ([`NavigabilityParams::
+/// resolution`]); every pixel is sampled at its centre. A pixel is **free** when its centre is
+/// on a floor and at least `r = robot_width / 2` from every obstacle, in exact Euclidean
+/// distance (the reference approximates this with square-kernel erosion and thick outlines).
+/// Obstacles are: the edges of the floors that border no other floor; the walls (their
+/// footprint, from the inner face outward by their thickness) except where a passable door
+/// cuts through them, through any wall lying on the door's wall line, so that rooms connect
+/// through doors (the reference draws no walls, quirk Q16); and the footprints (convex hull of
+/// the mesh projected on the floor) of objects with any part lower than
+/// [`NavigabilityParams::height_cutoff`] above their floor (the reference tests the OBB centre,
+/// which ignores a pendant lamp reaching down to head height) and a top above
+/// [`NavigabilityParams::walkable_height`].
+///
+/// NAV is the size of the largest 8-connected free region over all free pixels. Per room,
+/// a room is reachable when the strip of depth [`NavigabilityParams::door_strip_depth`] in
+/// front of one of its passable doors, on the room's side, holds a free pixel.
+///
+/// # Errors
+/// [`PlausibilityError::InvalidParameter`] for bad parameters,
+/// [`PlausibilityError::RasterTooLarge`] for a too fine resolution.
+pub fn navigability(
+    scene: &Scene,
+    params: &NavigabilityParams,
+) -> Result<NavigabilityReport, PlausibilityError> {
+    params.validate()?;
+    let infos = object_infos(scene);
+    navigability_with(scene, params, &infos)
+}
+
+pub(crate) fn navigability_with(
+    scene: &Scene,
+    params: &NavigabilityParams,
+    infos: &[ObjectInfo],
+) -> Result<NavigabilityReport, PlausibilityError> {
+    let (map, obstacle_flags) = build_map(scene, params, infos)?;
+    let (labels, sizes) = map.components();
+    let free_pixels: usize = sizes.iter().sum();
+    let largest_size = sizes.iter().copied().max().unwrap_or(0);
+    let grid = map.grid;
+    let rooms = room_reachability(scene, params, &map, &labels, sizes.len());
+    let with_doors: Vec<bool> = rooms.iter().filter_map(|r| r.reachable).collect();
+    let (mut obstacles, mut ignored) = (Vec::new(), Vec::new());
+    for (o, &obstructs) in scene.objects().iter().zip(&obstacle_flags) {
+        if obstructs {
+            obstacles.push(o.id().clone());
+        } else {
+            ignored.push(o.id().clone());
+        }
+    }
+    Ok(NavigabilityReport {
+        grid,
+        floor_pixels: map.floor.iter().filter(|&&f| f).count(),
+        free_pixels,
+        free_area: free_pixels as Real * grid.pixel_area(),
+        num_components: sizes.len(),
+        largest_component_pixels: largest_size,
+        nav: if free_pixels == 0 {
+            0.0
+        } else {
+            largest_size as Real / free_pixels as Real
+        },
+        obstacles,
+        ignored,
+        all_rooms_reachable: (!with_doors.is_empty()).then(|| with_doors.iter().all(|&r| r)),
+        rooms,
+    })
+}
+
+/// The map and, per object, whether it was drawn as an obstacle.
+fn build_map(
+    scene: &Scene,
+    params: &NavigabilityParams,
+    infos: &[ObjectInfo],
+) -> Result<(OccupancyMap, Vec<bool>), PlausibilityError> {
+    let floors: Vec<_> = scene.rooms().iter().map(|r| r.floor()).collect();
+    let (min, max) = floors
+        .iter()
+        .map(|f| f.bounds())
+        .reduce(|a, b| (a.0.inf(&b.0), a.1.sup(&b.1)))
+        .unwrap_or((Point2::origin(), Point2::new(1.0, 1.0)));
+    let grid = Grid::covering("navigability", min, max, params.margin, params.resolution)?;
+    let mut floor = vec![false; grid.len()];
+    for f in &floors {
+        grid.for_polygon(f.points(), |k| floor[k] = true);
+    }
+    let mut blocked: Vec<bool> = floor.iter().map(|f| !f).collect();
+    let r = 0.5 * params.robot_width;
+    for (a, b) in exposed_boundary(&floors) {
+        grid.for_segment_within(&a, &b, r, |k| blocked[k] = true);
+    }
+    let doors = passable_doors(scene, params.door_max_sill);
+    for (_, wall) in scene.walls() {
+        for piece in wall_pieces(wall, &doors) {
+            if piece.len() == 2 {
+                grid.for_segment_within(&piece[0], &piece[1], r, |k| blocked[k] = true);
+            } else {
+                grid.for_convex_within(&piece, r, |k| blocked[k] = true);
+            }
+        }
+    }
+    let flags: Vec<bool> = infos
+        .iter()
+        .map(|i| i.obstructs(params.height_cutoff, params.walkable_height))
+        .collect();
+    for (info, _) in infos.iter().zip(&flags).filter(|(_, f)| **f) {
+        grid.for_convex_within(&info.footprint, r, |k| blocked[k] = true);
+    }
+    let free = blocked.iter().map(|b| !b).collect();
+    Ok((OccupancyMap { grid, floor, free }, flags))
+}
+
+/// A passable door: its wall's inner-face line and its interval along it.
+pub(crate) struct DoorGap {
+    start: Point2,
+    dir: sceneeval_geom::Vector2,
+    thickness: Real,
+    along: [Real; 2],
+}
+
+pub(crate) fn passable_doors(scene: &Scene, max_sill: Real) -> Vec<DoorGap> {
+    scene
+        .openings()
+        .filter(|(_, _, o)| o.kind == OpeningKind::Door && o.height[0] <= max_sill)
+        .map(|(_, w, o)| DoorGap {
+            start: w.start(),
+            dir: w.direction(),
+            thickness: w.thickness(),
+            along: o.along,
+        })
+        .collect()
+}
+
+/// A wall's footprint minus the passable door gaps lying on its line, as convex pieces
+/// (four corners) or, for a zero-thickness wall, segments (two points).
+pub(crate) fn wall_pieces(wall: &Wall, doors: &[DoorGap]) -> Vec<Vec<Point2>> {
+    let (s, d, len, t) = (wall.start(), wall.direction(), wall.length(), wall.thickness());
+    let mut gaps: Vec<[Real; 2]> = Vec::new();
+    for door in doors {
+        if d.perp(&door.dir).abs() > 1e-6 {
+            continue;
+        }
+        let p0 = door.start + door.dir * door.along[0];
+        let p1 = door.start + door.dir * door.along[1];
+        let offset = d.perp(&(p0 - s)).abs();
+        if offset > t + door.thickness + 1e-6 {
+            continue;
+        }
+        let (u0, u1) = ((p0 - s).dot(&d), (p1 - s).dot(&d));
+        let (lo, hi) = (u0.min(u1).max(0.0), u0.max(u1).min(len));
+        if hi > lo {
+            gaps.push([lo, hi]);
+        }
+    }
+    gaps.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let mut solid: Vec<[Real; 2]> = Vec::new();
+    let mut cursor = 0.0;
+    for g in &gaps {
+        if g[0] > cursor {
+            solid.push([cursor, g[0]]);
+        }
+        cursor = Real::max(cursor, g[1]);
+    }
+    if cursor < len {
+        solid.push([cursor, len]);
+    }
+    let out = -wall.inward_normal();
+    solid
+        .into_iter()
+        .filter(|[a, b]| b - a > 1e-12)
+        .map(|[a, b]| {
+            let (p, q) = (s + d * a, s + d * b);
+            if t > 0.0 {
+                ccw(vec![p, q, q + out * t, p + out * t])
+            } else {
+                vec![p, q]
+            }
+        })
+        .collect()
+}
+
+fn room_reachability(
+    scene: &Scene,
+    params: &NavigabilityParams,
+    map: &OccupancyMap,
+    labels: &[u32],
+    num_labels: usize,
+) -> Vec<RoomNavigability> {
+    let grid = &map.grid;
+    scene
+        .rooms()
+        .iter()
+        .map(|room| {
+            let mut room_pixels: Vec<usize> = Vec::new();
+            grid.for_polygon(room.floor().points(), |k| {
+                if map.free[k] {
+                    room_pixels.push(k);
+                }
+            });
+            let mut reached = vec![false; num_labels];
+            let mut num_doors = 0;
+            let mut strip_free = false;
+            for wall in room.walls() {
+                for o in wall.openings() {
+                    if o.kind != OpeningKind::Door || o.height[0] > params.door_max_sill {
+                        continue;
+                    }
+                    num_doors += 1;
+                    let (s, d, n) = (wall.start(), wall.direction(), wall.inward_normal());
+                    let (p, q) = (s + d * o.along[0], s + d * o.along[1]);
+                    let depth = n * params.door_strip_depth;
+                    let strip = ccw(vec![p, q, q + depth, p + depth]);
+                    grid.for_convex_within(&strip, 0.0, |k| {
+                        if map.free[k] {
+                            strip_free = true;
+                            reached[labels[k] as usize] = true;
+                        }
+                    });
+                }
+            }
+            let connected = room_pixels
+                .iter()
+                .filter(|&&k| reached[labels[k] as usize])
+                .count();
+            let has_door = num_doors > 0;
+            RoomNavigability {
+                room: room.id().to_string(),
+                free_pixels: room_pixels.len(),
+                num_doors,
+                reachable: has_door.then_some(strip_free),
+                reachable_fraction: (has_door && !room_pixels.is_empty())
+                    .then(|| connected as Real / room_pixels.len() as Real),
+            }
+        })
+        .collect()
+}
+
+pub(crate) fn validate(params: &NavigabilityParams) -> Result<(), PlausibilityError> {
+    params.validate()
+}

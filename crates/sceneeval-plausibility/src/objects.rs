@@ -1,0 +1,130 @@
+//! Per-object geometry shared by several metrics, computed once per evaluation.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use sceneeval_geom::{Mesh, Point2, Real, Vector3};
+use sceneeval_scene::{Scene, SceneObject};
+
+use crate::plane::{bounds, convex_hull_fast};
+
+/// What the 2-D metrics need to know about one object.
+#[derive(Debug, Clone)]
+pub(crate) struct ObjectInfo {
+    /// Convex hull of the world mesh projected on the floor plane, counter-clockwise.
+    pub footprint: Vec<Point2>,
+    /// Bounding rectangle of the footprint.
+    pub bounds: (Point2, Point2),
+    /// Floor height under the object: the floor of the room containing the centre of its world
+    /// bounds, else the lowest floor of the scene, else 0.
+    pub floor_z: Real,
+    /// Lowest and highest world z of the mesh.
+    pub min_z: Real,
+    /// Highest world z of the mesh.
+    pub max_z: Real,
+}
+
+impl ObjectInfo {
+    /// Whether the object obstructs the floor plan: some part of it is lower than `cutoff`
+    /// above its floor (it would hit a person that tall), and its top is higher than
+    /// `walkable` above the floor (so it is not a rug one walks over).
+    pub fn obstructs(&self, cutoff: Real, walkable: Real) -> bool {
+        self.min_z - self.floor_z < cutoff && self.max_z - self.floor_z > walkable
+    }
+}
+
+/// The lowest floor of the scene, or 0 without rooms.
+pub(crate) fn lowest_floor(scene: &Scene) -> Real {
+    scene
+        .rooms()
+        .iter()
+        .map(|r| r.floor_z())
+        .reduce(Real::min)
+        .unwrap_or(0.0)
+}
+
+/// Whether a pose keeps +z pointing up (a rotation about z only, up to rounding).
+fn is_upright(object: &SceneObject) -> bool {
+    (object.pose().rotation * Vector3::z() - Vector3::z()).norm() < 1e-12
+}
+
+/// The convex hull of a mesh's vertices projected on its own xy plane.
+fn local_hull(mesh: &Mesh) -> Vec<Point2> {
+    let local: Vec<Point2> = mesh.vertices().iter().map(|v| Point2::new(v.x, v.y)).collect();
+    convex_hull_fast(&local)
+}
+
+/// The footprint of one placed object (see [`ObjectInfo::footprint`]). For an upright object
+/// the hull is taken in the object frame (`local`, if already known for its mesh) and placed:
+/// a rotation about z commutes with the projection.
+pub(crate) fn footprint(object: &SceneObject, local: Option<&[Point2]>) -> Vec<Point2> {
+    let pose = object.pose();
+    if is_upright(object) {
+        let place = |p: &Point2| {
+            let w = pose * sceneeval_geom::Point3::new(p.x, p.y, 0.0);
+            Point2::new(w.x, w.y)
+        };
+        match local {
+            Some(hull) => hull.iter().map(place).collect(),
+            None => local_hull(object.mesh()).iter().map(place).collect(),
+        }
+    } else {
+        let world: Vec<Point2> = object
+            .mesh()
+            .vertices()
+            .iter()
+            .map(|v| {
+                let w = pose * v;
+                Point2::new(w.x, w.y)
+            })
+            .collect();
+        convex_hull_fast(&world)
+    }
+}
+
+/// [`ObjectInfo`] for every object, in scene order.
+pub(crate) fn object_infos(scene: &Scene) -> Vec<ObjectInfo> {
+    let lowest = lowest_floor(scene);
+    // Objects sharing a mesh (the same asset placed several times) share its local hull.
+    let mut meshes: Vec<&Arc<Mesh>> = Vec::new();
+    let mut seen: HashMap<*const Mesh, usize> = HashMap::new();
+    let slot: Vec<Option<usize>> = scene
+        .objects()
+        .iter()
+        .map(|o| {
+            is_upright(o).then(|| {
+                *seen.entry(Arc::as_ptr(o.mesh())).or_insert_with(|| {
+                    meshes.push(o.mesh());
+                    meshes.len() - 1
+                })
+            })
+        })
+        .collect();
+    let hulls: Vec<Vec<Point2>> = meshes.par_iter().map(|m| local_hull(m)).collect();
+    scene
+        .objects()
+        .par_iter()
+        .zip(slot.par_iter())
+        .map(|(o, slot)| {
+            let fp = footprint(o, slot.map(|k| hulls[k].as_slice()));
+            let aabb = o.world_aabb();
+            let c = aabb.center();
+            let floor_z = scene
+                .room_at(&Point2::new(c.x, c.y))
+                .map_or(lowest, |r| r.floor_z());
+            let b = if fp.is_empty() {
+                (Point2::new(c.x, c.y), Point2::new(c.x, c.y))
+            } else {
+                bounds(&fp)
+            };
+            ObjectInfo {
+                footprint: fp,
+                bounds: b,
+                floor_z,
+                min_z: aabb.min.z,
+                max_z: aabb.max.z,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,112 @@
+//! Reports are identical across runs and rayon thread counts.
+
+// Test helpers outside #[test] functions may unwrap too.
+#![allow(clippy::unwrap_used)]
+
+mod common;
+
+use common::{at, check_invariants, scene, sphere};
+use sceneeval_geom::{Point3, Vector3};
+use sceneeval_plausibility::{PlausibilityParams, PlausibilityReport, Sources, evaluate};
+use sceneeval_scene::Scene;
+
+fn busy_scene() -> Scene {
+    let ball = sphere(0.25, 16);
+    let mut b = scene();
+    // A grid of balls and boxes, some overlapping, some floating, some resting.
+    for k in 0..12 {
+        let (x, y) = (0.5 + 0.6 * (k % 6) as f64, 1.0 + 1.2 * (k / 6) as f64);
+        b = b.add_mesh(
+            &format!("ball{k}"),
+            "ball",
+            ball.clone(),
+            at(x, y, 0.25 + 0.01 * k as f64, 0.1 * k as f64),
+        );
+        b = b.add_box(
+            &format!("box{k}"),
+            if k % 2 == 0 { "table" } else { "chair" },
+            Point3::new(x + 0.2, y + 0.5, 0.3),
+            Vector3::new(0.4, 0.5, 0.6),
+            0.3 * k as f64,
+        );
+    }
+    b.build().unwrap()
+}
+
+fn run(threads: usize, scene: &Scene) -> PlausibilityReport {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| evaluate(scene, &PlausibilityParams::default(), &Sources::default()).unwrap())
+}
+
+#[test]
+fn identical_for_one_and_two_threads_and_across_runs() {
+    let s = busy_scene();
+    let one = run(1, &s);
+    check_invariants(&one);
+    assert!(one.summary.col_sc, "the scene is meant to have collisions");
+    let json = serde_json::to_string(&one).unwrap();
+    for threads in [2, 1, 2] {
+        let again = run(threads, &s);
+        assert_eq!(again, one, "{threads} threads");
+        assert_eq!(serde_json::to_string(&again).unwrap(), json);
+    }
+}
+
+#[cfg(feature = "images")]
+#[test]
+fn diagnostic_images_are_deterministic() {
+    let s = scene()
+        .add_box(
+            "wardrobe",
+            "wardrobe",
+            Point3::new(1.45, 0.31, 1.0),
+            Vector3::new(1.0, 0.6, 2.0),
+            0.0,
+        )
+        .add_box(
+            "bed",
+            "bed",
+            Point3::new(3.2, 4.0, 0.3),
+            Vector3::new(1.6, 2.0, 0.6),
+            0.0,
+        )
+        .build()
+        .unwrap();
+    let params = PlausibilityParams::default();
+    let a = tempfile::tempdir().unwrap();
+    let b = tempfile::tempdir().unwrap();
+    let files_a =
+        sceneeval_plausibility::write_diagnostics(&s, &params, &Sources::default(), a.path()).unwrap();
+    let files_b = run_in_pool(2, || {
+        sceneeval_plausibility::write_diagnostics(&s, &params, &Sources::default(), b.path()).unwrap()
+    });
+    let names: Vec<String> = files_a
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        vec![
+            "navigability.png",
+            "accessibility.png",
+            "opening_r0_wall_0_door_0_room.png"
+        ]
+    );
+    for (fa, fb) in files_a.iter().zip(&files_b) {
+        let (x, y) = (std::fs::read(fa).unwrap(), std::fs::read(fb).unwrap());
+        assert!(x.starts_with(b"\x89PNG"));
+        assert_eq!(x, y);
+    }
+}
+
+#[cfg(feature = "images")]
+fn run_in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
