@@ -1,0 +1,324 @@
+//! Criterion benchmarks of the spatial predicates (`sceneeval-relations`).
+//!
+//! Every predicate on boxes and on ~5k-triangle meshes (UV ellipsoids from
+//! `sceneeval_benches::meshes`), the object-architecture predicates in a four-wall room with a
+//! door and a window, the scene-level lookup by id, and the batch form over 1,000 pairs. The
+//! configurations are fixed (a nightstand beside a bed, four chairs around a table, a bed
+//! against a wall); the target straddles region boundaries so that the clipping kernels do
+//! real work. Run with
+//! `cargo bench -p sceneeval-benches --bench relations -- --warm-up-time 1 --measurement-time 2`.
+
+// A benchmark binary may stop on a set-up failure.
+#![allow(clippy::expect_used)]
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use sceneeval_benches::meshes::{subdivided_box, uv_ellipsoid};
+use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Side, Vector3};
+use sceneeval_relations::{
+    ArchElement, LongShort, ObjectGeom, OpeningSpec, Relation, RelationParams, RoomGeometry, SceneRelations,
+    arch, batch,
+};
+use sceneeval_scene::{OpeningKind, RoomBuilder, Scene};
+
+fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
+    Obb::from_yaw(Point3::new(c[0], c[1], c[2]), Vector3::new(h[0], h[1], h[2]), yaw).expect("a valid box")
+}
+
+/// A mesh object: the mesh, its pose and its box.
+struct MeshObject {
+    mesh: Mesh,
+    pose: Isometry3,
+    obb: Obb,
+}
+
+impl MeshObject {
+    fn new(mesh: Mesh, center: [Real; 3], yaw: Real) -> Self {
+        let pose = Isometry3::new(Vector3::new(center[0], center[1], center[2]), Vector3::z() * yaw);
+        let obb = Obb::from_local_aabb(mesh.aabb(), &pose);
+        MeshObject { mesh, pose, obb }
+    }
+
+    fn view(&self) -> ObjectGeom<'_> {
+        ObjectGeom::with_mesh(&self.obb, &self.mesh, &self.pose)
+    }
+}
+
+fn room() -> RoomGeometry {
+    RoomGeometry::from_outline(
+        "bedroom",
+        vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(4.0, 0.0),
+            Point2::new(4.0, 5.0),
+            Point2::new(0.0, 5.0),
+        ],
+        0.0,
+        2.8,
+        0.1,
+        &[
+            OpeningSpec {
+                kind: OpeningKind::Door,
+                wall: 0,
+                along: [1.0, 1.9],
+                height: [0.0, 2.1],
+            },
+            OpeningSpec {
+                kind: OpeningKind::Window,
+                wall: 1,
+                along: [1.5, 3.5],
+                height: [0.9, 2.0],
+            },
+        ],
+    )
+    .expect("a valid room")
+}
+
+/// The two-object relations benchmarked, one per base name (sides: one representative each).
+fn pair_relations() -> [(&'static str, Relation); 12] {
+    [
+        ("inside_of", Relation::InsideOf),
+        ("outside_of", Relation::OutsideOf),
+        ("face_to", Relation::FaceTo),
+        ("side_of", Relation::SideOf(Side::Left)),
+        ("side_region", Relation::SideRegion(Side::Left)),
+        ("long_short_side_of", Relation::LongShortSideOf(LongShort::Long)),
+        ("on_top", Relation::OnTop),
+        ("middle_of", Relation::MiddleOf),
+        ("next_to", Relation::NextTo),
+        ("near", Relation::Near),
+        ("across_from", Relation::AcrossFrom),
+        ("far", Relation::Far),
+    ]
+}
+
+fn arch_relations() -> [(&'static str, Relation); 10] {
+    [
+        ("next_to_wall", Relation::NextToArch(ArchElement::Wall)),
+        ("near_door", Relation::NearArch(ArchElement::Door)),
+        (
+            "across_from_window",
+            Relation::AcrossFromArch(ArchElement::Window),
+        ),
+        ("far_wall", Relation::FarArch(ArchElement::Wall)),
+        ("inside_room", Relation::InsideRoom),
+        ("middle_of_room", Relation::MiddleOfRoom),
+        ("corner_of_room", Relation::CornerOfRoom),
+        ("on_wall", Relation::OnWall),
+        ("against_wall", Relation::AgainstWall),
+        ("hang_from_ceiling", Relation::HangFromCeiling),
+    ]
+}
+
+fn configure<'c>(
+    c: &'c mut Criterion,
+    name: &str,
+) -> criterion::BenchmarkGroup<'c, criterion::measurement::WallTime> {
+    let mut g = c.benchmark_group(name);
+    g.warm_up_time(Duration::from_secs(1));
+    g.measurement_time(Duration::from_secs(2));
+    g
+}
+
+fn object_object(c: &mut Criterion) {
+    let p = RelationParams::default();
+    // Bed 1.6 x 2 x 0.6 m; nightstand straddling the bed's left face and its height limit.
+    let bed = bx([2.0, 4.0, 0.3], [0.8, 1.0, 0.3], 0.0);
+    let stand = bx([1.0, 4.5, 0.35], [0.25, 0.2, 0.35], 0.3);
+    let (a, b) = (ObjectGeom::from_box(&stand), ObjectGeom::from_box(&bed));
+    let mut g = configure(c, "relations/box");
+    for (name, r) in pair_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| batch::score_pair(black_box(r), black_box(&a), black_box(&b), &p))
+        });
+    }
+    // Worst case for the clipper: a box turned about all three axes, cut by all six faces.
+    let tilted = Obb::new(
+        Point3::new(2.3, 4.4, 0.4),
+        Vector3::new(0.7, 0.5, 0.4),
+        sceneeval_geom::Rotation3::from_euler_angles(0.5, -0.4, 0.8),
+    )
+    .expect("a valid box");
+    let t = ObjectGeom::from_box(&tilted);
+    g.bench_function("inside_of_six_cuts", |bench| {
+        bench.iter(|| sceneeval_relations::inside_of(black_box(&t), black_box(&b), &p))
+    });
+    // surround: four chairs around a table.
+    let table = bx([2.0, 2.5, 0.375], [0.6, 0.6, 0.375], 0.0);
+    let chairs: Vec<Obb> = (0..4)
+        .map(|k| {
+            let ang = Real::from(k) * std::f64::consts::FRAC_PI_2 + 0.1;
+            bx([2.0 + ang.cos(), 2.5 + ang.sin(), 0.45], [0.25, 0.25, 0.45], ang)
+        })
+        .collect();
+    let views: Vec<ObjectGeom<'_>> = chairs.iter().map(ObjectGeom::from_box).collect();
+    let anchor = ObjectGeom::from_box(&table);
+    g.bench_function("surround_4", |bench| {
+        bench.iter(|| sceneeval_relations::surround(black_box(&anchor), black_box(&views), &p))
+    });
+    g.finish();
+}
+
+fn object_object_meshes(c: &mut Criterion) {
+    let p = RelationParams::default();
+    let bed = MeshObject::new(
+        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
+        [2.0, 4.0, 0.3],
+        0.0,
+    );
+    let stand = MeshObject::new(
+        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        [0.9, 4.5, 0.35],
+        0.3,
+    );
+    let (a, b) = (stand.view(), bed.view());
+    let mut g = configure(c, "relations/mesh");
+    for (name, r) in pair_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| batch::score_pair(black_box(r), black_box(&a), black_box(&b), &p))
+        });
+    }
+    // Meshes whose surfaces cross (distance 0 by the intersection test) and nested meshes
+    // (surfaces apart; the winding-number test decides).
+    let crossing = MeshObject::new(
+        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        [1.3, 4.5, 0.35],
+        0.3,
+    );
+    let nested = MeshObject::new(
+        subdivided_box(&Vector3::new(0.1, 0.1, 0.1), 20).expect("mesh"),
+        [2.0, 4.0, 0.3],
+        0.3,
+    );
+    // The same nightstand 0.79 m from the bed (the exact distance search grows with the gap).
+    let apart = MeshObject::new(
+        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        [0.2, 4.5, 0.35],
+        1.0,
+    );
+    let far_view = apart.view();
+    g.bench_function("near_0.79m", |bench| {
+        bench.iter(|| sceneeval_relations::near(black_box(&far_view), black_box(&b), &p))
+    });
+    let (x, n) = (crossing.view(), nested.view());
+    g.bench_function("next_to_crossing", |bench| {
+        bench.iter(|| sceneeval_relations::next_to(black_box(&x), black_box(&b), &p))
+    });
+    g.bench_function("next_to_nested", |bench| {
+        bench.iter(|| sceneeval_relations::next_to(black_box(&n), black_box(&b), &p))
+    });
+    g.finish();
+}
+
+fn object_architecture(c: &mut Criterion) {
+    let p = RelationParams::default();
+    let rooms = [room()];
+    // A bed 5 cm from the head wall, a little turned, and a mesh version of it.
+    let bed = bx([2.0, 3.93, 0.3], [0.8, 1.0, 0.3], 0.05);
+    let a = ObjectGeom::from_box(&bed);
+    let mut g = configure(c, "relations/room_box");
+    for (name, r) in arch_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| arch::score_rooms(black_box(r), black_box(&a), &rooms, &p))
+        });
+    }
+    g.finish();
+    let mesh_bed = MeshObject::new(
+        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
+        [2.0, 3.93, 0.3],
+        0.05,
+    );
+    let m = mesh_bed.view();
+    let mut g = configure(c, "relations/room_mesh");
+    for (name, r) in arch_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| arch::score_rooms(black_box(r), black_box(&m), &rooms, &p))
+        });
+    }
+    g.finish();
+}
+
+fn scene_level_and_batch(c: &mut Criterion) {
+    let p = RelationParams::default();
+    let scene = Scene::builder()
+        .room_builder(RoomBuilder::rectangle(
+            "r0",
+            Point2::new(0.0, 0.0),
+            Point2::new(4.0, 5.0),
+        ))
+        .add_box(
+            "bed",
+            "bed",
+            Point3::new(2.0, 4.0, 0.3),
+            Vector3::new(1.6, 2.0, 0.6),
+            0.0,
+        )
+        .add_box(
+            "stand",
+            "nightstand",
+            Point3::new(1.0, 4.5, 0.35),
+            Vector3::new(0.5, 0.4, 0.7),
+            0.3,
+        )
+        .build()
+        .expect("a valid scene");
+    let rel = SceneRelations::new(&scene, p).expect("valid parameters");
+    let mut g = configure(c, "relations/scene");
+    g.bench_function("pair_side_of_by_id", |bench| {
+        bench.iter(|| rel.pair(black_box(Relation::SideOf(Side::Left)), "stand", "bed"))
+    });
+    g.bench_function("arch_against_wall_by_id", |bench| {
+        bench.iter(|| rel.arch(black_box(Relation::AgainstWall), "bed", &[]))
+    });
+    g.finish();
+
+    // 1,000 pairs of boxes from a fixed linear congruential sequence.
+    let mut state: u64 = 0x5EED_5EED;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as Real / (1u64 << 53) as Real
+    };
+    let boxes: Vec<Obb> = (0..2000)
+        .map(|_| {
+            bx(
+                [4.0 * next(), 5.0 * next(), 0.5 * next()],
+                [0.1 + 0.5 * next(), 0.1 + 0.5 * next(), 0.1 + 0.4 * next()],
+                std::f64::consts::TAU * next(),
+            )
+        })
+        .collect();
+    let views: Vec<ObjectGeom<'_>> = boxes.iter().map(ObjectGeom::from_box).collect();
+    let (targets, anchors) = views.split_at(1000);
+    let mut out = vec![0.0; 1000];
+    let mut g = configure(c, "relations/batch");
+    g.throughput(Throughput::Elements(1000));
+    for (name, r) in [
+        ("next_to_x1000", Relation::NextTo),
+        ("side_of_x1000", Relation::SideOf(Side::Front)),
+        ("inside_of_x1000", Relation::InsideOf),
+    ] {
+        g.bench_function(name, |bench| {
+            bench.iter(|| batch::score_pairs(black_box(r), targets, anchors, &p, &mut out))
+        });
+    }
+    let rooms = [room()];
+    g.bench_function("against_wall_x1000", |bench| {
+        bench.iter(|| {
+            batch::score_objects_in_rooms(black_box(Relation::AgainstWall), targets, &rooms, &p, &mut out)
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(
+    relations,
+    object_object,
+    object_object_meshes,
+    object_architecture,
+    scene_level_and_batch
+);
+criterion_main!(relations);

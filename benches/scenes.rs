@@ -1,0 +1,257 @@
+//! Procedural scenes for the plausibility benchmarks: rooms furnished with `n` objects whose
+//! meshes have about 5,000 triangles each (tables, cabinets, lamps, paintings), placed on a
+//! deterministic jittered grid with a few deliberate collisions, lamps on tables, paintings on
+//! walls and lamps on the ceiling, so that every metric does real work.
+
+use std::sync::Arc;
+
+use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point2, Point3, Vector3};
+
+use crate::meshes::{subdivided_box, uv_ellipsoid};
+use sceneeval_scene::{RoomBuilder, Scene};
+
+/// The four meshes the benchmark scenes are made of.
+#[derive(Debug, Clone)]
+pub struct BenchMeshes {
+    /// A table: top and four legs (boxes subdivided 9 x 9 per face), 4,860 triangles,
+    /// 1.2 x 0.8 x 0.75 m, origin at the floor.
+    pub table: Arc<Mesh>,
+    /// A cabinet: a box subdivided 20 x 20 per face, 4,800 triangles, 0.8 x 0.5 x 1.2 m,
+    /// origin at the floor.
+    pub cabinet: Arc<Mesh>,
+    /// A lamp shade: a UV sphere of radius 0.15 m (72 segments, 36 rings), 5,040 triangles,
+    /// origin at its centre.
+    pub lamp: Arc<Mesh>,
+    /// A painting: a 0.8 x 0.04 x 0.6 m box subdivided 20 x 20 per face, origin at its centre.
+    pub painting: Arc<Mesh>,
+}
+
+/// Builds the meshes (a few milliseconds) from the shared procedural meshes of
+/// [`crate::meshes`].
+///
+/// # Panics
+/// Never for these fixed shapes (the constructors only reject degenerate input).
+#[allow(clippy::expect_used)]
+pub fn meshes() -> BenchMeshes {
+    let table_parts = [
+        (Vector3::new(0.6, 0.4, 0.025), Vector3::new(0.0, 0.0, 0.725)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, -0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, -0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, 0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, 0.35, 0.35)),
+    ];
+    let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
+    for (h, c) in table_parts {
+        let part = subdivided_box(&h, 9).expect("table part");
+        let base = tv.len() as u32;
+        tv.extend(part.vertices().iter().map(|p| p + c));
+        tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
+    }
+    let table = Mesh::new(tv, tt).expect("table mesh");
+    let cabinet = subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 20)
+        .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
+        .expect("cabinet mesh");
+    let painting = subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 20).expect("painting mesh");
+    let lamp = uv_ellipsoid(&Vector3::repeat(0.15), 72, 36).expect("lamp mesh");
+    BenchMeshes {
+        table: Arc::new(table),
+        cabinet: Arc::new(cabinet),
+        lamp: Arc::new(lamp),
+        painting: Arc::new(painting),
+    }
+}
+
+/// A deterministic generator (64-bit LCG, Knuth's constants) for the jitter.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+const CELL: f64 = 1.6;
+const WALL_HEIGHT: f64 = 2.8;
+
+/// A square room furnished with exactly `n` objects of about 5k triangles each.
+///
+/// Objects cycle through: table, cabinet, lamp on the last table, cabinet, table, painting on
+/// a wall, cabinet, table, lamp touching the ceiling, cabinet. Ground objects fill a grid of
+/// 1.6 m cells with up to 0.2 m of jitter and random yaw; every sixth one is pushed 0.9 m
+/// into its neighbour's cell (a collision). The room grows with `n` (about 2.6 m^2 per
+/// object) and has a door and a window.
+///
+/// # Panics
+/// Never: every placement is finite and the ids are unique.
+#[allow(clippy::expect_used)]
+pub fn scene(n: usize, meshes: &BenchMeshes) -> Scene {
+    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 5 | 8)).count();
+    let cols = ((ground as f64).sqrt().ceil() as usize).max(2);
+    let side = cols as f64 * CELL + 0.4;
+    let room = RoomBuilder::rectangle("bench", Point2::new(0.0, 0.0), Point2::new(side, side))
+        .wall_height(WALL_HEIGHT)
+        .door(0, [0.4, 1.3], [0.0, 2.1])
+        .window(1, [1.0, 2.2], [0.9, 2.0]);
+    let mut b = Scene::builder().id(format!("bench_{n}")).room_builder(room);
+    let mut rng = Lcg(0x5eed ^ n as u64);
+    let (mut cell, mut paintings) = (0usize, 0usize);
+    let mut last_table: Option<(f64, f64)> = None;
+    for i in 0..n {
+        let id = format!("obj{i}");
+        let kind = i % 10;
+        match kind {
+            2 | 8 => {
+                // A lamp on the last table, or hanging from the ceiling above a cell.
+                let (x, y, z, cat) = match (kind, last_table) {
+                    (2, Some((x, y))) => (x, y, 0.75 + 0.15, "table_lamp"),
+                    _ => {
+                        let (x, y) = cell_centre(cell % (cols * cols), cols);
+                        (x, y, WALL_HEIGHT - 0.15, "ceiling_lamp")
+                    }
+                };
+                b = b.add_mesh(&id, cat, meshes.lamp.clone(), Isometry3::translation(x, y, z));
+            }
+            5 => {
+                // Paintings along the far wall (y = side), then the west wall (x = 0).
+                let along = 0.6 + 1.0 * paintings as f64;
+                let slots = (side / 1.0) as usize - 1;
+                let pose = if paintings < slots {
+                    Isometry3::translation(along.min(side - 0.6), side - 0.02, 1.5)
+                } else {
+                    let along = 0.6 + 1.0 * (paintings - slots) as f64;
+                    Isometry3::new(
+                        Vector3::new(0.02, along.min(side - 0.6), 1.5),
+                        Vector3::z() * std::f64::consts::FRAC_PI_2,
+                    )
+                };
+                paintings += 1;
+                b = b.add_mesh(&id, "painting", meshes.painting.clone(), pose);
+            }
+            _ => {
+                let (mut x, y) = cell_centre(cell, cols);
+                let (jx, jy, yaw) = (
+                    rng.next() - 0.5,
+                    rng.next() - 0.5,
+                    rng.next() * std::f64::consts::TAU,
+                );
+                x += 0.4 * jx;
+                let y = y + 0.4 * jy;
+                if cell % 6 == 5 {
+                    x -= 0.9;
+                }
+                cell += 1;
+                let (mesh, cat) = if matches!(kind, 0 | 4 | 7) {
+                    last_table = Some((x, y));
+                    (meshes.table.clone(), "table")
+                } else {
+                    (meshes.cabinet.clone(), "cabinet")
+                };
+                let yaw = if matches!(kind, 0 | 4 | 7) { 0.0 } else { yaw };
+                let pose = Isometry3::new(Vector3::new(x, y, 0.0), Vector3::z() * yaw);
+                b = b.add_mesh(&id, cat, mesh, pose);
+            }
+        }
+    }
+    b.build().expect("bench scene")
+}
+
+fn cell_centre(cell: usize, cols: usize) -> (f64, f64) {
+    (
+        0.2 + CELL * ((cell % cols) as f64 + 0.5),
+        0.2 + CELL * ((cell / cols) as f64 + 0.5),
+    )
+}
+
+/// A scene the size of the fixture scenes: a 4 x 5 m bedroom with eight box objects (bed,
+/// nightstands, wardrobe, desk, chair, lamp, painting), one door and one window.
+///
+/// # Panics
+/// Never: the boxes are valid.
+#[allow(clippy::expect_used)]
+pub fn fixture_scene() -> Scene {
+    let p = Point3::new;
+    let s = Vector3::new;
+    Scene::builder()
+        .id("fixture_size")
+        .room_builder(
+            RoomBuilder::rectangle("bedroom", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
+                .door(0, [1.0, 1.9], [0.0, 2.1])
+                .window(2, [1.0, 2.5], [0.9, 2.0]),
+        )
+        .add_box("bed", "bed", p(2.0, 3.95, 0.3), s(1.6, 2.0, 0.6), 0.0)
+        .add_box(
+            "nightstand_l",
+            "nightstand",
+            p(0.9, 4.75, 0.3),
+            s(0.5, 0.4, 0.6),
+            0.0,
+        )
+        .add_box(
+            "nightstand_r",
+            "nightstand",
+            p(3.1, 4.75, 0.3),
+            s(0.5, 0.4, 0.6),
+            0.0,
+        )
+        .add_box("lamp", "table_lamp", p(0.9, 4.75, 0.8), s(0.2, 0.2, 0.4), 0.0)
+        .add_box(
+            "wardrobe",
+            "wardrobe",
+            p(3.7, 1.5, 1.0),
+            s(0.6, 1.2, 2.0),
+            std::f64::consts::FRAC_PI_2,
+        )
+        .add_box(
+            "desk",
+            "desk",
+            p(0.4, 1.5, 0.375),
+            s(1.2, 0.6, 0.75),
+            -std::f64::consts::FRAC_PI_2,
+        )
+        .add_box(
+            "chair",
+            "chair",
+            p(0.95, 1.5, 0.45),
+            s(0.45, 0.45, 0.9),
+            std::f64::consts::FRAC_PI_2,
+        )
+        .add_box("painting", "painting", p(0.6, 4.98, 1.6), s(0.6, 0.04, 0.5), 0.0)
+        .build()
+        .expect("fixture-size scene")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sceneeval_plausibility::{PlausibilityParams, Sources, evaluate};
+
+    #[test]
+    fn bench_scenes_have_the_advertised_shape() {
+        let m = meshes();
+        for mesh in [&m.table, &m.cabinet, &m.lamp, &m.painting] {
+            let t = mesh.triangles().len();
+            assert!((4500..=5100).contains(&t), "{t} triangles");
+            assert!(mesh.is_closed());
+        }
+        for n in [5, 20, 50] {
+            let s = scene(n, &m);
+            assert_eq!(s.objects().len(), n);
+            let r = evaluate(&s, &PlausibilityParams::default(), &Sources::default()).unwrap();
+            println!("{n}: {:?}", r.summary);
+            // Lamps, paintings and furniture are placed to be supported; only a pushed object
+            // can end up unsupported (if it leaves the floor), so most are.
+            assert!(r.summary.sup.unwrap() > 0.8, "{:?}", r.summary);
+            if n >= 20 {
+                assert!(r.summary.col_sc, "pushed objects collide");
+            }
+        }
+        let f = fixture_scene();
+        let r = evaluate(&f, &PlausibilityParams::default(), &Sources::default()).unwrap();
+        assert_eq!(r.summary.sup, Some(1.0));
+        assert!(!r.summary.col_sc);
+    }
+}

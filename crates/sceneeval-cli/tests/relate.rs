@@ -1,0 +1,229 @@
+//! `sceneeval relate`: JSON-lines queries in, one answer per line out; bad lines get an error
+//! answer and processing goes on.
+
+// Helpers outside `#[test]` functions parse the binary's own output.
+#![allow(clippy::unwrap_used)]
+
+use assert_cmd::Command;
+use serde_json::{Value, json};
+
+const BED: &str = r#"{"center":[0,0,0.3],"half_size":[0.8,1.0,0.3],"yaw":0.0}"#;
+const ROOM: &str = r#"{"floor":[[0,0],[4,0],[4,5],[0,5]],"floor_z":0.0,"height":2.8,"wall_thickness":0.1,
+    "openings":[{"kind":"door","wall":0,"along":[1.0,1.9],"height":[0.0,2.1]}]}"#;
+
+/// Runs `sceneeval relate` on `input` (lines joined with newlines) and returns the exit code
+/// and the parsed answer lines.
+fn relate(args: &[&str], input: &str) -> (i32, Vec<Value>) {
+    let out = Command::cargo_bin("sceneeval")
+        .unwrap()
+        .arg("relate")
+        .args(args)
+        .write_stdin(input)
+        .output()
+        .unwrap();
+    let answers = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    (out.status.code().unwrap(), answers)
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join("")
+}
+
+fn score(answer: &Value) -> f64 {
+    answer["score"].as_f64().unwrap()
+}
+
+#[test]
+fn the_four_forms_of_the_issue() {
+    let q1 = format!(
+        r#"{{"id":"q1","relation":"side_of","side":"left",
+            "target":{{"center":[-1.05,0.5,0.3],"half_size":[0.25,0.2,0.3],"yaw":1.5707963267948966}},
+            "anchor":{BED}}}"#
+    );
+    let chair = |x: f64, y: f64| format!(r#"{{"center":[{x},{y},0.4],"half_size":[0.2,0.2,0.4],"yaw":0}}"#);
+    let q2 = format!(
+        r#"{{"id":"q2","relation":"surround","anchor":{{"center":[0,0,0.4],"half_size":[0.5,0.5,0.4],"yaw":0}},
+            "targets":[{},{},{},{}]}}"#,
+        chair(1.0, 0.0),
+        chair(0.0, 1.0),
+        chair(-1.0, 0.0),
+        chair(0.0, -1.0)
+    );
+    // A bed with its head against the far wall (y = 5).
+    let q3 = format!(
+        r#"{{"id":"q3","relation":"against_wall",
+            "target":{{"center":[2.0,4.0,0.3],"half_size":[0.8,1.0,0.3],"yaw":0.0}},"room":{ROOM}}}"#
+    );
+    // A chair 0.2 m in front of the door (x in [1.0, 1.9] on the wall y = 0).
+    let q4 = format!(
+        r#"{{"id":"q4","relation":"next_to","arch":"door",
+            "target":{{"center":[1.45,0.45,0.4],"half_size":[0.25,0.25,0.4],"yaw":0.0}},"room":{ROOM}}}"#
+    );
+    let input = [q1, q2, q3, q4].map(|q| one_line(&q)).join("\n");
+    let (code, answers) = relate(&[], &input);
+    assert_eq!(code, 0);
+    assert_eq!(answers.len(), 4);
+    // Turned 90 degrees the nightstand spans x in [-1.25, -0.85]: wholly beyond the bed's -x face.
+    assert_eq!(answers[0], json!({"id": "q1", "score": 1.0, "holds": true}));
+    assert_eq!(answers[1]["id"], "q2");
+    assert!((score(&answers[1]) - 1.0).abs() < 1e-12, "{}", answers[1]);
+    assert_eq!(answers[2], json!({"id": "q3", "score": 1.0, "holds": true}));
+    assert_eq!(answers[3], json!({"id": "q4", "score": 1.0, "holds": true}));
+}
+
+#[test]
+fn rotation_matrices_and_argument_forms() {
+    // The same nightstand as a row-major matrix (yaw 90 degrees), nested and flat, and the
+    // relation written as side_of(right): all agree (score 0 on the right).
+    let nested = r#"[[0,-1,0],[1,0,0],[0,0,1]]"#;
+    let flat = r#"[0,-1,0,1,0,0,0,0,1]"#;
+    let lines = [
+        format!(
+            r#"{{"id":1,"relation":"side_of","side":"left","target":{{"center":[-1.05,0.5,0.3],"half_size":[0.25,0.2,0.3],"rotation":{nested}}},"anchor":{BED}}}"#
+        ),
+        format!(
+            r#"{{"id":2,"relation":"side_of","side":"left","target":{{"center":[-1.05,0.5,0.3],"half_size":[0.25,0.2,0.3],"rotation":{flat}}},"anchor":{BED}}}"#
+        ),
+        format!(
+            r#"{{"id":3,"relation":"side_of(right)","target":{{"center":[-1.05,0.5,0.3],"half_size":[0.25,0.2,0.3],"rotation":{flat}}},"anchor":{BED}}}"#
+        ),
+        // Straddling the face x = -0.8 (x in [-1.05, -0.55]): half beyond it, plus the 1e-6 m
+        // tolerance over the 0.5 m width: 0.500002.
+        format!(
+            r#"{{"id":4,"relation":"side_of","side":"left","target":{{"center":[-0.8,0.5,0.3],"half_size":[0.25,0.2,0.3],"yaw":0}},"anchor":{BED}}}"#
+        ),
+    ];
+    let (code, answers) = relate(&[], &lines.join("\n"));
+    assert_eq!(code, 0, "{answers:?}");
+    assert_eq!(score(&answers[0]), 1.0);
+    assert_eq!(score(&answers[1]), 1.0);
+    assert_eq!(answers[2], json!({"id": 3, "score": 0.0, "holds": false}));
+    assert!((score(&answers[3]) - 0.500_002).abs() < 1e-9, "{}", answers[3]);
+    assert_eq!(answers[3]["holds"], true);
+}
+
+#[test]
+fn bad_lines_get_errors_and_processing_goes_on() {
+    let good = format!(
+        r#"{{"id":"ok","relation":"near","target":{{"center":[2.0,0,0.3],"half_size":[0.2,0.2,0.3],"yaw":0}},"anchor":{BED}}}"#
+    );
+    let lines = [
+        good.clone(),
+        "{this is not json".to_owned(),
+        r#"{"id":"unknown","relation":"beside","target":{"center":[0,0,0],"half_size":[1,1,1],"yaw":0},"anchor":{"center":[0,0,0],"half_size":[1,1,1],"yaw":0}}"#.to_owned(),
+        format!(r#"{{"id":"noside","relation":"side_of","target":{BED},"anchor":{BED}}}"#),
+        format!(
+            r#"{{"id":"inf","relation":"near","target":{{"center":[1e999,0,0],"half_size":[1,1,1],"yaw":0}},"anchor":{BED}}}"#
+        ),
+        format!(
+            r#"{{"id":"nan","relation":"near","target":{{"center":[NaN,0,0],"half_size":[1,1,1],"yaw":0}},"anchor":{BED}}}"#
+        ),
+        format!(
+            r#"{{"id":"shear","relation":"near","target":{{"center":[0,0,0],"half_size":[1,1,1],"rotation":[1,0.5,0,0,1,0,0,0,1]}},"anchor":{BED}}}"#
+        ),
+        format!(r#"{{"id":"noanchor","relation":"near","target":{BED}}}"#),
+        format!(r#"{{"id":"nodoor","relation":"next_to","target":{BED},"room":{}}}"#, one_line(ROOM)),
+        format!(r#"{{"id":"floor","relation":"next_to","arch":"floor","target":{BED},"room":{}}}"#, one_line(ROOM)),
+        format!(r#"{{"id":"neg","relation":"near","target":{{"center":[0,0,0],"half_size":[-1,1,1],"yaw":0}},"anchor":{BED}}}"#),
+        format!(r#"{{"id":"extra","relation":"near","target":{BED},"anchor":{BED},"colour":"red"}}"#),
+        format!(r#"{{"id":"v2","version":2,"relation":"near","target":{BED},"anchor":{BED}}}"#),
+        String::new(),
+        good,
+    ];
+    let (code, answers) = relate(&[], &lines.join("\n"));
+    assert_eq!(code, 2, "some lines failed");
+    // The blank line gets no answer.
+    assert_eq!(answers.len(), lines.len() - 1);
+    // The box 2 m from the bed's centre: gap 2.0 - 0.2 - 0.8 = 1.0 m, inside near's range.
+    assert_eq!(answers[0], json!({"id": "ok", "score": 1.0, "holds": true}));
+    assert_eq!(answers[13], answers[0]);
+    let error = |i: usize| answers[i]["error"].as_str().unwrap().to_owned();
+    assert_eq!(answers[1]["id"], Value::Null);
+    assert!(error(1).starts_with("line 2: invalid JSON"), "{}", error(1));
+    let expect = [
+        (2, "unknown", "unknown relation"),
+        (3, "noside", "needs a side"),
+        (4, "inf", "number out of range"),
+        (6, "shear", "not a valid box"),
+        (7, "noanchor", "needs \"anchor\""),
+        (8, "nodoor", "needs \"arch\""),
+        (9, "floor", "element type"),
+        (10, "neg", "not a valid box"),
+        (11, "extra", "unknown field"),
+        (12, "v2", "unsupported schema version 2"),
+    ];
+    for (i, id, text) in expect {
+        assert_eq!(answers[i]["id"], id, "{}", answers[i]);
+        assert!(error(i).contains(text), "{id}: {}", error(i));
+        assert!(answers[i].get("score").is_none());
+    }
+    // NaN is not JSON at all: the id cannot be read.
+    assert_eq!(answers[5]["id"], Value::Null);
+    assert!(error(5).contains("invalid JSON"));
+}
+
+#[test]
+fn reads_a_file_and_offers_the_reference_behaviour() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("queries.jsonl");
+    // A book sunk 2 cm into a table top (z in [0.73, 0.78], top at 0.75): 3 of its 5 cm are
+    // above the top face (0.6); the reference's centre plane counts all of it.
+    let q = r#"{"id":"book","relation":"on_top","target":{"center":[0,0,0.755],"half_size":[0.1,0.15,0.025],"yaw":0},"anchor":{"center":[0,0,0.375],"half_size":[0.6,0.4,0.375],"yaw":0}}"#;
+    std::fs::write(&path, format!("{q}\n")).unwrap();
+    let file = path.to_str().unwrap();
+    let (code, answers) = relate(&["--input", file], "");
+    assert_eq!(code, 0);
+    assert!((score(&answers[0]) - 0.6).abs() < 1e-4, "{}", answers[0]);
+    assert_eq!(answers[0]["holds"], true);
+    let (_, reference) = relate(&["--input", file, "--reference"], "");
+    assert_eq!(reference[0], json!({"id": "book", "score": 1.0, "holds": true}));
+    // A missing file is a failure of the whole command.
+    let out = Command::cargo_bin("sceneeval")
+        .unwrap()
+        .args(["relate", "--input", "/nonexistent/queries.jsonl"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot open"));
+}
+
+#[test]
+fn every_architecture_relation_answers() {
+    let names = [
+        ("next_to", Some("wall")),
+        ("near", Some("door")),
+        ("across_from", Some("window")),
+        ("far", Some("wall")),
+        ("inside_room", None),
+        ("middle_of_room", None),
+        ("corner_of_room", None),
+        ("on_wall", None),
+        ("against_wall", None),
+        ("hang_from_ceiling", None),
+    ];
+    let target = r#"{"center":[2.0,2.5,0.5],"half_size":[0.5,0.5,0.5],"yaw":0.4}"#;
+    let lines: Vec<String> = names
+        .iter()
+        .map(|(n, arch)| {
+            let arch = arch.map(|a| format!(r#","arch":"{a}""#)).unwrap_or_default();
+            format!(
+                r#"{{"id":"{n}","relation":"{n}"{arch},"target":{target},"room":{}}}"#,
+                one_line(ROOM)
+            )
+        })
+        .collect();
+    let (code, answers) = relate(&[], &lines.join("\n"));
+    assert_eq!(code, 0, "{answers:?}");
+    for (a, (n, _)) in answers.iter().zip(names) {
+        assert_eq!(a["id"], n);
+        let s = score(a);
+        assert!((0.0..=1.0).contains(&s), "{n}: {s}");
+    }
+    // A cube in the middle of the room: inside, in the middle (the room's centroid is (2, 2.5)).
+    assert_eq!(answers[4]["score"], 1.0);
+    assert_eq!(answers[5]["score"], 1.0);
+}

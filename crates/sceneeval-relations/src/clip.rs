@@ -1,0 +1,407 @@
+//! Exact clipping on the stack: the volume of a box inside up to six half-spaces, and convex
+//! polygons clipped by half-planes. Nothing here allocates.
+//!
+//! The box is clipped as a polyhedron whose faces are kept as unordered sets of directed
+//! edges, wound counter-clockwise seen from outside. Clipping a convex face by a plane keeps
+//! the inside parts of its edges and closes it with one new edge from where the boundary
+//! leaves the half-space to where it comes back; the reversed new edges form the cap face.
+//! The volume follows from the divergence theorem, `V = 1/6 sum_f p_f . sum_e (a x b)`, which
+//! needs no vertex order. An edge shared by two faces is cut at bit-identical points because
+//! the cut is always computed from the inside end.
+
+use sceneeval_geom::{Point2, Real, Vector3};
+
+/// At most this many half-spaces cut one box.
+pub(crate) const MAX_PLANES: usize = 6;
+/// Faces: the box's six plus one cap per plane.
+const MAX_FACES: usize = 6 + MAX_PLANES;
+/// Edges of one face: a box face gains at most one per plane (4 + 6); a cap face starts with
+/// at most one per existing face (at most 11) and gains one per later plane (at most 11).
+const MAX_EDGES: usize = 12;
+
+/// The half-space `{x : normal . x <= offset}` (the normal need not be unit length).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct HalfSpace {
+    pub normal: Vector3,
+    pub offset: Real,
+}
+
+impl HalfSpace {
+    const NONE: HalfSpace = HalfSpace {
+        normal: Vector3::new(0.0, 0.0, 0.0),
+        offset: 0.0,
+    };
+
+    #[inline]
+    pub(crate) fn new(normal: Vector3, offset: Real) -> Self {
+        HalfSpace { normal, offset }
+    }
+
+    #[inline]
+    fn excess(&self, p: &Vector3) -> Real {
+        self.normal.dot(p) - self.offset
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Face {
+    len: usize,
+    edges: [[Vector3; 2]; MAX_EDGES],
+}
+
+impl Face {
+    const EMPTY: Face = Face {
+        len: 0,
+        edges: [[Vector3::new(0.0, 0.0, 0.0); 2]; MAX_EDGES],
+    };
+
+    #[inline]
+    fn push(&mut self, a: Vector3, b: Vector3) {
+        if self.len < MAX_EDGES {
+            self.edges[self.len] = [a, b];
+            self.len += 1;
+        }
+    }
+}
+
+struct Polyhedron {
+    len: usize,
+    faces: [Face; MAX_FACES],
+}
+
+impl Polyhedron {
+    /// The box `[-h, h]` with counter-clockwise (outward) faces.
+    fn cuboid(h: &Vector3) -> Self {
+        let v = |k: usize| {
+            Vector3::new(
+                if k & 1 == 0 { -h.x } else { h.x },
+                if k & 2 == 0 { -h.y } else { h.y },
+                if k & 4 == 0 { -h.z } else { h.z },
+            )
+        };
+        const QUADS: [[usize; 4]; 6] = [
+            [0, 2, 3, 1], // -z
+            [4, 5, 7, 6], // +z
+            [0, 1, 5, 4], // -y
+            [2, 6, 7, 3], // +y
+            [0, 4, 6, 2], // -x
+            [1, 3, 7, 5], // +x
+        ];
+        let mut faces = [Face::EMPTY; MAX_FACES];
+        for (face, q) in faces.iter_mut().zip(QUADS) {
+            for i in 0..4 {
+                face.push(v(q[i]), v(q[(i + 1) % 4]));
+            }
+        }
+        Polyhedron { len: 6, faces }
+    }
+
+    /// Keeps the part inside `plane`; returns whether anything is left.
+    fn clip(&mut self, plane: &HalfSpace) -> bool {
+        #[inline]
+        fn cut(inside: &Vector3, d_in: Real, outside: &Vector3, d_out: Real) -> Vector3 {
+            inside + (outside - inside) * (d_in / (d_in - d_out))
+        }
+        let mut cap = Face::EMPTY;
+        let mut kept = 0;
+        for fi in 0..self.len {
+            let face = &mut self.faces[fi];
+            let mut w = 0;
+            let mut exit = None;
+            let mut entry = None;
+            for r in 0..face.len {
+                let [a, b] = face.edges[r];
+                let (da, db) = (plane.excess(&a), plane.excess(&b));
+                match (da <= 0.0, db <= 0.0) {
+                    (true, true) => {
+                        face.edges[w] = [a, b];
+                        w += 1;
+                    }
+                    (true, false) => {
+                        let p = cut(&a, da, &b, db);
+                        face.edges[w] = [a, p];
+                        w += 1;
+                        exit = Some(p);
+                    }
+                    (false, true) => {
+                        let p = cut(&b, db, &a, da);
+                        face.edges[w] = [p, b];
+                        w += 1;
+                        entry = Some(p);
+                    }
+                    (false, false) => {}
+                }
+            }
+            face.len = w;
+            if let (Some(x), Some(e)) = (exit, entry)
+                && x != e
+            {
+                face.push(x, e);
+                cap.push(e, x);
+            }
+            if face.len > 0 {
+                if kept != fi {
+                    self.faces[kept] = self.faces[fi];
+                }
+                kept += 1;
+            }
+        }
+        self.len = kept;
+        if cap.len >= 3 && self.len < MAX_FACES {
+            self.faces[self.len] = cap;
+            self.len += 1;
+        }
+        self.len > 0
+    }
+
+    /// Enclosed volume (divergence theorem with one vertex of each face as its point).
+    fn volume(&self) -> Real {
+        let mut six_v = 0.0;
+        for face in &self.faces[..self.len] {
+            let p = face.edges[0][0];
+            let mut area2 = Vector3::zeros();
+            for [a, b] in &face.edges[..face.len] {
+                area2 += a.cross(b);
+            }
+            six_v += p.dot(&area2);
+        }
+        (six_v / 6.0).abs()
+    }
+}
+
+/// The volume of the axis-aligned box `[-h, h]` (centred at the origin) that lies inside every
+/// half-space of `planes` (the box's own frame). At most [`MAX_PLANES`] half-spaces may cut
+/// the box; callers never pass more than that many.
+///
+/// Half-spaces that do not cut the box are skipped, and one that excludes it returns 0 at
+/// once, so the common cases cost a few dot products.
+pub(crate) fn box_volume_inside(h: &Vector3, planes: &[HalfSpace]) -> Real {
+    let full = 8.0 * h.x * h.y * h.z;
+    let mut cutting = [HalfSpace::NONE; MAX_PLANES];
+    let mut k = 0;
+    for p in planes {
+        let reach = p.normal.x.abs() * h.x + p.normal.y.abs() * h.y + p.normal.z.abs() * h.z;
+        if reach <= p.offset {
+            continue;
+        }
+        if -reach >= p.offset {
+            return 0.0;
+        }
+        if k < MAX_PLANES {
+            cutting[k] = *p;
+            k += 1;
+        }
+    }
+    if k == 0 {
+        return full;
+    }
+    let mut poly = Polyhedron::cuboid(h);
+    for p in &cutting[..k] {
+        if !poly.clip(p) {
+            return 0.0;
+        }
+    }
+    poly.volume().min(full)
+}
+
+/// Capacity of a clipped polygon: a quadrilateral clipped by up to twelve half-planes.
+const MAX_POLY: usize = 16;
+
+/// A convex polygon in the plane on the stack.
+#[derive(Clone, Copy)]
+pub(crate) struct Poly2 {
+    len: usize,
+    pts: [Point2; MAX_POLY],
+}
+
+impl Poly2 {
+    /// A polygon from up to four corners in order (either winding).
+    pub(crate) fn quad(corners: [Point2; 4]) -> Self {
+        let mut pts = [Point2::origin(); MAX_POLY];
+        pts[..4].copy_from_slice(&corners);
+        Poly2 { len: 4, pts }
+    }
+
+    /// The axis-aligned rectangle `[-hx, hx] x [-hy, hy]`.
+    pub(crate) fn rectangle(hx: Real, hy: Real) -> Self {
+        Poly2::quad([
+            Point2::new(-hx, -hy),
+            Point2::new(hx, -hy),
+            Point2::new(hx, hy),
+            Point2::new(-hx, hy),
+        ])
+    }
+
+    pub(crate) fn is_empty(&self) -> bool {
+        self.len < 3
+    }
+
+    /// Keeps the part with `a x + b y <= c` (Sutherland-Hodgman for one half-plane).
+    pub(crate) fn clip(&mut self, a: Real, b: Real, c: Real) {
+        if self.len == 0 {
+            return;
+        }
+        let mut out = [Point2::origin(); MAX_POLY];
+        let mut n = 0;
+        let f = |p: &Point2| a * p.x + b * p.y - c;
+        for i in 0..self.len {
+            let p = self.pts[i];
+            let q = self.pts[(i + 1) % self.len];
+            let (dp, dq) = (f(&p), f(&q));
+            if dp <= 0.0 && n < MAX_POLY {
+                out[n] = p;
+                n += 1;
+            }
+            if (dp <= 0.0) != (dq <= 0.0) && n < MAX_POLY {
+                // Cut from the inside end so that neighbouring pieces agree exactly.
+                let (i_pt, di, o_pt, d_o) = if dp <= 0.0 { (p, dp, q, dq) } else { (q, dq, p, dp) };
+                out[n] = i_pt + (o_pt - i_pt) * (di / (di - d_o));
+                n += 1;
+            }
+        }
+        self.pts = out;
+        self.len = n;
+    }
+
+    /// Keeps the part inside the convex polygon `other` (either winding).
+    pub(crate) fn clip_by_convex(&mut self, other: &Poly2) {
+        let s = other.signed_area();
+        if s == 0.0 {
+            self.len = 0;
+            return;
+        }
+        // For a counter-clockwise polygon the inside of edge p -> q is to its left:
+        // (q - p) x (x - p) >= 0  <=>  -(dy) x + (dx) y <= ... rewritten as a x + b y <= c.
+        let sign = if s > 0.0 { 1.0 } else { -1.0 };
+        for i in 0..other.len {
+            let p = other.pts[i];
+            let q = other.pts[(i + 1) % other.len];
+            let (dx, dy) = ((q.x - p.x) * sign, (q.y - p.y) * sign);
+            // Left of the edge: dx (y - p.y) - dy (x - p.x) >= 0  <=>  dy x - dx y <= dy p.x - dx p.y.
+            self.clip(dy, -dx, dy * p.x - dx * p.y);
+            if self.is_empty() {
+                return;
+            }
+        }
+    }
+
+    /// Signed area (positive counter-clockwise).
+    pub(crate) fn signed_area(&self) -> Real {
+        if self.len < 3 {
+            return 0.0;
+        }
+        let o = self.pts[0];
+        let mut twice = 0.0;
+        for i in 1..self.len - 1 {
+            twice += (self.pts[i] - o).perp(&(self.pts[i + 1] - o));
+        }
+        twice * 0.5
+    }
+
+    /// Unsigned area and area centroid (the first vertex for a degenerate polygon).
+    pub(crate) fn area_centroid(&self) -> (Real, Point2) {
+        if self.len < 3 {
+            return (0.0, self.pts[0]);
+        }
+        let o = self.pts[0];
+        let mut twice = 0.0;
+        let mut acc = sceneeval_geom::Vector2::zeros();
+        for i in 1..self.len - 1 {
+            let (a, b) = (self.pts[i] - o, self.pts[i + 1] - o);
+            let cross = a.perp(&b);
+            twice += cross;
+            acc += (a + b) * cross;
+        }
+        if twice == 0.0 {
+            return (0.0, o);
+        }
+        (0.5 * twice.abs(), o + acc / (3.0 * twice))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hs(n: [Real; 3], o: Real) -> HalfSpace {
+        HalfSpace::new(Vector3::new(n[0], n[1], n[2]), o)
+    }
+
+    #[test]
+    fn axis_planes_give_box_volumes() {
+        let h = Vector3::new(1.0, 2.0, 3.0);
+        // Whole box: 2 * 4 * 6 = 48.
+        assert_eq!(box_volume_inside(&h, &[]), 48.0);
+        // x <= 0.5 keeps x in [-1, 0.5]: 1.5 * 4 * 6 = 36.
+        let v = box_volume_inside(&h, &[hs([1.0, 0.0, 0.0], 0.5)]);
+        assert!((v - 36.0).abs() < 1e-12, "{v}");
+        // Also y >= 1 (-y <= -1): y in [1, 2]: 1.5 * 1 * 6 = 9.
+        let v = box_volume_inside(&h, &[hs([1.0, 0.0, 0.0], 0.5), hs([0.0, -1.0, 0.0], -1.0)]);
+        assert!((v - 9.0).abs() < 1e-12, "{v}");
+        // Excluding plane: x <= -1 touches only the face.
+        assert_eq!(box_volume_inside(&h, &[hs([1.0, 0.0, 0.0], -1.0)]), 0.0);
+    }
+
+    #[test]
+    fn diagonal_plane_cuts_a_corner_tetrahedron() {
+        // Unit cube [-0.5, 0.5]^3; x + y + z >= 1.5 - t cuts off a corner tetrahedron with legs t:
+        // volume t^3 / 6. With t = 0.6: 0.036.
+        let h = Vector3::repeat(0.5);
+        let t: Real = 0.6;
+        let v = box_volume_inside(&h, &[hs([-1.0, -1.0, -1.0], -(1.5 - t))]);
+        assert!((v - t.powi(3) / 6.0).abs() < 1e-12, "{v}");
+        // The complement has the rest of the unit volume.
+        let rest = box_volume_inside(&h, &[hs([1.0, 1.0, 1.0], 1.5 - t)]);
+        assert!((v + rest - 1.0).abs() < 1e-12);
+        // The mid plane x + y + z <= 0 halves the cube by symmetry.
+        let half = box_volume_inside(&h, &[hs([1.0, 1.0, 1.0], 0.0)]);
+        assert!((half - 0.5).abs() < 1e-12, "{half}");
+    }
+
+    #[test]
+    fn six_planes_make_an_inner_rotated_box() {
+        // A cube of half size 0.3 turned 45 degrees about z, inside the unit cube [-1, 1]^3:
+        // its corners reach 0.3 * sqrt(2) = 0.424 < 1, so the clip keeps it whole: 0.6^3 = 0.216.
+        let h = Vector3::repeat(1.0);
+        let (c, s) = (std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::FRAC_1_SQRT_2);
+        let planes = [
+            hs([c, s, 0.0], 0.3),
+            hs([-c, -s, 0.0], 0.3),
+            hs([-s, c, 0.0], 0.3),
+            hs([s, -c, 0.0], 0.3),
+            hs([0.0, 0.0, 1.0], 0.3),
+            hs([0.0, 0.0, -1.0], 0.3),
+        ];
+        let v = box_volume_inside(&h, &planes);
+        assert!((v - 0.216).abs() < 1e-12, "{v}");
+        // Shifted by 0.9 along x it pokes out of the cube: the part beyond x = 1 is cut.
+        // The rotated square (diamond in x) spans x in [0.9 - 0.424, 0.9 + 0.424]; the tip beyond
+        // x = 1 is a triangle with height 0.324 and base 2 * 0.324: area 0.324^2, times 0.6 high.
+        let shifted = planes.map(|p| HalfSpace::new(p.normal, p.offset + p.normal.x * 0.9));
+        let v = box_volume_inside(&h, &shifted);
+        let tip = 0.3 * 2f64.sqrt() - 0.1;
+        assert!((v - (0.216 - tip * tip * 0.6)).abs() < 1e-12, "{v}");
+    }
+
+    #[test]
+    fn polygons_clip_and_measure() {
+        let mut p = Poly2::rectangle(1.0, 0.5);
+        assert!((p.signed_area() - 2.0).abs() < 1e-15);
+        // Keep x <= 0.5: area 1.5 * 1 = 1.5, centroid x = (-1 + 0.5) / 2 = -0.25.
+        p.clip(1.0, 0.0, 0.5);
+        let (a, c) = p.area_centroid();
+        assert!((a - 1.5).abs() < 1e-15);
+        assert!((c - Point2::new(-0.25, 0.0)).norm() < 1e-15);
+        // Clip by a clockwise triangle covering x + y <= 0 within the rectangle's reach.
+        let tri = Poly2::quad([
+            Point2::new(-5.0, -5.0),
+            Point2::new(-5.0, 5.0),
+            Point2::new(5.0, -5.0),
+            Point2::new(-5.0, -5.0),
+        ]);
+        let mut r = Poly2::rectangle(1.0, 1.0);
+        r.clip_by_convex(&tri);
+        let (a, _) = r.area_centroid();
+        assert!((a - 2.0).abs() < 1e-12, "{a}");
+    }
+}
