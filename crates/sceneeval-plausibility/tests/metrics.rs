@@ -253,9 +253,17 @@ fn out_of_bounds_half_outside() {
         .add_box("sunk", "cabinet", b(2.0, 1.0, 0.4), size(1.0, 1.0, 1.0), 0.0)
         .build()
         .unwrap();
-    let r = out_of_bounds(&s, &OutOfBoundsParams::default()).unwrap();
+    let exact = OutOfBoundsParams {
+        boundary_tolerance: 0.0,
+        ..OutOfBoundsParams::default()
+    };
+    let r = out_of_bounds(&s, &exact).unwrap();
     assert_abs_diff_eq!(r.objects[0].ratio_in_bounds, 0.5, epsilon = 1e-12);
     assert_abs_diff_eq!(r.objects[0].area_over_floor, 3.0, epsilon = 1e-12);
+    // The default 1 mm boundary tolerance adds a 1 mm strip of the top, bottom and both faces
+    // along x: (3 + 4 * 0.001) / 6.
+    let r = out_of_bounds(&s, &OutOfBoundsParams::default()).unwrap();
+    assert_abs_diff_eq!(r.objects[0].ratio_in_bounds, 3.004 / 6.0, epsilon = 1e-12);
     assert!(r.objects[0].out_of_bounds);
     assert_abs_diff_eq!(r.objects[1].ratio_in_bounds, 1.0, epsilon = 1e-12);
     assert!(!r.objects[1].out_of_bounds);
@@ -288,9 +296,20 @@ fn out_of_bounds_on_a_concave_floor() {
         .add_box("corner", "cabinet", b(2.0, 2.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
         .build()
         .unwrap();
-    let r = out_of_bounds(&s, &OutOfBoundsParams::default()).unwrap();
+    let exact = OutOfBoundsParams {
+        boundary_tolerance: 0.0,
+        ..OutOfBoundsParams::default()
+    };
+    let r = out_of_bounds(&s, &exact).unwrap();
     assert_abs_diff_eq!(r.objects[0].ratio_in_bounds, 0.0, epsilon = 1e-12);
     assert_abs_diff_eq!(r.objects[1].ratio_in_bounds, 0.75, epsilon = 1e-12);
+    // With the default 1 mm tolerance the two reflex edges move out by 1 mm: the outside
+    // quadrant [2, 2.5]^2 of the top and bottom gains an L-shaped strip of
+    // 2 * 0.5 * 0.001 - 0.001^2 = 0.000999 each, and the +x and +y faces 0.001 each:
+    // (4.5 + 0.003998) / 6. The cube in the missing quadrant starts 0.1 m beyond both edges.
+    let r = out_of_bounds(&s, &OutOfBoundsParams::default()).unwrap();
+    assert_abs_diff_eq!(r.objects[0].ratio_in_bounds, 0.0, epsilon = 1e-12);
+    assert_abs_diff_eq!(r.objects[1].ratio_in_bounds, 4.503998 / 6.0, epsilon = 1e-12);
 }
 
 #[test]
