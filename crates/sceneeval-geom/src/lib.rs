@@ -31,10 +31,11 @@ pub use parry3d_f64 as parry;
 
 mod aabb;
 pub mod conventions;
+mod distance;
 mod error;
 mod mesh;
 mod obb;
-mod parry_adapter;
+pub mod parry_adapter;
 mod polygon;
 mod ray;
 

@@ -4,7 +4,7 @@ use std::fmt;
 use crate::parry::query::{PointQuery, RayCast};
 use crate::parry::shape::TriMesh;
 use crate::parry_adapter::{point_from_parry, point_to_parry, to_parry_pose, to_parry_vec, vec_from_parry};
-use crate::{Aabb, GeomError, Isometry3, Matrix3, Point3, Ray, Real, Vector3, parry};
+use crate::{Aabb, GeomError, Isometry3, Matrix3, Obb, Point3, Ray, Real, Vector3, parry};
 
 /// A triangle mesh in its own frame (for a scene object: the object frame), with a parry
 /// [`TriMesh`] and its bounding-volume hierarchy built once at construction.
@@ -246,22 +246,52 @@ impl Mesh {
         .is_ok_and(|r| r.intersecting)
     }
 
-    /// Distance between the surfaces of two placed meshes, 0 when they touch or cross.
+    /// Distance between the surfaces of two placed meshes, 0 when they touch or cross. A mesh
+    /// nested inside another is as far from it as their surfaces are (combine with
+    /// [`Mesh::contains_point`] for solids).
     ///
     /// # Performance
-    /// An intersection test runs first, because parry's distance query is slow (milliseconds
-    /// for 5k-triangle meshes) when the meshes overlap and fast when they are apart.
+    /// No allocation. A two-level branch and bound over both BVHs, seeded by alternating
+    /// closest-point projections, with exact (GJK) triangle-triangle distances (0 for
+    /// triangles that cross): microseconds to tens of microseconds for 5k-triangle meshes,
+    /// where parry's generic mesh-mesh distance takes tens of milliseconds when they are close.
+    /// No separate intersection test runs first: parry's costs hundreds of microseconds for
+    /// surfaces a few centimetres apart.
     pub fn distance(&self, pose: &Isometry3, other: &Mesh, other_pose: &Isometry3) -> Real {
-        if self.intersects(pose, other, other_pose) {
+        crate::distance::mesh_mesh(self, pose, other, other_pose)
+    }
+
+    /// An upper bound on [`Mesh::distance`]: the distance between two surface points reached by
+    /// alternating closest-point projections starting from `start` (a handful of BVH point
+    /// queries; often the exact distance). For pruning.
+    pub fn distance_upper_bound(
+        &self,
+        pose: &Isometry3,
+        other: &Mesh,
+        other_pose: &Isometry3,
+        start: &Point3,
+    ) -> Real {
+        crate::distance::mesh_mesh_upper_bound(self, pose, other, other_pose, start)
+    }
+
+    /// Distance between the placed mesh's surface and the solid box `obb` (0 when they meet).
+    /// A mesh lying entirely inside the box is 0 away from it; a box inside a closed mesh is as
+    /// far as the surface (combine with [`Mesh::contains_point`]).
+    pub fn distance_to_obb(&self, pose: &Isometry3, obb: &Obb) -> Real {
+        if obb.contains_point(&(pose * self.vertices[0])) {
             return 0.0;
         }
-        parry::query::distance(
-            &to_parry_pose(pose),
-            &self.shape,
-            &to_parry_pose(other_pose),
-            &other.shape,
-        )
-        .map_or(Real::NAN, |d| d.distance)
+        crate::distance::mesh_box(self, pose, obb)
+    }
+
+    /// An upper bound on [`Mesh::distance_to_obb`] from two closest-point projections.
+    pub fn distance_to_obb_upper_bound(&self, pose: &Isometry3, obb: &Obb) -> Real {
+        crate::distance::mesh_box_upper_bound(self, pose, obb)
+    }
+
+    /// Distance between the placed mesh's surface and the world triangle `tri`.
+    pub fn distance_to_triangle(&self, pose: &Isometry3, tri: &[Point3; 3]) -> Real {
+        crate::distance::mesh_triangle(self, pose, tri)
     }
 
     /// The first hit of `ray` (world coordinates) on the placed mesh's surface within

@@ -134,7 +134,14 @@ impl Obb {
     }
 
     /// Distance from `p` to the solid box (0 inside).
+    #[inline]
     pub fn distance_to_point(&self, p: &Point3) -> Real {
+        self.distance_to_point_squared(p).sqrt()
+    }
+
+    /// Squared distance from `p` to the solid box (0 inside).
+    #[inline]
+    pub fn distance_to_point_squared(&self, p: &Point3) -> Real {
         let l = self.to_local(p);
         let mut d2 = 0.0;
         for i in 0..3 {
@@ -143,7 +150,7 @@ impl Obb {
                 d2 += excess * excess;
             }
         }
-        d2.sqrt()
+        d2
     }
 
     /// The eight corners; bit `i` of the corner index selects the + side of local axis `i`.
@@ -181,11 +188,31 @@ impl Obb {
         parry::query::intersection_test(&p1, &c1, &p2, &c2).is_ok_and(|r| r.intersecting)
     }
 
-    /// Euclidean distance between the two solid boxes (0 when they touch or overlap).
+    /// Euclidean distance between the two solid boxes (0 when they touch or overlap), exact up
+    /// to rounding.
+    ///
+    /// # Performance
+    /// No allocation. Cheap bounds settle most pairs (a corner of one box closest to the other
+    /// box: tens of nanoseconds); edge-against-edge pairs fall back to GJK. parry's dedicated
+    /// cuboid-cuboid distance is not used: it can overestimate by millimetres when two edges
+    /// are closest.
+    #[inline]
     pub fn distance_to_obb(&self, other: &Obb) -> Real {
-        let (p1, c1) = self.to_parry();
-        let (p2, c2) = other.to_parry();
-        parry::query::distance(&p1, &c1, &p2, &c2).map_or(Real::NAN, |d| d.distance)
+        crate::distance::box_box(self, other)
+    }
+
+    /// A lower bound on the distance between the two solid boxes: the larger of the gaps
+    /// between each box and the other's bounding box in its frame. Equal to the distance when
+    /// the boxes are aligned; 0 when they overlap. Cheaper than [`Obb::distance_to_obb`], for
+    /// pruning.
+    #[inline]
+    pub fn distance_lower_bound(&self, other: &Obb) -> Real {
+        crate::distance::frame_gap(self, other).max(crate::distance::frame_gap(other, self))
+    }
+
+    /// Distance between the solid box and the world triangle `tri` (0 when they meet).
+    pub fn distance_to_triangle(&self, tri: &[Point3; 3]) -> Real {
+        crate::distance::box_triangle(self, tri)
     }
 
     /// The box as a parry cuboid and its pose, for queries this crate does not wrap.

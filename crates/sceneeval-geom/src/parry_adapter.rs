@@ -1,30 +1,37 @@
-//! The only place where nalgebra values become parry 0.31 (glam) values and back.
+//! Conversions between this crate's nalgebra values and parry 0.31's glam values, for callers
+//! that run parry queries this crate does not wrap. Every conversion in the workspace goes
+//! through here.
 
 use crate::parry::math::{Pose, Rot3, Vector};
 use crate::{Isometry3, Point3, Vector3};
 
 #[inline]
-pub(crate) fn to_parry_vec(v: &Vector3) -> Vector {
+/// A vector as parry's.
+pub fn to_parry_vec(v: &Vector3) -> Vector {
     Vector::new(v.x, v.y, v.z)
 }
 
 #[inline]
-pub(crate) fn point_to_parry(p: &Point3) -> Vector {
+/// A point as parry's vector.
+pub fn point_to_parry(p: &Point3) -> Vector {
     Vector::new(p.x, p.y, p.z)
 }
 
 #[inline]
-pub(crate) fn vec_from_parry(v: Vector) -> Vector3 {
+/// A parry vector as a nalgebra vector.
+pub fn vec_from_parry(v: Vector) -> Vector3 {
     Vector3::new(v.x, v.y, v.z)
 }
 
 #[inline]
-pub(crate) fn point_from_parry(v: Vector) -> Point3 {
+/// A parry vector as a nalgebra point.
+pub fn point_from_parry(v: Vector) -> Point3 {
     Point3::new(v.x, v.y, v.z)
 }
 
 #[inline]
-pub(crate) fn to_parry_pose(iso: &Isometry3) -> Pose {
+/// A rigid transform as a parry pose.
+pub fn to_parry_pose(iso: &Isometry3) -> Pose {
     let q = iso.rotation.quaternion();
     Pose::from_parts(
         to_parry_vec(&iso.translation.vector),

@@ -93,6 +93,8 @@ proptest! {
         prop_assert!((d - b.distance_to_obb(&a)).abs() < 1e-6);
         prop_assert!((d - a.transformed(&m).distance_to_obb(&b.transformed(&m))).abs() < 1e-6);
         prop_assert_eq!(a.intersects(&b), d <= 1e-9);
+        prop_assert!(a.distance_lower_bound(&b) <= d + 1e-9);
+        prop_assert!((a.distance_lower_bound(&b) - b.distance_lower_bound(&a)).abs() < 1e-12);
         prop_assert!(d <= a.aabb().distance_to_aabb(&b.aabb()) + a.aabb().extents().norm() + b.aabb().extents().norm());
     }
 

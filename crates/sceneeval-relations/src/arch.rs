@@ -15,18 +15,16 @@ use sceneeval_geom::{Obb, Point3, Real, Vector3};
 use sceneeval_scene::OpeningKind;
 
 use crate::clip::{HalfSpace, box_volume_inside};
-use crate::distance::{PreparedBox, object_box, object_triangle};
+use crate::distance::{object_box, object_triangle};
 use crate::pairwise::{FrameBox, effective_half, fraction_in_frame_box};
 use crate::params::{CornerWalls, DistanceBand, DistanceFrom, RoomCentre};
 use crate::room::WallGeom;
 use crate::{ArchElement, ObjectGeom, Relation, RelationError, RelationParams, RoomGeometry};
 
 /// The object as the distance terms see it (its box in [`DistanceFrom::SmallerBox`] mode),
-/// with its parry shape prepared once when it is a box, and one point of it (for upper
-/// bounds on distances).
+/// and one point of it (for upper bounds on distances).
 struct Probe<'a> {
     geom: ObjectGeom<'a>,
-    prepared: Option<PreparedBox>,
     point: Point3,
 }
 
@@ -40,36 +38,28 @@ impl<'a> Probe<'a> {
     }
 
     fn of(geom: ObjectGeom<'a>) -> Self {
-        let prepared = geom.mesh.is_none().then(|| PreparedBox::new(geom.obb));
         let point = match geom.mesh {
             None => geom.obb.center,
             Some((m, pose)) => m.vertices().first().map_or(geom.obb.center, |v| pose * v),
         };
-        Probe {
-            geom,
-            prepared,
-            point,
-        }
+        Probe { geom, point }
     }
 
-    /// Exact distance to a prepared box.
+    /// Exact distance to a solid box.
     #[inline]
-    fn distance(&self, b: &PreparedBox) -> Real {
-        match &self.prepared {
-            Some(p) => p.distance(b),
-            None => object_box(&self.geom, &b.obb),
-        }
+    fn distance(&self, b: &Obb) -> Real {
+        object_box(&self.geom, b)
     }
 
     /// A lower bound on [`Probe::distance`] (the object lies in its box).
     #[inline]
-    fn lower_bound(&self, b: &PreparedBox) -> Real {
-        b.lower_bound(self.geom.obb)
+    fn lower_bound(&self, b: &Obb) -> Real {
+        b.distance_lower_bound(self.geom.obb)
     }
 
     /// Exact distance to the union of `pieces`, skipping pieces that cannot be nearer than
     /// the nearest one found so far.
-    fn distance_to_union(&self, pieces: &[PreparedBox]) -> Real {
+    fn distance_to_union(&self, pieces: &[Obb]) -> Real {
         let mut best = Real::INFINITY;
         for piece in pieces {
             if self.lower_bound(piece) < best {
@@ -81,20 +71,20 @@ impl<'a> Probe<'a> {
 
     /// Lower and upper bounds on the distance to the union of `pieces` (the upper bound from
     /// one point of the object).
-    fn bounds_union(&self, pieces: &[PreparedBox]) -> (Real, Real) {
+    fn bounds_union(&self, pieces: &[Obb]) -> (Real, Real) {
         pieces
             .iter()
             .fold((Real::INFINITY, Real::INFINITY), |(lo, hi), p| {
                 (
                     lo.min(self.lower_bound(p)),
-                    hi.min(p.upper_bound_from(&self.point)),
+                    hi.min(p.distance_to_point(&self.point)),
                 )
             })
     }
 
     /// Lower and upper bounds on the distance to one box.
-    fn bounds(&self, b: &PreparedBox) -> (Real, Real) {
-        (self.lower_bound(b), b.upper_bound_from(&self.point))
+    fn bounds(&self, b: &Obb) -> (Real, Real) {
+        (self.lower_bound(b), b.distance_to_point(&self.point))
     }
 }
 
@@ -142,7 +132,7 @@ fn best_of(n: usize, upper: impl Fn(usize) -> Real, mut visit: impl FnMut(usize)
 /// Distance from an object to a wall's solid (its slab with doors and windows cut out),
 /// as the architecture relations measure it (the mesh when given).
 pub fn wall_distance(a: &ObjectGeom<'_>, room: &RoomGeometry, wall: &WallGeom) -> Real {
-    Probe::of(*a).distance_to_union(room.prepared_cells_of(wall))
+    Probe::of(*a).distance_to_union(room.cells_of(wall))
 }
 
 /// The best score of `band` over the elements of one kind (0 when the room has none).
@@ -159,8 +149,8 @@ fn element_band(
             let walls = room.walls();
             best_of(
                 walls.len(),
-                |i| band_upper(band, probe.bounds_union(room.prepared_cells_of(&walls[i]))),
-                |i| band.score(probe.distance_to_union(room.prepared_cells_of(&walls[i]))),
+                |i| band_upper(band, probe.bounds_union(room.cells_of(&walls[i]))),
+                |i| band.score(probe.distance_to_union(room.cells_of(&walls[i]))),
             )
         }
         ArchElement::Door | ArchElement::Window => {
@@ -169,7 +159,7 @@ fn element_band(
             } else {
                 OpeningKind::Window
             };
-            let boxes = room.prepared_openings();
+            let boxes = room.opening_boxes();
             let of_kind = |i: usize| room.openings().get(i).is_some_and(|o| o.kind == kind);
             best_of(
                 boxes.len(),
@@ -335,13 +325,13 @@ fn wall_contact(
     let walls = room.walls();
     best_of(
         walls.len(),
-        |i| band_upper(band, probe.bounds_union(room.prepared_cells_of(&walls[i]))),
+        |i| band_upper(band, probe.bounds_union(room.cells_of(&walls[i]))),
         |i| {
             let front = in_front_fraction(a.obb, &walls[i], params);
             if front == 0.0 {
                 return 0.0;
             }
-            front * band.score(probe.distance_to_union(room.prepared_cells_of(&walls[i])))
+            front * band.score(probe.distance_to_union(room.cells_of(&walls[i])))
         },
     )
 }
@@ -444,8 +434,8 @@ pub fn corner_of_room(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &Relation
     }
     let probe = Probe::new(a, params);
     let band = &params.corner_wall;
-    let upper = |w: &WallGeom| band_upper(band, probe.bounds_union(room.prepared_cells_of(w)));
-    let exact = |w: &WallGeom| band.score(probe.distance_to_union(room.prepared_cells_of(w)));
+    let upper = |w: &WallGeom| band_upper(band, probe.bounds_union(room.cells_of(w)));
+    let exact = |w: &WallGeom| band.score(probe.distance_to_union(room.cells_of(w)));
     let direction = |w: &WallGeom| match params.corner_walls {
         CornerWalls::WallNormals => w.inward_3d(),
         CornerWalls::MeanDirections => mean_direction_to_wall(a.obb, room, w),

@@ -5,7 +5,6 @@ use sceneeval_geom::{Obb, Point2, Point3, Polygon2, Real, Rotation3, Vector2, Ve
 use sceneeval_scene::{OpeningKind, Room, RoomBuilder};
 
 use crate::RelationError;
-use crate::distance::PreparedBox;
 
 /// One wall as the kernels see it: its inner-face segment, inward normal, heights and
 /// thickness (see `sceneeval_scene::arch` for the conventions).
@@ -121,9 +120,8 @@ pub struct RoomGeometry {
     walls: Vec<WallGeom>,
     wall_cells: Vec<Obb>,
     openings: Vec<OpeningGeom>,
-    /// `wall_cells` and the openings' boxes with their parry shapes, for the kernels.
-    prepared_cells: Vec<PreparedBox>,
-    prepared_openings: Vec<PreparedBox>,
+    /// The openings' boxes, in the order of `openings`, for the distance kernels.
+    opening_boxes: Vec<Obb>,
     /// For a convex floor: its edges as inward half-planes `n . p >= c` (else empty).
     convex_floor: Vec<(Vector2, Real)>,
 }
@@ -188,15 +186,10 @@ impl RoomGeometry {
             }
             None => Vec::new(),
         };
-        let prepared_cells = wall_cells.iter().map(PreparedBox::new).collect();
-        let prepared_openings = openings
-            .iter()
-            .map(|o: &OpeningGeom| PreparedBox::new(&o.obb))
-            .collect();
+        let opening_boxes = openings.iter().map(|o: &OpeningGeom| o.obb).collect();
         let convex_floor = convex_half_planes(&floor);
         RoomGeometry {
-            prepared_cells,
-            prepared_openings,
+            opening_boxes,
             convex_floor,
             room_id: room.id().to_string(),
             floor_id: room.floor_id().to_owned(),
@@ -333,16 +326,10 @@ impl RoomGeometry {
         &self.openings
     }
 
-    /// The prepared solid pieces of one wall.
+    /// The box of every opening, in the order of [`RoomGeometry::openings`].
     #[inline]
-    pub(crate) fn prepared_cells_of(&self, wall: &WallGeom) -> &[PreparedBox] {
-        self.prepared_cells.get(wall.cells.clone()).unwrap_or(&[])
-    }
-
-    /// The prepared box of every opening, in the order of [`RoomGeometry::openings`].
-    #[inline]
-    pub(crate) fn prepared_openings(&self) -> &[PreparedBox] {
-        &self.prepared_openings
+    pub(crate) fn opening_boxes(&self) -> &[Obb] {
+        &self.opening_boxes
     }
 
     /// Whether the plan point lies in the floor, when the floor is convex; `None` for a
