@@ -36,6 +36,7 @@ mod error;
 mod mesh;
 mod obb;
 pub mod parry_adapter;
+pub mod planar;
 mod polygon;
 mod ray;
 

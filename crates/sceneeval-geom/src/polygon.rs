@@ -1,3 +1,4 @@
+use crate::planar::{self, orient};
 use crate::{GeomError, Point2, Real, Vector2};
 
 /// A simple polygon in the plane (world x, y), such as a room's floor outline.
@@ -99,12 +100,7 @@ impl Polygon2 {
 
     /// Signed area (shoelace): positive when the points run counter-clockwise.
     pub fn signed_area(&self) -> Real {
-        let o = self.points[0];
-        let mut twice = 0.0;
-        for (a, b) in self.edges() {
-            twice += (a - o).perp(&(b - o));
-        }
-        twice * 0.5
+        planar::signed_area(&self.points)
     }
 
     /// Enclosed area in square metres.
@@ -153,7 +149,7 @@ impl Polygon2 {
     pub fn contains_point(&self, p: &Point2) -> bool {
         let mut inside = false;
         for (a, b) in self.edges() {
-            if point_segment_distance_sq(p, &a, &b) == 0.0 {
+            if planar::point_segment_distance(p, &a, &b) == 0.0 {
                 return true;
             }
             if (a.y > p.y) != (b.y > p.y) {
@@ -169,9 +165,8 @@ impl Polygon2 {
     /// Distance from `p` to the polygon's boundary (regardless of inside or outside).
     pub fn distance_to_boundary(&self, p: &Point2) -> Real {
         self.edges()
-            .map(|(a, b)| point_segment_distance_sq(p, &a, &b))
+            .map(|(a, b)| planar::point_segment_distance(p, &a, &b))
             .fold(Real::INFINITY, Real::min)
-            .sqrt()
     }
 
     /// Signed distance to the boundary: negative inside, positive outside.
@@ -206,17 +201,10 @@ impl Polygon2 {
         if convex.len() < 3 {
             return 0.0;
         }
-        let ccw = signed_area_of(convex) >= 0.0;
-        let mut scratch_a = Vec::with_capacity(16);
-        let mut scratch_b = Vec::with_capacity(16);
+        let clip = planar::ccw(convex.to_vec());
         self.triangulate()
             .iter()
-            .map(|t| {
-                scratch_a.clear();
-                scratch_a.extend(t.iter().map(|&i| self.points[i]));
-                clip_convex_in_place(&mut scratch_a, &mut scratch_b, convex, ccw);
-                signed_area_of(&scratch_a).abs()
-            })
+            .map(|t| planar::area(&planar::clip_convex(&t.map(|i| self.points[i]), &clip)))
             .sum()
     }
 
@@ -285,62 +273,6 @@ impl Polygon2 {
     }
 }
 
-/// Signed area of a point loop (positive counter-clockwise).
-fn signed_area_of(points: &[Point2]) -> Real {
-    let n = points.len();
-    if n < 3 {
-        return 0.0;
-    }
-    let o = points[0];
-    let mut twice = 0.0;
-    for i in 0..n {
-        twice += (points[i] - o).perp(&(points[(i + 1) % n] - o));
-    }
-    twice * 0.5
-}
-
-/// Clips the loop in `subject` by the convex polygon `clip` (Sutherland-Hodgman); the result
-/// is left in `subject`. `ccw` is the clip polygon's winding.
-fn clip_convex_in_place(subject: &mut Vec<Point2>, out: &mut Vec<Point2>, clip: &[Point2], ccw: bool) {
-    let sign = if ccw { 1.0 } else { -1.0 };
-    let m = clip.len();
-    for k in 0..m {
-        if subject.is_empty() {
-            return;
-        }
-        let (c0, c1) = (clip[k], clip[(k + 1) % m]);
-        let e = c1 - c0;
-        let side = |p: &Point2| sign * e.perp(&(p - c0));
-        out.clear();
-        let n = subject.len();
-        for i in 0..n {
-            let cur = subject[i];
-            let next = subject[(i + 1) % n];
-            let (sc, sn) = (side(&cur), side(&next));
-            if sc >= 0.0 {
-                out.push(cur);
-            }
-            if (sc >= 0.0) != (sn >= 0.0) {
-                let t = sc / (sc - sn);
-                out.push(cur + (next - cur) * t);
-            }
-        }
-        std::mem::swap(subject, out);
-    }
-}
-
-/// Squared distance from `p` to the segment `a`-`b`.
-pub(crate) fn point_segment_distance_sq(p: &Point2, a: &Point2, b: &Point2) -> Real {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * t)).norm_squared()
-}
-
 /// Whether the closed segments `a`-`b` and `c`-`d` share a point.
 fn segments_intersect(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> bool {
     let o1 = orient(a, b, c);
@@ -354,11 +286,6 @@ fn segments_intersect(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> bool {
         || (o2 == 0.0 && on_segment(a, b, d))
         || (o3 == 0.0 && on_segment(c, d, a))
         || (o4 == 0.0 && on_segment(c, d, b))
-}
-
-#[inline]
-fn orient(a: &Point2, b: &Point2, c: &Point2) -> Real {
-    (b - a).perp(&(c - a))
 }
 
 #[inline]

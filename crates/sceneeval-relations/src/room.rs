@@ -1,6 +1,7 @@
 //! Predicate inputs on plain geometry: a room's floor, walls, openings and ceiling, prepared
 //! once so that the architecture kernels allocate nothing per call.
 
+use sceneeval_geom::planar::convex_hull;
 use sceneeval_geom::{Obb, Point2, Point3, Polygon2, Real, Rotation3, Vector2, Vector3};
 use sceneeval_scene::{OpeningKind, Room, RoomBuilder};
 
@@ -397,34 +398,6 @@ fn min_area_rectangle(points: &[Point2]) -> (Point2, Vector2) {
         }
     }
     best.map_or((Point2::origin(), Vector2::zeros()), |(_, c, d)| (c, d))
-}
-
-/// Convex hull, counter-clockwise, without collinear points (Andrew's monotone chain).
-fn convex_hull(points: &[Point2]) -> Vec<Point2> {
-    let mut pts = points.to_vec();
-    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    pts.dedup();
-    if pts.len() < 3 {
-        return pts;
-    }
-    let cross = |o: &Point2, a: &Point2, b: &Point2| (a - o).perp(&(b - o));
-    let mut hull: Vec<Point2> = Vec::with_capacity(pts.len() * 2);
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &Point2>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for p in iter {
-            while hull.len() >= start + 2 && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= 0.0 {
-                hull.pop();
-            }
-            hull.push(*p);
-        }
-        hull.pop();
-    }
-    hull
 }
 
 /// Splits a wall's slab into boxes around its openings: a grid on every opening edge, with
