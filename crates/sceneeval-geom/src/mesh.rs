@@ -1,13 +1,17 @@
 use std::collections::HashMap;
 use std::fmt;
 
+use crate::distance::DistanceTree;
 use crate::parry::query::{PointQuery, RayCast};
 use crate::parry::shape::TriMesh;
 use crate::parry_adapter::{point_from_parry, point_to_parry, to_parry_pose, to_parry_vec, vec_from_parry};
 use crate::{Aabb, GeomError, Isometry3, Matrix3, Obb, Point3, Ray, Real, Vector3, parry};
 
 /// A triangle mesh in its own frame (for a scene object: the object frame), with a parry
-/// [`TriMesh`] and its bounding-volume hierarchy built once at construction.
+/// [`TriMesh`] and its bounding-volume hierarchy built once at construction, and a second,
+/// balanced hierarchy for the exact distance queries ([`Mesh::distance`],
+/// [`Mesh::distance_to_obb`], [`Mesh::distance_to_triangle`]), which costs about 90 bytes per
+/// triangle and a tenth more construction time.
 ///
 /// Construction drops zero-area triangles and makes the winding consistent across every
 /// edge shared by exactly two triangles; a closed component is then turned outward (positive
@@ -26,6 +30,7 @@ pub struct Mesh {
     area: Real,
     closed: bool,
     shape: TriMesh,
+    tree: DistanceTree,
 }
 
 impl fmt::Debug for Mesh {
@@ -101,6 +106,7 @@ impl Mesh {
         let area = triangles.iter().map(|t| triangle_area(&vertices, t)).sum();
         let shape = TriMesh::new(vertices.iter().map(point_to_parry).collect(), triangles.clone())
             .map_err(|_| GeomError::EmptyMesh)?;
+        let tree = DistanceTree::new(&vertices, &triangles);
         Ok(Mesh {
             vertices,
             triangles,
@@ -108,6 +114,7 @@ impl Mesh {
             area,
             closed,
             shape,
+            tree,
         })
     }
 
@@ -233,6 +240,12 @@ impl Mesh {
         &self.shape
     }
 
+    /// The bounding-box hierarchy of the exact distance searches (mesh frame).
+    #[inline]
+    pub(crate) fn distance_tree(&self) -> &DistanceTree {
+        &self.tree
+    }
+
     /// Whether the surfaces of two placed meshes touch or cross. Surface test only: a mesh
     /// nested entirely inside another does not intersect it (combine with
     /// [`Mesh::contains_point`] to detect containment).
@@ -251,12 +264,15 @@ impl Mesh {
     /// [`Mesh::contains_point`] for solids).
     ///
     /// # Performance
-    /// No allocation. A two-level branch and bound over both BVHs, seeded by alternating
-    /// closest-point projections, with exact (GJK) triangle-triangle distances (0 for
-    /// triangles that cross): microseconds to tens of microseconds for 5k-triangle meshes,
-    /// where parry's generic mesh-mesh distance takes tens of milliseconds when they are close.
-    /// No separate intersection test runs first: parry's costs hundreds of microseconds for
-    /// surfaces a few centimetres apart.
+    /// No allocation (the search recurses, at most as deep as the two meshes' distance trees
+    /// together: a few dozen frames). A simultaneous branch and bound over both meshes'
+    /// distance trees, seeded by alternating closest-point projections, with exact (GJK)
+    /// triangle-triangle distances (0 for triangles that cross) for the few pairs that cheap
+    /// bounds cannot rule out: about 15 µs for two 5k-triangle meshes 6 cm apart (a flat face
+    /// against a curved one), tens of microseconds up to a metre apart, a few microseconds when
+    /// they cross; where parry's generic mesh-mesh distance takes tens of milliseconds when
+    /// they are close. No separate intersection test runs first: parry's costs hundreds of
+    /// microseconds for surfaces a few centimetres apart.
     pub fn distance(&self, pose: &Isometry3, other: &Mesh, other_pose: &Isometry3) -> Real {
         crate::distance::mesh_mesh(self, pose, other, other_pose)
     }
@@ -277,6 +293,12 @@ impl Mesh {
     /// Distance between the placed mesh's surface and the solid box `obb` (0 when they meet).
     /// A mesh lying entirely inside the box is 0 away from it; a box inside a closed mesh is as
     /// far as the surface (combine with [`Mesh::contains_point`]).
+    ///
+    /// # Performance
+    /// No allocation. A branch and bound over the mesh's distance tree in the box's frame; a
+    /// triangle whose nearest corner is provably its nearest point to the box (the usual case
+    /// of a convex part facing a wall) is measured without GJK: 1-6 µs for a 5k-triangle mesh
+    /// against a wall piece 7 cm to 3.4 m away.
     pub fn distance_to_obb(&self, pose: &Isometry3, obb: &Obb) -> Real {
         if obb.contains_point(&(pose * self.vertices[0])) {
             return 0.0;
@@ -290,6 +312,10 @@ impl Mesh {
     }
 
     /// Distance between the placed mesh's surface and the world triangle `tri`.
+    ///
+    /// # Performance
+    /// No allocation: a branch and bound over the mesh's distance tree, as
+    /// [`Mesh::distance_to_obb`].
     pub fn distance_to_triangle(&self, pose: &Isometry3, tri: &[Point3; 3]) -> Real {
         crate::distance::mesh_triangle(self, pose, tri)
     }
