@@ -1,6 +1,6 @@
 //! `sceneeval inspect SCENE.json --assets PREFIX=DIR ...`: load a sceneState file and print its
-//! objects (id, model id, category, OBB centre, size, yaw), rooms, walls and openings, as
-//! aligned tables or (`--json`) as one JSON document.
+//! objects (id, model id, category, OBB centre, size, yaw, stated support type), rooms, walls
+//! and openings, as aligned tables or (`--json`) as one JSON document.
 //!
 //! A scene that fails to load is an error: `main` prints its chain (the file, the JSON
 //! pointer, the asset) and the process exits with status 1.
@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
-use sceneeval::geom::Real;
+use sceneeval::geom::{Real, Side};
 use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
-use sceneeval::scene::{Room, Scene, SceneObject, Wall};
+use sceneeval::scene::{Room, Scene, SceneObject, SupportType, Wall};
 use serde::Serialize;
 
 /// Arguments of `sceneeval inspect`.
@@ -84,6 +84,10 @@ struct ObjectReport<'a> {
     yaw: Real,
     /// Object-frame scale baked into the mesh.
     scale: [Real; 3],
+    /// The support type the scene states (`supportType`), if any.
+    support_type: Option<SupportType>,
+    /// The functional sides the scene states (`functionalSides`), if any.
+    functional_sides: Option<&'a [Side]>,
 }
 
 #[derive(Debug, Serialize)]
@@ -170,13 +174,16 @@ impl<'a> Report<'a> {
                     num(o.center[2]),
                     format!("{} x {} x {}", num(o.size[0]), num(o.size[1]), num(o.size[2])),
                     format!("{:.1}", o.yaw.to_degrees()),
+                    o.support_type.map_or("-", SupportType::name).to_owned(),
                 ]
             })
             .collect();
         table(
             out,
-            &["id", "model id", "category", "x", "y", "z", "size", "yaw"],
-            &[false, false, false, true, true, true, false, true],
+            &[
+                "id", "model id", "category", "x", "y", "z", "size", "yaw", "support",
+            ],
+            &[false, false, false, true, true, true, false, true, false],
             rows,
         )?;
 
@@ -296,6 +303,8 @@ impl<'a> ObjectReport<'a> {
             size: [size.x, size.y, size.z],
             yaw: o.yaw(),
             scale: [o.scale().x, o.scale().y, o.scale().z],
+            support_type: o.support_type(),
+            functional_sides: o.functional_sides(),
         }
     }
 }

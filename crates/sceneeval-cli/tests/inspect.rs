@@ -7,10 +7,10 @@ use std::path::Path;
 
 use assert_cmd::Command;
 use predicates::prelude::*;
-use sceneeval::geom::{Isometry3, Point2, Point3, Vector3};
+use sceneeval::geom::{Isometry3, Point2, Point3, Side, Vector3};
 use sceneeval::io::assets::PlainFolderSource;
 use sceneeval::io::{AssetLibrary, GlbMesh, write_glb, write_scene_state};
-use sceneeval::scene::{RoomBuilder, Scene};
+use sceneeval::scene::{RoomBuilder, Scene, SupportType};
 
 /// A 1 x 0.5 x 0.8 m (width x depth x height) block asset, y up, front +z, origin at the
 /// bottom centre, with a sidecar category.
@@ -70,7 +70,9 @@ fn write_scene(dir: &Path) -> String {
             Vector3::repeat(1.0),
         )
         .unwrap()
-        .with_index(0);
+        .with_index(0)
+        .with_support_type(SupportType::Ground)
+        .with_functional_sides([Side::Front]);
     let scene = Scene::builder()
         .room_builder(
             RoomBuilder::rectangle("bedroom", Point2::new(0.0, 0.0), Point2::new(4.0, 3.0))
@@ -148,11 +150,14 @@ fn json_output_has_objects_rooms_walls_and_openings() {
         "{s:?}"
     );
     assert!((f(&dresser["yaw"]) - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    assert_eq!(dresser["support_type"], "ground");
+    assert_eq!(dresser["functional_sides"], serde_json::json!(["front"]));
     let table = &v["objects"][1];
     assert_eq!(
         (table["id"].as_str(), table["is_box"].as_bool()),
         (Some("table"), Some(true))
     );
+    assert!(table["support_type"].is_null() && table["functional_sides"].is_null());
 
     let room = &v["rooms"][0];
     assert_eq!(room["id"], "bedroom");

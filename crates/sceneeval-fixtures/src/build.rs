@@ -73,7 +73,12 @@ where
                     .with_description(*description)
             }
         };
-        builder = builder.object(object.with_index(index as i64));
+        // Every fixture object states its support type, as a generator that knows what it placed
+        // would; functional sides are left to the category tables.
+        let object = object
+            .with_index(index as i64)
+            .with_support_type(p.support.support_type(p.intended_support));
+        builder = builder.object(object);
     }
     builder.build().map_err(scene_err)
 }

@@ -341,7 +341,7 @@ fn expected_object(
         position: round3(&position),
         yaw_deg: yaw,
         size: round3(&o.obb().extents()),
-        support_type: p.support.type_name(p.intended_support).to_owned(),
+        support_type: p.support.support_type(p.intended_support).name().to_owned(),
         supported_by,
         supported: p.support != Support::Nothing && p.held,
     })

@@ -21,7 +21,7 @@
 use std::f64::consts::FRAC_1_SQRT_2;
 
 use sceneeval_geom::Point2;
-use sceneeval_scene::RoomBuilder;
+use sceneeval_scene::{RoomBuilder, SupportType};
 
 use crate::spec::{Flaw, Placement, SceneSpec};
 
@@ -299,7 +299,7 @@ fn floating() -> SceneSpec {
             // Back at y = 3.65 + 0.35 = 4.0; x 1.3..2.7, front edge at y = 3.3.
             a("desk", "desk", 2.0, 3.65, 0.0, 0.0),
             // Faces +y toward the desk, y 2.81..3.25; its feet 0.25 m above the floor.
-            a("chair", "chair", 2.0, 3.03, 0.25, 180.0).unsupported("ground"),
+            a("chair", "chair", 2.0, 3.03, 0.25, 180.0).unsupported(SupportType::Ground),
             a("table_lamp", "table_lamp", 2.4, 3.7, 0.75, 0.0).on("desk"),
             // Yaw 90: back at x = 0.15 - 0.15 = 0; y 1.6..2.4.
             a("bookshelf", "bookshelf", 0.15, 2.0, 0.0, 90.0),
@@ -389,7 +389,7 @@ fn inside() -> SceneSpec {
             a("wardrobe", "wardrobe", 0.8, 2.7, 0.0, 0.0),
             // Centred in the carcass (y 2.7 + 0.01): x 0.65..0.95, y 2.585..2.835, z 0.9..1.1.
             // Clearances to the carcass: x 0.35, y 0.165, z 0.9.
-            a("storage_box", "storage_box", 0.8, 2.71, 0.9, 0.0).unsupported("object"),
+            a("storage_box", "storage_box", 0.8, 2.71, 0.9, 0.0).unsupported(SupportType::Object),
             // Yaw -90: back at x = 2.85 + 0.15 = 3.0; y 1.1..1.9.
             a("bookshelf", "bookshelf", 2.85, 1.5, 0.0, -90.0),
             // Turned 200 degrees: corners within 0.282 m, x 1.018..1.582, clear of the door's

@@ -7,7 +7,7 @@
 //! yaw 90 degrees: front = +x). Scale is per object-frame axis (width x, depth y, height z)
 //! and scales about the bottom centre.
 
-use sceneeval_scene::RoomBuilder;
+use sceneeval_scene::{RoomBuilder, SupportType};
 
 /// What an object is made of.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,14 +41,14 @@ pub enum Support {
 }
 
 impl Support {
-    /// The support type name used in `expected.json`: `ground`, `object`, `wall` or `ceiling`
-    /// (the reference's four types; an unsupported object keeps the type it should have had).
-    pub fn type_name(&self, intended: &'static str) -> &'static str {
+    /// The support type this support gives (written as the scene object's `supportType` and in
+    /// `expected.json`; an unsupported object keeps the type it should have had).
+    pub fn support_type(&self, intended: SupportType) -> SupportType {
         match self {
-            Support::Floor => "ground",
-            Support::On(_) => "object",
-            Support::Wall(_) => "wall",
-            Support::Ceiling => "ceiling",
+            Support::Floor => SupportType::Ground,
+            Support::On(_) => SupportType::Object,
+            Support::Wall(_) => SupportType::Wall,
+            Support::Ceiling => SupportType::Ceiling,
             Support::Nothing => intended,
         }
     }
@@ -71,7 +71,7 @@ pub struct Placement {
     /// What holds it up.
     pub support: Support,
     /// For [`Support::Nothing`]: the support type it should have had.
-    pub intended_support: &'static str,
+    pub intended_support: SupportType,
     /// Whether its support holds it: false when it touches its support but its centre of
     /// mass is not over the contacts (it would tip over).
     pub held: bool,
@@ -87,7 +87,7 @@ impl Placement {
             yaw_deg,
             scale: [1.0; 3],
             support: Support::Floor,
-            intended_support: "ground",
+            intended_support: SupportType::Ground,
             held: true,
         }
     }
@@ -112,7 +112,7 @@ impl Placement {
             yaw_deg,
             scale: [1.0; 3],
             support: Support::Floor,
-            intended_support: "ground",
+            intended_support: SupportType::Ground,
             held: true,
         }
     }
@@ -136,8 +136,8 @@ impl Placement {
     }
 
     /// Marks the object as supported by nothing although it should stand on `intended`
-    /// (`ground` or `object`).
-    pub fn unsupported(mut self, intended: &'static str) -> Placement {
+    /// (ground or object).
+    pub fn unsupported(mut self, intended: SupportType) -> Placement {
         self.support = Support::Nothing;
         self.intended_support = intended;
         self

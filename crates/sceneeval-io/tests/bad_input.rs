@@ -215,6 +215,71 @@ fn missing_and_mistyped_object_fields() {
     }
 }
 
+/// `v` with field `key` of the object at `pointer` set to `new` (added if missing).
+fn with_field(mut v: Value, pointer: &str, key: &str, new: Value) -> Value {
+    v.pointer_mut(pointer)
+        .and_then(Value::as_object_mut)
+        .unwrap_or_else(|| panic!("no object at {pointer}"))
+        .insert(key.to_owned(), new);
+    v
+}
+
+#[test]
+fn stated_support_types_and_functional_sides_are_checked() {
+    let f = Fixture::new();
+    let with = |v: Value, pointer: &str, new: Value| {
+        let (object, key) = pointer.rsplit_once('/').unwrap();
+        with_field(v, object, key, new)
+    };
+    let ok = with(valid(), "/scene/object/1/supportType", json!("Wall"));
+    let ok = with(ok, "/scene/object/1/functionalSides", json!(["front", "left"]));
+    let scene = f.read(&ok).unwrap();
+    let stated = &scene.objects()[1];
+    assert_eq!(stated.support_type(), Some(sceneeval_scene::SupportType::Wall));
+    assert_eq!(
+        stated.functional_sides(),
+        Some(&[sceneeval_geom::Side::Left, sceneeval_geom::Side::Front][..])
+    );
+    assert_eq!(scene.objects()[0].support_type(), None);
+    match f.error(&with(valid(), "/scene/object/1/supportType", json!("shelf"))) {
+        IoError::InvalidValue { pointer, reason, .. } => {
+            assert_eq!(pointer, "/scene/object/1/supportType");
+            assert!(
+                reason.contains("expected one of ground, object, wall, ceiling"),
+                "{reason}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    match f.error(&with(valid(), "/scene/object/1/supportType", json!(2))) {
+        IoError::WrongType { pointer, .. } => assert_eq!(pointer, "/scene/object/1/supportType"),
+        other => panic!("{other:?}"),
+    }
+    match f.error(&with(valid(), "/scene/object/1/functionalSides", json!("front"))) {
+        IoError::WrongType { pointer, .. } => assert_eq!(pointer, "/scene/object/1/functionalSides"),
+        other => panic!("{other:?}"),
+    }
+    match f.error(&with(
+        valid(),
+        "/scene/object/1/functionalSides",
+        json!(["front", "top"]),
+    )) {
+        IoError::InvalidValue { pointer, reason, .. } => {
+            assert_eq!(pointer, "/scene/object/1/functionalSides/1");
+            assert!(reason.contains("not horizontal"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match f.error(&with(
+        valid(),
+        "/scene/object/1/functionalSides",
+        json!(["sideways"]),
+    )) {
+        IoError::InvalidValue { pointer, .. } => assert_eq!(pointer, "/scene/object/1/functionalSides/0"),
+        other => panic!("{other:?}"),
+    }
+}
+
 #[test]
 fn singular_sheared_and_projective_transforms() {
     let f = Fixture::new();

@@ -12,12 +12,12 @@ use std::path::Path;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 use sceneeval_geom::na::{Translation3, UnitQuaternion};
-use sceneeval_geom::{Isometry3, Point2, Point3, Vector3};
+use sceneeval_geom::{Isometry3, Point2, Point3, Side, Vector3};
 use sceneeval_io::{
     AssetLibrary, ReadOptions, read_scene_state, read_scene_state_str, scene_state_to_string,
     write_scene_state,
 };
-use sceneeval_scene::{RoomBuilder, Scene, SceneObject};
+use sceneeval_scene::{RoomBuilder, Scene, SceneObject, SupportType};
 
 fn pose(x: f64, y: f64, z: f64, yaw: f64) -> Isometry3 {
     Isometry3::from_parts(
@@ -74,7 +74,9 @@ fn rich_scene(library: &AssetLibrary) -> Scene {
             .with_index(5)
             .with_model_id("generator.desk")
             .with_category("desk")
-            .with_description("a wooden desk \"with\" drawers"),
+            .with_description("a wooden desk \"with\" drawers")
+            .with_support_type(SupportType::Ground)
+            .with_functional_sides([Side::Front]),
         )
         .object(
             library
@@ -96,7 +98,9 @@ fn rich_scene(library: &AssetLibrary) -> Scene {
                     Vector3::new(1.2, 0.8, 1.5),
                 )
                 .unwrap()
-                .with_category("lamp"),
+                .with_category("lamp")
+                .with_support_type(SupportType::Ceiling)
+                .with_functional_sides([]),
         )
         .object(
             library
@@ -119,6 +123,8 @@ fn assert_objects_match(a: &Scene, b: &Scene) {
         assert_eq!(x.model_id(), y.model_id(), "{}", x.id());
         assert_eq!(x.category(), y.category(), "{}", x.id());
         assert_eq!(x.description(), y.description(), "{}", x.id());
+        assert_eq!(x.support_type(), y.support_type(), "{}", x.id());
+        assert_eq!(x.functional_sides(), y.functional_sides(), "{}", x.id());
         assert_eq!(x.box_half_extents(), y.box_half_extents(), "{}", x.id());
         assert_eq!(x.scale(), y.scale(), "{}", x.id());
         assert_eq!(x.mesh(), y.mesh(), "{}", x.id());

@@ -91,7 +91,7 @@ pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds}
 pub use raster::{Grid, Resolution};
 pub use sources::{
     Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesSource, GivenFunctionalSides,
-    GivenSupportTypes, SUPPORT_TYPE_TABLE, SupportType, SupportTypePriors, SupportTypeSource,
+    GivenSupportTypes, SUPPORT_TYPE_TABLE, Stated, SupportType, SupportTypePriors, SupportTypeSource,
 };
 pub use support::{ObjectSupport, SupportParams, SupportReport, Supporter, support};
 
@@ -113,8 +113,9 @@ pub struct PlausibilityParams {
     pub opening_clearance: OpeningClearanceParams,
 }
 
-/// Where [`evaluate`] takes support types and functional sides from. The default uses the
-/// built-in category tables ([`SupportTypePriors`], [`FunctionalSidePriors`]).
+/// Where [`evaluate`] takes support types and functional sides from. The default asks the
+/// scene first (what its objects state, [`Stated`]), then the built-in category tables
+/// ([`SupportTypePriors`], [`FunctionalSidePriors`]).
 pub struct Sources {
     /// Support types for [`support`].
     pub support_types: Box<dyn SupportTypeSource>,
@@ -137,7 +138,10 @@ impl Sources {
 
 impl Default for Sources {
     fn default() -> Self {
-        Sources::new(SupportTypePriors::default(), FunctionalSidePriors::default())
+        Sources::new(
+            Chain::new(Stated, SupportTypePriors::default()),
+            Chain::new(Stated, FunctionalSidePriors::default()),
+        )
     }
 }
 

@@ -4,9 +4,11 @@
 //! accessibility metric each object's **functional sides** (which sides must stay free). The
 //! reference asks a VLM for both. Here they come from a source behind an object-safe trait, so
 //! the same metric runs on answers given by the caller ([`GivenSupportTypes`],
-//! [`GivenFunctionalSides`]), on built-in category tables ([`SupportTypePriors`],
-//! [`FunctionalSidePriors`]), or later on a VLM, and sources can be chained with [`Chain`]
-//! (the first source that knows an object answers).
+//! [`GivenFunctionalSides`]), on answers the scene file states per object ([`Stated`], from
+//! the sceneState fields `supportType` and `functionalSides`), on built-in category tables
+//! ([`SupportTypePriors`], [`FunctionalSidePriors`]), or later on a VLM, and sources can be
+//! chained with [`Chain`] (the first source that knows an object answers). The default
+//! ([`crate::Sources::default`]) asks the scene first, then the category tables.
 //!
 //! A source never looks at the geometry the metric checks: deriving "resting on the floor" from
 //! the fact that the object touches the floor would make the support metric vacuous.
@@ -25,39 +27,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::category::lookup_keys;
 
-/// What an object should rest on (the paper's four support types).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SupportType {
-    /// Stands on the floor (gravity -z).
-    Ground,
-    /// Stands on another object (gravity -z).
-    Object,
-    /// Hangs on a wall (gravity along the object's back, local +y).
-    Wall,
-    /// Hangs from the ceiling (gravity +z).
-    Ceiling,
-}
-
-impl SupportType {
-    /// All four types.
-    pub const ALL: [SupportType; 4] = [
-        SupportType::Ground,
-        SupportType::Object,
-        SupportType::Wall,
-        SupportType::Ceiling,
-    ];
-
-    /// `"ground"`, `"object"`, `"wall"` or `"ceiling"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            SupportType::Ground => "ground",
-            SupportType::Object => "object",
-            SupportType::Wall => "wall",
-            SupportType::Ceiling => "ceiling",
-        }
-    }
-}
+pub use sceneeval_scene::SupportType;
 
 /// A source's answer together with the source's name, kept as evidence in the reports.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -196,6 +166,45 @@ impl FunctionalSidesSource for GivenFunctionalSides {
         self.sides.get(object.id()).map(|s| Answer {
             value: s.clone(),
             source: "given".to_owned(),
+        })
+    }
+}
+
+/// The support types and functional sides the scene itself states per object
+/// ([`SceneObject::support_type`], [`SceneObject::functional_sides`]; in a sceneState file the
+/// object fields `supportType` and `functionalSides`), for generators that know what they
+/// placed. Source name `scene`.
+///
+/// ```
+/// use sceneeval_geom::{Point3, Vector3};
+/// use sceneeval_plausibility::{Stated, SupportType, SupportTypeSource};
+/// use sceneeval_scene::{Scene, SceneObject};
+///
+/// let tv = SceneObject::new_box("tv", Point3::new(2.0, 4.95, 1.4), Vector3::new(1.2, 0.1, 0.7), 0.0)
+///     .unwrap()
+///     .with_category("tv")
+///     .with_support_type(SupportType::Wall);
+/// let scene = Scene::builder().object(tv).build().unwrap();
+/// let answer = Stated.support_type(&scene, &scene.objects()[0]).unwrap();
+/// assert_eq!((answer.value, answer.source.as_str()), (SupportType::Wall, "scene"));
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Stated;
+
+impl SupportTypeSource for Stated {
+    fn support_type(&self, _scene: &Scene, object: &SceneObject) -> Option<Answer<SupportType>> {
+        object.support_type().map(|value| Answer {
+            value,
+            source: "scene".to_owned(),
+        })
+    }
+}
+
+impl FunctionalSidesSource for Stated {
+    fn functional_sides(&self, _scene: &Scene, object: &SceneObject) -> Option<Answer<Vec<Side>>> {
+        object.functional_sides().map(|sides| Answer {
+            value: sides.to_vec(),
+            source: "scene".to_owned(),
         })
     }
 }
@@ -595,6 +604,47 @@ mod tests {
             assert!(!why.is_empty());
             assert!(sides.iter().all(|s| Side::HORIZONTAL.contains(s)));
         }
+    }
+
+    #[test]
+    fn default_sources_ask_the_scene_before_the_tables() {
+        use sceneeval_geom::{Point3, Vector3};
+        let tv = |id: &str| {
+            SceneObject::new_box(id, Point3::new(0.0, 0.0, 1.0), Vector3::new(1.0, 0.1, 0.6), 0.0)
+                .unwrap()
+                .with_category("tv")
+        };
+        let scene = Scene::builder()
+            .object(tv("stand_tv"))
+            .object(
+                tv("wall_tv")
+                    .with_support_type(SupportType::Wall)
+                    .with_functional_sides([]),
+            )
+            .build()
+            .unwrap();
+        let sources = crate::Sources::default();
+        let support = |i: usize| sources.support_types.support_type(&scene, &scene.objects()[i]);
+        let sides = |i: usize| {
+            sources
+                .functional_sides
+                .functional_sides(&scene, &scene.objects()[i])
+        };
+        // Not stated: the category prior (a TV stands on furniture; no side prior for TVs).
+        let prior = support(0).unwrap();
+        assert_eq!(
+            (prior.value, prior.source.as_str()),
+            (SupportType::Object, "category_prior")
+        );
+        assert!(sides(0).is_none());
+        // Stated in the scene: wins, even an empty side list.
+        let stated = support(1).unwrap();
+        assert_eq!(
+            (stated.value, stated.source.as_str()),
+            (SupportType::Wall, "scene")
+        );
+        let stated = sides(1).unwrap();
+        assert_eq!((stated.value.len(), stated.source.as_str()), (0, "scene"));
     }
 
     #[test]

@@ -39,12 +39,14 @@
 
 pub mod arch;
 mod error;
+pub mod hints;
 mod ids;
 mod object;
 mod scene;
 
 pub use arch::{Ceiling, InwardEvidence, Opening, OpeningKind, Room, RoomBuilder, Wall, WallSpec};
 pub use error::SceneError;
+pub use hints::{SupportType, UnknownSupportType};
 pub use ids::{ObjectId, RoomId};
 pub use object::SceneObject;
 pub use scene::{Scene, SceneBuilder};

@@ -4,7 +4,9 @@ use sceneeval_geom::conventions::rotation_from_yaw;
 use sceneeval_geom::na::{Translation3, UnitQuaternion};
 use sceneeval_geom::{Aabb, Isometry3, Mesh, Obb, Point3, Real, Vector3};
 
-use crate::{ObjectId, SceneError};
+use sceneeval_geom::Side;
+
+use crate::{ObjectId, SceneError, SupportType};
 
 /// One object of a scene: a mesh in the object frame placed by a rigid pose, with the metadata
 /// evaluation needs.
@@ -20,6 +22,8 @@ pub struct SceneObject {
     index: Option<i64>,
     category: Option<String>,
     description: Option<String>,
+    support_type: Option<SupportType>,
+    functional_sides: Option<Vec<Side>>,
     mesh: Arc<Mesh>,
     box_half_extents: Option<Vector3>,
     scale: Vector3,
@@ -44,6 +48,8 @@ impl SceneObject {
             index: None,
             category: None,
             description: None,
+            support_type: None,
+            functional_sides: None,
             mesh,
             box_half_extents: None,
             scale: Vector3::repeat(1.0),
@@ -111,6 +117,29 @@ impl SceneObject {
     /// Sets the free-text description.
     pub fn with_description(mut self, description: impl Into<String>) -> Self {
         self.description = Some(description.into());
+        self
+    }
+
+    /// States what the object should rest on (see [`crate::hints`]). The support metric checks
+    /// the object against it; it is never inferred from the placement.
+    pub fn with_support_type(mut self, support_type: SupportType) -> Self {
+        self.support_type = Some(support_type);
+        self
+    }
+
+    /// States the object's functional sides, the sides that must stay free to use it (see
+    /// [`crate::hints`]); an empty list for an object without one. Only the horizontal sides
+    /// (left, right, front, back) are meaningful: others are dropped, and the list is sorted
+    /// and deduplicated.
+    pub fn with_functional_sides(mut self, sides: impl IntoIterator<Item = Side>) -> Self {
+        let (mut sides, vertical): (Vec<Side>, Vec<Side>) =
+            sides.into_iter().partition(|s| Side::HORIZONTAL.contains(s));
+        if !vertical.is_empty() {
+            tracing::debug!(object = %self.id, ?vertical, "vertical functional sides dropped");
+        }
+        sides.sort_unstable();
+        sides.dedup();
+        self.functional_sides = Some(sides);
         self
     }
 
@@ -196,6 +225,19 @@ impl SceneObject {
         &self.world_aabb
     }
 
+    /// The stated support type, if the scene's author gave one.
+    #[inline]
+    pub fn support_type(&self) -> Option<SupportType> {
+        self.support_type
+    }
+
+    /// The stated functional sides (horizontal, sorted, no duplicates; possibly empty), if the
+    /// scene's author gave them.
+    #[inline]
+    pub fn functional_sides(&self) -> Option<&[Side]> {
+        self.functional_sides.as_deref()
+    }
+
     /// The yaw of the pose (radians about +z; see `sceneeval_geom::conventions::yaw_of`).
     #[inline]
     pub fn yaw(&self) -> Real {
@@ -246,6 +288,24 @@ mod tests {
         assert!((aabb.extents() - Vector3::new(2.0, 1.6, 0.6)).norm() < 1e-12);
         assert_eq!(obj.box_half_extents(), Some(Vector3::new(0.8, 1.0, 0.3)));
         assert_eq!(obj.category(), Some("bed"));
+    }
+
+    #[test]
+    fn placement_hints_are_kept_and_normalised() {
+        let obj = SceneObject::new_box("tv", Point3::origin(), Vector3::repeat(1.0), 0.0).unwrap();
+        assert_eq!(obj.support_type(), None);
+        assert_eq!(obj.functional_sides(), None);
+        let obj = obj.with_support_type(SupportType::Wall).with_functional_sides([
+            Side::Left,
+            Side::Top,
+            Side::Front,
+            Side::Left,
+        ]);
+        assert_eq!(obj.support_type(), Some(SupportType::Wall));
+        // Vertical sides dropped; sorted in `Side` order; duplicates removed.
+        assert_eq!(obj.functional_sides(), Some(&[Side::Left, Side::Front][..]));
+        let none = obj.with_functional_sides([]);
+        assert_eq!(none.functional_sides(), Some(&[][..]));
     }
 
     #[test]

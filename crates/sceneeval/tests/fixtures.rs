@@ -10,9 +10,6 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
-use sceneeval::plausibility::{
-    Chain, FunctionalSidePriors, GivenSupportTypes, Sources, SupportType, SupportTypePriors,
-};
 use sceneeval::{EvaluationPlan, Evaluator, SceneReport};
 use serde_json::Value;
 
@@ -26,24 +23,14 @@ fn expected() -> Vec<Value> {
     doc["scenes"].as_array().unwrap().clone()
 }
 
-/// Evaluates one fixture scene, with the support types the fixture declares for its objects (a
-/// generator knows them; the category priors alone cannot tell a wall-mounted TV from one on a
-/// stand).
+/// Evaluates one fixture scene with the default sources: the support types the scene file
+/// states for its objects (`supportType`; a generator knows them, and the category priors alone
+/// cannot tell a wall-mounted TV from one on a stand), functional sides from the category
+/// tables.
 fn evaluate(scene: &Value, assets: &AssetLibrary) -> Value {
     let path = fixtures().join(scene["file"].as_str().unwrap());
     let loaded = read_scene_state(&path, assets, &ReadOptions::default()).unwrap();
-    let mut given = GivenSupportTypes::default();
-    for o in scene["objects"].as_array().unwrap() {
-        let t: SupportType = serde_json::from_value(o["support_type"].clone()).unwrap();
-        given.insert(o["id"].as_str().unwrap(), t);
-    }
-    let sources = Sources::new(
-        Chain::new(given, SupportTypePriors::default()),
-        FunctionalSidePriors::default(),
-    );
-    let evaluator = Evaluator::new(EvaluationPlan::geometry_only())
-        .unwrap()
-        .with_sources(sources);
+    let evaluator = Evaluator::new(EvaluationPlan::geometry_only()).unwrap();
     let report: SceneReport = evaluator.evaluate(&loaded).unwrap();
     serde_json::to_value(&report).unwrap()
 }
@@ -110,6 +97,12 @@ fn fixture_scenes_match_their_expected_answers() {
                 .find(|s| s["id"] == o["id"])
                 .unwrap();
             assert_eq!(got["supported"], o["supported"], "{name}: support of {}", o["id"]);
+            assert_eq!(
+                got["support_type"], o["support_type"],
+                "{name}: type of {}",
+                o["id"]
+            );
+            assert_eq!(got["type_source"], "scene", "{name}: type source of {}", o["id"]);
         }
         for f in scene["floating"].as_array().unwrap() {
             let got = r["support"]["objects"]

@@ -4,8 +4,10 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use sceneeval_geom::na::{Quaternion, Translation3, UnitQuaternion};
-use sceneeval_geom::{Isometry3, Point2, Polygon2, Real, Vector3};
-use sceneeval_scene::{Ceiling, Opening, OpeningKind, Room, Scene, SceneError, SceneObject, WallSpec};
+use sceneeval_geom::{Isometry3, Point2, Polygon2, Real, Side, Vector3};
+use sceneeval_scene::{
+    Ceiling, Opening, OpeningKind, Room, Scene, SceneError, SceneObject, SupportType, WallSpec,
+};
 use serde_json::{Map, Value};
 
 use super::json_in::{Doc, optional, parse, ptr_index, ptr_key};
@@ -192,6 +194,16 @@ fn read_object(
     };
     let category = text_field("category")?;
     let description = text_field("description")?;
+    let support_type = field("supportType")
+        .map(|(v, p)| {
+            doc.string(v, &p)?
+                .parse::<SupportType>()
+                .map_err(|e| doc.invalid(&p, e.to_string()))
+        })
+        .transpose()?;
+    let functional_sides = field("functionalSides")
+        .map(|(v, p)| functional_sides(doc, v, &p))
+        .transpose()?;
     let id = text_field("objectId")?.unwrap_or_else(|| derived_object_id(index, model_id));
 
     let box_size = match field("box") {
@@ -294,7 +306,38 @@ fn read_object(
     if let Some(d) = description {
         object = object.with_description(d);
     }
+    if let Some(t) = support_type {
+        object = object.with_support_type(t);
+    }
+    if let Some(sides) = functional_sides {
+        object = object.with_functional_sides(sides);
+    }
     Ok(object)
+}
+
+/// The `functionalSides` of an object: an array of horizontal side names (possibly empty).
+fn functional_sides(doc: &Doc<'_>, v: &Value, ptr: &str) -> Result<Vec<Side>, IoError> {
+    doc.array(v, ptr)?
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let p = ptr_index(ptr, i);
+            let side = doc
+                .string(s, &p)?
+                .parse::<Side>()
+                .map_err(|e| doc.invalid(&p, e.to_string()))?;
+            if Side::HORIZONTAL.contains(&side) {
+                Ok(side)
+            } else {
+                Err(doc.invalid(
+                    &p,
+                    format!(
+                        "functional side {side:?} is not horizontal: expected left, right, front or back"
+                    ),
+                ))
+            }
+        })
+        .collect()
 }
 
 /// The exact pose from `objectPose` (written by this crate), if it reproduces

@@ -187,6 +187,15 @@ fn object_entry(object: &SceneObject, position: usize) -> Result<Json, IoError> 
     if let Some(d) = object.description() {
         fields.push(("description", Json::str(d)));
     }
+    if let Some(t) = object.support_type() {
+        fields.push(("supportType", Json::str(t.name())));
+    }
+    if let Some(sides) = object.functional_sides() {
+        fields.push((
+            "functionalSides",
+            Json::Arr(sides.iter().map(|s| Json::str(s.name())).collect()),
+        ));
+    }
     let scale = object.scale();
     let data = match is_box {
         Some(half) => {
