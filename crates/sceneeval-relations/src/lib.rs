@@ -37,8 +37,9 @@
 //! - **Distances** are between the closest points of the two objects as solids (the paper's
 //!   definition), 0 when the objects touch, overlap or nest ([`object_distance`]). Boxes:
 //!   corner-to-box upper and frame-gap lower bounds, which agree in the usual corner-facing-face
-//!   case, else GJK. Meshes: a branch and bound over both meshes' BVHs with exact triangle
-//!   distances, after cheap bounds that often decide a band's score on their own. Walls are
+//!   case, else GJK. Meshes: a branch and bound over both meshes' distance trees (see
+//!   `sceneeval_geom::Mesh::distance`) with exact triangle distances, after cheap bounds that
+//!   often decide a band's score on their own. Walls are
 //!   solids with their doors and windows cut out; doors and windows are their openings' boxes
 //!   (as deep as the wall); the ceiling is a surface.
 //! - **Which geometry**: volume fractions, `middle_of`, `surround`, `inside_room`,
@@ -86,12 +87,14 @@
 //! band's pass limit.
 //!
 //! # Performance
-//! Kernels allocate nothing per call: clipping runs on fixed-size stack buffers, BVH searches
-//! use parry's stack-allocated traversal, rooms are prepared once ([`RoomGeometry`]), and the
-//! batch forms write into caller-owned slices. Box-only predicates take 0.01-0.8 µs, distance
-//! predicates on boxes about 0.15 µs, architecture predicates with a box in a four-wall room
-//! up to 2 µs; the exact distance between two 5k-triangle meshes close together takes tens of
-//! microseconds. Measured figures and the command are in `docs/performance.md`
+//! Kernels allocate nothing per call: clipping runs on fixed-size stack buffers, mesh distance
+//! searches recurse over trees built with the mesh, ray casts use parry's stack-allocated
+//! traversal, rooms are prepared once ([`RoomGeometry`]), and the batch forms write into
+//! caller-owned slices. A test with a counting global allocator checks every relation on
+//! boxes and on meshes, and the batch forms (package `sceneeval-alloc-check`). Box-only
+//! predicates take 0.01-0.8 µs, distance predicates on boxes about 0.15 µs, architecture
+//! predicates with a box in a four-wall room up to 2 µs, and every predicate on 5k-triangle
+//! meshes at most about 20 µs. Measured figures and the command are in `docs/performance.md`
 //! (`cargo bench -p sceneeval-benches --bench relations`).
 //!
 //! # Example

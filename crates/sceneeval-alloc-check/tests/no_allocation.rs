@@ -1,0 +1,286 @@
+//! The kernels documented as allocation-free allocate nothing per call.
+//!
+//! A counting global allocator counts the allocations (and reallocations) made by the current
+//! thread. Each kernel is called once to warm up (a first call may register a `tracing`
+//! callsite), then its calls are counted: the count must be zero. Covered: every one of the 23
+//! relations through the dispatching kernels ([`batch::score_pair`], [`surround`],
+//! [`arch::score_rooms`]) on boxes and on ~5k-triangle meshes, in several configurations
+//! (touching, overlapping, nested, apart, far) so that the different code paths run; the batch
+//! forms; and `sceneeval-geom`'s exact box and mesh distances.
+
+#![allow(unsafe_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use sceneeval_benches::meshes::{subdivided_box, uv_ellipsoid};
+use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Vector3};
+use sceneeval_relations::{
+    ObjectGeom, OpeningSpec, Relation, RelationKind, RelationParams, RoomGeometry, arch, batch, surround,
+};
+use sceneeval_scene::OpeningKind;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+/// The system allocator, counting the calls that obtain memory, per thread.
+struct Counting;
+
+fn count() {
+    // `try_with`: the thread's slot may already be gone while the thread exits.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+// SAFETY: every method forwards to `System` with the caller's arguments unchanged; counting
+// touches only a const-initialised thread-local `Cell`, which neither allocates nor panics.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: the caller upholds `GlobalAlloc::alloc`'s contract, forwarded as is.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: as `alloc`.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        // SAFETY: `ptr` was allocated by this allocator, i.e. by `System`, with `layout`.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` was allocated by this allocator, i.e. by `System`, with `layout`.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Runs `f` once to warm up, then again counting this thread's allocations; returns the count.
+fn allocations_of<R>(mut f: impl FnMut() -> R) -> usize {
+    std::hint::black_box(f());
+    let before = ALLOCATIONS.with(Cell::get);
+    std::hint::black_box(f());
+    ALLOCATIONS.with(Cell::get) - before
+}
+
+fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
+    Obb::from_yaw(Point3::new(c[0], c[1], c[2]), Vector3::new(h[0], h[1], h[2]), yaw).unwrap()
+}
+
+/// A mesh placed at `center` turned by `yaw`, with its box.
+struct Placed {
+    mesh: Mesh,
+    pose: Isometry3,
+    obb: Obb,
+}
+
+impl Placed {
+    fn new(mesh: Mesh, center: [Real; 3], yaw: Real) -> Self {
+        let pose = Isometry3::new(Vector3::new(center[0], center[1], center[2]), Vector3::z() * yaw);
+        let obb = Obb::from_local_aabb(mesh.aabb(), &pose);
+        Placed { mesh, pose, obb }
+    }
+
+    fn view(&self) -> ObjectGeom<'_> {
+        ObjectGeom::with_mesh(&self.obb, &self.mesh, &self.pose)
+    }
+}
+
+/// A 4 x 5 m room with a door on wall 0 and a window on wall 1.
+fn room() -> RoomGeometry {
+    let outline = vec![
+        Point2::new(0.0, 0.0),
+        Point2::new(4.0, 0.0),
+        Point2::new(4.0, 5.0),
+        Point2::new(0.0, 5.0),
+    ];
+    let openings = [
+        OpeningSpec {
+            kind: OpeningKind::Door,
+            wall: 0,
+            along: [1.0, 1.9],
+            height: [0.0, 2.1],
+        },
+        OpeningSpec {
+            kind: OpeningKind::Window,
+            wall: 1,
+            along: [1.5, 3.5],
+            height: [0.9, 2.0],
+        },
+    ];
+    RoomGeometry::from_outline("bedroom", outline, 0.0, 2.8, 0.1, &openings).unwrap()
+}
+
+/// Scores every relation for `target` against `anchor` (and, for `surround`, `around`) and the
+/// room, asserting that no call allocates.
+fn assert_no_allocation(
+    what: &str,
+    target: &ObjectGeom<'_>,
+    anchor: &ObjectGeom<'_>,
+    around: &[ObjectGeom<'_>],
+    rooms: &[RoomGeometry],
+    params: &RelationParams,
+) {
+    for relation in Relation::all() {
+        let n = match relation.kind() {
+            RelationKind::ObjectObject => {
+                allocations_of(|| batch::score_pair(relation, target, anchor, params).unwrap())
+            }
+            RelationKind::MultiTarget => allocations_of(|| surround(anchor, around, params)),
+            RelationKind::ObjectArchitecture => {
+                allocations_of(|| arch::score_rooms(relation, target, rooms, params).unwrap())
+            }
+        };
+        assert_eq!(n, 0, "{what}: {relation} allocated {n} times");
+    }
+}
+
+/// Target positions around a bed at (2, 4): overlapping its side, touching it, nested in it,
+/// 6 cm and 0.8 m away, 3 m away, and straddling a wall.
+const TARGETS: [([Real; 3], Real); 7] = [
+    ([1.0, 4.5, 0.35], 0.3),
+    ([0.95, 4.0, 0.35], 0.0),
+    ([2.0, 4.0, 0.3], 0.3),
+    ([0.9, 4.5, 0.35], 0.3),
+    ([0.2, 4.5, 0.35], 1.0),
+    ([2.0, 1.0, 0.35], 2.0),
+    ([3.9, 2.5, 1.2], 0.7),
+];
+
+#[test]
+fn relation_kernels_on_boxes_allocate_nothing() {
+    let rooms = [room()];
+    let bed = bx([2.0, 4.0, 0.3], [0.8, 1.0, 0.3], 0.05);
+    let chairs: Vec<Obb> = (0..4)
+        .map(|k| {
+            let angle = Real::from(k) * std::f64::consts::FRAC_PI_2 + 0.1;
+            bx(
+                [2.0 + 1.2 * angle.cos(), 4.0 + 1.4 * angle.sin(), 0.45],
+                [0.25, 0.25, 0.45],
+                angle,
+            )
+        })
+        .collect();
+    let around: Vec<ObjectGeom<'_>> = chairs.iter().map(ObjectGeom::from_box).collect();
+    let anchor = ObjectGeom::from_box(&bed);
+    for params in [RelationParams::default(), RelationParams::reference()] {
+        for (center, yaw) in TARGETS {
+            let stand = bx(center, [0.25, 0.2, 0.35], yaw);
+            let target = ObjectGeom::from_box(&stand);
+            let what = format!("box at {center:?}");
+            assert_no_allocation(&what, &target, &anchor, &around, &rooms, &params);
+        }
+    }
+}
+
+#[test]
+fn relation_kernels_on_meshes_allocate_nothing() {
+    let rooms = [room()];
+    let bed = Placed::new(
+        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
+        [2.0, 4.0, 0.3],
+        0.05,
+    );
+    let chairs: Vec<Placed> = (0..3)
+        .map(|k| {
+            let angle = Real::from(k) * std::f64::consts::TAU / 3.0;
+            Placed::new(
+                subdivided_box(&Vector3::new(0.25, 0.25, 0.45), 6).unwrap(),
+                [2.0 + 1.2 * angle.cos(), 4.0 + 1.4 * angle.sin(), 0.45],
+                angle,
+            )
+        })
+        .collect();
+    let around: Vec<ObjectGeom<'_>> = chairs.iter().map(Placed::view).collect();
+    let anchor = bed.view();
+    for params in [RelationParams::default(), RelationParams::reference()] {
+        for (center, yaw) in TARGETS {
+            let half = if center == [2.0, 4.0, 0.3] {
+                // Nested inside the ellipsoid.
+                Vector3::new(0.1, 0.1, 0.1)
+            } else {
+                Vector3::new(0.25, 0.2, 0.35)
+            };
+            let stand = Placed::new(subdivided_box(&half, 20).unwrap(), center, yaw);
+            let target = stand.view();
+            let what = format!("mesh at {center:?}");
+            assert_no_allocation(&what, &target, &anchor, &around, &rooms, &params);
+        }
+    }
+}
+
+#[test]
+fn batch_forms_allocate_nothing() {
+    let params = RelationParams::default();
+    let rooms = [room()];
+    let boxes: Vec<Obb> = (0..64)
+        .map(|i| {
+            let t = Real::from(i);
+            bx([0.3 + 0.05 * t, 0.4 + 0.07 * t, 0.4], [0.2, 0.3, 0.4], 0.1 * t)
+        })
+        .collect();
+    let views: Vec<ObjectGeom<'_>> = boxes.iter().map(ObjectGeom::from_box).collect();
+    let mut out = vec![0.0; 63];
+    for relation in Relation::all() {
+        let n = match relation.kind() {
+            RelationKind::ObjectObject => allocations_of(|| {
+                batch::score_pairs(relation, &views[..63], &views[1..], &params, &mut out).unwrap()
+            }),
+            RelationKind::MultiTarget => continue,
+            RelationKind::ObjectArchitecture => allocations_of(|| {
+                batch::score_objects_in_rooms(relation, &views[..63], &rooms, &params, &mut out).unwrap()
+            }),
+        };
+        assert_eq!(n, 0, "batch {relation} allocated {n} times");
+    }
+}
+
+#[test]
+fn geometry_distances_allocate_nothing() {
+    let a = Placed::new(
+        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
+        [2.0, 4.0, 0.3],
+        0.05,
+    );
+    let tri = [
+        Point3::new(0.0, 5.0, 0.0),
+        Point3::new(4.0, 5.0, 0.0),
+        Point3::new(4.0, 5.0, 2.8),
+    ];
+    for (center, yaw) in TARGETS {
+        let b = Placed::new(
+            subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).unwrap(),
+            center,
+            yaw,
+        );
+        let cases: [(&str, &dyn Fn() -> Real); 5] = [
+            ("Obb::distance_to_obb", &|| b.obb.distance_to_obb(&a.obb)),
+            ("Obb::distance_to_triangle", &|| b.obb.distance_to_triangle(&tri)),
+            ("Mesh::distance", &|| b.mesh.distance(&b.pose, &a.mesh, &a.pose)),
+            ("Mesh::distance_to_obb", &|| {
+                b.mesh.distance_to_obb(&b.pose, &a.obb)
+            }),
+            ("Mesh::distance_to_triangle", &|| {
+                b.mesh.distance_to_triangle(&b.pose, &tri)
+            }),
+        ];
+        for (name, f) in cases {
+            let n = allocations_of(f);
+            assert_eq!(n, 0, "{name} at {center:?} allocated {n} times");
+        }
+    }
+}
+
+#[test]
+fn the_counter_sees_allocations() {
+    // Guards against a counter that always reads zero.
+    let n = allocations_of(|| vec![1u8; 16]);
+    assert_eq!(n, 1);
+}
