@@ -553,39 +553,9 @@ pub fn score_rooms(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::room::OpeningSpec;
+    use crate::room::tests::bedroom as room;
     use sceneeval_geom::Point2;
     use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
-
-    fn room() -> RoomGeometry {
-        RoomGeometry::from_outline(
-            "r",
-            vec![
-                Point2::new(0.0, 0.0),
-                Point2::new(4.0, 0.0),
-                Point2::new(4.0, 5.0),
-                Point2::new(0.0, 5.0),
-            ],
-            0.0,
-            2.8,
-            0.1,
-            &[
-                OpeningSpec {
-                    kind: OpeningKind::Door,
-                    wall: 0,
-                    along: [1.0, 1.9],
-                    height: [0.0, 2.1],
-                },
-                OpeningSpec {
-                    kind: OpeningKind::Window,
-                    wall: 2,
-                    along: [1.0, 2.5],
-                    height: [0.9, 2.0],
-                },
-            ],
-        )
-        .unwrap()
-    }
 
     fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
         Obb::from_yaw(Point3::new(c[0], c[1], c[2]), Vector3::new(h[0], h[1], h[2]), yaw).unwrap()
