@@ -83,7 +83,9 @@ pub fn readme(assets: &[AssetDef], expected: &Expected) -> String {
          origin at the bottom centre of the bounds; `assets/<id>.json` holds its `category` and \
          `description`. Scenes refer to them as `{prefix}.<id>`; load them with \
          `--assets {prefix}={dir}` (plain folder layout).\n\
-         - `scenes/scene_<N>.json`: sceneState scenes written by `sceneeval-io`.\n\
+         - `scenes/scene_<N>.json`: sceneState scenes written by `sceneeval-io`. Every object \
+         states its `supportType` (what the scene's author meant it to rest on); functional \
+         sides are left to the category tables.\n\
          - `expected.json`: per scene the facts a test can check (collisions with depth, floating \
          objects with gap, objects out of bounds with their outside share, blocked doors, \
          objects inside others, navigability, and every object's support). Lists are complete: \
