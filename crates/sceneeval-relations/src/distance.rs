@@ -88,10 +88,10 @@ fn solid_distance(a: &Solid<'_>, b: &Solid<'_>) -> Real {
 ///
 /// # Performance
 /// No allocation. Boxes: corner-to-box bounds that usually pin the distance down exactly,
-/// else GJK. Meshes: branch and bound over the meshes' BVHs with exact triangle distances
-/// (tens of microseconds for 5k-triangle meshes). When the surfaces are apart but one
-/// object's box contains a point of the other, a winding-number test (linear in the triangle
-/// count) decides whether they are nested.
+/// else GJK. Meshes: branch and bound over the meshes' distance trees with exact triangle
+/// distances (about 20 µs for 5k-triangle meshes a few centimetres apart). When the surfaces
+/// are apart but one object's box contains a point of the other, a winding-number test
+/// (linear in the triangle count) decides whether they are nested.
 pub fn object_distance(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>) -> Real {
     solid_distance(&Solid::of(a), &Solid::of(b))
 }

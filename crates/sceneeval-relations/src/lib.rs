@@ -86,6 +86,12 @@
 //! or nested objects, and decisions otherwise agree except within a few centimetres of a
 //! band's pass limit.
 //!
+//! `tests/reference_agreement.rs` re-implements the reference's estimators from its
+//! definitions (samples, `contains`, `at_side` with its epsilons and margins) and checks, on
+//! random box pairs, that our volume fractions are their expectations, that decisions agree
+//! wherever the reference's sampling noise does not straddle 0.5, and that our box distance
+//! bounds its sampled minimum from below.
+//!
 //! # Performance
 //! Kernels allocate nothing per call: clipping runs on fixed-size stack buffers, mesh distance
 //! searches recurse over trees built with the mesh, ray casts use parry's stack-allocated

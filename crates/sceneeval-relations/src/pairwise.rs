@@ -9,7 +9,7 @@
 //! `side_region`, `long_short_side_of`, `on_top`) clip the target's box by at most six planes
 //! on the stack; `middle_of` and `surround` use centroids only; the distance kernels bracket
 //! a box-box distance by corner distances (GJK when that does not pin it down), and for meshes
-//! try cheap bounds before a branch and bound over the BVHs; `face_to` clips a few
+//! try cheap bounds before a branch and bound over their distance trees; `face_to` clips a few
 //! quadrilaterals on the stack for a box anchor and casts a fixed grid of rays for a mesh
 //! anchor.
 
