@@ -2,16 +2,18 @@
 //!
 //! The reference scores the volume-fraction predicates by drawing `max(floor(5000 V), 64)`
 //! uniform points in the target's box and counting those its `contains` / `at_side` tests accept
-//! (`../shared/reference-notes.md` section 6.0-6.1), and measures distances as the minimum
-//! over samples of the smaller box. This file re-implements those estimators independently,
-//! straight from the notes (points in the anchor's frame, the `1e-6` epsilons, the lateral
-//! margins, numpy's `allclose`), with a fixed-seed generator, and checks on random box pairs
-//! that
+//! (`spatial/bounding_box.py`, `spatial/spatial_relation.py` and `spatial/arch_relation.py` in
+//! `3dlg-hcvc/SceneEval`), and measures distances as the minimum over samples of the smaller
+//! box. This file re-implements those estimators independently, from their definitions
+//! (points in the anchor's frame, the `1e-6` epsilons, the lateral margins, numpy's
+//! `allclose`), with a fixed-seed generator, and checks on random box pairs that
 //! - our exact fractions equal the estimators' expectations: within 5 standard errors of a
 //!   4,000-sample estimate (a wrong plane, margin or side would be off by far more);
 //! - our decisions (score above 0.5) agree with the reference's own sample count wherever its
 //!   estimate is more than 4 standard errors from 0.5, i.e. wherever its noise does not
 //!   straddle the threshold;
+//! - `inside_room` is the expectation of the reference's downward-ray estimator in an L-shaped
+//!   room;
 //! - our box distance is a lower bound of every sample's distance (the reference's sampled
 //!   minimum can only overestimate the gap between two boxes) and close to the best sample.
 
@@ -308,4 +310,59 @@ fn box_distance_bounds_the_reference_sampled_minimum() {
         );
     }
     assert!(separated > 150, "only {separated} separated pairs");
+}
+
+/// Whether `(x, y)` lies inside the polygon `poly` (crossing number).
+fn in_polygon(poly: &[(Real, Real)], x: Real, y: Real) -> bool {
+    let mut inside = false;
+    for (i, &(x0, y0)) in poly.iter().enumerate() {
+        let (x1, y1) = poly[(i + 1) % poly.len()];
+        if (y0 > y) != (y1 > y) && x < x0 + (y - y0) * (x1 - x0) / (y1 - y0) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+#[test]
+fn inside_room_is_the_reference_ray_estimator_expectation() {
+    // The reference: the fraction of box samples whose ray straight down hits the floor mesh,
+    // i.e. samples over the floor polygon and above the floor. An L-shaped room with its floor
+    // at z = 0.2.
+    let outline = [
+        (0.0, 0.0),
+        (4.0, 0.0),
+        (4.0, 2.0),
+        (2.0, 2.0),
+        (2.0, 4.0),
+        (0.0, 4.0),
+    ];
+    let room = sceneeval_relations::RoomGeometry::from_outline(
+        "l",
+        outline
+            .iter()
+            .map(|&(x, y)| sceneeval_geom::Point2::new(x, y))
+            .collect(),
+        0.2,
+        2.8,
+        0.1,
+        &[],
+    )
+    .unwrap();
+    let params = RelationParams::default();
+    let mut rng = Rng(99);
+    let mut decided = 0;
+    for k in 0..300 {
+        let mut o = random_box(&mut rng, 0.1, 1.0, 0.0);
+        // Around the room, often straddling its outline or its reflex corner.
+        o.center = Point3::new(
+            rng.uniform(-0.5, 4.5),
+            rng.uniform(-0.5, 4.5),
+            rng.uniform(-0.3, 1.0),
+        );
+        let ours = sceneeval_relations::arch::inside_room(&ObjectGeom::from_box(&o), &room, &params);
+        let over_floor = |q: &Point3| q.z >= 0.2 && in_polygon(&outline, q.x, q.y);
+        decided += check(ours, &o, &[&over_floor], &mut rng, &format!("case {k}: {o:?}"));
+    }
+    assert!(decided > 200, "only {decided} decided cases");
 }
