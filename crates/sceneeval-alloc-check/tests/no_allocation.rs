@@ -1,18 +1,16 @@
 //! The kernels documented as allocation-free allocate nothing per call.
 //!
-//! A counting global allocator counts the allocations (and reallocations) made by the current
-//! thread. Each kernel is called once to warm up (a first call may register a `tracing`
-//! callsite), then its calls are counted: the count must be zero. Covered: every one of the 23
+//! [`CountingAllocator`] counts the allocations (and reallocations) made by the current
+//! thread; [`allocations_during`] calls a kernel once to warm up (a first call may register a
+//! `tracing` callsite), then counts a second call: the count must be zero. Covered: every one of the 23
 //! relations through the dispatching kernels ([`batch::score_pair`], [`surround`],
 //! [`arch::score_rooms`]) on boxes and on ~5k-triangle meshes, in several configurations
 //! (touching, overlapping, nested, apart, far) so that the different code paths run; the batch
 //! forms; and `sceneeval-geom`'s exact box and mesh distances.
 
-#![allow(unsafe_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
+use sceneeval_alloc_check::{CountingAllocator, allocations_during};
 use sceneeval_benches::meshes::{subdivided_box, uv_ellipsoid};
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Vector3};
 use sceneeval_relations::{
@@ -20,55 +18,8 @@ use sceneeval_relations::{
 };
 use sceneeval_scene::OpeningKind;
 
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-/// The system allocator, counting the calls that obtain memory, per thread.
-struct Counting;
-
-fn count() {
-    // `try_with`: the thread's slot may already be gone while the thread exits.
-    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-}
-
-// SAFETY: every method forwards to `System` with the caller's arguments unchanged; counting
-// touches only a const-initialised thread-local `Cell`, which neither allocates nor panics.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        // SAFETY: the caller upholds `GlobalAlloc::alloc`'s contract, forwarded as is.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        count();
-        // SAFETY: as `alloc`.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        // SAFETY: `ptr` was allocated by this allocator, i.e. by `System`, with `layout`.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` was allocated by this allocator, i.e. by `System`, with `layout`.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
-static ALLOCATOR: Counting = Counting;
-
-/// Runs `f` once to warm up, then again counting this thread's allocations; returns the count.
-fn allocations_of<R>(mut f: impl FnMut() -> R) -> usize {
-    std::hint::black_box(f());
-    let before = ALLOCATIONS.with(Cell::get);
-    std::hint::black_box(f());
-    ALLOCATIONS.with(Cell::get) - before
-}
+static ALLOCATOR: CountingAllocator = CountingAllocator;
 
 fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
     Obb::from_yaw(Point3::new(c[0], c[1], c[2]), Vector3::new(h[0], h[1], h[2]), yaw).unwrap()
@@ -131,11 +82,11 @@ fn assert_no_allocation(
     for relation in Relation::all() {
         let n = match relation.kind() {
             RelationKind::ObjectObject => {
-                allocations_of(|| batch::score_pair(relation, target, anchor, params).unwrap())
+                allocations_during(|| batch::score_pair(relation, target, anchor, params).unwrap())
             }
-            RelationKind::MultiTarget => allocations_of(|| surround(anchor, around, params)),
+            RelationKind::MultiTarget => allocations_during(|| surround(anchor, around, params)),
             RelationKind::ObjectArchitecture => {
-                allocations_of(|| arch::score_rooms(relation, target, rooms, params).unwrap())
+                allocations_during(|| arch::score_rooms(relation, target, rooms, params).unwrap())
             }
         };
         assert_eq!(n, 0, "{what}: {relation} allocated {n} times");
@@ -230,11 +181,11 @@ fn batch_forms_allocate_nothing() {
     let mut out = vec![0.0; 63];
     for relation in Relation::all() {
         let n = match relation.kind() {
-            RelationKind::ObjectObject => allocations_of(|| {
+            RelationKind::ObjectObject => allocations_during(|| {
                 batch::score_pairs(relation, &views[..63], &views[1..], &params, &mut out).unwrap()
             }),
             RelationKind::MultiTarget => continue,
-            RelationKind::ObjectArchitecture => allocations_of(|| {
+            RelationKind::ObjectArchitecture => allocations_during(|| {
                 batch::score_objects_in_rooms(relation, &views[..63], &rooms, &params, &mut out).unwrap()
             }),
         };
@@ -272,7 +223,7 @@ fn geometry_distances_allocate_nothing() {
             }),
         ];
         for (name, f) in cases {
-            let n = allocations_of(f);
+            let n = allocations_during(f);
             assert_eq!(n, 0, "{name} at {center:?} allocated {n} times");
         }
     }
@@ -281,6 +232,6 @@ fn geometry_distances_allocate_nothing() {
 #[test]
 fn the_counter_sees_allocations() {
     // Guards against a counter that always reads zero.
-    let n = allocations_of(|| vec![1u8; 16]);
+    let n = allocations_during(|| vec![1u8; 16]);
     assert_eq!(n, 1);
 }
