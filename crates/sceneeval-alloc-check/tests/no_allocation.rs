@@ -2,8 +2,8 @@
 //!
 //! [`CountingAllocator`] counts the allocations (and reallocations) made by the current
 //! thread; [`allocations_during`] calls a kernel once to warm up (a first call may register a
-//! `tracing` callsite), then counts a second call: the count must be zero. Covered: every one of the 23
-//! relations through the dispatching kernels ([`batch::score_pair`], [`surround`],
+//! `tracing` callsite), then counts a second call: the count must be zero. Covered: every one
+//! of the 23 relations through the dispatching kernels ([`batch::score_pair`], [`surround`],
 //! [`arch::score_rooms`]) on boxes and on ~5k-triangle meshes, in several configurations
 //! (touching, overlapping, nested, apart, far) so that the different code paths run; the batch
 //! forms; and `sceneeval-geom`'s exact box and mesh distances.
