@@ -14,7 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use sceneeval_geom::{Point3, Real, Vector3};
-use sceneeval_scene::{OpeningKind, Room, Scene, SceneObject};
+use sceneeval_scene::{OpeningKind, Room, Scene, SceneObject, SupportType};
 
 use crate::FixtureError;
 use crate::spec::{Flaw, Model, SceneSpec, Support};
@@ -110,8 +110,9 @@ pub struct ExpectedObject {
     pub yaw_deg: Real,
     /// OBB size in the object frame: width x, depth y, height z (metres, scale applied).
     pub size: [Real; 3],
-    /// Support type: `ground`, `object`, `wall` or `ceiling` (what it should rest on).
-    pub support_type: String,
+    /// Support type: `ground`, `object`, `wall` or `ceiling` (what it should rest on; the scene
+    /// file states the same as the object's `supportType`).
+    pub support_type: SupportType,
     /// What it touches: a floor id, an object id, a wall id or `ceiling_<room>`; `None` when
     /// it touches nothing.
     pub supported_by: Option<String>,
@@ -341,7 +342,7 @@ fn expected_object(
         position: round3(&position),
         yaw_deg: yaw,
         size: round3(&o.obb().extents()),
-        support_type: p.support.support_type(p.intended_support).name().to_owned(),
+        support_type: p.support.support_type(p.intended_support),
         supported_by,
         supported: p.support != Support::Nothing && p.held,
     })

@@ -13,7 +13,7 @@ use sceneeval_annotation::{Annotations, Severity};
 use sceneeval_fixtures::expected::{Expected, ExpectedScene};
 use sceneeval_geom::{Obb, Point2, Point3, Polygon2, Real, Side, Vector2, Vector3};
 use sceneeval_io::{AssetLibrary, ReadOptions, read_scene_state};
-use sceneeval_scene::{OpeningKind, Scene, SceneObject};
+use sceneeval_scene::{OpeningKind, Scene, SceneObject, SupportType};
 
 /// Tolerance on lengths: the assets store f32 coordinates (about 1e-7 m of rounding) and
 /// `expected.json` rounds to 1e-6.
@@ -320,7 +320,13 @@ fn support_claims_hold() {
                 .and_then(|r| scene.room(r))
                 .expect("object in a room");
             let what = format!("scene {} {}", e.id, eo.id);
-            match (eo.support_type.as_str(), eo.supported_by.as_deref()) {
+            // The scene file states the same type (`supportType`).
+            assert_eq!(
+                o.support_type(),
+                Some(eo.support_type),
+                "{what}: stated support type"
+            );
+            match (eo.support_type.name(), eo.supported_by.as_deref()) {
                 ("ground", Some(floor)) => {
                     assert_eq!(floor, room.floor_id(), "{what}");
                     assert!((aabb.min.z - room.floor_z()).abs() < TOL, "{what} on the floor");
@@ -417,7 +423,7 @@ fn collision_lists_are_complete_and_depths_match() {
         let supports: BTreeSet<(&str, &str)> = e
             .objects
             .iter()
-            .filter(|o| o.support_type == "object")
+            .filter(|o| o.support_type == SupportType::Object)
             .filter_map(|o| o.supported_by.as_deref().map(|b| (o.id.as_str(), b)))
             .collect();
         for i in 0..objects.len() {
