@@ -14,8 +14,9 @@
 //!   straddle the threshold;
 //! - `inside_room` is the expectation of the reference's downward-ray estimator in an L-shaped
 //!   room;
-//! - our box distance is a lower bound of every sample's distance (the reference's sampled
-//!   minimum can only overestimate the gap between two boxes) and close to the best sample.
+//! - our box-box and box-wall distances are lower bounds of every sample's distance (the
+//!   reference's sampled minimum can only overestimate a gap) and close to the best of many
+//!   samples.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -365,4 +366,61 @@ fn inside_room_is_the_reference_ray_estimator_expectation() {
         decided += check(ours, &o, &[&over_floor], &mut rng, &format!("case {k}: {o:?}"));
     }
     assert!(decided > 200, "only {decided} decided cases");
+}
+
+/// Distance from `p` to the vertical rectangle over the segment `p0`-`p1` from `z0` to `z1`.
+fn point_wall_face_distance(p: &Point3, p0: (Real, Real), p1: (Real, Real), z0: Real, z1: Real) -> Real {
+    let (dx, dy) = (p1.0 - p0.0, p1.1 - p0.1);
+    let t = (((p.x - p0.0) * dx + (p.y - p0.1) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+    let closest = Point3::new(p0.0 + t * dx, p0.1 + t * dy, p.z.clamp(z0, z1));
+    (p - closest).norm()
+}
+
+#[test]
+fn wall_distance_bounds_the_reference_sampled_minimum() {
+    // The reference: the minimum over the object's box samples of the distance to the wall's
+    // surface. For an object in the room the nearest part of our wall solid is its inner face,
+    // the rectangle over the wall's segment, so our exact distance bounds every sample's from
+    // below and the best of many samples comes close to it. A room with a diagonal wall.
+    let outline = [(0.0, 0.0), (4.0, 0.0), (4.0, 3.0), (2.5, 4.5), (0.0, 4.5)];
+    let room = sceneeval_relations::RoomGeometry::from_outline(
+        "r",
+        outline
+            .iter()
+            .map(|&(x, y)| sceneeval_geom::Point2::new(x, y))
+            .collect(),
+        0.0,
+        2.8,
+        0.1,
+        &[],
+    )
+    .unwrap();
+    let mut rng = Rng(5);
+    let mut checked = 0;
+    for k in 0..200 {
+        let mut o = random_box(&mut rng, 0.05, 0.5, 0.0);
+        o.center = Point3::new(
+            rng.uniform(0.6, 3.4),
+            rng.uniform(0.6, 3.4),
+            rng.uniform(0.6, 2.2),
+        );
+        let a = ObjectGeom::from_box(&o);
+        for (i, wall) in room.walls().iter().enumerate() {
+            let (p0, p1) = (outline[i], outline[(i + 1) % outline.len()]);
+            let ours = sceneeval_relations::arch::wall_distance(&a, &room, wall);
+            let sampled = (0..20_000)
+                .map(|_| point_wall_face_distance(&sample(&o, &mut rng), p0, p1, 0.0, 2.8))
+                .fold(Real::INFINITY, Real::min);
+            assert!(
+                ours <= sampled + 1e-9,
+                "case {k}, wall {i}: ours {ours} > sampled {sampled}"
+            );
+            assert!(
+                sampled - ours < 0.1,
+                "case {k}, wall {i}: ours {ours}, sampled {sampled}"
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 1000);
 }
