@@ -1122,34 +1122,7 @@ mod tests {
 
     /// A small closed UV sphere (2 * 8 * 5 = 80 triangles) with the given radii.
     fn sphere(r: Vector3) -> Mesh {
-        let (segs, rings) = (8u32, 6u32);
-        let mut v = vec![Point3::new(0.0, 0.0, r.z)];
-        for i in 1..rings {
-            let th = std::f64::consts::PI * Real::from(i) / Real::from(rings);
-            for j in 0..segs {
-                let ph = std::f64::consts::TAU * Real::from(j) / Real::from(segs);
-                v.push(Point3::new(
-                    r.x * th.sin() * ph.cos(),
-                    r.y * th.sin() * ph.sin(),
-                    r.z * th.cos(),
-                ));
-            }
-        }
-        let south = v.len() as u32;
-        v.push(Point3::new(0.0, 0.0, -r.z));
-        let ring = |i: u32, j: u32| 1 + (i - 1) * segs + j % segs;
-        let mut t = Vec::new();
-        for j in 0..segs {
-            t.push([0, ring(1, j), ring(1, j + 1)]);
-            t.push([south, ring(rings - 1, j + 1), ring(rings - 1, j)]);
-        }
-        for i in 1..rings - 1 {
-            for j in 0..segs {
-                t.push([ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)]);
-                t.push([ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)]);
-            }
-        }
-        Mesh::new(v, t).unwrap()
+        uv_sphere(r, 8, 6)
     }
 
     fn world_triangles(m: &Mesh, pose: &Isometry3) -> Vec<Triangle> {
