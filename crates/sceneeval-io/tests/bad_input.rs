@@ -227,12 +227,13 @@ fn with_field(mut v: Value, pointer: &str, key: &str, new: Value) -> Value {
 #[test]
 fn stated_support_types_and_functional_sides_are_checked() {
     let f = Fixture::new();
-    let with = |v: Value, pointer: &str, new: Value| {
+    // `with` for a field the valid scene lacks.
+    let set = |v: Value, pointer: &str, new: Value| {
         let (object, key) = pointer.rsplit_once('/').unwrap();
         with_field(v, object, key, new)
     };
-    let ok = with(valid(), "/scene/object/1/supportType", json!("Wall"));
-    let ok = with(ok, "/scene/object/1/functionalSides", json!(["front", "left"]));
+    let ok = set(valid(), "/scene/object/1/supportType", json!("Wall"));
+    let ok = set(ok, "/scene/object/1/functionalSides", json!(["front", "left"]));
     let scene = f.read(&ok).unwrap();
     let stated = &scene.objects()[1];
     assert_eq!(stated.support_type(), Some(sceneeval_scene::SupportType::Wall));
@@ -241,7 +242,7 @@ fn stated_support_types_and_functional_sides_are_checked() {
         Some(&[sceneeval_geom::Side::Left, sceneeval_geom::Side::Front][..])
     );
     assert_eq!(scene.objects()[0].support_type(), None);
-    match f.error(&with(valid(), "/scene/object/1/supportType", json!("shelf"))) {
+    match f.error(&set(valid(), "/scene/object/1/supportType", json!("shelf"))) {
         IoError::InvalidValue { pointer, reason, .. } => {
             assert_eq!(pointer, "/scene/object/1/supportType");
             assert!(
@@ -251,15 +252,15 @@ fn stated_support_types_and_functional_sides_are_checked() {
         }
         other => panic!("{other:?}"),
     }
-    match f.error(&with(valid(), "/scene/object/1/supportType", json!(2))) {
+    match f.error(&set(valid(), "/scene/object/1/supportType", json!(2))) {
         IoError::WrongType { pointer, .. } => assert_eq!(pointer, "/scene/object/1/supportType"),
         other => panic!("{other:?}"),
     }
-    match f.error(&with(valid(), "/scene/object/1/functionalSides", json!("front"))) {
+    match f.error(&set(valid(), "/scene/object/1/functionalSides", json!("front"))) {
         IoError::WrongType { pointer, .. } => assert_eq!(pointer, "/scene/object/1/functionalSides"),
         other => panic!("{other:?}"),
     }
-    match f.error(&with(
+    match f.error(&set(
         valid(),
         "/scene/object/1/functionalSides",
         json!(["front", "top"]),
@@ -270,7 +271,7 @@ fn stated_support_types_and_functional_sides_are_checked() {
         }
         other => panic!("{other:?}"),
     }
-    match f.error(&with(
+    match f.error(&set(
         valid(),
         "/scene/object/1/functionalSides",
         json!(["sideways"]),
