@@ -162,6 +162,30 @@ pub enum IoError {
         /// The parser's message.
         message: String,
     },
+    /// A file an asset refers to (a glTF buffer or image, an OBJ material library or texture)
+    /// was refused: its URI has a scheme, is absolute, is malformed, or leads outside the
+    /// asset's folder (see [`crate::uri`]). The message quotes the URI, never file contents.
+    #[error("{}: refused to read {uri:?}: {reason}", .path.display())]
+    RejectedUri {
+        /// The file that holds the URI.
+        path: PathBuf,
+        /// The URI as written (shortened when long).
+        uri: String,
+        /// Why it was refused.
+        reason: String,
+    },
+    /// A file or a declared size is over a limit, checked before anything is allocated for it.
+    #[error("{}: the {what} holds {size} bytes, over the limit of {limit}", .path.display())]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// What is too large (`file`, `buffer 0`, ...).
+        what: String,
+        /// Its size in bytes.
+        size: u64,
+        /// The limit in bytes.
+        limit: u64,
+    },
     /// An asset file holds no triangles.
     #[error("{}: the file holds no triangles", .path.display())]
     EmptyMesh {
@@ -270,6 +294,8 @@ impl IoError {
             | IoError::Scene { path, .. }
             | IoError::ObjectAsset { path, .. }
             | IoError::BadAssetFile { path, .. }
+            | IoError::RejectedUri { path, .. }
+            | IoError::TooLarge { path, .. }
             | IoError::EmptyMesh { path }
             | IoError::AssetGeometry { path, .. }
             | IoError::BadMetadata { path, .. } => Some(path),

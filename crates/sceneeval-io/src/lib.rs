@@ -85,6 +85,7 @@ mod gltf_write;
 mod json_out;
 pub mod mesh_load;
 pub mod scene_state;
+pub mod uri;
 
 pub use assets::{Asset, AssetInfo, AssetLibrary, AssetSource, AssetSpec, Layout};
 pub use error::IoError;

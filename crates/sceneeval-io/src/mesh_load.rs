@@ -5,7 +5,10 @@
 //!   node's global transform baked into its mesh's positions (with the triangle winding
 //!   reversed under a mirroring transform), and every triangle primitive concatenated
 //!   (indexed or not; strips and fans converted). Point and line primitives are skipped with a
-//!   warning. Textures are never decoded: only the buffers are loaded.
+//!   warning. Textures are never decoded: only the buffers are loaded, from the GLB binary
+//!   chunk, `data:` URIs, or files inside the asset's own folder ([`crate::uri`]); a buffer
+//!   URI that leads anywhere else is an error, and no file is read before its size is checked
+//!   against [`MAX_ASSET_FILE_BYTES`].
 //! - **OBJ** (`tobj` crate): faces triangulated, every object and group concatenated; material
 //!   libraries are not read.
 //!
@@ -77,11 +80,9 @@ fn bad(path: &Path, message: impl Into<String>) -> IoError {
 }
 
 fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
-    let bytes = std::fs::read(path).map_err(|e| IoError::file(path, e))?;
+    let bytes = crate::uri::read_file_limited(path, MAX_ASSET_FILE_BYTES)?;
     let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| bad(path, e.to_string()))?;
-    let base = path.parent().unwrap_or_else(|| Path::new("."));
-    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
-        .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
+    let buffers = load_buffers(path, &gltf)?;
     let doc = &gltf.document;
 
     let roots: Vec<gltf::Node<'_>> = match doc.default_scene() {
@@ -122,6 +123,57 @@ fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
         for child in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((child, global, depth + 1));
         }
+    }
+    Ok(out)
+}
+
+/// Largest asset file, external buffer or embedded buffer read (bytes). A larger one is
+/// refused before anything is allocated for it.
+pub const MAX_ASSET_FILE_BYTES: u64 = 1 << 30;
+
+/// The glTF's buffers: the GLB blob, `data:` URIs, or files inside the asset's own folder
+/// ([`crate::uri`]); never a file elsewhere. Each buffer must hold at least the `byteLength`
+/// it declares.
+fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data>, IoError> {
+    let mut blob = gltf.blob.clone();
+    let mut out = Vec::with_capacity(gltf.document.buffers().len());
+    for buffer in gltf.document.buffers() {
+        let declared = buffer.length() as u64;
+        if declared > MAX_ASSET_FILE_BYTES {
+            return Err(IoError::TooLarge {
+                path: path.to_owned(),
+                what: format!("buffer {}", buffer.index()),
+                size: declared,
+                limit: MAX_ASSET_FILE_BYTES,
+            });
+        }
+        let mut data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                bad(
+                    path,
+                    format!(
+                        "buffer {} refers to a GLB binary chunk the file does not have",
+                        buffer.index()
+                    ),
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) => crate::uri::read_uri(path, uri, MAX_ASSET_FILE_BYTES)?,
+        };
+        if (data.len() as u64) < declared {
+            return Err(bad(
+                path,
+                format!(
+                    "buffer {} declares {declared} bytes but holds {}",
+                    buffer.index(),
+                    data.len()
+                ),
+            ));
+        }
+        // Pad to 4 bytes, as `gltf::import_buffers` does.
+        while data.len() % 4 != 0 {
+            data.push(0);
+        }
+        out.push(gltf::buffer::Data(data));
     }
     Ok(out)
 }
@@ -372,6 +424,58 @@ mod tests {
             .map(|&i| m.positions[i as usize].z)
             .collect();
         assert_eq!(zs, [2.0, 2.0, 2.0]);
+    }
+
+    /// A `.gltf` with one triangle whose buffer is the file `uri`.
+    fn gltf_with_buffer_uri(uri: &str) -> String {
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"scenes":[{{"nodes":[0]}}],"scene":0,
+            "nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",
+            "min":[0,0,0],"max":[1,1,0]}}],"bufferViews":[{{"buffer":0,"byteLength":36}}],
+            "buffers":[{{"uri":{uri:?},"byteLength":36}}]}}"#
+        )
+    }
+
+    fn triangle_bytes() -> Vec<u8> {
+        [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect()
+    }
+
+    #[test]
+    fn gltf_buffers_are_read_only_inside_the_asset_folder() {
+        let root = tempfile::tempdir().unwrap();
+        let folder = root.path().join("asset");
+        std::fs::create_dir(&folder).unwrap();
+        std::fs::write(folder.join("tri.bin"), triangle_bytes()).unwrap();
+        std::fs::write(root.path().join("outside.bin"), triangle_bytes()).unwrap();
+        let path = folder.join("a.gltf");
+
+        std::fs::write(&path, gltf_with_buffer_uri("tri.bin")).unwrap();
+        assert_eq!(read_mesh_file(&path).unwrap().triangles.len(), 1);
+
+        let outside = root.path().join("outside.bin").display().to_string();
+        for uri in [
+            "../outside.bin".to_owned(),
+            "%2e%2e/outside.bin".to_owned(),
+            outside.clone(),
+            format!("file://{outside}"),
+        ] {
+            std::fs::write(&path, gltf_with_buffer_uri(&uri)).unwrap();
+            let err = read_mesh_file(&path).unwrap_err();
+            assert!(matches!(err, IoError::RejectedUri { .. }), "{uri}: {err}");
+        }
+
+        // A buffer shorter than it declares is an error, not a short read.
+        std::fs::write(folder.join("short.bin"), &triangle_bytes()[..20]).unwrap();
+        std::fs::write(&path, gltf_with_buffer_uri("short.bin")).unwrap();
+        let err = read_mesh_file(&path).unwrap_err();
+        assert!(
+            err.to_string().contains("declares 36 bytes but holds 20"),
+            "{err}"
+        );
     }
 
     #[test]
