@@ -10,6 +10,7 @@ use crate::PngImage;
 use crate::image::encode_rgb_png;
 use crate::prompt::Template;
 use crate::task::{Single, Task, TaskKind, Validation};
+use crate::tasks::names::ColourName;
 
 /// The colours the check offers.
 pub const COLOURS: [&str; 6] = ["red", "green", "blue", "yellow", "black", "white"];
@@ -45,18 +46,6 @@ pub struct EndpointCheckResponse {
     pub colour: String,
     /// Why.
     pub reason: String,
-}
-
-#[allow(dead_code)]
-#[derive(JsonSchema)]
-#[serde(rename_all = "snake_case")]
-enum ColourName {
-    Red,
-    Green,
-    Blue,
-    Yellow,
-    Black,
-    White,
 }
 
 /// The endpoint check task: "what colour is the square?" about [`test_image`].

@@ -273,12 +273,12 @@ fn name_lists_match_the_relation_vocabulary() {
     let st = strict_schema_for::<SupportTypeResponse>("x").unwrap();
     assert_eq!(
         enum_at(&st, "/properties/support_type/enum"),
-        ["ground", "wall", "ceiling", "object"]
+        ["ground", "object", "wall", "ceiling"]
     );
     let fs = strict_schema_for::<FunctionalSidesResponse>("x").unwrap();
     assert_eq!(
         enum_at(&fs, &format!("{item}/functional_sides/items/enum")),
-        ["front", "back", "left", "right"]
+        ["left", "right", "front", "back"]
     );
 }
 
@@ -288,7 +288,7 @@ fn support_type_schema_in_full() {
     assert_eq!(
         serde_json::to_string(&ordered(&s.schema)).unwrap(),
         concat!(
-            r#"{"type":"object","properties":{"support_type":{"type":"string","enum":["ground","wall","ceiling","object"]},"#,
+            r#"{"type":"object","properties":{"support_type":{"type":"string","enum":["ground","object","wall","ceiling"]},"#,
             r#""reason":{"type":"string"}},"required":["support_type","reason"],"additionalProperties":false}"#
         )
     );

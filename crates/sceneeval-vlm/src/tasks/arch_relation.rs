@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use sceneeval_relations::Relation;
 
 use super::names::{ArchElementName, ArchRelationName};
-use super::{base_category, check_labels, json_list, json_str, norm};
+use super::{base_category, check_labels, json_list, keyed_lines, norm, pair_by_key};
 use crate::prompt::Template;
 use crate::schema::Nullable;
 use crate::task::{Task, TaskKind, Validation};
@@ -253,13 +253,9 @@ impl Task for ArchRelationTask {
     }
 
     fn placeholders(&self) -> Vec<(&'static str, String)> {
-        let lines: Vec<String> = self
-            .relations
-            .iter()
-            .map(|r| format!("- key {}: {}", json_str(&r.key), r.prompt_text()))
-            .collect();
+        let lines = keyed_lines(self.relations.iter().map(|r| (r.key.as_str(), r.prompt_text())));
         vec![
-            ("RELATIONSHIPS", lines.join("\n")),
+            ("RELATIONSHIPS", lines),
             ("FLOOR_IDS", json_list(&self.floor_ids)),
         ]
     }
@@ -277,19 +273,14 @@ impl Task for ArchRelationTask {
         r: ArchRelationshipMappingResponse,
         out: &mut Validation<String, ArchRelationMapping>,
     ) {
-        for a in r.assessments {
-            let Some(spec) = self.relations.iter().find(|s| s.key.trim() == a.key.trim()) else {
-                out.general_problem(format!(
-                    "an assessment has key {:?}, which is not one of the relation keys",
-                    a.key
-                ));
-                continue;
-            };
-            match self.check(spec, a) {
-                Ok(mapping) => out.answer(spec.key.clone(), mapping),
-                Err(problem) => out.problem(spec.key.clone(), problem),
-            }
-        }
+        pair_by_key(
+            &self.relations,
+            |s| &s.key,
+            r.assessments,
+            |a| &a.key,
+            |s, a| self.check(s, a),
+            out,
+        );
     }
 }
 

@@ -126,96 +126,107 @@ pub(crate) fn check_labels(
 }
 
 /// Schema-only name lists: the wire fields are strings (so an unexpected value gets a clear
-/// validation message rather than a parse error), and their schemas carry these enums so that
-/// schema-constrained decoding only produces valid names.
+/// validation message rather than a parse error), and their schemas carry these lists as
+/// `enum`s so that schema-constrained decoding only produces valid names. Each list is taken
+/// from the vocabulary's own crate, so there is one list per concept.
 pub(crate) mod names {
-    use schemars::JsonSchema;
+    use std::borrow::Cow;
 
-    /// `support_type` values.
-    #[allow(dead_code)]
-    #[derive(JsonSchema)]
-    #[serde(rename_all = "snake_case")]
-    pub enum SupportTypeName {
-        Ground,
-        Wall,
-        Ceiling,
-        Object,
+    use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+
+    use sceneeval_geom::Side;
+    use sceneeval_relations::{LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES};
+    use sceneeval_scene::SupportType;
+
+    use super::ArchElementType;
+
+    macro_rules! name_list {
+        ($(#[$doc:meta])* $name:ident => $names:expr) => {
+            $(#[$doc])*
+            pub struct $name;
+
+            impl JsonSchema for $name {
+                fn schema_name() -> Cow<'static, str> {
+                    stringify!($name).into()
+                }
+
+                fn inline_schema() -> bool {
+                    true
+                }
+
+                fn json_schema(_: &mut SchemaGenerator) -> Schema {
+                    let names: Vec<&str> = $names;
+                    json_schema!({"type": "string", "enum": names})
+                }
+            }
+        };
     }
 
-    /// `functional_sides` values.
-    #[allow(dead_code)]
-    #[derive(JsonSchema)]
-    #[serde(rename_all = "snake_case")]
-    pub enum HorizontalSideName {
-        Front,
-        Back,
-        Left,
-        Right,
-    }
+    name_list!(
+        /// `support_type` values.
+        SupportTypeName => SupportType::ALL.iter().map(|t| t.name()).collect()
+    );
+    name_list!(
+        /// `functional_sides` values: the horizontal sides.
+        HorizontalSideName => Side::HORIZONTAL.iter().map(|s| s.name()).collect()
+    );
+    name_list!(
+        /// `relationship_types` values: the 13 object-object predicates.
+        ObjectRelationName => OBJECT_OBJECT_NAMES.to_vec()
+    );
+    name_list!(
+        /// `sides` values: a side of `side_of`/`side_region`, or `long`/`short`.
+        SideArgumentName => Side::ALL
+            .iter()
+            .map(|s| s.name())
+            .chain([LongShort::Long.name(), LongShort::Short.name()])
+            .collect()
+    );
+    name_list!(
+        /// `relationship_type` values: the 10 object-architecture predicates.
+        ArchRelationName => OBJECT_ARCH_NAMES.to_vec()
+    );
+    name_list!(
+        /// `architectural_element_type` values.
+        ArchElementName => ArchElementType::ALL.iter().map(|t| t.name()).collect()
+    );
+    name_list!(
+        /// `colour` values of the endpoint check.
+        ColourName => crate::check::COLOURS.to_vec()
+    );
+}
 
-    /// `relationship_types` values: the 13 object-object predicates.
-    #[allow(dead_code)]
-    #[derive(JsonSchema)]
-    #[serde(rename_all = "snake_case")]
-    pub enum ObjectRelationName {
-        InsideOf,
-        OutsideOf,
-        FaceTo,
-        SideOf,
-        SideRegion,
-        LongShortSideOf,
-        OnTop,
-        MiddleOf,
-        Surround,
-        NextTo,
-        Near,
-        AcrossFrom,
-        Far,
-    }
+/// The prompt lines of keyed relations: `- key "<key>": <text>`.
+pub(crate) fn keyed_lines<'a>(relations: impl Iterator<Item = (&'a str, String)>) -> String {
+    let lines: Vec<String> = relations
+        .map(|(key, text)| format!("- key {}: {text}", json_str(key)))
+        .collect();
+    lines.join("\n")
+}
 
-    /// `sides` values: a side of `side_of`/`side_region`, or `long`/`short`.
-    #[allow(dead_code)]
-    #[derive(JsonSchema)]
-    #[serde(rename_all = "snake_case")]
-    pub enum SideArgumentName {
-        Left,
-        Right,
-        Front,
-        Back,
-        Top,
-        Bottom,
-        Long,
-        Short,
-    }
-
-    /// `relationship_type` values: the 10 object-architecture predicates.
-    #[allow(dead_code)]
-    #[derive(JsonSchema)]
-    #[serde(rename_all = "snake_case")]
-    pub enum ArchRelationName {
-        NextTo,
-        Near,
-        AcrossFrom,
-        Far,
-        InsideRoom,
-        MiddleOfRoom,
-        CornerOfRoom,
-        OnWall,
-        AgainstWall,
-        HangFromCeiling,
-    }
-
-    /// `architectural_element_type` values.
-    #[allow(dead_code)]
-    #[derive(JsonSchema)]
-    #[serde(rename_all = "snake_case")]
-    pub enum ArchElementName {
-        Wall,
-        Floor,
-        Ceiling,
-        Room,
-        Window,
-        Door,
+/// Pairs keyed assessments with their relations (keys compared after trimming) and records
+/// each checked mapping, or its problem, under the relation's key.
+pub(crate) fn pair_by_key<S, A, I>(
+    specs: &[S],
+    spec_key: impl Fn(&S) -> &str,
+    assessments: Vec<A>,
+    answer_key: impl Fn(&A) -> &str,
+    check: impl Fn(&S, A) -> Result<I, String>,
+    out: &mut crate::Validation<String, I>,
+) {
+    for a in assessments {
+        let Some(spec) = specs.iter().find(|s| spec_key(s).trim() == answer_key(&a).trim()) else {
+            out.general_problem(format!(
+                "an assessment has key {:?}, which is not one of the relation keys",
+                answer_key(&a)
+            ));
+            continue;
+        };
+        let key = spec_key(spec).to_owned();
+        match check(spec, a) {
+            Ok(item) => out.answer(key, item),
+            Err(problem) => out.problem(key, problem),
+        }
     }
 }
 

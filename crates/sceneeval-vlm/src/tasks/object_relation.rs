@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use sceneeval_relations::Relation;
 
 use super::names::{ObjectRelationName, SideArgumentName};
-use super::{base_category, check_labels, json_str, norm};
+use super::{base_category, check_labels, keyed_lines, norm, pair_by_key};
 use crate::prompt::Template;
 use crate::schema::Nullable;
 use crate::task::{Task, TaskKind, Validation};
@@ -248,12 +248,8 @@ impl Task for ObjectRelationTask {
     }
 
     fn placeholders(&self) -> Vec<(&'static str, String)> {
-        let lines: Vec<String> = self
-            .relations
-            .iter()
-            .map(|r| format!("- key {}: {}", json_str(&r.key), r.prompt_text()))
-            .collect();
-        vec![("RELATIONSHIPS", lines.join("\n"))]
+        let lines = keyed_lines(self.relations.iter().map(|r| (r.key.as_str(), r.prompt_text())));
+        vec![("RELATIONSHIPS", lines)]
     }
 
     fn images(&self) -> Vec<PngImage> {
@@ -269,19 +265,14 @@ impl Task for ObjectRelationTask {
         r: ObjRelationshipMappingResponse,
         out: &mut Validation<String, ObjectRelationMapping>,
     ) {
-        for a in r.assessments {
-            let Some(spec) = self.relations.iter().find(|s| s.key.trim() == a.key.trim()) else {
-                out.general_problem(format!(
-                    "an assessment has key {:?}, which is not one of the relation keys",
-                    a.key
-                ));
-                continue;
-            };
-            match self.check(spec, a) {
-                Ok(mapping) => out.answer(spec.key.clone(), mapping),
-                Err(problem) => out.problem(spec.key.clone(), problem),
-            }
-        }
+        pair_by_key(
+            &self.relations,
+            |s| &s.key,
+            r.assessments,
+            |a| &a.key,
+            |s, a| self.check(s, a),
+            out,
+        );
     }
 }
 
