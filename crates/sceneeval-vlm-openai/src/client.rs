@@ -54,6 +54,23 @@ struct Counters {
     jitter: AtomicU64,
 }
 
+/// Counts a request in flight for as long as it lives (also when its future is dropped).
+struct InFlight<'a>(&'a Counters);
+
+impl<'a> InFlight<'a> {
+    fn enter(counters: &'a Counters) -> Self {
+        let now = counters.in_flight.fetch_add(1, Ordering::Relaxed) + 1;
+        counters.peak_in_flight.fetch_max(now, Ordering::Relaxed);
+        InFlight(counters)
+    }
+}
+
+impl Drop for InFlight<'_> {
+    fn drop(&mut self) {
+        self.0.in_flight.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
 /// What an [`OpenAiVlm`] did so far, for the run report.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub struct ClientStats {
@@ -244,13 +261,10 @@ impl OpenAiVlm {
                 message: "the request limiter was closed".to_owned(),
             });
         };
-        let now = self.stats.in_flight.fetch_add(1, Ordering::Relaxed) + 1;
-        self.stats.peak_in_flight.fetch_max(now, Ordering::Relaxed);
+        let _in_flight = InFlight::enter(&self.stats);
         self.stats.attempts.fetch_add(1, Ordering::Relaxed);
         tracing::debug!(task, url = %self.url, model = %self.model, retry, "sending request");
-        let result = self.exchange(body).await;
-        self.stats.in_flight.fetch_sub(1, Ordering::Relaxed);
-        result
+        self.exchange(body).await
     }
 
     async fn exchange(&self, body: Vec<u8>) -> Attempt {
