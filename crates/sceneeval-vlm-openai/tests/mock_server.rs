@@ -206,11 +206,13 @@ async fn server_errors_are_retried_then_reported() {
 async fn slow_answers_time_out_and_are_retried() {
     let server = MockServer::start().await;
     mount_sequence(&server, |n, _| match n {
-        0 => json_completion(&support_ok()).set_delay(Duration::from_secs(3)),
+        0 => json_completion(&support_ok()).set_delay(Duration::from_secs(5)),
         _ => json_completion(&support_ok()),
     })
     .await;
-    let vlm = OpenAiVlm::new(config(&server)).unwrap();
+    let mut c = config(&server);
+    c.timeout = Duration::from_secs(1);
+    let vlm = OpenAiVlm::new(c).unwrap();
     let answers = Session::new(&vlm)
         .ask(&SupportTypeTask::new(test_image(), test_image()))
         .await

@@ -28,10 +28,11 @@ pub fn json_completion(value: &Value) -> ResponseTemplate {
     ResponseTemplate::new(200).set_body_json(completion(&value.to_string()))
 }
 
-/// Settings for a mock server: fast retries, short timeout, no key.
+/// Settings for a mock server: fast retries, no key. The timeout is generous so that a loaded
+/// test machine never times out a prompt reply; the timeout tests set their own.
 pub fn config(server: &MockServer) -> OpenAiConfig {
     let mut c = OpenAiConfig::new(format!("{}/v1", server.uri()), "test-model");
-    c.timeout = Duration::from_millis(500);
+    c.timeout = Duration::from_secs(10);
     c.retry = RetryPolicy {
         max_retries: 2,
         initial_backoff: Duration::from_millis(1),
