@@ -323,6 +323,30 @@ mod tests {
     use super::*;
 
     #[test]
+    fn outcomes_serialise_with_a_status_tag() {
+        let answered: Outcome<u32> = Outcome::Answered {
+            answer: 7,
+            attempt: 2,
+        };
+        assert_eq!(
+            serde_json::to_value(&answered).unwrap(),
+            serde_json::json!({"status": "answered", "answer": 7, "attempt": 2})
+        );
+        let refused: Outcome<u32> = Outcome::Unanswered(Unanswered {
+            kind: UnansweredKind::Refused,
+            reason: "no".into(),
+        });
+        assert_eq!(
+            serde_json::to_value(&refused).unwrap(),
+            serde_json::json!({"status": "unanswered", "kind": "refused", "reason": "no"})
+        );
+        assert_eq!(
+            refused.to_owned().into_result().unwrap_err().to_string(),
+            "the model refused: no"
+        );
+    }
+
+    #[test]
     fn duplicates_invalidate_the_question() {
         let mut v: Validation<String, u32> = Validation::new();
         v.answer("a".into(), 1);
