@@ -186,6 +186,44 @@ pub enum IoError {
         /// The limit in bytes.
         limit: u64,
     },
+    /// An asset has more triangles than [`crate::Limits::max_triangles`] allows (every
+    /// instance of a mesh counted), found from the declared sizes before decoding.
+    #[error("{}: the asset has {triangles} triangles, over the budget of {limit}", .path.display())]
+    TooManyTriangles {
+        /// The asset file.
+        path: PathBuf,
+        /// Its triangle count.
+        triangles: u64,
+        /// The budget.
+        limit: u64,
+    },
+    /// Loading an asset would need more memory than [`crate::Limits::max_asset_memory_bytes`]
+    /// allows (estimated from the declared sizes before decoding).
+    #[error("{}: loading {vertices} vertices and {triangles} triangles needs about {estimate} bytes, over the budget of {limit}", .path.display())]
+    OverMemoryBudget {
+        /// The asset file.
+        path: PathBuf,
+        /// Its vertex count.
+        vertices: u64,
+        /// Its triangle count.
+        triangles: u64,
+        /// The estimated peak memory in bytes.
+        estimate: u64,
+        /// The budget in bytes.
+        limit: u64,
+    },
+    /// A text file (a scene file) is not valid UTF-8.
+    #[error("{}:{line}:{column}: not valid UTF-8 (byte offset {offset})", .path.display())]
+    InvalidUtf8 {
+        /// The file.
+        path: PathBuf,
+        /// Offset of the first invalid byte from the start of the file.
+        offset: usize,
+        /// 1-based line of that byte.
+        line: usize,
+        /// 1-based column (in bytes) of that byte.
+        column: usize,
+    },
     /// An asset file holds no triangles.
     #[error("{}: the file holds no triangles", .path.display())]
     EmptyMesh {
@@ -264,6 +302,23 @@ impl IoError {
         }
     }
 
+    /// Decodes `bytes` read from `path` as UTF-8, naming the byte offset, line and column of
+    /// the first invalid byte otherwise.
+    pub(crate) fn utf8<'b>(path: &std::path::Path, bytes: &'b [u8]) -> Result<&'b str, IoError> {
+        std::str::from_utf8(bytes).map_err(|e| {
+            let offset = e.valid_up_to();
+            let before = &bytes[..offset];
+            let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+            let line_start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            IoError::InvalidUtf8 {
+                path: path.to_owned(),
+                offset,
+                line,
+                column: offset - line_start + 1,
+            }
+        })
+    }
+
     /// The JSON pointer the error refers to, if it refers to a place in a sceneState file.
     pub fn pointer(&self) -> Option<&str> {
         match self {
@@ -296,6 +351,9 @@ impl IoError {
             | IoError::BadAssetFile { path, .. }
             | IoError::RejectedUri { path, .. }
             | IoError::TooLarge { path, .. }
+            | IoError::TooManyTriangles { path, .. }
+            | IoError::OverMemoryBudget { path, .. }
+            | IoError::InvalidUtf8 { path, .. }
             | IoError::EmptyMesh { path }
             | IoError::AssetGeometry { path, .. }
             | IoError::BadMetadata { path, .. } => Some(path),
