@@ -47,6 +47,7 @@ pub enum SimpleFloorHeight {
 
 /// Options for [`read_scene_state`].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ReadOptions {
     /// What to do about architecture.
     pub architecture: ArchitectureMode,
