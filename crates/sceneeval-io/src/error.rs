@@ -174,6 +174,18 @@ pub enum IoError {
         /// Why it was refused.
         reason: String,
     },
+    /// A file an asset refers to (an external glTF buffer) could not be read; the cause names
+    /// that file.
+    #[error("{}: cannot read {what}", .path.display())]
+    Reference {
+        /// The asset file that refers to it.
+        path: PathBuf,
+        /// What was referred to, e.g. `buffer 0 ("tri.bin")`.
+        what: String,
+        /// Why it could not be read.
+        #[source]
+        source: Box<IoError>,
+    },
     /// A file or a declared size is over a limit, checked before anything is allocated for it.
     #[error("{}: the {what} holds {size} bytes, over the limit of {limit}", .path.display())]
     TooLarge {
@@ -350,6 +362,7 @@ impl IoError {
             | IoError::ObjectAsset { path, .. }
             | IoError::BadAssetFile { path, .. }
             | IoError::RejectedUri { path, .. }
+            | IoError::Reference { path, .. }
             | IoError::TooLarge { path, .. }
             | IoError::TooManyTriangles { path, .. }
             | IoError::OverMemoryBudget { path, .. }

@@ -100,7 +100,7 @@ fn bad(path: &Path, message: impl Into<String>) -> IoError {
 
 fn read_gltf(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
     let bytes = crate::uri::read_file_limited(path, limits.max_file_bytes)?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| bad(path, e.to_string()))?;
+    let gltf = parse_gltf(path, &bytes)?;
     let doc = &gltf.document;
 
     // A node listed as the child of several nodes would be visited (and its geometry
@@ -175,6 +175,35 @@ fn read_gltf(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
     Ok(out)
 }
 
+/// Parses and validates a glTF document. `gltf`'s validation indexes the accessor list with
+/// a primitive's POSITION index unchecked (gltf-json 1.4.1, `mesh.rs`), so a file naming an
+/// accessor that does not exist would panic there: that index is checked first.
+fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf, IoError> {
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| bad(path, e.to_string()))?;
+    let json = raw.document.as_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+            if let Some(index) = prim.attributes.get(&position)
+                && index.value() >= json.accessors.len()
+            {
+                return Err(bad(
+                    path,
+                    format!(
+                        "mesh {m} primitive {p}: POSITION names accessor {} but the file has {}",
+                        index.value(),
+                        json.accessors.len()
+                    ),
+                ));
+            }
+        }
+    }
+    let blob = raw.blob;
+    let document =
+        gltf::Document::from_json(raw.document.into_json()).map_err(|e| bad(path, e.to_string()))?;
+    Ok(gltf::Gltf { document, blob })
+}
+
 /// The vertex and triangle counts a primitive declares (zero for points and lines).
 fn declared_size(prim: &gltf::Primitive<'_>) -> (u64, u64) {
     let vertices = prim
@@ -226,7 +255,19 @@ fn load_buffers(
                     let folder = path.parent().unwrap_or_else(|| Path::new("."));
                     files.push(crate::uri::resolve_in_folder(folder, path, uri)?);
                 }
-                crate::uri::read_uri(path, uri, max)?
+                match crate::uri::read_uri(path, uri, max) {
+                    Ok(data) => data,
+                    // Refusals already name this file; a missing or unreadable buffer file is
+                    // reported as this file's problem, with the buffer's error as the cause.
+                    Err(e @ IoError::RejectedUri { .. }) => return Err(e),
+                    Err(e) => {
+                        return Err(IoError::Reference {
+                            path: path.to_owned(),
+                            what: format!("buffer {} ({})", buffer.index(), crate::uri::quoted(uri)),
+                            source: Box::new(e),
+                        });
+                    }
+                }
             }
         };
         if (data.len() as u64) < declared {
@@ -570,12 +611,39 @@ mod tests {
             assert!(matches!(err, IoError::RejectedUri { .. }), "{uri}: {err}");
         }
 
+        // A missing buffer file is this file's error, caused by the buffer's.
+        std::fs::write(&path, gltf_with_buffer_uri("missing.bin")).unwrap();
+        let err = read_mesh_file(&path).unwrap_err();
+        assert!(matches!(err, IoError::Reference { .. }), "{err}");
+        assert!(
+            err.to_string()
+                .contains("a.gltf: cannot read buffer 0 (missing.bin)"),
+            "{err}"
+        );
+        let cause = std::error::Error::source(&err).unwrap().to_string();
+        assert!(cause.contains("missing.bin"), "{cause}");
+
         // A buffer shorter than it declares is an error, not a short read.
         std::fs::write(folder.join("short.bin"), &triangle_bytes()[..20]).unwrap();
         std::fs::write(&path, gltf_with_buffer_uri("short.bin")).unwrap();
         let err = read_mesh_file(&path).unwrap_err();
         assert!(
             err.to_string().contains("declares 36 bytes but holds 20"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_position_accessor_that_does_not_exist_is_an_error_not_a_panic() {
+        // gltf-json 1.4.1 validation indexes the accessor list with this index unchecked.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.gltf");
+        let text = gltf_with_buffer_uri("x.bin").replace(r#""POSITION":0"#, r#""POSITION":5"#);
+        std::fs::write(&path, text).unwrap();
+        let err = read_mesh_file(&path).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("POSITION names accessor 5 but the file has 1"),
             "{err}"
         );
     }
