@@ -367,8 +367,12 @@ impl Ctx<'_> {
         };
         tracing::info!(scene = %scene.name, reason = %why, "evaluating");
         let plan = self.evaluator.plan();
-        let deadline = match plan.time_budget_seconds {
-            Some(b) => Deadline::after(Duration::from_secs_f64(b)),
+        // A budget too large for a `Duration` (validated finite and positive) is no budget.
+        let deadline = match plan
+            .time_budget_seconds
+            .and_then(|b| Duration::try_from_secs_f64(b).ok())
+        {
+            Some(b) => Deadline::after(b),
             None => Deadline::none(),
         };
         let start = Instant::now();
