@@ -11,9 +11,12 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use assert_cmd::Command;
+use common::fixtures;
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -22,10 +25,6 @@ use sceneeval::io::mesh_load::read_mesh_file_with;
 use sceneeval::io::{AssetLibrary, Limits, ReadOptions, read_scene_state};
 use sceneeval::{EvaluationPlan, Preset};
 use serde_json::Value;
-
-fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
-}
 
 fn cases() -> u32 {
     std::env::var("SCENEEVAL_FUZZ_CASES")

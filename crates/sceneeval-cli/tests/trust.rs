@@ -6,15 +6,13 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::{Path, PathBuf};
+mod common;
 
-use assert_cmd::Command;
+use std::path::PathBuf;
+
+use common::{evaluate, fixtures, record};
 use predicates::prelude::*;
 use serde_json::Value;
-
-fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
-}
 
 /// A scenes folder with fixture scenes 0 and 5, and a copy of the fixture assets.
 fn setup() -> (tempfile::TempDir, PathBuf, PathBuf) {
@@ -32,22 +30,6 @@ fn setup() -> (tempfile::TempDir, PathBuf, PathBuf) {
         std::fs::copy(&p, assets.join(p.file_name().unwrap())).unwrap();
     }
     (root, scenes, assets)
-}
-
-fn evaluate(scenes: &Path, assets: &Path, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
-    let spec = format!("fixture={}", assets.display());
-    Command::cargo_bin("sceneeval")
-        .unwrap()
-        .arg("evaluate")
-        .arg(scenes)
-        .args(["--assets", &spec, "--no-progress", "--out"])
-        .arg(out)
-        .args(extra)
-        .assert()
-}
-
-fn record(out: &Path, scene: &str) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join(scene).join("eval.json")).unwrap()).unwrap()
 }
 
 #[test]
