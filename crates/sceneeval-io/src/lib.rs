@@ -12,6 +12,9 @@
 //! - [`frames`]: the asset-to-object frame conversion, which happens in this crate and nowhere
 //!   else.
 //! - [`write_glb`]: a small deterministic binary glTF writer for generated assets.
+//! - [`Limits`]: file-size, triangle and memory budgets, checked against declared sizes before
+//!   anything is allocated; an asset over budget fails with [`IoError::TooLarge`],
+//!   [`IoError::TooManyTriangles`] or [`IoError::OverMemoryBudget`].
 //!
 //! # Conventions
 //! sstk `transform.data` is 16 numbers in column-major order and maps **asset** coordinates
@@ -83,6 +86,7 @@ mod error;
 pub mod frames;
 mod gltf_write;
 mod json_out;
+mod limits;
 pub mod mesh_load;
 pub mod scene_state;
 pub mod uri;
@@ -90,6 +94,7 @@ pub mod uri;
 pub use assets::{Asset, AssetInfo, AssetLibrary, AssetSource, AssetSpec, Layout};
 pub use error::IoError;
 pub use gltf_write::{GlbMesh, write_glb, write_glb_to_vec};
+pub use limits::{ESTIMATED_BYTES_PER_TRIANGLE, ESTIMATED_BYTES_PER_VERTEX, Limits};
 pub use scene_state::{
     ArchitectureMode, ReadOptions, SimpleFloorHeight, read_scene_state, read_scene_state_str,
     scene_state_to_string, write_scene_state,

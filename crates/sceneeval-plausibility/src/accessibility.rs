@@ -5,13 +5,13 @@ use sceneeval_geom::{Point2, Point3, Real, Side};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::error::check_non_negative;
 use crate::objects::{ObjectInfo, object_infos};
 use crate::plane::{
     FloorPiece, area, bounds, boxes_overlap, ccw, clip_convex, floor_pieces, subtract_convex,
 };
 use crate::sources::FunctionalSidesSource;
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the accessibility metric (reference yaml `AccessibilityMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -124,7 +124,7 @@ pub fn accessibility(
     params.validate()?;
     let infos = object_infos(scene);
     let pieces = scene_floor_pieces(scene);
-    accessibility_with(scene, params, sides, &infos, &pieces)
+    accessibility_with(scene, params, sides, &infos, &pieces, &Deadline::none())
 }
 
 pub(crate) fn scene_floor_pieces(scene: &Scene) -> Vec<FloorPiece> {
@@ -138,6 +138,7 @@ pub(crate) fn accessibility_with(
     source: &dyn FunctionalSidesSource,
     infos: &[ObjectInfo],
     pieces: &[FloorPiece],
+    deadline: &Deadline,
 ) -> Result<AccessibilityReport, PlausibilityError> {
     let blockers: Vec<usize> = (0..infos.len())
         .filter(|&i| {
@@ -149,6 +150,7 @@ pub(crate) fn accessibility_with(
         .par_iter()
         .enumerate()
         .map(|(k, o)| {
+            deadline.check("accessibility")?;
             let answer = source.functional_sides(scene, o);
             let sides_source = answer.as_ref().map(|a| a.source.clone());
             let mut wanted: Vec<Side> = answer.map(|a| a.value).unwrap_or_default();
@@ -162,15 +164,15 @@ pub(crate) fn accessibility_with(
                 Some(b) if b.score >= s.score => Some(b),
                 _ => Some(s),
             });
-            ObjectAccess {
+            Ok(ObjectAccess {
                 id: o.id().clone(),
                 sides_source,
                 best_side: best.map(|b| b.side),
                 score: best.map(|b| b.score),
                 sides,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, PlausibilityError>>()?;
     let scored: Vec<Real> = objects.iter().filter_map(|o| o.score).collect();
     Ok(AccessibilityReport {
         num_scored: scored.len(),

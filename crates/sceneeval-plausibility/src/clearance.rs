@@ -6,10 +6,10 @@ use sceneeval_geom::{Aabb, Point2, Point3, Real, Vector2};
 use sceneeval_scene::{ObjectId, OpeningKind, Room, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::error::check_non_negative;
 use crate::objects::ObjectInfo;
 use crate::plane::{area3, clip_half_space};
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the opening-clearance metric (reference yaml `OpeningClearanceMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -64,7 +64,7 @@ impl Default for OpeningClearanceParams {
 }
 
 impl OpeningClearanceParams {
-    fn validate(&self) -> Result<(), PlausibilityError> {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         let m = "opening_clearance";
         check_non_negative(m, "door_depth", self.door_depth, false)?;
         check_non_negative(m, "window_depth", self.window_depth, false)?;
@@ -165,13 +165,14 @@ pub fn opening_clearance(
     params: &OpeningClearanceParams,
 ) -> Result<OpeningClearanceReport, PlausibilityError> {
     let infos = crate::objects::object_infos(scene);
-    opening_clearance_with(scene, params, &infos)
+    opening_clearance_with(scene, params, &infos, &Deadline::none())
 }
 
 pub(crate) fn opening_clearance_with(
     scene: &Scene,
     params: &OpeningClearanceParams,
     infos: &[ObjectInfo],
+    deadline: &Deadline,
 ) -> Result<OpeningClearanceReport, PlausibilityError> {
     params.validate()?;
     let list: Vec<(&Room, &Wall, &sceneeval_scene::Opening)> = scene
@@ -184,6 +185,7 @@ pub(crate) fn opening_clearance_with(
     let openings: Vec<OpeningClearance> = list
         .par_iter()
         .map(|(room, wall, o)| {
+            deadline.check("opening_clearance")?;
             let depth = match o.kind {
                 OpeningKind::Door if params.door_depth_from_width => o.width(),
                 OpeningKind::Door => params.door_depth,
@@ -204,7 +206,7 @@ pub(crate) fn opening_clearance_with(
                     side_clearance(scene, infos, &frame, side, depth, params)
                 })
                 .collect();
-            OpeningClearance {
+            Ok(OpeningClearance {
                 opening: o.id.clone(),
                 kind: o.kind,
                 wall: wall.id().to_owned(),
@@ -213,9 +215,9 @@ pub(crate) fn opening_clearance_with(
                 height: o.hole_height(),
                 blocked: sides.iter().any(|s| s.blocked),
                 sides,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, PlausibilityError>>()?;
     let count = |kind: OpeningKind, blocked: bool| {
         openings
             .iter()

@@ -7,10 +7,10 @@ use sceneeval_geom::{Aabb, Point3, Real};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::category::has_word;
 use crate::error::check_non_negative;
 use crate::solid::Solid;
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the collision metric.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -48,7 +48,7 @@ impl Default for CollisionParams {
 }
 
 impl CollisionParams {
-    fn validate(&self) -> Result<(), PlausibilityError> {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         check_non_negative("collision", "contact_tolerance", self.contact_tolerance, false)?;
         check_non_negative(
             "collision",
@@ -162,6 +162,15 @@ pub struct CollisionReport {
 /// # Errors
 /// [`PlausibilityError::InvalidParameter`] for a negative tolerance or a zero spacing/budget.
 pub fn collision(scene: &Scene, params: &CollisionParams) -> Result<CollisionReport, PlausibilityError> {
+    collision_with(scene, params, &Deadline::none())
+}
+
+/// [`collision`], giving up once `deadline` has passed (checked before each candidate pair).
+pub(crate) fn collision_with(
+    scene: &Scene,
+    params: &CollisionParams,
+    deadline: &Deadline,
+) -> Result<CollisionReport, PlausibilityError> {
     params.validate()?;
     let objects = scene.objects();
     let excluded: Vec<bool> = objects
@@ -176,8 +185,14 @@ pub fn collision(scene: &Scene, params: &CollisionParams) -> Result<CollisionRep
     let solid = |k: usize| solids[k].get_or_init(|| Solid::new(objects[k].mesh(), objects[k].pose()));
     let found: Vec<(usize, usize, PairContact)> = candidates
         .par_iter()
-        .filter_map(|&(i, j)| narrow_phase(objects, i, j, &solid, params).map(|c| (i, j, c)))
+        .filter_map(|&(i, j)| {
+            if deadline.expired() {
+                return None;
+            }
+            narrow_phase(objects, i, j, &solid, params).map(|c| (i, j, c))
+        })
         .collect();
+    deadline.check("collision")?;
 
     let mut colliding_with: Vec<Vec<usize>> = vec![Vec::new(); objects.len()];
     let mut max_depth = vec![0.0; objects.len()];

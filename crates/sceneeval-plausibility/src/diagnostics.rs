@@ -72,6 +72,7 @@ pub fn write_diagnostics(
         sources.functional_sides.as_ref(),
         &infos,
         &pieces,
+        &crate::Deadline::none(),
     )?;
     let mut occupied = vec![false; grid.len()];
     let p = &params.accessibility;
@@ -100,7 +101,12 @@ pub fn write_diagnostics(
     let acc_img = image_from(&grid, |k| colours[k]);
     written.push(save(&acc_img, &dir.join("accessibility.png"))?);
 
-    let clearance = crate::clearance::opening_clearance_with(scene, &params.opening_clearance, &infos)?;
+    let clearance = crate::clearance::opening_clearance_with(
+        scene,
+        &params.opening_clearance,
+        &infos,
+        &crate::Deadline::none(),
+    )?;
     for (room, wall, opening) in scene.openings() {
         let Some(report) = clearance
             .openings

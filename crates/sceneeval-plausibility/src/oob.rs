@@ -5,10 +5,10 @@ use sceneeval_geom::{Point2, Point3, Real, Vector2};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::accessibility::scene_floor_pieces;
 use crate::error::check_non_negative;
 use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space};
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the out-of-bounds metric (reference yaml `OutOfBoundMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -84,38 +84,47 @@ pub fn out_of_bounds(
     params: &OutOfBoundsParams,
 ) -> Result<OutOfBoundsReport, PlausibilityError> {
     let pieces = scene_floor_pieces(scene);
-    out_of_bounds_with(scene, params, &pieces)
+    out_of_bounds_with(scene, params, &pieces, &Deadline::none())
+}
+
+impl OutOfBoundsParams {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
+        check_non_negative(
+            "out_of_bounds",
+            "below_floor_tolerance",
+            self.below_floor_tolerance,
+            false,
+        )?;
+        check_non_negative(
+            "out_of_bounds",
+            "boundary_tolerance",
+            self.boundary_tolerance,
+            false,
+        )?;
+        if !(0.0..=1.0).contains(&self.threshold) {
+            return Err(PlausibilityError::InvalidParameter {
+                metric: "out_of_bounds",
+                name: "threshold",
+                value: self.threshold,
+                reason: "must lie in [0, 1]",
+            });
+        }
+        Ok(())
+    }
 }
 
 pub(crate) fn out_of_bounds_with(
     scene: &Scene,
     params: &OutOfBoundsParams,
     pieces: &[FloorPiece],
+    deadline: &Deadline,
 ) -> Result<OutOfBoundsReport, PlausibilityError> {
-    check_non_negative(
-        "out_of_bounds",
-        "below_floor_tolerance",
-        params.below_floor_tolerance,
-        false,
-    )?;
-    check_non_negative(
-        "out_of_bounds",
-        "boundary_tolerance",
-        params.boundary_tolerance,
-        false,
-    )?;
-    if !(0.0..=1.0).contains(&params.threshold) {
-        return Err(PlausibilityError::InvalidParameter {
-            metric: "out_of_bounds",
-            name: "threshold",
-            value: params.threshold,
-            reason: "must lie in [0, 1]",
-        });
-    }
+    params.validate()?;
     let objects: Vec<ObjectBounds> = scene
         .objects()
         .par_iter()
         .map(|o| {
+            deadline.check("out_of_bounds")?;
             let surface_area = o.mesh().surface_area();
             let over = area_over_floor(o, pieces, params.below_floor_tolerance, params.boundary_tolerance);
             let ratio = if surface_area > 0.0 {
@@ -123,15 +132,15 @@ pub(crate) fn out_of_bounds_with(
             } else {
                 0.0
             };
-            ObjectBounds {
+            Ok(ObjectBounds {
                 id: o.id().clone(),
                 surface_area,
                 area_over_floor: over,
                 ratio_in_bounds: ratio,
                 out_of_bounds: ratio < params.threshold,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, PlausibilityError>>()?;
     let num_out = objects.iter().filter(|o| o.out_of_bounds).count();
     Ok(OutOfBoundsReport {
         oob: (!objects.is_empty()).then(|| num_out as Real / objects.len() as Real),

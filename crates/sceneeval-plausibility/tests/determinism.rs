@@ -46,7 +46,11 @@ fn identical_for_one_and_two_threads_and_across_runs() {
     let s = busy_scene();
     let one = run(1, &s);
     check_invariants(&one);
-    assert!(one.summary.col_sc, "the scene is meant to have collisions");
+    assert_eq!(
+        one.summary.col_sc,
+        Some(true),
+        "the scene is meant to have collisions"
+    );
     let json = serde_json::to_string(&one).unwrap();
     for threads in [2, 1, 2] {
         let again = run(threads, &s);

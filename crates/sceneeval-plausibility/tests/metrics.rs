@@ -545,15 +545,16 @@ fn evaluate_runs_everything_and_serialises() {
     let r = evaluate(&s, &PlausibilityParams::default(), &Sources::default()).unwrap();
     check_invariants(&r);
     assert_eq!(r.scene_id.as_deref(), Some("demo"));
-    assert_eq!(r.summary.doors_blocked, 1);
-    assert_eq!(r.support.objects[4].type_source, None);
-    assert!(!r.support.objects[4].supported, "the ball floats");
+    assert_eq!(r.summary.doors_blocked, Some(1));
+    let support = r.support.as_ref().unwrap();
+    assert_eq!(support.objects[4].type_source, None);
+    assert!(!support.objects[4].supported, "the ball floats");
     let json = serde_json::to_string(&r).unwrap();
     let back: PlausibilityReport = serde_json::from_str(&json).unwrap();
     // serde_json parses floats to within one ulp, so compare structure and counts exactly.
     assert_eq!(back.summary.doors_blocked, r.summary.doors_blocked);
-    assert_eq!(back.support.objects.len(), 5);
-    assert_eq!(back.collision.contacts, r.collision.contacts);
+    assert_eq!(back.support.unwrap().objects.len(), 5);
+    assert_eq!(back.collision.unwrap().contacts, r.collision.unwrap().contacts);
     assert_abs_diff_eq!(back.summary.acc.unwrap(), r.summary.acc.unwrap(), epsilon = 1e-12);
     let params_json = serde_json::to_string(&PlausibilityParams::default()).unwrap();
     let params: PlausibilityParams = serde_json::from_str(&params_json).unwrap();
@@ -601,8 +602,12 @@ fn empty_scenes_give_undefined_shares_not_errors() {
     check_invariants(&r);
     let s = &r.summary;
     assert_eq!((s.col_ob, s.sup, s.acc, s.oob), (None, None, None, None));
-    assert!(!s.col_sc);
-    assert_eq!(s.nav, 0.0, "no floor, no free space (the reference's convention)");
+    assert_eq!(s.col_sc, Some(false));
+    assert_eq!(
+        s.nav,
+        Some(0.0),
+        "no floor, no free space (the reference's convention)"
+    );
     assert_eq!(s.all_rooms_reachable, None);
     // Objects without any room: nothing supports them, nothing is floor.
     let no_rooms = Scene::builder()
@@ -638,11 +643,11 @@ fn tilted_objects_use_their_projected_hull() {
         .unwrap();
     let r = evaluate(&s, &PlausibilityParams::default(), &Sources::default()).unwrap();
     check_invariants(&r);
-    assert!(r.support.objects[0].supported);
+    assert!(r.support.as_ref().unwrap().objects[0].supported);
     // The bench's front (-y local) now points down (-z): its strip projects onto the footprint
     // line, a degenerate strip with zero area scores 0; its back points up likewise.
-    assert_eq!(r.accessibility.objects[0].score, Some(0.0));
-    assert_eq!(r.out_of_bounds.objects[0].ratio_in_bounds, 1.0);
+    assert_eq!(r.accessibility.as_ref().unwrap().objects[0].score, Some(0.0));
+    assert_eq!(r.out_of_bounds.as_ref().unwrap().objects[0].ratio_in_bounds, 1.0);
 }
 
 #[test]

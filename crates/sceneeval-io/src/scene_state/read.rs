@@ -47,6 +47,7 @@ pub enum SimpleFloorHeight {
 
 /// Options for [`read_scene_state`].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ReadOptions {
     /// What to do about architecture.
     pub architecture: ArchitectureMode,
@@ -71,10 +72,13 @@ impl Default for ReadOptions {
 ///
 /// # Errors
 /// Every problem is an [`IoError`] naming the file and the JSON pointer of the offending value
-/// (see the crate docs for the list); nothing panics.
+/// (see the crate docs for the list); nothing panics. A file larger than the library's
+/// [`crate::Limits::max_file_bytes`] is [`IoError::TooLarge`]; one that is not UTF-8 is
+/// [`IoError::InvalidUtf8`] with the byte offset, line and column of the first bad byte.
 pub fn read_scene_state(path: &Path, assets: &AssetLibrary, options: &ReadOptions) -> Result<Scene, IoError> {
-    let text = std::fs::read_to_string(path).map_err(|e| IoError::file(path, e))?;
-    read_scene_state_str(&text, path, assets, options)
+    let bytes = crate::uri::read_file_limited(path, assets.limits().max_file_bytes)?;
+    let text = IoError::utf8(path, &bytes)?;
+    read_scene_state_str(text, path, assets, options)
 }
 
 /// Reads sceneState JSON `text` (asset files are still read through `assets`); `path` only

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use sceneeval_geom::{Isometry3, Mesh, Point2, Point3, Vector3};
-use sceneeval_plausibility::PlausibilityReport;
+use sceneeval_plausibility::{Metric, PlausibilityReport};
 use sceneeval_scene::{RoomBuilder, SceneBuilder};
 
 /// A 4 m x 5 m room (x in [0, 4], y in [0, 5]), 2.8 m walls 0.1 m thick, a door in wall 0
@@ -65,42 +65,53 @@ pub fn at(x: f64, y: f64, z: f64, yaw: f64) -> Isometry3 {
 /// scene order, counts consistent with flags.
 pub fn check_invariants(r: &PlausibilityReport) {
     let unit = |x: f64| (0.0..=1.0).contains(&x);
-    let n = r.num_objects;
-    assert_eq!(r.collision.objects.len(), n);
-    assert_eq!(r.support.objects.len(), n);
-    assert_eq!(r.accessibility.objects.len(), n);
-    assert_eq!(r.out_of_bounds.objects.len(), n);
+    let n = r.object_ids.len();
+    assert_eq!(r.metrics, Metric::ALL.to_vec(), "every metric ran");
+    let (collision, support, accessibility, out_of_bounds, nav, clearance) = (
+        r.collision.as_ref().unwrap(),
+        r.support.as_ref().unwrap(),
+        r.accessibility.as_ref().unwrap(),
+        r.out_of_bounds.as_ref().unwrap(),
+        r.navigability.as_ref().unwrap(),
+        r.opening_clearance.as_ref().unwrap(),
+    );
+    assert_eq!(collision.objects.len(), n);
+    assert_eq!(support.objects.len(), n);
+    assert_eq!(accessibility.objects.len(), n);
+    assert_eq!(out_of_bounds.objects.len(), n);
     for share in [r.summary.col_ob, r.summary.sup, r.summary.acc, r.summary.oob]
         .into_iter()
         .flatten()
     {
         assert!(unit(share), "{share}");
     }
-    assert!(unit(r.summary.nav));
+    assert!(unit(r.summary.nav.unwrap()));
     assert_eq!(
-        r.collision.num_in_collision,
-        r.collision.objects.iter().filter(|o| o.in_collision).count()
+        collision.num_in_collision,
+        collision.objects.iter().filter(|o| o.in_collision).count()
     );
-    assert_eq!(r.summary.col_sc, r.collision.contacts.iter().any(|c| c.colliding));
-    for c in &r.collision.contacts {
+    assert_eq!(
+        r.summary.col_sc,
+        Some(collision.contacts.iter().any(|c| c.colliding))
+    );
+    for c in &collision.contacts {
         assert!(c.depth >= 0.0 && c.depth.is_finite());
     }
-    for o in &r.support.objects {
+    for o in &support.objects {
         assert!((o.gravity.norm() - 1.0).abs() < 1e-12);
         assert!(o.num_contacts <= o.num_ray_origins);
     }
-    for o in &r.accessibility.objects {
+    for o in &accessibility.objects {
         for s in &o.sides {
             assert!(unit(s.score));
             assert!(s.free_area <= s.on_floor_area + 1e-9 && s.on_floor_area <= s.strip_area + 1e-9);
         }
     }
-    for o in &r.out_of_bounds.objects {
+    for o in &out_of_bounds.objects {
         assert!(unit(o.ratio_in_bounds));
     }
-    let nav = &r.navigability;
     assert!(nav.largest_component_pixels <= nav.free_pixels && nav.free_pixels <= nav.floor_pixels);
-    for o in &r.opening_clearance.openings {
+    for o in &clearance.openings {
         for s in &o.sides {
             assert!(unit(s.occluded_fraction));
             assert_eq!(s.blocked, !s.blocking.is_empty());
