@@ -7,7 +7,6 @@ use std::sync::Arc;
 
 use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point2, Point3, Vector3};
 
-use crate::meshes::{subdivided_box, uv_ellipsoid};
 use sceneeval_scene::{RoomBuilder, Scene};
 
 /// The four meshes the benchmark scenes are made of.
@@ -42,17 +41,17 @@ pub fn meshes() -> BenchMeshes {
     ];
     let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
     for (h, c) in table_parts {
-        let part = subdivided_box(&h, 9).expect("table part");
+        let part = Mesh::subdivided_box(&h, 9).expect("table part");
         let base = tv.len() as u32;
         tv.extend(part.vertices().iter().map(|p| p + c));
         tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
     }
     let table = Mesh::new(tv, tt).expect("table mesh");
-    let cabinet = subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 20)
+    let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 20)
         .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
         .expect("cabinet mesh");
-    let painting = subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 20).expect("painting mesh");
-    let lamp = uv_ellipsoid(&Vector3::repeat(0.15), 72, 36).expect("lamp mesh");
+    let painting = Mesh::subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 20).expect("painting mesh");
+    let lamp = Mesh::uv_ellipsoid(&Vector3::repeat(0.15), 72, 36).expect("lamp mesh");
     BenchMeshes {
         table: Arc::new(table),
         cabinet: Arc::new(cabinet),

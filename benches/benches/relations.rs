@@ -15,7 +15,6 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use sceneeval_benches::meshes::{subdivided_box, uv_ellipsoid};
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Side, Vector3};
 use sceneeval_relations::{
     ArchElement, LongShort, ObjectGeom, OpeningSpec, Relation, RelationParams, RoomGeometry, SceneRelations,
@@ -164,12 +163,12 @@ fn object_object(c: &mut Criterion) {
 fn object_object_meshes(c: &mut Criterion) {
     let p = RelationParams::default();
     let bed = MeshObject::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
         [2.0, 4.0, 0.3],
         0.0,
     );
     let stand = MeshObject::new(
-        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
         [0.9, 4.5, 0.35],
         0.3,
     );
@@ -183,18 +182,18 @@ fn object_object_meshes(c: &mut Criterion) {
     // Meshes whose surfaces cross (distance 0 by the intersection test) and nested meshes
     // (surfaces apart; the winding-number test decides).
     let crossing = MeshObject::new(
-        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
         [1.3, 4.5, 0.35],
         0.3,
     );
     let nested = MeshObject::new(
-        subdivided_box(&Vector3::new(0.1, 0.1, 0.1), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.1, 0.1, 0.1), 20).expect("mesh"),
         [2.0, 4.0, 0.3],
         0.3,
     );
     // The same nightstand 0.79 m from the bed (the exact distance search grows with the gap).
     let apart = MeshObject::new(
-        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
         [0.2, 4.5, 0.35],
         1.0,
     );
@@ -226,7 +225,7 @@ fn object_architecture(c: &mut Criterion) {
     }
     g.finish();
     let mesh_bed = MeshObject::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
         [2.0, 3.93, 0.3],
         0.05,
     );

@@ -11,7 +11,6 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use sceneeval_alloc_check::{CountingAllocator, allocations_during};
-use sceneeval_benches::meshes::{subdivided_box, uv_ellipsoid};
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Vector3};
 use sceneeval_relations::{
     ObjectGeom, OpeningSpec, Relation, RelationKind, RelationParams, RoomGeometry, arch, batch, surround,
@@ -135,7 +134,7 @@ fn relation_kernels_on_boxes_allocate_nothing() {
 fn relation_kernels_on_meshes_allocate_nothing() {
     let rooms = [room()];
     let bed = Placed::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
         [2.0, 4.0, 0.3],
         0.05,
     );
@@ -143,7 +142,7 @@ fn relation_kernels_on_meshes_allocate_nothing() {
         .map(|k| {
             let angle = Real::from(k) * std::f64::consts::TAU / 3.0;
             Placed::new(
-                subdivided_box(&Vector3::new(0.25, 0.25, 0.45), 6).unwrap(),
+                Mesh::subdivided_box(&Vector3::new(0.25, 0.25, 0.45), 6).unwrap(),
                 [2.0 + 1.2 * angle.cos(), 4.0 + 1.4 * angle.sin(), 0.45],
                 angle,
             )
@@ -159,7 +158,7 @@ fn relation_kernels_on_meshes_allocate_nothing() {
             } else {
                 Vector3::new(0.25, 0.2, 0.35)
             };
-            let stand = Placed::new(subdivided_box(&half, 20).unwrap(), center, yaw);
+            let stand = Placed::new(Mesh::subdivided_box(&half, 20).unwrap(), center, yaw);
             let target = stand.view();
             let what = format!("mesh at {center:?}");
             assert_no_allocation(&what, &target, &anchor, &around, &rooms, &params);
@@ -196,7 +195,7 @@ fn batch_forms_allocate_nothing() {
 #[test]
 fn geometry_distances_allocate_nothing() {
     let a = Placed::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
         [2.0, 4.0, 0.3],
         0.05,
     );
@@ -207,7 +206,7 @@ fn geometry_distances_allocate_nothing() {
     ];
     for (center, yaw) in TARGETS {
         let b = Placed::new(
-            subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).unwrap(),
+            Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).unwrap(),
             center,
             yaw,
         );

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use sceneeval_geom::{Isometry3, Mesh, Point2, Point3, Vector3};
+use sceneeval_geom::{Isometry3, Mesh, Point2, Vector3};
 use sceneeval_plausibility::PlausibilityReport;
 use sceneeval_scene::{RoomBuilder, SceneBuilder};
 
@@ -23,37 +23,8 @@ pub fn scene() -> SceneBuilder {
 }
 
 /// A closed UV sphere of radius `r` with `n` rings and `2n` segments (`4n^2 - 4n` triangles).
-pub fn sphere(r: f64, n: usize) -> Arc<Mesh> {
-    let mut v = vec![Point3::new(0.0, 0.0, r)];
-    for i in 1..n {
-        let th = std::f64::consts::PI * i as f64 / n as f64;
-        for j in 0..2 * n {
-            let ph = std::f64::consts::PI * j as f64 / n as f64;
-            v.push(Point3::new(
-                r * th.sin() * ph.cos(),
-                r * th.sin() * ph.sin(),
-                r * th.cos(),
-            ));
-        }
-    }
-    v.push(Point3::new(0.0, 0.0, -r));
-    let m = 2 * n as u32;
-    let ring = |i: u32, j: u32| 1 + i * m + (j % m);
-    let mut t = Vec::new();
-    for j in 0..m {
-        t.push([0, ring(0, j), ring(0, j + 1)]);
-    }
-    for i in 0..(n as u32 - 2) {
-        for j in 0..m {
-            t.push([ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)]);
-            t.push([ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)]);
-        }
-    }
-    let last = v.len() as u32 - 1;
-    for j in 0..m {
-        t.push([last, ring(n as u32 - 2, j + 1), ring(n as u32 - 2, j)]);
-    }
-    Arc::new(Mesh::new(v, t).unwrap())
+pub fn sphere(r: f64, n: u32) -> Arc<Mesh> {
+    Arc::new(Mesh::uv_ellipsoid(&Vector3::repeat(r), 2 * n, n).unwrap())
 }
 
 /// Placement of a mesh at a point, upright, turned by `yaw`.
