@@ -9,8 +9,16 @@ use sceneeval_geom::{Point2, Point3, Polygon2, Real, Vector2};
 
 /// Keeps the part of a 3-D polygon where `f(p) >= 0`.
 pub(crate) fn clip_half_space(poly: &[Point3], f: impl Fn(&Point3) -> Real) -> Vec<Point3> {
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    clip_half_space_into(poly, f, &mut out);
+    out
+}
+
+/// [`clip_half_space`] into `out` (cleared first), so that a caller clipping repeatedly can
+/// reuse its buffers and allocate nothing once they have grown.
+pub(crate) fn clip_half_space_into(poly: &[Point3], f: impl Fn(&Point3) -> Real, out: &mut Vec<Point3>) {
+    out.clear();
     let n = poly.len();
-    let mut out = Vec::with_capacity(n + 2);
     for i in 0..n {
         let (cur, next) = (poly[i], poly[(i + 1) % n]);
         let (fc, fn_) = (f(&cur), f(&next));
@@ -22,7 +30,6 @@ pub(crate) fn clip_half_space(poly: &[Point3], f: impl Fn(&Point3) -> Real) -> V
             out.push(cur + (next - cur) * t);
         }
     }
-    out
 }
 
 /// Area of a planar 3-D polygon.

@@ -5,16 +5,14 @@
 
 use std::sync::Arc;
 
-use sceneeval_geom::{Isometry3, Mesh, Point2, Vector3};
+use sceneeval_geom::{Isometry3, Mesh, Vector3};
 use sceneeval_plausibility::PlausibilityReport;
 use sceneeval_scene::{RoomBuilder, SceneBuilder};
 
 /// A 4 m x 5 m room (x in [0, 4], y in [0, 5]), 2.8 m walls 0.1 m thick, a door in wall 0
 /// (y = 0) spanning x in [1.0, 1.9] and height [0, 2.1], a window in wall 2 (y = 5).
 pub fn room() -> RoomBuilder {
-    RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
-        .door(0, [1.0, 1.9], [0.0, 2.1])
-        .window(2, [1.0, 2.5], [0.9, 2.0])
+    sceneeval_test_support::bedroom("r0").window(2, [1.0, 2.5], [0.9, 2.0])
 }
 
 /// A scene builder with [`room`].

@@ -1,3 +1,0 @@
-//! Shared set-up for the benchmarks under `benches/benches/`.
-
-pub mod scenes;
