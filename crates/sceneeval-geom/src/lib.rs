@@ -46,7 +46,7 @@ pub use conventions::Side;
 pub use error::GeomError;
 pub use mesh::{Mesh, RayHit};
 pub use obb::Obb;
-pub use polygon::Polygon2;
+pub use polygon::{MAX_EDGE_PAIRS, Polygon2};
 pub use ray::{Plane, Ray};
 pub use shapes::{CUBOID_TRIANGLES, cuboid_corner, weld_vertices};
 

@@ -4,8 +4,9 @@
 //! reference's "max over elements" is the maximum over rooms ([`score_rooms`]).
 //!
 //! # Performance
-//! No kernel allocates: a room's walls, wall pieces (with their parry shapes), openings and
-//! floor triangles were prepared when the [`Room`] was built. Volume fractions clip
+//! No kernel allocates (except `corner_of_room` in rooms of more than 32 walls, which sorts
+//! their bounds in two vectors): a room's walls, wall pieces, openings and floor triangles
+//! were prepared when the [`Room`] was built. Volume fractions clip
 //! the object's box by at most five planes per wall or floor triangle. Elements are visited in
 //! decreasing order of an upper bound on their score (from cheap lower and upper bounds on
 //! their distance), and the search stops when no remaining element can beat the best score:
@@ -408,7 +409,8 @@ fn in_triangle(t: &[Point3; 3], x: Real, y: Real) -> bool {
     (d0 >= 0.0 && d1 >= 0.0 && d2 >= 0.0) || (d0 <= 0.0 && d1 <= 0.0 && d2 <= 0.0)
 }
 
-/// Walls whose per-wall score and direction are kept on the stack in `corner_of_room`.
+/// Walls whose per-wall bounds, scores and directions are kept on the stack in
+/// `corner_of_room` (larger rooms use two vectors: the kernel's only allocation).
 const CORNER_CACHE: usize = 32;
 
 /// `corner_of_room`: the best product of two per-wall scores over pairs of perpendicular walls
@@ -435,45 +437,53 @@ pub fn corner_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationPar
         CornerWalls::WallNormals => w.inward_normal_3d(),
         CornerWalls::MeanDirections => mean_direction_to_wall(target.obb, w),
     };
-    // Per wall: (upper bound, exact score once computed, direction), on the stack for rooms of
-    // up to CORNER_CACHE walls; larger rooms recompute.
-    let mut cache = [(0.0, None::<Real>, Vector3::zeros()); CORNER_CACHE];
-    let cached = walls.len() <= CORNER_CACHE;
-    if cached {
-        for (slot, w) in cache.iter_mut().zip(walls) {
-            *slot = (upper(w), None, direction(w));
-        }
+    // Per wall: (upper bound, exact score once computed, direction once computed), and the
+    // walls in decreasing order of their upper bound; on the stack for rooms of up to
+    // CORNER_CACHE walls, in two vectors for larger ones.
+    let n = walls.len();
+    type Slot = (Real, Option<Real>, Option<Vector3>);
+    let (mut stack, mut stack_order) = ([(0.0, None, None); CORNER_CACHE], [0usize; CORNER_CACHE]);
+    let (mut heap, mut heap_order): (Vec<Slot>, Vec<usize>) = (Vec::new(), Vec::new());
+    let (cache, order): (&mut [Slot], &mut [usize]) = if n <= CORNER_CACHE {
+        (&mut stack[..n], &mut stack_order[..n])
+    } else {
+        heap.resize(n, (0.0, None, None));
+        heap_order.resize(n, 0);
+        (&mut heap, &mut heap_order)
+    };
+    for (i, (slot, at)) in cache.iter_mut().zip(order.iter_mut()).enumerate() {
+        *slot = (upper(&walls[i]), None, None);
+        *at = i;
     }
+    order.sort_unstable_by(|&x, &y| cache[y].0.total_cmp(&cache[x].0).then(x.cmp(&y)));
+    // Every unordered pair once (i before j in that order); a pair cannot beat `best` once the
+    // product of its upper bounds does not, and later pairs have smaller bounds: the result is
+    // the exact maximum over perpendicular pairs, whatever the order.
     let mut best: Real = 0.0;
-    for i in 0..walls.len() {
-        let (ub_i, dir_i) = if cached {
-            (cache[i].0, cache[i].2)
-        } else {
-            (upper(&walls[i]), direction(&walls[i]))
-        };
-        if ub_i <= best {
-            continue;
+    for p in 0..n {
+        let i = order[p];
+        let ub_i = cache[i].0;
+        if order.get(p + 1).is_none_or(|&j| ub_i * cache[j].0 <= best) {
+            break;
         }
-        for j in i + 1..walls.len() {
-            let (ub_j, dir_j) = if cached {
-                (cache[j].0, cache[j].2)
-            } else {
-                (upper(&walls[j]), direction(&walls[j]))
-            };
-            if ub_i * ub_j <= best || dir_i.dot(&dir_j).abs() >= params.corner_perpendicular_threshold {
+        for &j in &order[p + 1..] {
+            let ub_j = cache[j].0;
+            if ub_i * ub_j <= best {
+                break;
+            }
+            #[cfg(test)]
+            tests::CORNER_PAIRS.with(|c| c.set(c.get() + 1));
+            let dir_i = *cache[i].2.get_or_insert_with(|| direction(&walls[i]));
+            let dir_j = *cache[j].2.get_or_insert_with(|| direction(&walls[j]));
+            if dir_i.dot(&dir_j).abs() >= params.corner_perpendicular_threshold {
                 continue;
             }
-            let mut score = |k: usize| {
-                if !cached {
-                    return exact(&walls[k]);
-                }
-                *cache[k].1.get_or_insert_with(|| exact(&walls[k]))
-            };
-            let si = score(i);
+            let si = *cache[i].1.get_or_insert_with(|| exact(&walls[i]));
             if si * ub_j <= best {
                 continue;
             }
-            best = best.max(si * score(j));
+            let sj = *cache[j].1.get_or_insert_with(|| exact(&walls[j]));
+            best = best.max(si * sj);
         }
     }
     best
@@ -548,6 +558,40 @@ pub fn score_rooms(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Wall pairs `corner_of_room` looked at on this thread.
+        pub(super) static CORNER_PAIRS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    #[test]
+    fn corner_of_room_in_a_room_of_many_walls_looks_at_few_pairs() {
+        // A 4 x 4 m room whose walls are each split into 2,500 pieces (10,000 walls): an object
+        // in a corner is near a few pieces only, so a handful of pairs decide, not 5e7.
+        let n = 2500;
+        let mut outline = Vec::new();
+        for (a, b) in [
+            ([0.0, 0.0], [4.0, 0.0]),
+            ([4.0, 0.0], [4.0, 4.0]),
+            ([4.0, 4.0], [0.0, 4.0]),
+            ([0.0, 4.0], [0.0, 0.0]),
+        ] {
+            for k in 0..n {
+                let t = f64::from(k) / f64::from(n);
+                outline.push(Point2::new(a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t));
+            }
+        }
+        let room = RoomBuilder::polygon("big", outline).build().unwrap();
+        assert_eq!(room.walls().len(), 4 * n as usize);
+        let plant = bx([0.3, 0.3, 0.4], [0.2, 0.2, 0.4], 0.0);
+        CORNER_PAIRS.with(|c| c.set(0));
+        let s = corner_of_room(&g(&plant), &room, &RelationParams::default());
+        // 0.1 m from both walls: inside the [0, 0.8] m band of each.
+        assert_eq!(s, 1.0);
+        let pairs = CORNER_PAIRS.with(Cell::get);
+        assert!(pairs < 10_000, "{pairs} pairs");
+    }
     use sceneeval_geom::Point2;
     use sceneeval_scene::RoomBuilder;
 

@@ -100,7 +100,9 @@
 //! Kernels allocate nothing per call: clipping runs on fixed-size stack buffers, mesh distance
 //! searches recurse over trees built with the mesh, ray casts use parry's stack-allocated
 //! traversal, rooms are prepared once (when the `sceneeval_scene::Room` is built), `surround`
-//! sorts up to 64 targets on the stack, and the batch forms write into caller-owned slices. A test with a counting global allocator checks every relation on
+//! sorts up to 64 targets on the stack, `corner_of_room` keeps up to 32 walls' bounds on the stack
+//! (beyond those sizes each allocates one or two vectors, which keeps their cost `n log n`), and
+//! the batch forms write into caller-owned slices. A test with a counting global allocator checks every relation on
 //! boxes and on meshes, and the batch forms (package `sceneeval-alloc-check`). Box-only
 //! predicates take 0.01-0.8 µs, distance predicates on boxes about 0.15 µs, architecture
 //! predicates with a box in a four-wall room up to 2 µs, and every predicate on 5k-triangle
