@@ -329,14 +329,7 @@ mod tests {
         // A wobbly, concave 20,000-gon: 19,998 triangles. Internal edges are found by hashing;
         // only the outline's edges are probed, each against no piece of another room.
         let n = 20_000;
-        let pts: Vec<Point2> = (0..n)
-            .map(|i| {
-                let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
-                let r = 10.0 * (1.0 + 0.05 * (7.0 * a).sin()) + if i % 2 == 0 { 0.0 } else { 0.001 };
-                p(r * a.cos(), r * a.sin())
-            })
-            .collect();
-        let floor = Polygon2::new(pts).unwrap();
+        let floor = Polygon2::new(sceneeval_test_support::wobbly_outline(n)).unwrap();
         PROBES.with(|c| c.set(0));
         let pieces = floor_pieces(&[(&floor, 0.0)]);
         assert_eq!(pieces.len(), n as usize - 2);

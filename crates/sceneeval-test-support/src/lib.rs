@@ -32,6 +32,26 @@ pub fn bedroom(id: &str) -> RoomBuilder {
         .door(0, [1.0, 1.9], [0.0, 2.1])
 }
 
+/// A large, slightly concave floor outline for tests of cost: `n` points counter-clockwise
+/// around the origin at radius `10 (1 + 0.05 sin 7a)` metres (a = the point's angle), every
+/// other point pushed out by 1 mm so that the outline is not convex at any scale. Simple for
+/// any `n` of at least 3.
+///
+/// ```
+/// let outline = sceneeval_test_support::wobbly_outline(1000);
+/// let floor = sceneeval_geom::Polygon2::new(outline).unwrap();
+/// assert!(floor.is_ccw() && (floor.area() - 314.5).abs() < 1.0);
+/// ```
+pub fn wobbly_outline(n: u32) -> Vec<Point2> {
+    (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+            let r = 10.0 * (1.0 + 0.05 * (7.0 * a).sin()) + if i % 2 == 0 { 0.0 } else { 0.001 };
+            Point2::new(r * a.cos(), r * a.sin())
+        })
+        .collect()
+}
+
 /// Appends the 8 corners and 12 outward triangles of the axis-aligned box `[min, max]` to a
 /// mesh given as `f32` positions and flat triangle indices (the form of
 /// `sceneeval_io::GlbMesh`).

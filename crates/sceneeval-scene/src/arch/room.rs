@@ -537,15 +537,10 @@ pub(super) mod tests {
 
     #[test]
     fn walls_on_floor_edges_need_no_point_in_polygon_test() {
-        // A 30,000-gon (a circle of radius 10 m) with one wall per edge: every wall lies on a
-        // floor edge, so no side test runs (each would cost 30,000 edge checks, 9e8 for all).
+        // A concave 30,000-gon with one wall per edge: every wall lies on a floor edge, so no
+        // side test runs (each would cost 30,000 edge checks, 9e8 for all).
         let n = 30_000;
-        let outline: Vec<Point2> = (0..n)
-            .map(|i| {
-                let a = std::f64::consts::TAU * f64::from(i) / f64::from(n);
-                Point2::new(10.0 * a.cos(), 10.0 * a.sin())
-            })
-            .collect();
+        let outline = sceneeval_test_support::wobbly_outline(n);
         SIDE_TESTS.with(|c| c.set(0));
         let room = RoomBuilder::polygon("disc", outline).build().unwrap();
         assert_eq!(SIDE_TESTS.with(Cell::get), 0);
