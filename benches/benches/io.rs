@@ -14,11 +14,13 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Isometry3, Point2, Point3, Vector3};
 use sceneeval_io::assets::PlainFolderSource;
 use sceneeval_io::{
     AssetLibrary, GlbMesh, ReadOptions, read_scene_state, scene_state_to_string, write_glb, write_scene_state,
 };
+use sceneeval_scene::Category;
 use sceneeval_scene::{RoomBuilder, Scene};
 
 /// A closed cylinder (asset frame: y up, origin at the bottom centre) of `segments` sides and
@@ -97,11 +99,10 @@ fn setup(dir: &Path) -> std::path::PathBuf {
     for i in 0..20u32 {
         let c = Point3::new(11.0 + 0.25 * (i % 5) as f64, 1.0 + 2.0 * (i / 5) as f64, 0.3);
         builder = builder.add_box(
-            &format!("box{i}"),
-            "box",
-            c,
-            Vector3::new(0.2, 0.3, 0.6),
-            0.1 * i as f64,
+            format!("box{i}"),
+            Category::new("box"),
+            Vector3::new(0.1, 0.15, 0.3),
+            pose_from_yaw(c, 0.1 * i as f64),
         );
     }
     let scene = builder.build().expect("scene");

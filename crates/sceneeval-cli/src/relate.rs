@@ -14,11 +14,8 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use sceneeval::geom::{Matrix3, Obb, Point2, Point3, Real, Rotation3, Vector3};
-use sceneeval::relations::{
-    ObjectGeom, OpeningSpec, Relation, RelationError, RelationKind, RelationParams, RoomGeometry, arch,
-    batch, surround,
-};
-use sceneeval::scene::OpeningKind;
+use sceneeval::relations::{ObjectGeom, Relation, RelationKind, RelationParams, arch, batch, surround};
+use sceneeval::scene::{Room, RoomBuilder};
 use serde::de::IgnoredAny;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -283,7 +280,7 @@ fn evaluate(q: &QueryLine, params: &RelationParams) -> anyhow::Result<Real> {
                 .map(|(i, b)| build_box(b, &format!("targets[{i}]")))
                 .collect::<anyhow::Result<Vec<Obb>>>()?;
             let views: Vec<ObjectGeom<'_>> = boxes.iter().map(ObjectGeom::from_box).collect();
-            Ok(surround(&ObjectGeom::from_box(&anchor), &views, params))
+            Ok(surround(&views, &ObjectGeom::from_box(&anchor), params))
         }
         RelationKind::ObjectArchitecture => {
             unexpected(q.anchor.is_some(), "anchor", relation)?;
@@ -378,7 +375,7 @@ fn build_box(spec: &BoxSpec, what: &str) -> anyhow::Result<Obb> {
     Obb::new(center, half, rotation).with_context(|| format!("{what} is not a valid box"))
 }
 
-fn build_room(spec: &RoomSpec) -> anyhow::Result<RoomGeometry> {
+fn build_room(spec: &RoomSpec) -> anyhow::Result<Room> {
     for (i, p) in spec.floor.iter().enumerate() {
         finite(p, &format!("room.floor[{i}]"))?;
     }
@@ -386,36 +383,21 @@ fn build_room(spec: &RoomSpec) -> anyhow::Result<RoomGeometry> {
         &[spec.floor_z, spec.height, spec.wall_thickness],
         "room.floor_z/height/wall_thickness",
     )?;
-    let openings = spec
-        .openings
-        .iter()
-        .enumerate()
-        .map(|(i, o)| {
-            let kind = match o.kind.to_ascii_lowercase().as_str() {
-                "door" => OpeningKind::Door,
-                "window" => OpeningKind::Window,
-                other => anyhow::bail!("room.openings[{i}].kind {other:?} is not \"door\" or \"window\""),
-            };
-            finite(&o.along, &format!("room.openings[{i}].along"))?;
-            finite(&o.height, &format!("room.openings[{i}].height"))?;
-            Ok(OpeningSpec {
-                kind,
-                wall: o.wall,
-                along: o.along,
-                height: o.height,
-            })
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?;
     let outline = spec.floor.iter().map(|p| Point2::new(p[0], p[1])).collect();
-    RoomGeometry::from_outline(
-        "room",
-        outline,
-        spec.floor_z,
-        spec.height,
-        spec.wall_thickness,
-        &openings,
-    )
-    .map_err(|e: RelationError| anyhow::anyhow!(e))
+    let mut room = RoomBuilder::polygon("room", outline)
+        .floor_z(spec.floor_z)
+        .wall_height(spec.height)
+        .wall_thickness(spec.wall_thickness);
+    for (i, o) in spec.openings.iter().enumerate() {
+        finite(&o.along, &format!("room.openings[{i}].along"))?;
+        finite(&o.height, &format!("room.openings[{i}].height"))?;
+        room = match o.kind.to_ascii_lowercase().as_str() {
+            "door" => room.door(o.wall, o.along, o.height),
+            "window" => room.window(o.wall, o.along, o.height),
+            other => anyhow::bail!("room.openings[{i}].kind {other:?} is not \"door\" or \"window\""),
+        };
+    }
+    room.build().map_err(|e| anyhow::anyhow!("room: {e}"))
 }
 
 #[cfg(test)]

@@ -39,14 +39,16 @@ pub mod parry_adapter;
 pub mod planar;
 mod polygon;
 mod ray;
+mod shapes;
 
 pub use aabb::Aabb;
 pub use conventions::Side;
 pub use error::GeomError;
 pub use mesh::{Mesh, RayHit};
 pub use obb::Obb;
-pub use polygon::Polygon2;
+pub use polygon::{MAX_EDGE_PAIRS, Polygon2};
 pub use ray::{Plane, Ray};
+pub use shapes::{CUBOID_TRIANGLES, cuboid_corner, weld_vertices};
 
 /// The scalar type of every public geometry value (metres, radians).
 pub type Real = f64;

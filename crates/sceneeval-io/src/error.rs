@@ -136,7 +136,7 @@ pub enum IoError {
     },
     /// No asset source is registered for a model id's prefix.
     #[error("model id {model_id:?}: no asset source for prefix {prefix:?} (registered: {})",
-        if .registered.is_empty() { "none; pass --assets PREFIX=DIR".to_owned() } else { .registered.join(", ") })]
+        if .registered.is_empty() { "none".to_owned() } else { .registered.join(", ") })]
     UnknownPrefix {
         /// The model id.
         model_id: String,

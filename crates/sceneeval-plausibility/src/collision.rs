@@ -475,6 +475,7 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
     use sceneeval_geom::Vector3;
+    use sceneeval_geom::conventions::pose_from_yaw;
 
     proptest! {
         /// The sweep finds exactly the pairs whose boxes overlap (checked against all pairs).
@@ -485,7 +486,7 @@ mod tests {
                 .iter()
                 .enumerate()
                 .map(|(k, &(x, y, z, w, d, h))| {
-                    SceneObject::new_box(format!("o{k}"), Point3::new(x, y, z), Vector3::new(w, d, h), 0.3 * k as f64)
+                    SceneObject::new_box(format!("o{k}"), Vector3::new(w, d, h) * 0.5, pose_from_yaw(Point3::new(x, y, z), 0.3 * k as f64))
                         .unwrap()
                 })
                 .collect();

@@ -5,14 +5,18 @@
 //! Every metric is a function of a [`sceneeval_scene::Scene`] and its parameter struct (whose
 //! defaults are the reference's, documented with units and the reference's parameter name);
 //! [`evaluate`] runs them all and [`evaluate_metrics`] (the one dispatcher) any subset, under
-//! a [`Deadline`], into one [`PlausibilityReport`] type. Support types and functional sides, which the reference asks a
-//! VLM for, come from [`SupportTypeSource`] and [`FunctionalSidesSource`] implementations
-//! (caller-given maps, built-in category tables, or chains of both), never from the geometry
-//! being checked.
+//! a [`Deadline`], into one [`PlausibilityReport`] type. Support types and functional sides,
+//! which the reference asks a VLM for, come from [`Source`] implementations (one generic trait
+//! per [`Question`]: caller-given maps, what the scene states, built-in category tables, or
+//! chains of these), never from the geometry being checked.
 //!
 //! Results are deterministic: no random sampling (the reference's random surface and face
 //! samples are replaced by exact clipping or fixed lattices), and work spread over rayon
 //! threads is collected in order, so a report is bit-identical for any thread count.
+//!
+//! For loops that move objects (layout optimisers), [`LayoutChecks`] prepares the rooms once
+//! and then answers a metric's per-object question for one object at a time, with the
+//! metric's own code and without allocating.
 //!
 //! The docs of each metric function state its exact semantics and where (and why) they differ
 //! from the reference implementation. The crate feature `images` (default) adds
@@ -29,17 +33,19 @@
 //!
 //! # Example
 //! ```
-//! use sceneeval_geom::{Point2, Point3, Vector3};
+//! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //! use sceneeval_plausibility::{evaluate, PlausibilityParams, Sources};
-//! use sceneeval_scene::{RoomBuilder, Scene};
+//! use sceneeval_scene::{Category, RoomBuilder, Scene};
 //!
 //! let scene = Scene::builder()
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 //!         .door(0, [1.0, 1.9], [0.0, 2.1]))
 //!     // A bed against the far wall, and a nightstand 1 cm into it.
-//!     .add_box("bed", "bed", Point3::new(2.0, 3.95, 0.3), Vector3::new(1.6, 2.0, 0.6), 0.0)
-//!     .add_box("nightstand", "nightstand", Point3::new(0.96, 4.7, 0.3),
-//!              Vector3::new(0.5, 0.4, 0.6), 0.0)
+//!     // (half extents: a 1.6 x 2.0 x 0.6 m bed, a 0.5 x 0.4 x 0.6 m nightstand)
+//!     .add_box("bed", Category::new("bed"), Vector3::new(0.8, 1.0, 0.3),
+//!              pose_from_yaw(Point3::new(2.0, 3.95, 0.3), 0.0))
+//!     .add_box("nightstand", Category::new("nightstand"), Vector3::new(0.25, 0.2, 0.3),
+//!              pose_from_yaw(Point3::new(0.96, 4.7, 0.3), 0.0))
 //!     .build()
 //!     .unwrap();
 //!
@@ -72,6 +78,7 @@ mod deadline;
 #[cfg(feature = "images")]
 mod diagnostics;
 mod error;
+mod layout;
 mod navigability;
 mod objects;
 mod oob;
@@ -98,14 +105,16 @@ pub use deadline::Deadline;
 #[cfg(feature = "images")]
 pub use diagnostics::write_diagnostics;
 pub use error::PlausibilityError;
+pub use layout::{LayoutChecks, LayoutScratch};
 pub use navigability::{
     NavigabilityParams, NavigabilityReport, OccupancyMap, RoomNavigability, navigability, occupancy_map,
 };
 pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds};
 pub use raster::{Grid, Resolution};
 pub use sources::{
-    Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesSource, GivenFunctionalSides,
-    GivenSupportTypes, SUPPORT_TYPE_TABLE, Stated, SupportType, SupportTypePriors, SupportTypeSource,
+    Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesOf, FunctionalSidesSource,
+    GivenFunctionalSides, GivenSupportTypes, Question, SUPPORT_TYPE_TABLE, Source, Stated, SupportType,
+    SupportTypeOf, SupportTypePriors, SupportTypeSource,
 };
 pub use support::{ObjectSupport, SupportParams, SupportReport, Supporter, support};
 

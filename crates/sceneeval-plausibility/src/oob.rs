@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::accessibility::scene_floor_pieces;
 use crate::error::check_non_negative;
-use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space};
+use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space_into};
 use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the out-of-bounds metric (reference yaml `OutOfBoundMetric`).
@@ -35,6 +35,32 @@ impl Default for OutOfBoundsParams {
             below_floor_tolerance: 0.005,
             boundary_tolerance: 0.001,
         }
+    }
+}
+
+impl OutOfBoundsParams {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
+        check_non_negative(
+            "out_of_bounds",
+            "below_floor_tolerance",
+            self.below_floor_tolerance,
+            false,
+        )?;
+        check_non_negative(
+            "out_of_bounds",
+            "boundary_tolerance",
+            self.boundary_tolerance,
+            false,
+        )?;
+        if !(0.0..=1.0).contains(&self.threshold) {
+            return Err(PlausibilityError::InvalidParameter {
+                metric: "out_of_bounds",
+                name: "threshold",
+                value: self.threshold,
+                reason: "must lie in [0, 1]",
+            });
+        }
+        Ok(())
     }
 }
 
@@ -87,32 +113,6 @@ pub fn out_of_bounds(
     out_of_bounds_with(scene, params, &pieces, &Deadline::none())
 }
 
-impl OutOfBoundsParams {
-    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
-        check_non_negative(
-            "out_of_bounds",
-            "below_floor_tolerance",
-            self.below_floor_tolerance,
-            false,
-        )?;
-        check_non_negative(
-            "out_of_bounds",
-            "boundary_tolerance",
-            self.boundary_tolerance,
-            false,
-        )?;
-        if !(0.0..=1.0).contains(&self.threshold) {
-            return Err(PlausibilityError::InvalidParameter {
-                metric: "out_of_bounds",
-                name: "threshold",
-                value: self.threshold,
-                reason: "must lie in [0, 1]",
-            });
-        }
-        Ok(())
-    }
-}
-
 pub(crate) fn out_of_bounds_with(
     scene: &Scene,
     params: &OutOfBoundsParams,
@@ -123,15 +123,11 @@ pub(crate) fn out_of_bounds_with(
     let objects: Vec<ObjectBounds> = scene
         .objects()
         .par_iter()
-        .map(|o| {
+        .map_init(ClipScratch::default, |scratch, o| {
             deadline.check("out_of_bounds")?;
             let surface_area = o.mesh().surface_area();
-            let over = area_over_floor(o, pieces, params.below_floor_tolerance, params.boundary_tolerance);
-            let ratio = if surface_area > 0.0 {
-                (over / surface_area).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
+            let over = area_over_floor(o, pieces, params, scratch);
+            let ratio = in_bounds_ratio(surface_area, over);
             Ok(ObjectBounds {
                 id: o.id().clone(),
                 surface_area,
@@ -149,18 +145,51 @@ pub(crate) fn out_of_bounds_with(
     })
 }
 
-fn area_over_floor(o: &SceneObject, pieces: &[FloorPiece], tol: Real, margin: Real) -> Real {
+/// The share of a surface of area `surface_area` that `over` covers, in [0, 1] (0 for an
+/// object without surface).
+pub(crate) fn in_bounds_ratio(surface_area: Real, over: Real) -> Real {
+    if surface_area > 0.0 {
+        (over / surface_area).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Two polygon buffers reused across clips: after they have grown to the largest polygon met,
+/// [`area_over_floor`] allocates nothing.
+#[derive(Debug, Default)]
+pub(crate) struct ClipScratch {
+    a: Vec<Point3>,
+    b: Vec<Point3>,
+}
+
+impl ClipScratch {
+    /// Buffers that hold `n` points without growing.
+    pub(crate) fn with_capacity(n: usize) -> Self {
+        ClipScratch {
+            a: Vec::with_capacity(n),
+            b: Vec::with_capacity(n),
+        }
+    }
+}
+
+/// The surface area of `o`'s world mesh lying over a floor piece and above its floor (less
+/// `tol`), the pieces' outer edges moved out by `margin` (see [`out_of_bounds`]).
+pub(crate) fn area_over_floor(
+    o: &SceneObject,
+    pieces: &[FloorPiece],
+    params: &OutOfBoundsParams,
+    scratch: &mut ClipScratch,
+) -> Real {
+    let (tol, margin) = (params.below_floor_tolerance, params.boundary_tolerance);
     let aabb = o.world_aabb();
     let ob = (
         Point2::new(aabb.min.x, aabb.min.y),
         Point2::new(aabb.max.x, aabb.max.y),
     );
     let grow = |b: &(Point2, Point2)| (b.0 - Vector2::repeat(margin), b.1 + Vector2::repeat(margin));
-    let near: Vec<&FloorPiece> = pieces
-        .iter()
-        .filter(|p| boxes_overlap(&grow(&p.bounds), &ob))
-        .collect();
-    if near.is_empty() {
+    let near = || pieces.iter().filter(|p| boxes_overlap(&grow(&p.bounds), &ob));
+    if near().next().is_none() {
         return 0.0;
     }
     // Whole object over one piece and above its floor.
@@ -170,34 +199,34 @@ fn area_over_floor(o: &SceneObject, pieces: &[FloorPiece], tol: Real, margin: Re
         ob.1,
         Point2::new(ob.0.x, ob.1.y),
     ];
-    if near
-        .iter()
-        .any(|p| aabb.min.z >= p.floor_z - tol && corners.iter().all(|c| p.contains(c, margin)))
-    {
+    if near().any(|p| aabb.min.z >= p.floor_z - tol && corners.iter().all(|c| p.contains(c, margin))) {
         return o.mesh().surface_area();
     }
-    let world: Vec<Point3> = o.mesh().vertices().iter().map(|v| o.pose() * v).collect();
+    let (mesh, pose) = (o.mesh(), o.pose());
+    let vertices = mesh.vertices();
     let mut total = 0.0;
-    for t in o.mesh().triangles() {
-        let tri = [world[t[0] as usize], world[t[1] as usize], world[t[2] as usize]];
+    for t in mesh.triangles() {
+        let tri = t.map(|i| pose * vertices[i as usize]);
         let full = area3(&tri);
         let xy = tri.map(|p| Point2::new(p.x, p.y));
         let tb = (xy[0].inf(&xy[1]).inf(&xy[2]), xy[0].sup(&xy[1]).sup(&xy[2]));
         let mut covered = 0.0;
-        for p in near.iter().filter(|p| boxes_overlap(&grow(&p.bounds), &tb)) {
+        for p in near().filter(|p| boxes_overlap(&grow(&p.bounds), &tb)) {
             let low = p.floor_z - tol;
             if tri.iter().all(|v| v.z >= low) && xy.iter().all(|c| p.contains(c, margin)) {
                 covered += full;
                 continue;
             }
-            let mut poly = clip_half_space(&tri, |v| v.z - low);
+            let ClipScratch { a, b } = scratch;
+            clip_half_space_into(&tri, |v| v.z - low, a);
             for k in 0..p.poly.len() {
-                if poly.len() < 3 {
+                if a.len() < 3 {
                     break;
                 }
-                poly = clip_half_space(&poly, |v| p.inside_edge(k, &Point2::new(v.x, v.y), margin));
+                clip_half_space_into(a, |v| p.inside_edge(k, &Point2::new(v.x, v.y), margin), b);
+                std::mem::swap(a, b);
             }
-            covered += area3(&poly);
+            covered += area3(a);
         }
         total += covered.min(full);
     }
@@ -207,7 +236,9 @@ fn area_over_floor(o: &SceneObject, pieces: &[FloorPiece], tol: Real, margin: Re
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::conventions::pose_from_yaw;
     use sceneeval_geom::{Vector3, na::Point2 as P2};
+    use sceneeval_scene::Category;
     use sceneeval_scene::RoomBuilder;
 
     fn ratio(scene: &Scene, params: &OutOfBoundsParams) -> Real {
@@ -226,10 +257,9 @@ mod tests {
             .room_builder(room())
             .add_box(
                 "w",
-                "wardrobe",
-                Point3::new(0.5 - 1e-8, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("wardrobe"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(0.5 - 1e-8, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();
@@ -252,10 +282,9 @@ mod tests {
             .room_builder(room())
             .add_box(
                 "w",
-                "wardrobe",
-                Point3::new(0.45, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("wardrobe"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(0.45, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();
@@ -276,10 +305,9 @@ mod tests {
         let straddling = two()
             .add_box(
                 "t",
-                "table",
-                Point3::new(4.0, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("table"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(4.0, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();
@@ -292,10 +320,9 @@ mod tests {
         let poking = two()
             .add_box(
                 "t",
-                "table",
-                Point3::new(7.0, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("table"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(7.0, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();

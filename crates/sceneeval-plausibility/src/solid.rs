@@ -1,7 +1,5 @@
 //! Inside tests and surface distances for placed meshes.
 
-use std::collections::HashMap;
-
 use sceneeval_geom::parry::math::Vector as PVector;
 use sceneeval_geom::parry::query::PointQueryWithLocation;
 use sceneeval_geom::parry::shape::TrianglePointLocation;
@@ -82,17 +80,8 @@ impl<'a> Solid<'a> {
 }
 
 fn pseudo_normals(mesh: &Mesh) -> PseudoNormals {
-    let mut ids: HashMap<[u64; 3], u32> = HashMap::with_capacity(mesh.vertices().len());
-    let weld: Vec<u32> = mesh
-        .vertices()
-        .iter()
-        .map(|p| {
-            let next = ids.len() as u32;
-            *ids.entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-                .or_insert(next)
-        })
-        .collect();
-    let mut vertex = vec![Vector3::zeros(); ids.len()];
+    let (weld, distinct) = sceneeval_geom::weld_vertices(mesh.vertices());
+    let mut vertex = vec![Vector3::zeros(); distinct];
     let mut edges: Vec<((u32, u32), Vector3)> = Vec::with_capacity(mesh.triangles().len() * 3);
     let mut face = Vec::with_capacity(mesh.triangles().len());
     for (k, t) in mesh.triangles().iter().enumerate() {

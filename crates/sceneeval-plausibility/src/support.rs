@@ -184,8 +184,9 @@ pub(crate) fn support_with(
     for room in scene.rooms() {
         let rid = room.id().to_string();
         targets.push(arch_target(room.floor_mesh(), Supporter::Floor(rid.clone())));
-        for w in room.walls() {
-            targets.push(arch_target(w.mesh(), Supporter::Wall(w.id().to_owned())));
+        // A wall whose openings cover it whole has no solid to support anything.
+        for (w, mesh) in room.walls().iter().filter_map(|w| Some((w, w.mesh()?))) {
+            targets.push(arch_target(mesh, Supporter::Wall(w.id().to_owned())));
         }
         if let Some(c) = room.ceiling_mesh() {
             targets.push(arch_target(c, Supporter::Ceiling(rid)));

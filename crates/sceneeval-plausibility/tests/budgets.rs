@@ -11,9 +11,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use common::scene;
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Isometry3, Mesh, Point3, Vector3};
 use sceneeval_plausibility::*;
-use sceneeval_scene::{Scene, SceneObject};
+use sceneeval_scene::{Category, Scene, SceneObject};
 
 /// `n` boxes in a row, 0.4 m apart, all on the floor.
 fn row_of_boxes(n: usize) -> Scene {
@@ -21,10 +22,12 @@ fn row_of_boxes(n: usize) -> Scene {
     for k in 0..n {
         b = b.add_box(
             &format!("box_{k}"),
-            "cabinet",
-            Point3::new(0.3 + 0.4 * (k % 9) as f64, 0.3 + 0.5 * (k / 9) as f64, 0.15),
-            Vector3::new(0.3, 0.3, 0.3),
-            0.0,
+            Category::new("cabinet"),
+            Vector3::new(0.15, 0.15, 0.15),
+            pose_from_yaw(
+                Point3::new(0.3 + 0.4 * (k % 9) as f64, 0.3 + 0.5 * (k / 9) as f64, 0.15),
+                0.0,
+            ),
         );
     }
     b.build().unwrap()
@@ -58,8 +61,8 @@ struct CancelAfter {
     deadline: Deadline,
 }
 
-impl SupportTypeSource for CancelAfter {
-    fn support_type(&self, _: &Scene, _: &SceneObject) -> Option<Answer<SupportType>> {
+impl Source<SupportTypeOf> for CancelAfter {
+    fn answer(&self, _: &Scene, _: &SceneObject) -> Option<Answer<SupportType>> {
         if self.calls.fetch_add(1, Ordering::SeqCst) + 1 == self.after {
             self.deadline.cancel();
         }
@@ -122,8 +125,8 @@ fn work_after_cancellation_is_bounded() {
         calls: Arc<AtomicUsize>,
         deadline: Deadline,
     }
-    impl SupportTypeSource for Counting {
-        fn support_type(&self, _: &Scene, _: &SceneObject) -> Option<Answer<SupportType>> {
+    impl Source<SupportTypeOf> for Counting {
+        fn answer(&self, _: &Scene, _: &SceneObject) -> Option<Answer<SupportType>> {
             if self.calls.fetch_add(1, Ordering::SeqCst) + 1 == 5 {
                 self.deadline.cancel();
             }

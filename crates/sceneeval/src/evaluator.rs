@@ -14,14 +14,14 @@ pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
 ///
 /// ```
 /// use sceneeval::{Evaluator, EvaluationPlan};
-/// use sceneeval::scene::{RoomBuilder, Scene};
-/// use sceneeval::geom::{Point2, Point3, Vector3};
+/// use sceneeval::scene::{Category, RoomBuilder, Scene};
+/// use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 ///
 /// let scene = Scene::builder()
 ///     .id("scene_0")
 ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 4.0)))
-///     .add_box("a", "table", Point3::new(1.0, 1.0, 0.4), Vector3::new(1.0, 1.0, 0.8), 0.0)
-///     .add_box("b", "table", Point3::new(1.5, 1.0, 0.4), Vector3::new(1.0, 1.0, 0.8), 0.0)
+///     .add_box("a", Category::new("table"), Vector3::new(0.5, 0.5, 0.4), pose_from_yaw(Point3::new(1.0, 1.0, 0.4), 0.0))
+///     .add_box("b", Category::new("table"), Vector3::new(0.5, 0.5, 0.4), pose_from_yaw(Point3::new(1.5, 1.0, 0.4), 0.0))
 ///     .build()
 ///     .unwrap();
 /// let report = Evaluator::new(EvaluationPlan::geometry_only()).unwrap().evaluate(&scene).unwrap();
@@ -118,7 +118,9 @@ pub struct SceneReport {
 mod tests {
     use super::*;
     use crate::Metric;
+    use crate::geom::conventions::pose_from_yaw;
     use crate::geom::{Point2, Point3, Vector3};
+    use crate::scene::Category;
     use crate::scene::RoomBuilder;
 
     fn scene() -> Scene {
@@ -133,17 +135,15 @@ mod tests {
             )
             .add_box(
                 "bed",
-                "bed",
-                Point3::new(2.0, 3.0, 0.25),
-                Vector3::new(1.6, 2.0, 0.5),
-                0.0,
+                Category::new("bed"),
+                Vector3::new(0.8, 1.0, 0.25),
+                pose_from_yaw(Point3::new(2.0, 3.0, 0.25), 0.0),
             )
             .add_box(
                 "stray",
-                "chair",
-                Point3::new(6.0, 2.0, 0.45),
-                Vector3::new(0.5, 0.5, 0.9),
-                0.0,
+                Category::new("chair"),
+                Vector3::new(0.25, 0.25, 0.45),
+                pose_from_yaw(Point3::new(6.0, 2.0, 0.45), 0.0),
             )
             .build()
             .unwrap()

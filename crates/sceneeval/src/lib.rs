@@ -23,14 +23,16 @@
 //! # Example
 //! ```
 //! use sceneeval::{Evaluator, EvaluationPlan, Summary, SceneRecord};
-//! use sceneeval::scene::{RoomBuilder, Scene};
-//! use sceneeval::geom::{Point2, Point3, Vector3};
+//! use sceneeval::scene::{Category, RoomBuilder, Scene};
+//! use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //!
 //! let scene = Scene::builder()
 //!     .id("scene_0")
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 //!         .door(0, [1.0, 1.9], [0.0, 2.1]))
-//!     .add_box("bed", "bed", Point3::new(2.0, 3.9, 0.25), Vector3::new(1.6, 2.0, 0.5), 0.0)
+//!     // A 1.6 x 2.0 x 0.5 m bed (half extents 0.8, 1.0, 0.25).
+//!     .add_box("bed", Category::new("bed"), Vector3::new(0.8, 1.0, 0.25),
+//!              pose_from_yaw(Point3::new(2.0, 3.9, 0.25), 0.0))
 //!     .build()
 //!     .unwrap();
 //! let plan = EvaluationPlan::geometry_only();

@@ -5,16 +5,14 @@
 
 use std::sync::Arc;
 
-use sceneeval_geom::{Isometry3, Mesh, Point2, Point3, Vector3};
+use sceneeval_geom::{Isometry3, Mesh, Vector3};
 use sceneeval_plausibility::{Metric, PlausibilityReport};
 use sceneeval_scene::{RoomBuilder, SceneBuilder};
 
 /// A 4 m x 5 m room (x in [0, 4], y in [0, 5]), 2.8 m walls 0.1 m thick, a door in wall 0
 /// (y = 0) spanning x in [1.0, 1.9] and height [0, 2.1], a window in wall 2 (y = 5).
 pub fn room() -> RoomBuilder {
-    RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
-        .door(0, [1.0, 1.9], [0.0, 2.1])
-        .window(2, [1.0, 2.5], [0.9, 2.0])
+    sceneeval_test_support::bedroom("r0").window(2, [1.0, 2.5], [0.9, 2.0])
 }
 
 /// A scene builder with [`room`].
@@ -23,37 +21,8 @@ pub fn scene() -> SceneBuilder {
 }
 
 /// A closed UV sphere of radius `r` with `n` rings and `2n` segments (`4n^2 - 4n` triangles).
-pub fn sphere(r: f64, n: usize) -> Arc<Mesh> {
-    let mut v = vec![Point3::new(0.0, 0.0, r)];
-    for i in 1..n {
-        let th = std::f64::consts::PI * i as f64 / n as f64;
-        for j in 0..2 * n {
-            let ph = std::f64::consts::PI * j as f64 / n as f64;
-            v.push(Point3::new(
-                r * th.sin() * ph.cos(),
-                r * th.sin() * ph.sin(),
-                r * th.cos(),
-            ));
-        }
-    }
-    v.push(Point3::new(0.0, 0.0, -r));
-    let m = 2 * n as u32;
-    let ring = |i: u32, j: u32| 1 + i * m + (j % m);
-    let mut t = Vec::new();
-    for j in 0..m {
-        t.push([0, ring(0, j), ring(0, j + 1)]);
-    }
-    for i in 0..(n as u32 - 2) {
-        for j in 0..m {
-            t.push([ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)]);
-            t.push([ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)]);
-        }
-    }
-    let last = v.len() as u32 - 1;
-    for j in 0..m {
-        t.push([last, ring(n as u32 - 2, j + 1), ring(n as u32 - 2, j)]);
-    }
-    Arc::new(Mesh::new(v, t).unwrap())
+pub fn sphere(r: f64, n: u32) -> Arc<Mesh> {
+    Arc::new(Mesh::uv_ellipsoid(&Vector3::repeat(r), 2 * n, n).unwrap())
 }
 
 /// Placement of a mesh at a point, upright, turned by `yaw`.
