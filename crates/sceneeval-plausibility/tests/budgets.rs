@@ -21,7 +21,7 @@ fn row_of_boxes(n: usize) -> Scene {
     let mut b = scene();
     for k in 0..n {
         b = b.add_box(
-            &format!("box_{k}"),
+            format!("box_{k}"),
             Category::new("cabinet"),
             Vector3::new(0.15, 0.15, 0.15),
             pose_from_yaw(
