@@ -72,7 +72,7 @@ pub fn read_mesh_file(path: &Path) -> Result<RawMesh, IoError> {
     Ok(mesh)
 }
 
-fn bad(path: &Path, message: impl Into<String>) -> IoError {
+pub(crate) fn bad(path: &Path, message: impl Into<String>) -> IoError {
     IoError::BadAssetFile {
         path: path.to_owned(),
         message: message.into(),
@@ -83,8 +83,26 @@ fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
     let bytes = crate::uri::read_file_limited(path, MAX_ASSET_FILE_BYTES)?;
     let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| bad(path, e.to_string()))?;
     let buffers = load_buffers(path, &gltf)?;
-    let doc = &gltf.document;
+    let mut out = RawMesh::default();
+    for (node, global) in mesh_nodes(path, &gltf.document)? {
+        if let Some(mesh) = node.mesh() {
+            for prim in mesh.primitives() {
+                if let Some((points, tris)) = primitive_geometry(path, &buffers, &prim, &global)? {
+                    out.append(points.into_iter(), tris.into_iter());
+                }
+            }
+        }
+    }
+    Ok(out)
+}
 
+/// The nodes of the default scene (every scene's roots if there is no default scene, every
+/// root node if there are no scenes) that carry a mesh, depth first in file order, each with
+/// its global transform.
+pub(crate) fn mesh_nodes<'a>(
+    path: &Path,
+    doc: &'a gltf::Document,
+) -> Result<Vec<(gltf::Node<'a>, Matrix4<Real>)>, IoError> {
     let roots: Vec<gltf::Node<'_>> = match doc.default_scene() {
         Some(scene) => scene.nodes().collect(),
         None if doc.scenes().len() > 0 => doc.scenes().flat_map(|s| s.nodes()).collect(),
@@ -99,7 +117,7 @@ fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
             doc.nodes().filter(|n| !is_child[n.index()]).collect()
         }
     };
-    let mut out = RawMesh::default();
+    let mut out = Vec::new();
     // Depth-first with an explicit stack; a hierarchy deeper than the number of nodes has a
     // cycle (invalid glTF).
     let max_depth = doc.nodes().len();
@@ -115,13 +133,11 @@ fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
         let m = node.transform().matrix();
         let local = Matrix4::from_fn(|r, c| Real::from(m[c][r]));
         let global = parent * local;
-        if let Some(mesh) = node.mesh() {
-            for prim in mesh.primitives() {
-                read_primitive(path, &buffers, &prim, &global, &mut out)?;
-            }
-        }
         for child in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((child, global, depth + 1));
+        }
+        if node.mesh().is_some() {
+            out.push((node, global));
         }
     }
     Ok(out)
@@ -134,7 +150,7 @@ pub const MAX_ASSET_FILE_BYTES: u64 = 1 << 30;
 /// The glTF's buffers: the GLB blob, `data:` URIs, or files inside the asset's own folder
 /// ([`crate::uri`]); never a file elsewhere. Each buffer must hold at least the `byteLength`
 /// it declares.
-fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data>, IoError> {
+pub(crate) fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data>, IoError> {
     let mut blob = gltf.blob.clone();
     let mut out = Vec::with_capacity(gltf.document.buffers().len());
     for buffer in gltf.document.buffers() {
@@ -180,7 +196,7 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data
 
 /// Checks that reading `count` elements of `size` bytes through `accessor` stays inside its
 /// buffer, so that the `gltf` reader can neither panic nor silently stop early.
-fn check_accessor(
+pub(crate) fn check_accessor(
     path: &Path,
     what: &str,
     accessor: &gltf::Accessor<'_>,
@@ -238,20 +254,22 @@ fn check_accessor(
     }
 }
 
-fn read_primitive(
+/// The vertices (transformed by `global`) and triangles of a triangle primitive, in the order
+/// the file stores them; `None` for a point or line primitive (skipped with a warning).
+/// Triangles are wound counter-clockwise even under a mirroring `global`.
+pub(crate) fn primitive_geometry(
     path: &Path,
     buffers: &[gltf::buffer::Data],
     prim: &gltf::Primitive<'_>,
     global: &Matrix4<Real>,
-    out: &mut RawMesh,
-) -> Result<(), IoError> {
+) -> Result<Option<(Vec<Point3>, Vec<[u32; 3]>)>, IoError> {
     let mode = prim.mode();
     if matches!(
         mode,
         Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip
     ) {
         tracing::warn!(file = %path.display(), ?mode, "skipping a point or line primitive");
-        return Ok(());
+        return Ok(None);
     }
     let Some(positions) = prim.get(&gltf::Semantic::Positions) else {
         return Err(bad(path, "a triangle primitive has no POSITION attribute"));
@@ -309,8 +327,7 @@ fn read_primitive(
             t.swap(1, 2);
         }
     }
-    out.append(points.into_iter(), tris.into_iter());
-    Ok(())
+    Ok(Some((points, tris)))
 }
 
 /// Triangles of a triangle list, strip or fan.

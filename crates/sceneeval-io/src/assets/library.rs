@@ -7,12 +7,12 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use sceneeval_geom::conventions::object_from_asset;
 use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Vector3};
 use sceneeval_scene::{ObjectId, SceneObject};
 
 use super::{AssetInfo, AssetSource, AssetSpec, split_model_id};
 use crate::IoError;
+use crate::appearance::{Appearance, load_appearance};
 use crate::mesh_load::read_mesh_file;
 
 /// A loaded asset: its mesh in the **object frame** (z up, front -y; unscaled) and its
@@ -65,6 +65,7 @@ pub struct AssetLibrary {
     assets: Cache<String, Arc<Asset>>,
     scaled: Cache<(String, [u64; 3]), Arc<Mesh>>,
     files_read: AtomicUsize,
+    appearances: Cache<String, Arc<Appearance>>,
 }
 
 impl fmt::Debug for AssetLibrary {
@@ -228,6 +229,36 @@ impl AssetLibrary {
         Ok(object)
     }
 
+    /// The look of asset `model_id` (materials, textures and a render mesh in the object
+    /// frame), loaded on first use and shared by every caller. Only renderers need this;
+    /// reading scenes never calls it, so geometry-only runs decode no texture. See
+    /// [`crate::appearance`].
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::asset`] for locating and parsing the file. Missing or broken
+    /// textures and material libraries are logged and fall back to the base colour.
+    pub fn appearance(&self, model_id: &str) -> Result<Arc<Appearance>, IoError> {
+        let slot = slot(&self.appearances, model_id.to_owned());
+        cached(&slot, || {
+            let (prefix, asset_id) = split_model_id(model_id)?;
+            let source = self.sources.get(prefix).ok_or_else(|| IoError::UnknownPrefix {
+                model_id: model_id.to_owned(),
+                prefix: prefix.to_owned(),
+                registered: self.sources.keys().cloned().collect(),
+            })?;
+            let location = source.locate(model_id, asset_id)?;
+            load_appearance(model_id, &location.path, location.alignment.as_ref()).map(Arc::new)
+        })
+    }
+
+    /// How many appearances have been loaded so far (0 in a run that never rendered).
+    pub fn appearances_loaded(&self) -> usize {
+        let map = self.appearances.lock().unwrap_or_else(PoisonError::into_inner);
+        map.values()
+            .filter(|slot| slot.lock().unwrap_or_else(PoisonError::into_inner).is_some())
+            .count()
+    }
+
     fn load(&self, model_id: &str) -> Result<Asset, IoError> {
         let (prefix, asset_id) = split_model_id(model_id)?;
         let Some(source) = self.sources.get(prefix) else {
@@ -240,10 +271,7 @@ impl AssetLibrary {
         let location = source.locate(model_id, asset_id)?;
         let raw = read_mesh_file(&location.path)?;
         self.files_read.fetch_add(1, Ordering::Relaxed);
-        let to_object = match &location.alignment {
-            Some(e) => object_from_asset().matrix() * e.matrix(),
-            None => *object_from_asset().matrix(),
-        };
+        let to_object = crate::frames::object_from_file(location.alignment.as_ref());
         let vertices = raw
             .positions
             .iter()
