@@ -274,7 +274,7 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
                 let offset = bin.len();
                 bin.extend_from_slice(png);
                 let len = bin.len() - offset;
-                while bin.len() % 4 != 0 {
+                while !bin.len().is_multiple_of(4) {
                     bin.push(0);
                 }
                 Some((offset, len))

@@ -87,8 +87,8 @@ fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
     for (node, global) in mesh_nodes(path, &gltf.document)? {
         if let Some(mesh) = node.mesh() {
             for prim in mesh.primitives() {
-                if let Some((points, tris)) = primitive_geometry(path, &buffers, &prim, &global)? {
-                    out.append(points.into_iter(), tris.into_iter());
+                if let Some(raw) = primitive_geometry(path, &buffers, &prim, &global)? {
+                    out.append(raw.positions.into_iter(), raw.triangles.into_iter());
                 }
             }
         }
@@ -255,14 +255,15 @@ pub(crate) fn check_accessor(
 }
 
 /// The vertices (transformed by `global`) and triangles of a triangle primitive, in the order
-/// the file stores them; `None` for a point or line primitive (skipped with a warning).
+/// the file stores them (triangles index the primitive's own vertices); `None` for a point or
+/// line primitive (skipped with a warning).
 /// Triangles are wound counter-clockwise even under a mirroring `global`.
 pub(crate) fn primitive_geometry(
     path: &Path,
     buffers: &[gltf::buffer::Data],
     prim: &gltf::Primitive<'_>,
     global: &Matrix4<Real>,
-) -> Result<Option<(Vec<Point3>, Vec<[u32; 3]>)>, IoError> {
+) -> Result<Option<RawMesh>, IoError> {
     let mode = prim.mode();
     if matches!(
         mode,
@@ -327,7 +328,10 @@ pub(crate) fn primitive_geometry(
             t.swap(1, 2);
         }
     }
-    Ok(Some((points, tris)))
+    Ok(Some(RawMesh {
+        positions: points,
+        triangles: tris,
+    }))
 }
 
 /// Triangles of a triangle list, strip or fan.

@@ -56,7 +56,7 @@ pub(super) fn load(
         // object frame.
         let normal_matrix = normal_matrix(&global).map(|nm| to_object * nm);
         for prim in gltf_mesh.primitives() {
-            let Some((points, tris)) = primitive_geometry(path, &buffers, &prim, &global)? else {
+            let Some(raw) = primitive_geometry(path, &buffers, &prim, &global)? else {
                 continue;
             };
             let material = match prim.material().index() {
@@ -67,6 +67,7 @@ pub(super) fn load(
                     materials.len() - 1
                 }),
             };
+            let (points, tris) = (raw.positions, raw.triangles);
             let n = points.len();
             let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
 

@@ -258,7 +258,7 @@ impl fmt::Debug for Texture {
 }
 
 /// How texture coordinates outside `[0, 1]` are treated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Wrap {
     /// The image repeats (the glTF and OBJ default).
     #[default]
@@ -270,7 +270,7 @@ pub enum Wrap {
 }
 
 /// Texel filtering.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Filter {
     /// The nearest texel.
     Nearest,
@@ -281,7 +281,7 @@ pub enum Filter {
 
 /// Texture sampling parameters (glTF sampler semantics). Unspecified filters are linear with
 /// linear mipmaps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Sampler {
     /// Wrapping along u (horizontal).
     pub wrap_u: Wrap,
