@@ -14,6 +14,7 @@ mod annotations;
 mod evaluate;
 mod inspect;
 mod relate;
+mod render;
 
 /// Evaluate text-conditioned 3D indoor scenes (SceneEval) and query its spatial predicates.
 #[derive(Debug, Parser)]
@@ -38,6 +39,8 @@ enum Command {
     Annotations(annotations::Command),
     /// Evaluate a folder of scenes and write per-scene results and summary tables.
     Evaluate(evaluate::Args),
+    /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
+    Render(render::Args),
 }
 
 fn main() -> ExitCode {
@@ -48,6 +51,7 @@ fn main() -> ExitCode {
         Command::Relate(args) => relate::run(args),
         Command::Annotations(cmd) => annotations::run(cmd),
         Command::Evaluate(args) => evaluate::run(args),
+        Command::Render(args) => render::run(args),
     };
     match result {
         Ok(code) => code,
