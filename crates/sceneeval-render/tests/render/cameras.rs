@@ -311,3 +311,37 @@ fn bad_requests_are_errors() {
         Err(RenderError::EmptyView { .. })
     ));
 }
+
+#[test]
+fn a_callers_own_device_works_and_agrees_with_the_shared_one() {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.backends = wgpu::Backends::VULKAN;
+    let instance = wgpu::Instance::new(desc);
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        ..Default::default()
+    }))
+    .unwrap();
+    let (device, queue) = pollster::block_on(adapter.request_device(&Default::default())).unwrap();
+    let own =
+        sceneeval_render::Renderer::with_gpu(sceneeval_render::Gpu::from_device(device, queue)).unwrap();
+    let shared = renderer();
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, lib) = red_front_scene(dir.path(), 10.0);
+    let settings = RenderSettings::square(48);
+    let view = View::Front("cabinet".into());
+    let a = own
+        .prepare(&scene, &lib)
+        .unwrap()
+        .render(&view, &settings)
+        .unwrap();
+    let b = shared
+        .prepare(&scene, &lib)
+        .unwrap()
+        .render(&view, &settings)
+        .unwrap();
+    assert!(count(&a, is_red) > 48 * 48 / 4);
+    if own.gpu().adapter() == shared.gpu().adapter() {
+        assert_eq!(a.as_raw(), b.as_raw(), "same driver, same bytes");
+    }
+}

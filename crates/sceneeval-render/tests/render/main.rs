@@ -9,5 +9,6 @@
 
 mod cameras;
 mod common;
+mod materials;
 mod reference;
 mod selection;
