@@ -27,7 +27,12 @@ fn writes_the_requested_views_with_inspect_ids_as_file_names() {
     let assert = render()
         .args(["--out"])
         .arg(out.path())
-        .args(["--views", "front,size,top", "--objects", "idx0_fixture.bed,idx3_fixture.table_lamp"])
+        .args([
+            "--views",
+            "front,size,top",
+            "--objects",
+            "idx0_fixture.bed,idx3_fixture.table_lamp",
+        ])
         .args(["--size", "65"])
         .assert()
         .success();
@@ -66,7 +71,11 @@ fn every_object_by_default() {
         .assert()
         .success()
         .stderr(predicate::str::contains("9 images written"));
-    assert!(out.path().join("surroundings_idx8_fixture.ceiling_lamp.png").is_file());
+    assert!(
+        out.path()
+            .join("surroundings_idx8_fixture.ceiling_lamp.png")
+            .is_file()
+    );
 }
 
 #[test]
@@ -78,7 +87,10 @@ fn bad_arguments_are_clear_errors() {
         .args(["--objects", "idx0_fixture.bed,idx99_nothing"])
         .assert()
         .failure()
-        .stderr(predicate::str::contains("no object idx99_nothing").and(predicate::str::contains("idx0_fixture.bed")));
+        .stderr(
+            predicate::str::contains("no object idx99_nothing")
+                .and(predicate::str::contains("idx0_fixture.bed")),
+        );
     render()
         .arg("--out")
         .arg(out.path())

@@ -55,6 +55,12 @@ pub enum RenderError {
         /// The device's largest texture side.
         max: u32,
     },
+    /// The requested number of samples per pixel is not supported.
+    #[error("{samples} samples per pixel are not supported (1 or 4)")]
+    BadSamples {
+        /// Requested samples per pixel.
+        samples: u32,
+    },
     /// A view names an object the scene does not have.
     #[error("the scene has no object {id:?}")]
     UnknownObject {

@@ -20,8 +20,8 @@
 //! [`Renderer`] compiles the pipelines once; [`Renderer::prepare`] uploads a scene once (each
 //! asset's meshes and textures once, shared by its objects) and [`PreparedScene::render`]
 //! draws any number of views from it. Images are 512 x 512 by default ([`RenderSettings`]),
-//! RGBA with a transparent background, 4x multisampled, depth-tested, with no back-face
-//! culling (assets often have flipped triangles) and sRGB output.
+//! RGBA with a transparent background, 4x multisampled (1x on request), depth-tested, with no
+//! back-face culling (assets often have flipped triangles) and sRGB output.
 //!
 //! # Colour
 //! Base colour factors and vertex colours are linear, colour textures sRGB, the output
@@ -87,13 +87,16 @@ pub use views::{
     SURROUNDINGS_MIN_UP, SURROUNDINGS_WALL_RAYS, View, ViewKind,
 };
 
-/// Image size and the top view's wall cut.
+/// Image size, antialiasing and the top view's wall cut.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
     /// Width in pixels (any size from 1 to the device's limit, 8192 or more).
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
+    /// Samples per pixel: 4 (multisampled edges, the default) or 1 (aliased edges; several
+    /// times faster on Mesa's software driver, see `docs/performance.md`).
+    pub samples: u32,
     /// Top views draw walls only up to this height above their base (metres), so that the
     /// rooms' interiors show.
     pub wall_cut_height: f64,
@@ -102,14 +105,17 @@ pub struct RenderSettings {
 impl RenderSettings {
     /// The default image side (the reference's 512 pixels).
     pub const DEFAULT_SIZE: u32 = 512;
+    /// The default samples per pixel (4x multisampling).
+    pub const DEFAULT_SAMPLES: u32 = 4;
     /// The default wall cut of top views: 1.2 m, the height at which floor plans cut walls.
     pub const DEFAULT_WALL_CUT_M: f64 = 1.2;
 
-    /// Square images of `size x size` pixels, default wall cut.
+    /// Square images of `size x size` pixels, 4x multisampling, default wall cut.
     pub fn square(size: u32) -> Self {
         RenderSettings {
             width: size,
             height: size,
+            samples: Self::DEFAULT_SAMPLES,
             wall_cut_height: Self::DEFAULT_WALL_CUT_M,
         }
     }
@@ -151,7 +157,12 @@ impl Renderer {
     pub fn with_gpu(gpu: Gpu) -> Result<Renderer, RenderError> {
         let pipelines = gpu.checked(
             || "compiling the shaders".to_owned(),
-            || Ok(pipeline::Pipelines::new(gpu.device())),
+            || {
+                let pipelines = pipeline::Pipelines::new(gpu.device());
+                // Compile the default pipelines now, so that their errors surface here.
+                pipelines.passes(gpu.device(), RenderSettings::DEFAULT_SAMPLES);
+                Ok(pipelines)
+            },
         )?;
         Ok(Renderer {
             inner: Arc::new(RendererInner { gpu, pipelines }),

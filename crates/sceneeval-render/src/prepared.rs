@@ -13,7 +13,7 @@ use sceneeval_io::appearance::{AlphaMode, Appearance, Texture, TextureBinding};
 
 use crate::human::{FigureMesh, human_figure};
 use crate::input::{ObjectInput, SceneInput};
-use crate::pipeline::{COLOR_FORMAT, DEPTH_FORMAT, ITEM_STRIDE, SAMPLES, VIEW_UNIFORM_BYTES};
+use crate::pipeline::{COLOR_FORMAT, DEPTH_FORMAT, ITEM_STRIDE, SAMPLE_COUNTS, VIEW_UNIFORM_BYTES};
 use crate::pixels;
 use crate::{Camera, RenderError, RenderSettings, Renderer};
 
@@ -60,7 +60,10 @@ struct GpuMesh {
 struct Targets {
     width: u32,
     height: u32,
-    msaa: wgpu::TextureView,
+    samples: u32,
+    /// The multisampled colour target (resolved into `resolve`); `None` with one sample,
+    /// when `resolve` is drawn into directly.
+    msaa: Option<wgpu::TextureView>,
     resolve: wgpu::Texture,
     resolve_view: wgpu::TextureView,
     depth: wgpu::TextureView,
@@ -183,14 +186,19 @@ impl PreparedScene {
         if width == 0 || height == 0 || width > max || height > max {
             return Err(RenderError::BadSize { width, height, max });
         }
+        if !SAMPLE_COUNTS.contains(&settings.samples) {
+            return Err(RenderError::BadSamples {
+                samples: settings.samples,
+            });
+        }
         shot.camera.check()?;
         let mut guard = self.targets.lock().unwrap_or_else(PoisonError::into_inner);
         gpu.checked(
             || format!("rendering {label}"),
             || {
                 let targets = match guard.take() {
-                    Some(t) if t.width == width && t.height == height => t,
-                    _ => Targets::new(gpu.device(), width, height),
+                    Some(t) if (t.width, t.height, t.samples) == (width, height, settings.samples) => t,
+                    _ => Targets::new(gpu.device(), width, height, settings.samples),
                 };
                 let result = self.draw_into(&targets, shot, settings, label);
                 *guard = Some(targets);
@@ -232,13 +240,19 @@ impl PreparedScene {
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
+                // With multisampling the samples are resolved into `resolve` and discarded;
+                // without, `resolve` is drawn into directly.
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &targets.msaa,
+                    view: targets.msaa.as_ref().unwrap_or(&targets.resolve_view),
                     depth_slice: None,
-                    resolve_target: Some(&targets.resolve_view),
+                    resolve_target: targets.msaa.as_ref().map(|_| &targets.resolve_view),
                     ops: wgpu::Operations {
                         load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Discard,
+                        store: if targets.msaa.is_some() {
+                            wgpu::StoreOp::Discard
+                        } else {
+                            wgpu::StoreOp::Store
+                        },
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
@@ -255,8 +269,8 @@ impl PreparedScene {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.view_bind_group, &[]);
-            let pipelines = self.renderer.pipelines();
-            for (pipeline, blend) in [(&pipelines.opaque, false), (&pipelines.blend, true)] {
+            let passes = self.renderer.pipelines().passes(device, targets.samples);
+            for (pipeline, blend) in [(&passes.opaque, false), (&passes.blend, true)] {
                 pass.set_pipeline(pipeline);
                 let mut bound_mesh = None;
                 let mut bound_material = None;
@@ -673,7 +687,7 @@ fn vec4(v: &Vector3) -> [f32; 4] {
 }
 
 impl Targets {
-    fn new(device: &wgpu::Device, width: u32, height: u32) -> Targets {
+    fn new(device: &wgpu::Device, width: u32, height: u32, samples: u32) -> Targets {
         let size = wgpu::Extent3d {
             width,
             height,
@@ -691,12 +705,15 @@ impl Targets {
                 view_formats: &[],
             })
         };
-        let msaa = texture(
-            "colour (msaa)",
-            COLOR_FORMAT,
-            SAMPLES,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
+        let msaa = (samples > 1).then(|| {
+            texture(
+                "colour (msaa)",
+                COLOR_FORMAT,
+                samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+            .create_view(&Default::default())
+        });
         let resolve = texture(
             "colour",
             COLOR_FORMAT,
@@ -706,7 +723,7 @@ impl Targets {
         let depth = texture(
             "depth",
             DEPTH_FORMAT,
-            SAMPLES,
+            samples,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
         let padded_row = pixels::padded_row_bytes(width);
@@ -719,7 +736,8 @@ impl Targets {
         Targets {
             width,
             height,
-            msaa: msaa.create_view(&Default::default()),
+            samples,
+            msaa,
             resolve_view: resolve.create_view(&Default::default()),
             resolve,
             depth: depth.create_view(&Default::default()),

@@ -254,6 +254,31 @@ fn textures_show_their_colour_and_missing_ones_fall_back() {
 }
 
 #[test]
+fn one_sample_per_pixel_gives_hard_edges_in_the_same_places() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, lib) = red_front_scene(dir.path(), 25.0);
+    let prepared = renderer().prepare(&scene, &lib).unwrap();
+    let view = View::Front("cabinet".into());
+    let smooth = prepared.render(&view, &RenderSettings::square(64)).unwrap();
+    let hard = RenderSettings {
+        samples: 1,
+        ..RenderSettings::square(64)
+    };
+    let aliased = prepared.render(&view, &hard).unwrap();
+    // Multisampling blends edges with the background; one sample never does.
+    assert!(count(&smooth, |p| p[3] > 0 && p[3] < 255) > 20);
+    assert_eq!(count(&aliased, |p| p[3] > 0 && p[3] < 255), 0);
+    // The same shape: coverage differs only along edges.
+    let covered = |img: &image::RgbaImage| count(img, |p| p[3] >= 128) as i64;
+    assert!(
+        (covered(&smooth) - covered(&aliased)).abs() < 64,
+        "{} vs {}",
+        covered(&smooth),
+        covered(&aliased)
+    );
+}
+
+#[test]
 fn views_are_byte_identical_on_repeat() {
     let dir = tempfile::tempdir().unwrap();
     let (scene, lib) = red_front_scene(dir.path(), 20.0);
@@ -298,6 +323,14 @@ fn bad_requests_are_errors() {
     assert!(matches!(
         prepared.render(&View::Top, &RenderSettings::square(0)),
         Err(RenderError::BadSize { .. })
+    ));
+    let two_samples = RenderSettings {
+        samples: 2,
+        ..settings
+    };
+    assert!(matches!(
+        prepared.render(&View::Top, &two_samples),
+        Err(RenderError::BadSamples { samples: 2 })
     ));
     assert!(matches!(
         prepared.render(&View::Top, &RenderSettings::square(1 << 20)),
