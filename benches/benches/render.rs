@@ -18,7 +18,6 @@
 // A benchmark binary may stop on a set-up failure, and reports which adapter it measured.
 #![allow(clippy::expect_used, clippy::print_stderr)]
 
-use std::f32::consts::TAU;
 use std::hint::black_box;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -89,33 +88,10 @@ const FIXTURE_IDS: [&str; 18] = [
     "storage_box",
 ];
 
-/// A closed cylinder (asset frame, y up) of `2 * segments * bands + 2 * segments` triangles
-/// with a material.
+/// A cylinder asset (see [`sceneeval_benches::assets::cylinder`]) in a matte colour.
 fn cylinder(name: &str, radius: f32, height: f32, segments: u32, bands: u32, rgb: [f32; 3]) -> GlbMesh {
-    let mut positions = Vec::new();
-    for b in 0..=bands {
-        let y = height * b as f32 / bands as f32;
-        for s in 0..segments {
-            let a = TAU * s as f32 / segments as f32;
-            positions.push([radius * a.cos(), y, radius * a.sin()]);
-        }
-    }
-    let bottom = positions.len() as u32;
-    positions.push([0.0, 0.0, 0.0]);
-    positions.push([0.0, height, 0.0]);
-    let mut indices = Vec::new();
-    let at = |b: u32, s: u32| b * segments + s % segments;
-    for b in 0..bands {
-        for s in 0..segments {
-            indices.extend([at(b, s), at(b + 1, s), at(b, s + 1)]);
-            indices.extend([at(b, s + 1), at(b + 1, s), at(b + 1, s + 1)]);
-        }
-    }
-    for s in 0..segments {
-        indices.extend([bottom, at(0, s), at(0, s + 1)]);
-        indices.extend([bottom + 1, at(bands, s + 1), at(bands, s)]);
-    }
-    GlbMesh::new(name, positions, indices).with_material(GlbMaterial::color(rgb))
+    sceneeval_benches::assets::cylinder(name, radius, height, segments, bands)
+        .with_material(GlbMaterial::color(rgb))
 }
 
 /// A PNG of `size x size` texels of deterministic noise (so that it does not compress away).

@@ -283,16 +283,7 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
         };
 
         let view = |root: &mut json::Root, offset: usize, len: usize, target| {
-            root.push(json::buffer::View {
-                buffer,
-                byte_length: USize64::from(len),
-                byte_offset: Some(USize64::from(offset)),
-                byte_stride: None,
-                extensions: Default::default(),
-                extras: Default::default(),
-                name: None,
-                target: Some(Valid(target)),
-            })
+            push_view(root, buffer, offset, len, Some(target))
         };
         let positions_view = view(
             &mut root,
@@ -341,18 +332,9 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
         });
         let mut attributes = BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]);
         let float_accessor = |root: &mut json::Root, (offset, len): (usize, usize), count, type_| {
-            let view = root.push(json::buffer::View {
-                buffer,
-                byte_length: USize64::from(len),
-                byte_offset: Some(USize64::from(offset)),
-                byte_stride: None,
-                extensions: Default::default(),
-                extras: Default::default(),
-                name: None,
-                target: Some(Valid(json::buffer::Target::ArrayBuffer)),
-            });
+            let attribute_view = view(root, offset, len, json::buffer::Target::ArrayBuffer);
             root.push(json::Accessor {
-                buffer_view: Some(view),
+                buffer_view: Some(attribute_view),
                 byte_offset: None,
                 count: USize64::from(count),
                 component_type: Valid(json::accessor::GenericComponentType(
@@ -430,6 +412,26 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
     })
 }
 
+/// Adds a view of `len` bytes at `offset` of `buffer` to `root`.
+fn push_view(
+    root: &mut json::Root,
+    buffer: json::Index<json::Buffer>,
+    offset: usize,
+    len: usize,
+    target: Option<json::buffer::Target>,
+) -> json::Index<json::buffer::View> {
+    root.push(json::buffer::View {
+        buffer,
+        byte_length: USize64::from(len),
+        byte_offset: Some(USize64::from(offset)),
+        byte_stride: None,
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        target: target.map(Valid),
+    })
+}
+
 /// Adds `material` (and its texture and image) to `root`; `image_range` is where an embedded
 /// image lies in the binary buffer.
 fn push_material(
@@ -442,16 +444,7 @@ fn push_material(
     let texture = material.texture.as_ref().map(|image| {
         let (buffer_view, mime_type, uri) = match (image, image_range) {
             (GlbImage::EmbeddedPng(_), Some((offset, len))) => {
-                let view = root.push(json::buffer::View {
-                    buffer,
-                    byte_length: USize64::from(len),
-                    byte_offset: Some(USize64::from(offset)),
-                    byte_stride: None,
-                    extensions: Default::default(),
-                    extras: Default::default(),
-                    name: None,
-                    target: None,
-                });
+                let view = push_view(root, buffer, offset, len, None);
                 (Some(view), Some(json::image::MimeType("image/png".into())), None)
             }
             (GlbImage::Uri(uri), _) => (None, None, Some(uri.clone())),

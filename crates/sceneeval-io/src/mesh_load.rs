@@ -351,35 +351,48 @@ fn triangles(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
-fn read_obj(path: &Path) -> Result<RawMesh, IoError> {
-    let file = std::fs::File::open(path).map_err(|e| IoError::file(path, e))?;
-    let mut reader = std::io::BufReader::new(file);
+/// tobj options: faces triangulated, points and lines ignored; `single_index` gives one index
+/// per vertex for positions, normals and texture coordinates together.
+pub(crate) fn obj_options(single_index: bool) -> tobj::LoadOptions {
     // The struct update covers fields that exist only with some tobj features.
     #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
+    tobj::LoadOptions {
         triangulate: true,
-        single_index: false,
+        single_index,
         ignore_points: true,
         ignore_lines: true,
         ..Default::default()
-    };
+    }
+}
+
+/// Checks that every index of an OBJ model names one of its vertices.
+pub(crate) fn check_obj_indices(path: &Path, model: &tobj::Model) -> Result<(), IoError> {
+    let m = &model.mesh;
+    let n = m.positions.len() / 3;
+    match m.indices.iter().find(|&&i| i as usize >= n) {
+        Some(&i) => Err(bad(
+            path,
+            format!(
+                "object {:?}: index {i} is out of range ({n} vertices)",
+                model.name
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn read_obj(path: &Path) -> Result<RawMesh, IoError> {
+    let file = std::fs::File::open(path).map_err(|e| IoError::file(path, e))?;
+    let mut reader = std::io::BufReader::new(file);
     // Material libraries are not needed for geometry: do not read them.
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::GenericFailure))
-            .map_err(|e| bad(path, e.to_string()))?;
+    let (models, _materials) = tobj::load_obj_buf(&mut reader, &obj_options(false), |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })
+    .map_err(|e| bad(path, e.to_string()))?;
     let mut out = RawMesh::default();
     for model in &models {
+        check_obj_indices(path, model)?;
         let m = &model.mesh;
-        let n = m.positions.len() / 3;
-        if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= n) {
-            return Err(bad(
-                path,
-                format!(
-                    "object {:?}: index {i} is out of range ({n} vertices)",
-                    model.name
-                ),
-            ));
-        }
         out.append(
             m.positions
                 .chunks_exact(3)

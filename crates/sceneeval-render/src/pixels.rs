@@ -6,6 +6,8 @@ use std::sync::OnceLock;
 
 use image::RgbaImage;
 
+use sceneeval_io::appearance::{linear_to_srgb, srgb_to_linear};
+
 use crate::RenderError;
 
 /// Bytes per row of a readback buffer: `4 * width` rounded up to wgpu's 256-byte copy
@@ -69,29 +71,7 @@ pub(crate) fn read_padded(
 /// sRGB byte to linear light, for every byte.
 fn decode_table() -> &'static [f32; 256] {
     static TABLE: OnceLock<[f32; 256]> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        let mut t = [0.0f32; 256];
-        for (v, out) in t.iter_mut().enumerate() {
-            let c = v as f32 / 255.0;
-            *out = if c <= 0.040_45 {
-                c / 12.92
-            } else {
-                ((c + 0.055) / 1.055).powf(2.4)
-            };
-        }
-        t
-    })
-}
-
-/// Linear light (clamped to `[0, 1]`) to an sRGB byte.
-fn encode(linear: f32) -> u8 {
-    let c = linear.clamp(0.0, 1.0);
-    let e = if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (e * 255.0).round() as u8
+    TABLE.get_or_init(|| std::array::from_fn(|v| srgb_to_linear(v as u8)))
 }
 
 /// Turns the renderer's premultiplied-alpha pixels (sRGB-encoded premultiplied colour) into
@@ -108,7 +88,7 @@ pub(crate) fn unpremultiply(image: &mut RgbaImage) {
             _ => {
                 let alpha = f32::from(a) / 255.0;
                 for c in &mut p.0[..3] {
-                    *c = encode(table[usize::from(*c)] / alpha);
+                    *c = linear_to_srgb(table[usize::from(*c)] / alpha);
                 }
             }
         }
@@ -141,9 +121,9 @@ pub(crate) fn mip_chain(width: u32, height: u32, pixels: &[u8]) -> Vec<(u32, u32
                     sum[3] += f32::from(prev[i + 3]);
                 }
                 next.extend_from_slice(&[
-                    encode(sum[0] / 4.0),
-                    encode(sum[1] / 4.0),
-                    encode(sum[2] / 4.0),
+                    linear_to_srgb(sum[0] / 4.0),
+                    linear_to_srgb(sum[1] / 4.0),
+                    linear_to_srgb(sum[2] / 4.0),
                     (sum[3] / 4.0).round() as u8,
                 ]);
             }

@@ -237,9 +237,10 @@ impl PreparedScene {
         })
     }
 
-    /// Where the human stands for the size view of object `i`: in the object's frame, its
-    /// feet level with the object's bottom, centred on the object's depth, its right hand
-    /// [`HUMAN_GAP_M`] from the object's local -x face.
+    /// Where the human stands for the size view of object `i`: in the object's frame (facing
+    /// the same way as the object), its feet level with the object's bottom, centred on the
+    /// object's depth, the figure's +x side (its left hand) [`HUMAN_GAP_M`] from the object's
+    /// local -x face.
     fn human_pose(&self, i: usize) -> Isometry3 {
         let object = &self.input.objects[i];
         let local = object.mesh.aabb();

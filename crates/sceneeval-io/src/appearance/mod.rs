@@ -48,7 +48,7 @@ use sceneeval_geom::Rotation3;
 
 use crate::IoError;
 
-pub use texture::MAX_TEXTURE_DIMENSION;
+pub use texture::{MAX_TEXTURE_DIMENSION, linear_to_srgb, srgb_to_linear};
 
 /// Largest image file (or embedded image) read for a texture, in bytes; a larger one is
 /// skipped with a warning.

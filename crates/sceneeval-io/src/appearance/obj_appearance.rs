@@ -12,7 +12,7 @@ use super::{
     to_f32_normal, to_f32_point,
 };
 use crate::IoError;
-use crate::mesh_load::{MAX_ASSET_FILE_BYTES, bad};
+use crate::mesh_load::{MAX_ASSET_FILE_BYTES, bad, check_obj_indices, obj_options};
 
 pub(super) fn load(
     model_id: &str,
@@ -20,15 +20,7 @@ pub(super) fn load(
     to_object: &Matrix3,
 ) -> Result<(RenderMesh, Vec<Material>), IoError> {
     let bytes = crate::uri::read_file_limited(path, MAX_ASSET_FILE_BYTES)?;
-    // The struct update covers fields that exist only with some tobj features.
-    #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
+    let options = obj_options(true);
     // Material libraries are read through `crate::uri`, confined to the asset's folder; the
     // directory of each library is remembered so that its texture paths resolve against it.
     let libraries = std::sync::Mutex::new(Vec::<String>::new());
@@ -69,17 +61,9 @@ pub(super) fn load(
 
     let mut mesh = RenderMesh::default();
     for model in &models {
+        check_obj_indices(path, model)?;
         let m = &model.mesh;
         let n = m.positions.len() / 3;
-        if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= n) {
-            return Err(bad(
-                path,
-                format!(
-                    "object {:?}: index {i} is out of range ({n} vertices)",
-                    model.name
-                ),
-            ));
-        }
         let attribute = |what: &str, data: &[f32], width: usize| -> bool {
             if data.is_empty() {
                 return false;

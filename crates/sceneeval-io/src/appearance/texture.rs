@@ -82,7 +82,15 @@ fn bounded(image: RgbaImage) -> RgbaImage {
 }
 
 /// The sRGB transfer function's inverse: an encoded byte to linear light in `[0, 1]`.
-fn srgb_to_linear(v: u8) -> f32 {
+///
+/// ```
+/// use sceneeval_io::appearance::{linear_to_srgb, srgb_to_linear};
+/// assert_eq!(srgb_to_linear(255), 1.0);
+/// // Half the light is sRGB 0.7354: byte 188.
+/// assert_eq!(linear_to_srgb(0.5), 188);
+/// assert_eq!(linear_to_srgb(srgb_to_linear(77)), 77);
+/// ```
+pub fn srgb_to_linear(v: u8) -> f32 {
     let c = f32::from(v) / 255.0;
     if c <= 0.040_45 {
         c / 12.92
@@ -91,8 +99,8 @@ fn srgb_to_linear(v: u8) -> f32 {
     }
 }
 
-/// Linear light in `[0, 1]` (clamped) to an sRGB-encoded byte.
-fn linear_to_srgb(v: f32) -> u8 {
+/// Linear light in `[0, 1]` (clamped) to an sRGB-encoded byte (see [`srgb_to_linear`]).
+pub fn linear_to_srgb(v: f32) -> u8 {
     let c = v.clamp(0.0, 1.0);
     let e = if c <= 0.003_130_8 {
         c * 12.92
