@@ -91,7 +91,7 @@ pub fn read_mesh_file_with(path: &Path, limits: &Limits) -> Result<RawMesh, IoEr
     Ok(mesh)
 }
 
-fn bad(path: &Path, message: impl Into<String>) -> IoError {
+pub(crate) fn bad(path: &Path, message: impl Into<String>) -> IoError {
     IoError::BadAssetFile {
         path: path.to_owned(),
         message: message.into(),
@@ -101,8 +101,35 @@ fn bad(path: &Path, message: impl Into<String>) -> IoError {
 fn read_gltf(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
     let bytes = crate::uri::read_file_limited(path, limits.max_file_bytes)?;
     let gltf = parse_gltf(path, &bytes)?;
-    let doc = &gltf.document;
+    let instances = mesh_instances(path, &gltf.document, limits)?;
+    let (buffers, buffer_files) = load_buffers(path, &gltf, limits)?;
+    let mut out = RawMesh {
+        files: std::iter::once(path.to_owned()).chain(buffer_files).collect(),
+        ..RawMesh::default()
+    };
+    for (mesh, global) in &instances {
+        for prim in mesh.primitives() {
+            if let Some(raw) = primitive_geometry(path, &buffers, &prim, global)? {
+                out.append(raw.positions.into_iter(), raw.triangles.into_iter());
+            }
+        }
+    }
+    Ok(out)
+}
 
+/// The mesh instances of the default scene (every scene's roots if there is no default scene,
+/// every root node if there are no scenes), depth first in file order, each with its node's
+/// global transform. The declared vertex and triangle counts of every instance are checked
+/// against `limits` as they are met, before any geometry is decoded.
+///
+/// # Errors
+/// [`IoError::BadAssetFile`] for a node with two parents or a cyclic hierarchy;
+/// [`IoError::TooManyTriangles`] or [`IoError::OverMemoryBudget`] over the limits.
+pub(crate) fn mesh_instances<'a>(
+    path: &Path,
+    doc: &'a gltf::Document,
+    limits: &Limits,
+) -> Result<Vec<(gltf::Mesh<'a>, Matrix4<Real>)>, IoError> {
     // A node listed as the child of several nodes would be visited (and its geometry
     // duplicated) once per parent, exponentially in a deep enough hierarchy.
     let mut parent: Vec<Option<usize>> = vec![None; doc.nodes().len()];
@@ -133,7 +160,7 @@ fn read_gltf(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
 
     // The instances to read, in depth-first order, with their global transforms. A hierarchy
     // deeper than the number of nodes has a cycle (invalid glTF).
-    let mut instances: Vec<(gltf::Mesh<'_>, Matrix4<Real>)> = Vec::new();
+    let mut instances: Vec<(gltf::Mesh<'a>, Matrix4<Real>)> = Vec::new();
     let max_depth = doc.nodes().len();
     let mut stack: Vec<(gltf::Node<'_>, Matrix4<Real>, usize)> = roots
         .into_iter()
@@ -162,23 +189,13 @@ fn read_gltf(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
             stack.push((child, global, depth + 1));
         }
     }
-    let (buffers, buffer_files) = load_buffers(path, &gltf, limits)?;
-    let mut out = RawMesh {
-        files: std::iter::once(path.to_owned()).chain(buffer_files).collect(),
-        ..RawMesh::default()
-    };
-    for (mesh, global) in &instances {
-        for prim in mesh.primitives() {
-            read_primitive(path, &buffers, &prim, global, &mut out)?;
-        }
-    }
-    Ok(out)
+    Ok(instances)
 }
 
 /// Parses and validates a glTF document. `gltf`'s validation indexes the accessor list with
 /// a primitive's POSITION index unchecked (gltf-json 1.4.1, `mesh.rs`), so a file naming an
 /// accessor that does not exist would panic there: that index is checked first.
-fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf, IoError> {
+pub(crate) fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf, IoError> {
     let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| bad(path, e.to_string()))?;
     let json = raw.document.as_json();
     for (m, mesh) in json.meshes.iter().enumerate() {
@@ -221,7 +238,7 @@ fn declared_size(prim: &gltf::Primitive<'_>) -> (u64, u64) {
 /// The glTF's buffers: the GLB blob, `data:` URIs, or files inside the asset's own folder
 /// ([`crate::uri`]); never a file elsewhere. Each buffer must hold at least the `byteLength`
 /// it declares. Also returns the external files read.
-fn load_buffers(
+pub(crate) fn load_buffers(
     path: &Path,
     gltf: &gltf::Gltf,
     limits: &Limits,
@@ -291,7 +308,7 @@ fn load_buffers(
 
 /// Checks that reading `count` elements of `size` bytes through `accessor` stays inside its
 /// buffer, so that the `gltf` reader can neither panic nor silently stop early.
-fn check_accessor(
+pub(crate) fn check_accessor(
     path: &Path,
     what: &str,
     accessor: &gltf::Accessor<'_>,
@@ -349,20 +366,23 @@ fn check_accessor(
     }
 }
 
-fn read_primitive(
+/// The vertices (transformed by `global`) and triangles of a triangle primitive, in the order
+/// the file stores them (triangles index the primitive's own vertices); `None` for a point or
+/// line primitive (skipped with a warning). Triangles are wound counter-clockwise even under
+/// a mirroring `global`.
+pub(crate) fn primitive_geometry(
     path: &Path,
     buffers: &[gltf::buffer::Data],
     prim: &gltf::Primitive<'_>,
     global: &Matrix4<Real>,
-    out: &mut RawMesh,
-) -> Result<(), IoError> {
+) -> Result<Option<RawMesh>, IoError> {
     let mode = prim.mode();
     if matches!(
         mode,
         Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip
     ) {
         tracing::warn!(file = %path.display(), ?mode, "skipping a point or line primitive");
-        return Ok(());
+        return Ok(None);
     }
     let Some(positions) = prim.get(&gltf::Semantic::Positions) else {
         return Err(bad(path, "a triangle primitive has no POSITION attribute"));
@@ -420,15 +440,18 @@ fn read_primitive(
             t.swap(1, 2);
         }
     }
-    out.append(points.into_iter(), tris.into_iter());
-    Ok(())
+    Ok(Some(RawMesh {
+        positions: points,
+        triangles: tris,
+        files: Vec::new(),
+    }))
 }
 
 /// The OBJ text without its `l` (polyline) and `p` (point) records, which `tobj` would
 /// otherwise turn into triangles when they list three or more vertices; blank lines keep
 /// the line numbers. Also counts the `v` records and the triangles of the `f` records (a
 /// polygon of `k` corners gives `k - 2`).
-fn obj_faces_only(text: &str) -> (String, u64, u64) {
+pub(crate) fn obj_faces_only(text: &str) -> (String, u64, u64) {
     let mut out = String::with_capacity(text.len());
     let (mut vertices, mut triangles) = (0u64, 0u64);
     for line in text.lines() {
@@ -467,41 +490,54 @@ fn triangles(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
+/// tobj options: faces triangulated, points and lines ignored; `single_index` gives one index
+/// per vertex for positions, normals and texture coordinates together.
+pub(crate) fn obj_options(single_index: bool) -> tobj::LoadOptions {
+    // The struct update covers fields that exist only with some tobj features.
+    #[allow(clippy::needless_update)]
+    tobj::LoadOptions {
+        triangulate: true,
+        single_index,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    }
+}
+
+/// Checks that every index of an OBJ model names one of its vertices.
+pub(crate) fn check_obj_indices(path: &Path, model: &tobj::Model) -> Result<(), IoError> {
+    let m = &model.mesh;
+    let n = m.positions.len() / 3;
+    match m.indices.iter().find(|&&i| i as usize >= n) {
+        Some(&i) => Err(bad(
+            path,
+            format!(
+                "object {:?}: index {i} is out of range ({n} vertices)",
+                model.name
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 fn read_obj(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
     let bytes = crate::uri::read_file_limited(path, limits.max_file_bytes)?;
     let text = String::from_utf8_lossy(&bytes);
     let (faces_only, vertices, triangles) = obj_faces_only(&text);
     limits.check_mesh(path, vertices, triangles)?;
     let mut reader = std::io::Cursor::new(faces_only.as_bytes());
-    // The struct update covers fields that exist only with some tobj features.
-    #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
     // Material libraries are not needed for geometry: do not read them.
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::GenericFailure))
-            .map_err(|e| bad(path, e.to_string()))?;
+    let (models, _materials) = tobj::load_obj_buf(&mut reader, &obj_options(false), |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })
+    .map_err(|e| bad(path, e.to_string()))?;
     let mut out = RawMesh {
         files: vec![path.to_owned()],
         ..RawMesh::default()
     };
     for model in &models {
+        check_obj_indices(path, model)?;
         let m = &model.mesh;
-        let n = m.positions.len() / 3;
-        if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= n) {
-            return Err(bad(
-                path,
-                format!(
-                    "object {:?}: index {i} is out of range ({n} vertices)",
-                    model.name
-                ),
-            ));
-        }
         out.append(
             m.positions
                 .chunks_exact(3)

@@ -9,6 +9,7 @@
 //! | [`io`] | `sceneeval-io` | sceneState files and assets |
 //! | [`annotation`] | `sceneeval-annotation` | the SceneEval-500 annotation schema |
 //! | [`plausibility`] | `sceneeval-plausibility` | collision, support, navigability, ... |
+//! | `render` (feature `render`) | `sceneeval-render` | offscreen wgpu renders of scenes |
 //!
 //! On top of them: an [`EvaluationPlan`] names the metrics to run and their parameters
 //! (starting from a [`Preset`]: this implementation's defaults or every reference-parity
@@ -54,6 +55,8 @@ pub use sceneeval_geom as geom;
 pub use sceneeval_io as io;
 pub use sceneeval_plausibility as plausibility;
 pub use sceneeval_relations as relations;
+#[cfg(feature = "render")]
+pub use sceneeval_render as render;
 pub use sceneeval_scene as scene;
 
 mod batch;

@@ -7,11 +7,11 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use sceneeval_geom::conventions::object_from_asset;
 use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Vector3};
 use sceneeval_scene::{ObjectId, SceneObject};
 
 use super::{AssetInfo, AssetLocation, AssetSource, AssetSpec, split_model_id};
+use crate::appearance::{Appearance, load_appearance};
 use crate::mesh_load::read_mesh_file_with;
 use crate::{IoError, Limits};
 
@@ -69,6 +69,7 @@ pub struct AssetLibrary {
     assets: Cache<String, Arc<Asset>>,
     scaled: Cache<(String, [u64; 3]), Arc<Mesh>>,
     files_read: AtomicUsize,
+    appearances: Cache<String, Arc<Appearance>>,
 }
 
 impl fmt::Debug for AssetLibrary {
@@ -245,6 +246,36 @@ impl AssetLibrary {
         Ok(object)
     }
 
+    /// The look of asset `model_id` (materials, textures and a render mesh in the object
+    /// frame), loaded on first use and shared by every caller. Only renderers need this;
+    /// reading scenes never calls it, so geometry-only runs decode no texture. See
+    /// [`crate::appearance`].
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::asset`] for locating and parsing the file. Missing or broken
+    /// textures and material libraries are logged and fall back to the base colour.
+    pub fn appearance(&self, model_id: &str) -> Result<Arc<Appearance>, IoError> {
+        let slot = slot(&self.appearances, model_id.to_owned());
+        cached(&slot, || {
+            let location = self.locate(model_id)?;
+            load_appearance(
+                model_id,
+                &location.path,
+                location.alignment.as_ref(),
+                &self.limits,
+            )
+            .map(Arc::new)
+        })
+    }
+
+    /// How many appearances have been loaded so far (0 in a run that never rendered).
+    pub fn appearances_loaded(&self) -> usize {
+        let map = self.appearances.lock().unwrap_or_else(PoisonError::into_inner);
+        map.values()
+            .filter(|slot| slot.lock().unwrap_or_else(PoisonError::into_inner).is_some())
+            .count()
+    }
+
     /// Where the asset `model_id` is (mesh file, metadata files, category), without loading
     /// its mesh: what a result cache needs to tell whether an asset changed.
     ///
@@ -275,10 +306,7 @@ impl AssetLibrary {
         let location = self.locate(model_id)?;
         let raw = read_mesh_file_with(&location.path, &self.limits)?;
         self.files_read.fetch_add(1, Ordering::Relaxed);
-        let to_object = match &location.alignment {
-            Some(e) => object_from_asset().matrix() * e.matrix(),
-            None => *object_from_asset().matrix(),
-        };
+        let to_object = crate::frames::object_from_file(location.alignment.as_ref());
         let vertices = raw
             .positions
             .iter()
