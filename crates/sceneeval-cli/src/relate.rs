@@ -13,10 +13,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use sceneeval::geom::{Matrix3, Obb, Point2, Point3, Real, Rotation3, Vector3};
-use sceneeval::relations::{ObjectGeom, Relation, RelationKind, RelationParams, arch, batch, surround};
-use sceneeval::scene::{Room, RoomBuilder};
-use serde::de::IgnoredAny;
+use sceneeval::geom::Real;
+use sceneeval::relations::RelationParams;
+use sceneeval::relations::spec::QuerySpec;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use serde_json::value::RawValue;
@@ -149,255 +148,42 @@ fn raw_id(text: &str) -> Box<RawValue> {
     }
 }
 
-/// A query line as written by clients (schema version 1).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct QueryLine {
-    #[serde(default)]
-    version: Option<u64>,
-    #[serde(default)]
-    #[allow(dead_code, reason = "echoed verbatim from the text, see `raw_id`")]
-    id: Option<IgnoredAny>,
-    relation: String,
-    #[serde(default)]
-    side: Option<String>,
-    #[serde(default)]
-    arch: Option<String>,
-    #[serde(default)]
-    target: Option<BoxSpec>,
-    #[serde(default)]
-    anchor: Option<BoxSpec>,
-    #[serde(default)]
-    targets: Option<Vec<BoxSpec>>,
-    #[serde(default)]
-    room: Option<RoomSpec>,
-}
-
-/// A solid box: centre, half extents, and either a yaw (radians about +z) or a 3x3
-/// row-major rotation matrix (nested rows or nine numbers).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct BoxSpec {
-    center: [Real; 3],
-    half_size: [Real; 3],
-    #[serde(default)]
-    yaw: Option<Real>,
-    #[serde(default)]
-    rotation: Option<RotationSpec>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum RotationSpec {
-    Rows([[Real; 3]; 3]),
-    Flat([Real; 9]),
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RoomSpec {
-    floor: Vec<[Real; 2]>,
-    #[serde(default)]
-    floor_z: Real,
-    #[serde(default = "default_height")]
-    height: Real,
-    #[serde(default = "default_thickness")]
-    wall_thickness: Real,
-    #[serde(default)]
-    openings: Vec<OpeningLine>,
-}
-
-fn default_height() -> Real {
-    2.8
-}
-
-fn default_thickness() -> Real {
-    0.1
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct OpeningLine {
-    kind: String,
-    wall: usize,
-    along: [Real; 2],
-    height: [Real; 2],
-}
+/// The fields of a query line that are not part of the query itself.
+const LINE_FIELDS: [&str; 2] = ["version", "id"];
 
 /// Answers one non-blank line.
 fn answer_line(text: &str, params: &RelationParams) -> Answer {
     // The line may be well-formed JSON whose id can be read even when the rest cannot be
     // converted (for example a number too large for a double elsewhere).
     let id = raw_id(text);
-    let value: Value = match serde_json::from_str(text) {
-        Ok(v) => v,
+    let mut object = match serde_json::from_str::<Value>(text) {
+        Ok(Value::Object(object)) => object,
+        Ok(_) => return Answer::error(id, "a query must be a JSON object"),
         Err(e) => return Answer::error(id, format!("invalid JSON: {e}")),
     };
-    if !value.is_object() {
-        return Answer::error(id, "a query must be a JSON object");
+    if let Some(version) = object.get("version")
+        && version.as_u64() != Some(SCHEMA_VERSION)
+    {
+        return Answer::error(
+            id,
+            format!("unsupported schema version {version} (this build reads version {SCHEMA_VERSION})"),
+        );
     }
-    let query: QueryLine = match serde_json::from_value(value) {
+    for field in LINE_FIELDS {
+        object.remove(field);
+    }
+    let query: QuerySpec = match serde_json::from_value(Value::Object(object)) {
         Ok(q) => q,
         Err(e) => return Answer::error(id, format!("invalid query: {e}")),
     };
-    match evaluate(&query, params) {
+    match query.score(params) {
         Ok(score) => Answer::Score {
             id,
             score,
             holds: params.holds(score),
         },
-        Err(e) => Answer::error(id, format!("{e:#}")),
+        Err(e) => Answer::error(id, e.to_string()),
     }
-}
-
-fn evaluate(q: &QueryLine, params: &RelationParams) -> anyhow::Result<Real> {
-    if let Some(v) = q.version
-        && v != SCHEMA_VERSION
-    {
-        anyhow::bail!("unsupported schema version {v} (this build reads version {SCHEMA_VERSION})");
-    }
-    let relation = parse_relation(q)?;
-    match relation.kind() {
-        RelationKind::ObjectObject => {
-            unexpected(q.targets.is_some(), "targets", relation)?;
-            unexpected(q.room.is_some(), "room", relation)?;
-            let target = build_box(required(q.target.as_ref(), "target", relation)?, "target")?;
-            let anchor = build_box(required(q.anchor.as_ref(), "anchor", relation)?, "anchor")?;
-            Ok(batch::score_pair(
-                relation,
-                &ObjectGeom::from_box(&target),
-                &ObjectGeom::from_box(&anchor),
-                params,
-            )?)
-        }
-        RelationKind::MultiTarget => {
-            unexpected(q.target.is_some(), "target (use targets)", relation)?;
-            unexpected(q.room.is_some(), "room", relation)?;
-            let anchor = build_box(required(q.anchor.as_ref(), "anchor", relation)?, "anchor")?;
-            let boxes = required(q.targets.as_ref(), "targets", relation)?
-                .iter()
-                .enumerate()
-                .map(|(i, b)| build_box(b, &format!("targets[{i}]")))
-                .collect::<anyhow::Result<Vec<Obb>>>()?;
-            let views: Vec<ObjectGeom<'_>> = boxes.iter().map(ObjectGeom::from_box).collect();
-            Ok(surround(&views, &ObjectGeom::from_box(&anchor), params))
-        }
-        RelationKind::ObjectArchitecture => {
-            unexpected(q.anchor.is_some(), "anchor", relation)?;
-            unexpected(q.targets.is_some(), "targets", relation)?;
-            let target = build_box(required(q.target.as_ref(), "target", relation)?, "target")?;
-            let room = build_room(required(q.room.as_ref(), "room", relation)?)?;
-            Ok(arch::score_rooms(
-                relation,
-                &ObjectGeom::from_box(&target),
-                std::slice::from_ref(&room),
-                params,
-            )?)
-        }
-    }
-}
-
-/// The relation from `relation` plus `side` (sides, long/short) or `arch` (wall/door/window).
-/// `relation` may also carry its argument itself, as in `side_of(left)`.
-fn parse_relation(q: &QueryLine) -> anyhow::Result<Relation> {
-    let name = q.relation.trim();
-    if name.contains('(') || name.contains(':') {
-        if q.side.is_some() || q.arch.is_some() {
-            anyhow::bail!("relation {name:?} already names its argument; drop \"side\"/\"arch\"");
-        }
-        return Ok(name.parse::<Relation>()?);
-    }
-    let distance = matches!(
-        name.to_ascii_lowercase().as_str(),
-        "next_to" | "near" | "across_from" | "across" | "far" | "far_from"
-    );
-    match (&q.side, &q.arch) {
-        (Some(_), Some(_)) => anyhow::bail!("give either \"side\" or \"arch\", not both"),
-        (Some(side), None) if distance => {
-            anyhow::bail!("relation {name} takes no side {side:?}; for walls, doors and windows use \"arch\"")
-        }
-        (Some(side), None) => Ok(Relation::from_parts(name, Some(side))?),
-        (None, Some(element)) => Ok(Relation::from_arch_mapping(name, Some(element))?),
-        (None, None) => {
-            let r = Relation::from_parts(name, None)?;
-            if distance && q.room.is_some() && q.anchor.is_none() {
-                anyhow::bail!(
-                    "relation {name} with a room needs \"arch\": \"wall\", \"door\" or \"window\" \
-                     (without it, it relates two objects and needs an anchor)"
-                );
-            }
-            Ok(r)
-        }
-    }
-}
-
-fn required<'q, T>(field: Option<&'q T>, name: &str, relation: Relation) -> anyhow::Result<&'q T> {
-    field.ok_or_else(|| anyhow::anyhow!("relation {relation} needs \"{name}\""))
-}
-
-fn unexpected(present: bool, name: &str, relation: Relation) -> anyhow::Result<()> {
-    if present {
-        anyhow::bail!("relation {relation} does not use \"{name}\"");
-    }
-    Ok(())
-}
-
-fn finite(values: &[Real], what: &str) -> anyhow::Result<()> {
-    if values.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
-        anyhow::bail!("{what} is not finite")
-    }
-}
-
-fn build_box(spec: &BoxSpec, what: &str) -> anyhow::Result<Obb> {
-    finite(&spec.center, &format!("{what}.center"))?;
-    finite(&spec.half_size, &format!("{what}.half_size"))?;
-    let center = Point3::from(spec.center);
-    let half = Vector3::from(spec.half_size);
-    let rotation = match (spec.yaw, &spec.rotation) {
-        (Some(_), Some(_)) => anyhow::bail!("{what}: give either \"yaw\" or \"rotation\", not both"),
-        (Some(yaw), None) => {
-            finite(&[yaw], &format!("{what}.yaw"))?;
-            Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
-        }
-        (None, None) => Rotation3::identity(),
-        (None, Some(r)) => {
-            let rows = match r {
-                RotationSpec::Rows(rows) => *rows,
-                RotationSpec::Flat(f) => [[f[0], f[1], f[2]], [f[3], f[4], f[5]], [f[6], f[7], f[8]]],
-            };
-            finite(rows.as_flattened(), &format!("{what}.rotation"))?;
-            let m = Matrix3::from_fn(|i, j| rows[i][j]);
-            Rotation3::from_matrix_unchecked(m)
-        }
-    };
-    Obb::new(center, half, rotation).with_context(|| format!("{what} is not a valid box"))
-}
-
-fn build_room(spec: &RoomSpec) -> anyhow::Result<Room> {
-    for (i, p) in spec.floor.iter().enumerate() {
-        finite(p, &format!("room.floor[{i}]"))?;
-    }
-    finite(
-        &[spec.floor_z, spec.height, spec.wall_thickness],
-        "room.floor_z/height/wall_thickness",
-    )?;
-    let outline = spec.floor.iter().map(|p| Point2::new(p[0], p[1])).collect();
-    let mut room = RoomBuilder::polygon("room", outline)
-        .floor_z(spec.floor_z)
-        .wall_height(spec.height)
-        .wall_thickness(spec.wall_thickness);
-    for (i, o) in spec.openings.iter().enumerate() {
-        finite(&o.along, &format!("room.openings[{i}].along"))?;
-        finite(&o.height, &format!("room.openings[{i}].height"))?;
-        room = match o.kind.to_ascii_lowercase().as_str() {
-            "door" => room.door(o.wall, o.along, o.height),
-            "window" => room.window(o.wall, o.along, o.height),
-            other => anyhow::bail!("room.openings[{i}].kind {other:?} is not \"door\" or \"window\""),
-        };
-    }
-    room.build().map_err(|e| anyhow::anyhow!("room: {e}"))
 }
 
 #[cfg(test)]

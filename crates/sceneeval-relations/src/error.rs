@@ -128,6 +128,53 @@ pub enum RelationError {
         /// What it must satisfy.
         reason: &'static str,
     },
+    /// A number of a box or room given as plain data is NaN or infinite.
+    #[error("{field} is not finite")]
+    NotFinite {
+        /// The field, e.g. `target.center` or `room.floor[3]`.
+        field: String,
+    },
+    /// Two inputs that exclude each other were both given.
+    #[error("{what}: give either {first} or {second}, not both")]
+    Conflict {
+        /// Where, e.g. `target` or `relation "side_of(left)"`.
+        what: String,
+        /// The first input.
+        first: &'static str,
+        /// The second input.
+        second: &'static str,
+    },
+    /// A relation was not given an operand its kind needs.
+    #[error("relation {relation} needs \"{operand}\"")]
+    MissingOperand {
+        /// The relation in its printed form.
+        relation: String,
+        /// The operand: `target`, `anchor`, `targets` or `room`.
+        operand: &'static str,
+    },
+    /// A relation was given an operand its kind does not use.
+    #[error("relation {relation} does not use \"{operand}\"")]
+    UnexpectedOperand {
+        /// The relation in its printed form.
+        relation: String,
+        /// The operand.
+        operand: &'static str,
+    },
+    /// An opening of a room given as plain data is neither a door nor a window.
+    #[error("room.openings[{index}].kind {kind:?} is not \"door\" or \"window\"")]
+    UnknownOpeningKind {
+        /// Position of the opening in the room's list.
+        index: usize,
+        /// The kind given.
+        kind: String,
+    },
+    /// The room builder rejected a room given as plain data.
+    #[error("room: {source}")]
+    Room {
+        /// What the room builder rejected.
+        #[source]
+        source: sceneeval_scene::SceneError,
+    },
     /// Plain geometry given to a constructor was rejected.
     #[error("{what}: {source}")]
     Geometry {

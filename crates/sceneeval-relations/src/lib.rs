@@ -144,6 +144,7 @@ mod pairwise;
 mod params;
 mod relation;
 mod scene_eval;
+pub mod spec;
 
 pub use distance::object_distance;
 pub use error::RelationError;

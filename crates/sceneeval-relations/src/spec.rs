@@ -1,0 +1,663 @@
+//! Relation queries as plain data: boxes, rooms and relation names the way a client outside
+//! Rust writes them (the JSON lines of `sceneeval relate`, the dicts and tuples of the Python
+//! package), validated and scored here so that every front end accepts exactly the same
+//! inputs and gives exactly the same errors.
+//!
+//! - [`BoxSpec`]: a solid box from its centre, half extents and a yaw (radians about +z) or a
+//!   3x3 row-major rotation matrix. [`BoxSpec::to_obb`] checks every number is finite and the
+//!   rotation proper.
+//! - [`RoomSpec`]: a floor outline (either winding) with floor height, wall height and
+//!   thickness, and doors and windows on walls (`wall` i runs from outline point i to i + 1).
+//!   [`RoomSpec::build`] prepares a `sceneeval_scene::Room`; build it once and score many
+//!   queries against it.
+//! - [`relation_from_spec`]: a relation from its name plus a `side` (sides, `long`/`short`) or
+//!   an `arch` element (`wall`, `door`, `window`); a name may carry its argument itself
+//!   (`side_of(left)`).
+//! - [`score_operands`]: one score from a relation and its [`Operands`], checking that exactly
+//!   the operands the relation's kind uses are given.
+//! - [`QuerySpec`]: all of the above in one value (the fields of a `relate` line).
+//!
+//! With the `serde` feature (on by default) the spec types deserialize from the documented
+//! schema (`docs/formats.md`, "`sceneeval relate` JSON lines"): unknown fields are errors.
+//!
+//! ```
+//! use sceneeval_relations::spec::{BoxSpec, QuerySpec};
+//! use sceneeval_relations::RelationParams;
+//!
+//! let lamp = BoxSpec::from_yaw([0.0, 0.0, 1.1], [0.1, 0.1, 0.1], 0.0);
+//! let table = BoxSpec::from_yaw([0.0, 0.0, 0.5], [0.5, 0.5, 0.5], 0.0);
+//! let query = QuerySpec::pair("on_top", lamp, table);
+//! // The lamp rests on the table's top face (z = 1.0): all of it is above, score 1.
+//! assert_eq!(query.score(&RelationParams::default()).unwrap(), 1.0);
+//! ```
+
+use sceneeval_geom::{Matrix3, Obb, Point2, Point3, Real, Rotation3, Vector3};
+use sceneeval_scene::{Room, RoomBuilder};
+
+use crate::scene_eval::SURROUND_REFERENCE_MAX_TARGETS;
+use crate::{
+    ObjectGeom, Relation, RelationError, RelationKind, RelationParams, SurroundVariant, arch, batch, surround,
+};
+
+/// A solid box: centre, half extents, and either a yaw (radians about +z, counter-clockwise
+/// seen from above) or a 3x3 row-major rotation matrix. Neither means axis-aligned.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct BoxSpec {
+    /// Centre in world coordinates, metres.
+    pub center: [Real; 3],
+    /// Half extents along the box's local x, y, z, metres.
+    pub half_size: [Real; 3],
+    /// Rotation about +z, radians.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub yaw: Option<Real>,
+    /// Full rotation (local axes as columns), row-major.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub rotation: Option<RotationSpec>,
+}
+
+/// A 3x3 rotation matrix, row-major: as nested rows or as nine numbers.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
+pub enum RotationSpec {
+    /// `[[r00, r01, r02], [r10, r11, r12], [r20, r21, r22]]`.
+    Rows([[Real; 3]; 3]),
+    /// `[r00, r01, r02, r10, ..., r22]`.
+    Flat([Real; 9]),
+}
+
+impl RotationSpec {
+    /// The rows of the matrix.
+    pub fn rows(&self) -> [[Real; 3]; 3] {
+        match self {
+            RotationSpec::Rows(rows) => *rows,
+            RotationSpec::Flat(f) => [[f[0], f[1], f[2]], [f[3], f[4], f[5]], [f[6], f[7], f[8]]],
+        }
+    }
+}
+
+impl BoxSpec {
+    /// A box rotated by `yaw` radians about +z.
+    pub fn from_yaw(center: [Real; 3], half_size: [Real; 3], yaw: Real) -> Self {
+        BoxSpec {
+            center,
+            half_size,
+            yaw: Some(yaw),
+            rotation: None,
+        }
+    }
+
+    /// The oriented box. `what` names the box in errors (for example `target` or
+    /// `targets[2]`).
+    ///
+    /// # Errors
+    /// [`RelationError::NotFinite`] for a NaN or infinite number, [`RelationError::Conflict`]
+    /// when both a yaw and a rotation are given, [`RelationError::Geometry`] for negative half
+    /// extents or a matrix that is not a proper rotation.
+    pub fn to_obb(&self, what: &str) -> Result<Obb, RelationError> {
+        finite(&self.center, || format!("{what}.center"))?;
+        finite(&self.half_size, || format!("{what}.half_size"))?;
+        let rotation = match (self.yaw, &self.rotation) {
+            (Some(_), Some(_)) => {
+                return Err(RelationError::Conflict {
+                    what: what.to_owned(),
+                    first: "\"yaw\"",
+                    second: "\"rotation\"",
+                });
+            }
+            (Some(yaw), None) => {
+                finite(&[yaw], || format!("{what}.yaw"))?;
+                Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
+            }
+            (None, None) => Rotation3::identity(),
+            (None, Some(r)) => {
+                let rows = r.rows();
+                finite(rows.as_flattened(), || format!("{what}.rotation"))?;
+                Rotation3::from_matrix_unchecked(Matrix3::from_fn(|i, j| rows[i][j]))
+            }
+        };
+        Obb::new(Point3::from(self.center), Vector3::from(self.half_size), rotation).map_err(|source| {
+            RelationError::Geometry {
+                what: format!("{what} is not a valid box"),
+                source,
+            }
+        })
+    }
+}
+
+/// A room from its floor outline: floor height, wall height and thickness, and openings.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct RoomSpec {
+    /// Floor outline in the xy plane, metres, either winding; wall i runs from point i to
+    /// point i + 1 (the last wall closes the loop).
+    pub floor: Vec<[Real; 2]>,
+    /// Height of the floor, metres (default 0).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub floor_z: Real,
+    /// Wall height above the floor, metres (default 2.8).
+    #[cfg_attr(feature = "serde", serde(default = "default_height"))]
+    pub height: Real,
+    /// Wall thickness, metres (default 0.1); walls stand outside the outline.
+    #[cfg_attr(feature = "serde", serde(default = "default_thickness"))]
+    pub wall_thickness: Real,
+    /// Doors and windows.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub openings: Vec<OpeningSpec>,
+}
+
+#[cfg(feature = "serde")]
+fn default_height() -> Real {
+    RoomSpec::DEFAULT_HEIGHT
+}
+
+#[cfg(feature = "serde")]
+fn default_thickness() -> Real {
+    RoomSpec::DEFAULT_WALL_THICKNESS
+}
+
+/// A door or window in one wall of a [`RoomSpec`].
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct OpeningSpec {
+    /// `door` or `window` (any case).
+    pub kind: String,
+    /// Index of the wall (wall i runs from outline point i to point i + 1).
+    pub wall: usize,
+    /// Start and end along the wall from its first point, metres.
+    pub along: [Real; 2],
+    /// Bottom and top above the floor, metres.
+    pub height: [Real; 2],
+}
+
+impl RoomSpec {
+    /// Default wall height, metres.
+    pub const DEFAULT_HEIGHT: Real = 2.8;
+    /// Default wall thickness, metres.
+    pub const DEFAULT_WALL_THICKNESS: Real = 0.1;
+
+    /// A room with this outline and the default floor height (0), wall height and thickness,
+    /// and no openings.
+    pub fn new(floor: Vec<[Real; 2]>) -> Self {
+        RoomSpec {
+            floor,
+            floor_z: 0.0,
+            height: Self::DEFAULT_HEIGHT,
+            wall_thickness: Self::DEFAULT_WALL_THICKNESS,
+            openings: Vec::new(),
+        }
+    }
+
+    /// Prepares the room (walls with their openings cut out, floor triangles); the id of the
+    /// room is `room`.
+    ///
+    /// # Errors
+    /// [`RelationError::NotFinite`], [`RelationError::UnknownOpeningKind`], and
+    /// [`RelationError::Room`] for an outline or opening the room builder rejects.
+    pub fn build(&self) -> Result<Room, RelationError> {
+        for (i, p) in self.floor.iter().enumerate() {
+            finite(p, || format!("room.floor[{i}]"))?;
+        }
+        finite(&[self.floor_z], || "room.floor_z".to_owned())?;
+        finite(&[self.height], || "room.height".to_owned())?;
+        finite(&[self.wall_thickness], || "room.wall_thickness".to_owned())?;
+        let outline = self.floor.iter().map(|p| Point2::new(p[0], p[1])).collect();
+        let mut room = RoomBuilder::polygon("room", outline)
+            .floor_z(self.floor_z)
+            .wall_height(self.height)
+            .wall_thickness(self.wall_thickness);
+        for (i, o) in self.openings.iter().enumerate() {
+            finite(&o.along, || format!("room.openings[{i}].along"))?;
+            finite(&o.height, || format!("room.openings[{i}].height"))?;
+            room = match o.kind.to_ascii_lowercase().as_str() {
+                "door" => room.door(o.wall, o.along, o.height),
+                "window" => room.window(o.wall, o.along, o.height),
+                _ => {
+                    return Err(RelationError::UnknownOpeningKind {
+                        index: i,
+                        kind: o.kind.clone(),
+                    });
+                }
+            };
+        }
+        room.build().map_err(|source| RelationError::Room { source })
+    }
+}
+
+/// The relation named by `name` plus a `side` (`left`, ..., `long`, `short`) or an
+/// architecture element (`wall`, `door`, `window`). `name` may carry its argument itself, as
+/// in `side_of(left)` or `next_to:wall`; then `side` and `arch` must be absent.
+///
+/// # Errors
+/// [`RelationError::UnknownRelation`] and the argument errors of
+/// [`Relation::from_parts`]; [`RelationError::Conflict`] when both `side` and `arch` are
+/// given or the name already carries an argument; [`RelationError::BadArgument`] for a side
+/// on a distance relation (`next_to`, `near`, `across_from`, `far`), whose argument is an
+/// architecture element.
+pub fn relation_from_spec(
+    name: &str,
+    side: Option<&str>,
+    arch: Option<&str>,
+) -> Result<Relation, RelationError> {
+    let name = name.trim();
+    if name.contains('(') || name.contains(':') {
+        if side.is_some() || arch.is_some() {
+            return Err(RelationError::Conflict {
+                what: format!("relation {name:?}"),
+                first: "an argument in the name",
+                second: "\"side\"/\"arch\"",
+            });
+        }
+        return name.parse::<Relation>();
+    }
+    match (side, arch) {
+        (Some(_), Some(_)) => Err(RelationError::Conflict {
+            what: format!("relation {name:?}"),
+            first: "\"side\"",
+            second: "\"arch\"",
+        }),
+        (Some(side), None) if is_distance_name(name) => Err(RelationError::BadArgument {
+            relation: "a distance relation",
+            value: side.to_owned(),
+            expected: "a side: its argument is an architecture element (wall, door, window) given as \"arch\"",
+        }),
+        (Some(side), None) => Relation::from_parts(name, Some(side)),
+        (None, Some(element)) => Relation::from_arch_mapping(name, Some(element)),
+        (None, None) => Relation::from_parts(name, None),
+    }
+}
+
+/// Whether `name` is one of the distance relations, which relate two objects without an
+/// argument and an object to walls, doors or windows with one.
+fn is_distance_name(name: &str) -> bool {
+    matches!(
+        name.to_ascii_lowercase().as_str(),
+        "next_to" | "near" | "across_from" | "across" | "far" | "far_from"
+    )
+}
+
+/// What one relation is scored on: a target and an anchor (object-object), several targets
+/// and an anchor (`surround`), or a target and a room (object-architecture).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Operands<'a> {
+    /// The object being located.
+    pub target: Option<&'a Obb>,
+    /// The reference object.
+    pub anchor: Option<&'a Obb>,
+    /// The objects around the anchor (`surround` only).
+    pub targets: Option<&'a [Obb]>,
+    /// The room (object-architecture relations only).
+    pub room: Option<&'a Room>,
+}
+
+/// The score of `relation` on `operands`.
+///
+/// # Errors
+/// [`RelationError::MissingOperand`] and [`RelationError::UnexpectedOperand`] when the
+/// operands do not match the relation's kind (a distance relation given a room but no anchor
+/// is told to name an architecture element), [`RelationError::TooManyTargets`] for the
+/// reference `surround` beyond [`SURROUND_REFERENCE_MAX_TARGETS`] targets.
+pub fn score_operands(
+    relation: Relation,
+    operands: &Operands<'_>,
+    params: &RelationParams,
+) -> Result<Real, RelationError> {
+    let missing = |operand: &'static str| RelationError::MissingOperand {
+        relation: relation.to_string(),
+        operand,
+    };
+    let unexpected = |present: bool, operand: &'static str| {
+        if present {
+            Err(RelationError::UnexpectedOperand {
+                relation: relation.to_string(),
+                operand,
+            })
+        } else {
+            Ok(())
+        }
+    };
+    match relation.kind() {
+        RelationKind::ObjectObject => {
+            unexpected(operands.targets.is_some(), "targets")?;
+            if operands.room.is_some()
+                && operands.anchor.is_none()
+                && matches!(
+                    relation,
+                    Relation::NextTo | Relation::Near | Relation::AcrossFrom | Relation::Far
+                )
+            {
+                return Err(RelationError::MissingArgument {
+                    relation: relation.name(),
+                    expected: "\"arch\" (wall, door or window) to relate an object to a room",
+                });
+            }
+            unexpected(operands.room.is_some(), "room")?;
+            let target = operands.target.ok_or_else(|| missing("target"))?;
+            let anchor = operands.anchor.ok_or_else(|| missing("anchor"))?;
+            batch::score_pair(
+                relation,
+                &ObjectGeom::from_box(target),
+                &ObjectGeom::from_box(anchor),
+                params,
+            )
+        }
+        RelationKind::MultiTarget => {
+            unexpected(operands.target.is_some(), "target (surround takes targets)")?;
+            unexpected(operands.room.is_some(), "room")?;
+            let anchor = operands.anchor.ok_or_else(|| missing("anchor"))?;
+            let targets = operands.targets.ok_or_else(|| missing("targets"))?;
+            if params.surround_variant == SurroundVariant::Reference
+                && targets.len() > SURROUND_REFERENCE_MAX_TARGETS
+            {
+                return Err(RelationError::TooManyTargets {
+                    relation: relation.to_string(),
+                    got: targets.len(),
+                    limit: SURROUND_REFERENCE_MAX_TARGETS,
+                });
+            }
+            let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
+            Ok(surround(&views, &ObjectGeom::from_box(anchor), params))
+        }
+        RelationKind::ObjectArchitecture => {
+            unexpected(operands.anchor.is_some(), "anchor")?;
+            unexpected(operands.targets.is_some(), "targets")?;
+            let target = operands.target.ok_or_else(|| missing("target"))?;
+            let room = operands.room.ok_or_else(|| missing("room"))?;
+            arch::score_rooms(
+                relation,
+                &ObjectGeom::from_box(target),
+                std::slice::from_ref(room),
+                params,
+            )
+        }
+    }
+}
+
+/// One relation query as plain data: the relation's name with its `side` or `arch` argument,
+/// and the operands its kind uses (see [`Operands`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct QuerySpec {
+    /// The relation's name (see [`relation_from_spec`]).
+    pub relation: String,
+    /// A side (`left`, `right`, `front`, `back`, `top`, `bottom`) or `long`/`short`.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub side: Option<String>,
+    /// An architecture element: `wall`, `door` or `window`.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub arch: Option<String>,
+    /// The object being located.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub target: Option<BoxSpec>,
+    /// The reference object.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub anchor: Option<BoxSpec>,
+    /// The objects around the anchor (`surround`).
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub targets: Option<Vec<BoxSpec>>,
+    /// The room (object-architecture relations).
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub room: Option<RoomSpec>,
+}
+
+impl QuerySpec {
+    /// An object-object query: `target` relative to `anchor`.
+    pub fn pair(relation: impl Into<String>, target: BoxSpec, anchor: BoxSpec) -> Self {
+        QuerySpec {
+            relation: relation.into(),
+            target: Some(target),
+            anchor: Some(anchor),
+            ..QuerySpec::default()
+        }
+    }
+
+    /// The relation (see [`relation_from_spec`]).
+    ///
+    /// # Errors
+    /// As [`relation_from_spec`].
+    pub fn parse_relation(&self) -> Result<Relation, RelationError> {
+        relation_from_spec(&self.relation, self.side.as_deref(), self.arch.as_deref())
+    }
+
+    /// Builds the boxes and the room and scores the relation.
+    ///
+    /// # Errors
+    /// Any error of [`QuerySpec::parse_relation`], [`BoxSpec::to_obb`], [`RoomSpec::build`]
+    /// and [`score_operands`].
+    pub fn score(&self, params: &RelationParams) -> Result<Real, RelationError> {
+        let relation = self.parse_relation()?;
+        let target = self.target.as_ref().map(|b| b.to_obb("target")).transpose()?;
+        let anchor = self.anchor.as_ref().map(|b| b.to_obb("anchor")).transpose()?;
+        let targets = self
+            .targets
+            .as_ref()
+            .map(|ts| {
+                ts.iter()
+                    .enumerate()
+                    .map(|(i, b)| b.to_obb(&format!("targets[{i}]")))
+                    .collect::<Result<Vec<Obb>, _>>()
+            })
+            .transpose()?;
+        let room = self.room.as_ref().map(RoomSpec::build).transpose()?;
+        score_operands(
+            relation,
+            &Operands {
+                target: target.as_ref(),
+                anchor: anchor.as_ref(),
+                targets: targets.as_deref(),
+                room: room.as_ref(),
+            },
+            params,
+        )
+    }
+}
+
+/// `Ok` when every value is finite, else [`RelationError::NotFinite`] naming `field()`.
+fn finite(values: &[Real], field: impl FnOnce() -> String) -> Result<(), RelationError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(RelationError::NotFinite { field: field() })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_cube(x: Real) -> BoxSpec {
+        BoxSpec::from_yaw([x, 0.0, 0.5], [0.5, 0.5, 0.5], 0.0)
+    }
+
+    fn square_room() -> RoomSpec {
+        RoomSpec::new(vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]])
+    }
+
+    #[test]
+    fn boxes_reject_non_finite_numbers_and_both_rotations() {
+        let mut b = unit_cube(0.0);
+        b.center[1] = Real::NAN;
+        assert_eq!(
+            b.to_obb("target"),
+            Err(RelationError::NotFinite {
+                field: "target.center".into()
+            })
+        );
+        let mut b = unit_cube(0.0);
+        b.rotation = Some(RotationSpec::Flat([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]));
+        assert!(matches!(b.to_obb("anchor"), Err(RelationError::Conflict { .. })));
+        let mut b = unit_cube(0.0);
+        b.half_size[0] = -1.0;
+        assert!(matches!(b.to_obb("anchor"), Err(RelationError::Geometry { .. })));
+    }
+
+    #[test]
+    fn a_yaw_and_the_equivalent_matrix_give_the_same_box() {
+        let yaw: Real = 0.3;
+        let (s, c) = yaw.sin_cos();
+        let by_yaw = BoxSpec::from_yaw([1.0, 2.0, 0.5], [0.4, 0.2, 0.5], yaw)
+            .to_obb("b")
+            .unwrap();
+        let by_matrix = BoxSpec {
+            center: [1.0, 2.0, 0.5],
+            half_size: [0.4, 0.2, 0.5],
+            yaw: None,
+            rotation: Some(RotationSpec::Rows([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])),
+        }
+        .to_obb("b")
+        .unwrap();
+        assert!((by_yaw.rotation.matrix() - by_matrix.rotation.matrix()).norm() < 1e-15);
+    }
+
+    #[test]
+    fn relation_names_take_their_argument_one_way_only() {
+        assert_eq!(
+            relation_from_spec("side_of", Some("left"), None)
+                .unwrap()
+                .to_string(),
+            "side_of(left)"
+        );
+        assert_eq!(
+            relation_from_spec("side_of(left)", None, None).unwrap(),
+            relation_from_spec("side_of", Some("left"), None).unwrap()
+        );
+        assert!(matches!(
+            relation_from_spec("side_of(left)", Some("left"), None),
+            Err(RelationError::Conflict { .. })
+        ));
+        assert!(matches!(
+            relation_from_spec("next_to", Some("wall"), Some("wall")),
+            Err(RelationError::Conflict { .. })
+        ));
+        assert!(matches!(
+            relation_from_spec("near", Some("left"), None),
+            Err(RelationError::BadArgument { .. })
+        ));
+        assert_eq!(
+            relation_from_spec("near", None, Some("wall")).unwrap().kind(),
+            RelationKind::ObjectArchitecture
+        );
+        assert!(matches!(
+            relation_from_spec("beside", None, None),
+            Err(RelationError::UnknownRelation { .. })
+        ));
+    }
+
+    #[test]
+    fn operands_must_match_the_relations_kind() {
+        let params = RelationParams::default();
+        let a = unit_cube(0.0).to_obb("a").unwrap();
+        let b = unit_cube(1.3).to_obb("b").unwrap();
+        let room = square_room().build().unwrap();
+        let next_to = Relation::from_parts("next_to", None).unwrap();
+        // Only a target: the anchor is missing.
+        let only_target = Operands {
+            target: Some(&a),
+            ..Operands::default()
+        };
+        assert!(matches!(
+            score_operands(next_to, &only_target, &params),
+            Err(RelationError::MissingOperand {
+                operand: "anchor",
+                ..
+            })
+        ));
+        // A room without an anchor on a distance relation: the caller meant the architecture.
+        let with_room = Operands {
+            target: Some(&a),
+            room: Some(&room),
+            ..Operands::default()
+        };
+        assert!(matches!(
+            score_operands(next_to, &with_room, &params),
+            Err(RelationError::MissingArgument { .. })
+        ));
+        let pair_and_room = Operands {
+            target: Some(&a),
+            anchor: Some(&b),
+            room: Some(&room),
+            ..Operands::default()
+        };
+        assert!(matches!(
+            score_operands(next_to, &pair_and_room, &params),
+            Err(RelationError::UnexpectedOperand { operand: "room", .. })
+        ));
+        // Unit cubes 1.3 m apart centre to centre: a 0.3 m gap, inside next_to's [0, 0.5] m.
+        let pair = Operands {
+            target: Some(&a),
+            anchor: Some(&b),
+            ..Operands::default()
+        };
+        assert_eq!(score_operands(next_to, &pair, &params).unwrap(), 1.0);
+    }
+
+    #[test]
+    fn the_reference_surround_refuses_more_targets_than_its_limit() {
+        let anchor = unit_cube(0.0).to_obb("a").unwrap();
+        let targets = vec![unit_cube(3.0).to_obb("t").unwrap(); SURROUND_REFERENCE_MAX_TARGETS + 1];
+        let operands = Operands {
+            anchor: Some(&anchor),
+            targets: Some(&targets),
+            ..Operands::default()
+        };
+        let surround = Relation::from_parts("surround", None).unwrap();
+        assert!(matches!(
+            score_operands(surround, &operands, &RelationParams::reference()),
+            Err(RelationError::TooManyTargets { .. })
+        ));
+        // The paper's variant is linear in the targets and takes any number. All targets at one
+        // place: every distance equals the mean (distance term 1, weight 0.5) but no angle is
+        // the ideal 360/n degrees (angle term 0, weight 0.5), so the score is 0.5.
+        assert_eq!(
+            score_operands(surround, &operands, &RelationParams::default()).unwrap(),
+            0.5
+        );
+    }
+
+    #[test]
+    fn rooms_are_built_with_their_openings_and_checked() {
+        let mut spec = square_room();
+        spec.openings.push(OpeningSpec {
+            kind: "Door".into(),
+            wall: 0,
+            along: [1.0, 2.0],
+            height: [0.0, 2.0],
+        });
+        let room = spec.build().unwrap();
+        assert_eq!(room.openings().len(), 1);
+        spec.openings[0].kind = "hatch".into();
+        assert_eq!(
+            spec.build().unwrap_err(),
+            RelationError::UnknownOpeningKind {
+                index: 0,
+                kind: "hatch".into()
+            }
+        );
+        let mut spec = square_room();
+        spec.height = Real::INFINITY;
+        assert_eq!(
+            spec.build().unwrap_err(),
+            RelationError::NotFinite {
+                field: "room.height".into()
+            }
+        );
+        let spec = RoomSpec::new(vec![[0.0, 0.0], [1.0, 0.0]]);
+        assert!(matches!(spec.build(), Err(RelationError::Room { .. })));
+    }
+
+    #[test]
+    fn a_query_inside_its_room_scores_one() {
+        let q = QuerySpec {
+            relation: "inside_room".into(),
+            target: Some(BoxSpec::from_yaw([2.0, 1.5, 0.4], [0.3, 0.3, 0.4], 0.0)),
+            room: Some(square_room()),
+            ..QuerySpec::default()
+        };
+        assert_eq!(q.score(&RelationParams::default()).unwrap(), 1.0);
+    }
+}
