@@ -4,8 +4,8 @@
 
 use sceneeval_annotation::{AnnotationRow, Annotations};
 use sceneeval_fidelity::{
-    FidelityEvaluator, FidelityMetric, FidelityParams, MappingStatus, MatchingMethod, MemoViews, RelationMapping,
-    Resources,
+    FidelityEvaluator, FidelityMetric, FidelityParams, MappingStatus, MatchingMethod, MemoViews,
+    RelationMapping, Resources,
 };
 use sceneeval_geom::{Point2, Point3, Vector3, conventions::pose_from_yaw};
 use sceneeval_relations::RelationParams;
@@ -25,7 +25,11 @@ fn scene() -> Scene {
         )
     };
     let mut b = Scene::builder()
-        .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 4.0)))
+        .room_builder(RoomBuilder::rectangle(
+            "r0",
+            Point2::new(0.0, 0.0),
+            Point2::new(4.0, 4.0),
+        ))
         .add_box(
             "t",
             Category::new("table"),
@@ -125,7 +129,14 @@ fn labels_and_lexicon_without_vlm() {
         .collect();
     assert_eq!(
         counts,
-        [(1, 1, true), (4, 4, true), (1, 1, true), (1, 0, false), (0, 0, false), (0, 0, true)]
+        [
+            (1, 1, true),
+            (4, 4, true),
+            (1, 1, true),
+            (1, 0, false),
+            (0, 0, false),
+            (0, 0, true)
+        ]
     );
     assert_eq!(oor.specs[0].groups[0].others, ["c1", "c2", "c3", "c4"]);
     assert_eq!(oor.specs[0].mapping.relations, ["surround"]);
@@ -159,7 +170,11 @@ fn scripted_vlm_judges_attributes_and_maps_unknown_words() {
     // ATR: wooden table 1 of 1 (eq,1 yes); red chairs 3 of 4 (eq,4 no); tv absent and lt,1
     // allows 0 (yes, not asked) -> 2/3.
     let atr = r.atr.as_ref().unwrap();
-    let got: Vec<(Option<u64>, bool)> = atr.specs.iter().map(|s| (s.count_satisfied, s.satisfied)).collect();
+    let got: Vec<(Option<u64>, bool)> = atr
+        .specs
+        .iter()
+        .map(|s| (s.count_satisfied, s.satisfied))
+        .collect();
     assert_eq!(got, [(Some(1), true), (Some(3), false), (Some(0), true)]);
     assert_eq!(r.summary.atr, Some(2.0 / 3.0));
     assert_eq!(atr.specs[1].assessments[3].reason, "chair 3");
@@ -192,11 +207,21 @@ fn reference_switches() {
         views: Some(&views),
         scene_name: "scene_7",
     };
-    let r = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap().report;
+    let r = ev
+        .evaluate(&scene, &row, &FidelityMetric::ALL, &res)
+        .unwrap()
+        .report;
     // Q5: the absent tv fails its specs (ATR lt,1 and OOR eq,0). Q4: the unmapped relation
     // counts as satisfied. ATR 1/3; OOR: surround, next_to, on, unmapped = 4/6.
     assert_eq!(r.summary.atr, Some(1.0 / 3.0));
-    let v: Vec<bool> = r.oor.as_ref().unwrap().specs.iter().map(|s| s.satisfied).collect();
+    let v: Vec<bool> = r
+        .oor
+        .as_ref()
+        .unwrap()
+        .specs
+        .iter()
+        .map(|s| s.satisfied)
+        .collect();
     assert_eq!(v, [true, true, true, false, true, false]);
     // Q22: with the anchor allowed as target nothing changes here (different categories).
     assert_eq!(r.summary.oor, Some(4.0 / 6.0));
@@ -219,13 +244,19 @@ fn all_invalid_answers_still_give_a_result() {
     };
     // Labels matching: every ATR question and the mapping question go unanswered.
     let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
-    let r = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap().report;
+    let r = ev
+        .evaluate(&scene, &row, &FidelityMetric::ALL, &res)
+        .unwrap()
+        .report;
     let atr = r.atr.as_ref().unwrap();
     for s in &atr.specs[..2] {
         assert!(s.unanswered.is_some() && !s.satisfied, "{s:?}");
         assert!(s.assessments.iter().all(|a| a.satisfied.is_none()));
     }
-    assert_eq!(r.oor.as_ref().unwrap().specs[4].mapping.status, MappingStatus::Unanswered);
+    assert_eq!(
+        r.oor.as_ref().unwrap().specs[4].mapping.status,
+        MappingStatus::Unanswered
+    );
     // VLM matching: every object unanswered, none matched: CNT only eq,0,tv holds -> 1/5.
     let ev = FidelityEvaluator::new(
         FidelityParams {
@@ -257,11 +288,18 @@ fn candidate_group_cap_warns() {
         views: None,
         scene_name: "scene_7",
     };
-    let r = ev.evaluate(&scene, &row, &[FidelityMetric::Oor], &res).unwrap().report;
+    let r = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Oor], &res)
+        .unwrap()
+        .report;
     let next_to = &r.oor.as_ref().unwrap().specs[1];
     // 4 groups, 2 evaluated (both satisfied): 2 of eq,4 -> no.
     assert_eq!((next_to.num_candidate_groups, next_to.groups_evaluated), (4, 2));
     assert!(!next_to.satisfied);
-    assert!(r.warnings.iter().any(|w| w.contains("max_candidate_groups")), "{:?}", r.warnings);
+    assert!(
+        r.warnings.iter().any(|w| w.contains("max_candidate_groups")),
+        "{:?}",
+        r.warnings
+    );
     assert!(r.cnt.is_none());
 }

@@ -144,6 +144,9 @@ pub struct BatchOptions {
     pub diagnostics: bool,
     /// The annotation row digest of each scene (by scene name), part of its fingerprint.
     pub annotations: BTreeMap<String, String>,
+    /// The annotation row of each scene (by scene name), read by the fidelity metrics. A
+    /// scene without a row gets no fidelity result (a warning is logged).
+    pub rows: BTreeMap<String, crate::annotation::AnnotationRow>,
 }
 
 /// What happened to one scene of a batch.
@@ -202,6 +205,9 @@ pub struct SceneTiming {
     pub load_seconds: f64,
     /// Each metric that ran, in order.
     pub metrics: Vec<MetricTiming>,
+    /// The fidelity metrics together (matching, renders and VLM requests included), seconds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fidelity_seconds: Option<f64>,
     /// The whole scene, seconds.
     pub total_seconds: f64,
 }
@@ -341,8 +347,8 @@ impl Ctx<'_> {
         let Some(old) = &record.fingerprint else {
             return Err(Reason::Unreadable("it has no fingerprint".into()));
         };
-        // No metric of this crate reads the annotation row yet; the text-fidelity metrics will.
-        let compare_annotation = false;
+        // The fidelity metrics read the annotation row: a changed row invalidates the record.
+        let compare_annotation = self.evaluator.plan().has_fidelity();
         match self.fingerprints.why_stale(
             old,
             &scene.path,
@@ -381,6 +387,7 @@ impl Ctx<'_> {
             scene: scene.name.clone(),
             load_seconds: 0.0,
             metrics: Vec::new(),
+            fidelity_seconds: None,
             total_seconds: 0.0,
         };
         let loaded = read_scene_state(&scene.path, self.assets, &plan.read);
@@ -396,23 +403,27 @@ impl Ctx<'_> {
                     .evaluate_within(&loaded, &deadline, &mut timing.metrics)
                 {
                     Err(e) => (failed(Stage::Evaluate, &e), false),
-                    Ok(mut report) => {
-                        report.plausibility.scene_id = Some(scene.name.clone());
-                        if self.options.diagnostics {
-                            self.diagnostics(scene, &loaded);
+                    Ok(mut report) => match self.fidelity(scene, &loaded, &mut timing) {
+                        Err(e) => (failed(Stage::Evaluate, &e), false),
+                        Ok(fidelity) => {
+                            report.plausibility.scene_id = Some(scene.name.clone());
+                            report.fidelity = fidelity;
+                            if self.options.diagnostics {
+                                self.diagnostics(scene, &loaded);
+                            }
+                            let fingerprint = self.fingerprints.of_loaded(
+                                &scene.path,
+                                &loaded,
+                                self.assets,
+                                self.plan_digest,
+                                self.options.annotations.get(&scene.name).cloned(),
+                            );
+                            (
+                                SceneRecord::ok(&scene.name, report).with_fingerprint(fingerprint),
+                                true,
+                            )
                         }
-                        let fingerprint = self.fingerprints.of_loaded(
-                            &scene.path,
-                            &loaded,
-                            self.assets,
-                            self.plan_digest,
-                            self.options.annotations.get(&scene.name).cloned(),
-                        );
-                        (
-                            SceneRecord::ok(&scene.name, report).with_fingerprint(fingerprint),
-                            true,
-                        )
-                    }
+                    },
                 },
             },
         };
@@ -433,6 +444,36 @@ impl Ctx<'_> {
             SceneStatus::Failed { why }
         };
         Ok((record, status, Some(timing)))
+    }
+
+    /// The fidelity metrics of a scene, when the plan runs any and the scene has a row; writes
+    /// `<scene>/matching.json` (and the rendered views under `<scene>/views/`).
+    fn fidelity(
+        &self,
+        scene: &SceneFile,
+        loaded: &crate::scene::Scene,
+        timing: &mut SceneTiming,
+    ) -> Result<Option<crate::fidelity::FidelityReport>, EvalError> {
+        if !self.evaluator.plan().has_fidelity() {
+            return Ok(None);
+        }
+        let Some(row) = self.options.rows.get(&scene.name) else {
+            tracing::warn!(scene = %scene.name, "no annotation row: fidelity metrics skipped");
+            return Ok(None);
+        };
+        let start = Instant::now();
+        let dir = self.options.out_dir.join(&scene.name);
+        let views = self
+            .evaluator
+            .views_for(loaded, self.assets, Some(dir.join("views")))?;
+        let outcome = self
+            .evaluator
+            .evaluate_fidelity(loaded, &scene.name, row, views.as_deref())?;
+        outcome
+            .matching
+            .write(&dir.join(crate::fidelity::MATCHING_FILE))?;
+        timing.fidelity_seconds = Some(start.elapsed().as_secs_f64());
+        Ok(Some(outcome.report))
     }
 
     fn diagnostics(&self, scene: &SceneFile, loaded: &crate::scene::Scene) {

@@ -1,8 +1,12 @@
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde_json::Value;
 
+use crate::annotation::AnnotationRow;
+use crate::fidelity::{FidelityEvaluator, FidelityOutcome, FidelityReport, ObjectViews, Resources};
 use crate::plausibility::{self, Deadline, MetricTiming, PlausibilityReport, Sources};
 use crate::scene::Scene;
-use crate::{EvalError, EvaluationPlan};
+use crate::vlm::Session;
+use crate::{EvalError, EvaluationPlan, SharedVlm};
 
 /// The schema name and version written into every per-scene report.
 pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
@@ -33,6 +37,10 @@ pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
 pub struct Evaluator {
     plan: EvaluationPlan,
     sources: Sources,
+    fidelity: FidelityEvaluator,
+    vlm: Option<SharedVlm>,
+    #[cfg(feature = "render")]
+    renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
 }
 
 impl Evaluator {
@@ -43,10 +51,81 @@ impl Evaluator {
     /// [`EvalError::Plan`] when the plan is invalid (see [`EvaluationPlan::validate`]).
     pub fn new(plan: EvaluationPlan) -> Result<Self, EvalError> {
         plan.validate()?;
+        let fidelity = FidelityEvaluator::new(plan.fidelity.clone(), plan.relations.clone())?;
         Ok(Evaluator {
             plan,
             sources: Sources::default(),
+            fidelity,
+            vlm: None,
+            #[cfg(feature = "render")]
+            renderer: None,
         })
+    }
+
+    /// Uses `vlm` for the fidelity metrics (matching, attributes, relation mapping), each
+    /// scene with its own [`Session`] so that its usage is recorded with it.
+    pub fn with_vlm(mut self, vlm: SharedVlm) -> Self {
+        self.vlm = Some(vlm);
+        self
+    }
+
+    /// The VLM, if configured.
+    pub fn vlm(&self) -> Option<&SharedVlm> {
+        self.vlm.as_ref()
+    }
+
+    /// Renders the object views the VLM is shown with `renderer` at `settings` (feature
+    /// `render`); without a renderer the VLM-based matching and ATR cannot run.
+    #[cfg(feature = "render")]
+    pub fn with_renderer(
+        mut self,
+        renderer: crate::render::Renderer,
+        settings: crate::render::RenderSettings,
+    ) -> Self {
+        self.renderer = Some((renderer, settings));
+        self
+    }
+
+    /// Object views of `scene` for the VLM, when a VLM and a renderer are configured; `dir`
+    /// receives the rendered PNGs.
+    #[cfg_attr(not(feature = "render"), allow(unused_variables))]
+    pub(crate) fn views_for(
+        &self,
+        scene: &Scene,
+        assets: &crate::io::AssetLibrary,
+        dir: Option<std::path::PathBuf>,
+    ) -> Result<Option<Box<dyn ObjectViews>>, EvalError> {
+        if self.vlm.is_none() {
+            return Ok(None);
+        }
+        #[cfg(feature = "render")]
+        if let Some((renderer, settings)) = &self.renderer {
+            let v = crate::fidelity::RenderedViews::new(renderer, scene, assets, *settings, dir)?;
+            return Ok(Some(Box::new(v)));
+        }
+        Ok(None)
+    }
+
+    /// Runs the plan's fidelity metrics on `scene` against `row`, with `views` for the VLM.
+    ///
+    /// # Errors
+    /// [`EvalError::Fidelity`].
+    pub fn evaluate_fidelity(
+        &self,
+        scene: &Scene,
+        scene_name: &str,
+        row: &AnnotationRow,
+        views: Option<&dyn ObjectViews>,
+    ) -> Result<FidelityOutcome, EvalError> {
+        let session = self.vlm.clone().map(Session::new);
+        let res = Resources {
+            session: session.as_ref(),
+            views,
+            scene_name,
+        };
+        Ok(self
+            .fidelity
+            .evaluate(scene, row, &self.plan.fidelity_metrics, &res)?)
     }
 
     /// Replaces the support-type and functional-side sources (e.g. types given by the generator).
@@ -98,20 +177,76 @@ impl Evaluator {
         Ok(SceneReport {
             schema: SCENE_REPORT_SCHEMA.to_owned(),
             plausibility: report,
+            fidelity: None,
         })
     }
 }
 
 /// Everything measured on one scene, serialised as the `report` of its `eval.json` (see
 /// `docs/formats.md`): the schema, then the fields of the [`PlausibilityReport`] (scene id,
-/// object ids, metrics, summary, each metric's evidence) at the same level.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// object ids, metrics, summary, each metric's evidence) at the same level, then `fidelity`
+/// when fidelity metrics ran; their scores `cnt`, `atr`, `oor`, `oar` are also written into
+/// `summary`.
+#[derive(Debug, Clone, PartialEq)]
 pub struct SceneReport {
     /// Always [`SCENE_REPORT_SCHEMA`].
     pub schema: String,
     /// What the plausibility metrics found.
-    #[serde(flatten)]
     pub plausibility: PlausibilityReport,
+    /// What the fidelity metrics found, when they ran.
+    pub fidelity: Option<FidelityReport>,
+}
+
+const FIDELITY_SUMMARY_KEYS: [&str; 4] = ["cnt", "atr", "oor", "oar"];
+
+#[derive(Serialize, Deserialize)]
+struct SceneReportWire {
+    schema: String,
+    #[serde(flatten)]
+    plausibility: PlausibilityReport,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    fidelity: Option<FidelityReport>,
+}
+
+impl Serialize for SceneReport {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let wire = SceneReportWire {
+            schema: self.schema.clone(),
+            plausibility: self.plausibility.clone(),
+            fidelity: self.fidelity.clone(),
+        };
+        let mut value = serde_json::to_value(&wire).map_err(serde::ser::Error::custom)?;
+        if let (Some(f), Some(Value::Object(summary))) = (&self.fidelity, value.get_mut("summary")) {
+            let s = f.summary;
+            for (k, v) in FIDELITY_SUMMARY_KEYS
+                .into_iter()
+                .zip([s.cnt, s.atr, s.oor, s.oar])
+            {
+                summary.insert(
+                    k.to_owned(),
+                    serde_json::to_value(v).map_err(serde::ser::Error::custom)?,
+                );
+            }
+        }
+        value.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for SceneReport {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let mut value = Value::deserialize(deserializer)?;
+        if let Some(Value::Object(summary)) = value.get_mut("summary") {
+            for k in FIDELITY_SUMMARY_KEYS {
+                summary.remove(k);
+            }
+        }
+        let wire: SceneReportWire = serde_json::from_value(value).map_err(serde::de::Error::custom)?;
+        Ok(SceneReport {
+            schema: wire.schema,
+            plausibility: wire.plausibility,
+            fidelity: wire.fidelity,
+        })
+    }
 }
 
 #[cfg(test)]
