@@ -199,7 +199,7 @@ pub struct SceneReport {
 
 const FIDELITY_SUMMARY_KEYS: [&str; 4] = ["cnt", "atr", "oor", "oar"];
 
-#[derive(Serialize, Deserialize)]
+#[derive(Deserialize)]
 struct SceneReportWire {
     schema: String,
     #[serde(flatten)]
@@ -210,25 +210,62 @@ struct SceneReportWire {
 
 impl Serialize for SceneReport {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let wire = SceneReportWire {
-            schema: self.schema.clone(),
-            plausibility: self.plausibility.clone(),
-            fidelity: self.fidelity.clone(),
-        };
-        let mut value = serde_json::to_value(&wire).map_err(serde::ser::Error::custom)?;
-        if let (Some(f), Some(Value::Object(summary))) = (&self.fidelity, value.get_mut("summary")) {
-            let s = f.summary;
-            for (k, v) in FIDELITY_SUMMARY_KEYS
-                .into_iter()
-                .zip([s.cnt, s.atr, s.oor, s.oar])
-            {
-                summary.insert(
-                    k.to_owned(),
-                    serde_json::to_value(v).map_err(serde::ser::Error::custom)?,
-                );
-            }
+        /// The summary with the fidelity scores after the plausibility numbers.
+        #[derive(Serialize)]
+        struct Summary<'a> {
+            #[serde(flatten)]
+            plausibility: &'a plausibility::PlausibilitySummary,
+            #[serde(flatten, skip_serializing_if = "Option::is_none")]
+            fidelity: Option<crate::fidelity::FidelitySummary>,
         }
-        value.serialize(serializer)
+        /// The report's fields in the plausibility report's order (destructured below, so a
+        /// field added there fails to compile here rather than going missing).
+        #[derive(Serialize)]
+        struct Wire<'a> {
+            schema: &'a str,
+            scene_id: &'a Option<String>,
+            object_ids: &'a [crate::scene::ObjectId],
+            metrics: &'a [crate::Metric],
+            summary: Summary<'a>,
+            collision: &'a Option<plausibility::CollisionReport>,
+            support: &'a Option<plausibility::SupportReport>,
+            navigability: &'a Option<plausibility::NavigabilityReport>,
+            accessibility: &'a Option<plausibility::AccessibilityReport>,
+            out_of_bounds: &'a Option<plausibility::OutOfBoundsReport>,
+            opening_clearance: &'a Option<plausibility::OpeningClearanceReport>,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            fidelity: &'a Option<FidelityReport>,
+        }
+        let PlausibilityReport {
+            scene_id,
+            object_ids,
+            metrics,
+            summary,
+            collision,
+            support,
+            navigability,
+            accessibility,
+            out_of_bounds,
+            opening_clearance,
+        } = &self.plausibility;
+        Wire {
+            schema: &self.schema,
+            scene_id,
+            object_ids,
+            metrics,
+            summary: Summary {
+                plausibility: summary,
+                fidelity: self.fidelity.as_ref().map(|f| f.summary),
+            },
+            collision,
+            support,
+            navigability,
+            accessibility,
+            out_of_bounds,
+            opening_clearance,
+            fidelity: &self.fidelity,
+        }
+        .serialize(serializer)
     }
 }
 
