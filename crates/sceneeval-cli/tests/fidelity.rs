@@ -70,7 +70,8 @@ fn setup() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
 
 /// What a model answers to each task (shared by the scripted model and the mock server): the
 /// nightstand of scene 8 is not recognised; the wardrobe is tall; five of the six chairs are
-/// wooden; "in_harmony_with" maps to no predicate. `nth_matching` is the object's position in
+/// wooden; "in_harmony_with" maps to no predicate; every object's functional side is its
+/// front (the fixture scenes state every support type, so none is asked). `nth_matching` is the object's position in
 /// its scene.
 fn answer(task: &str, user_text: &str, nth_matching: usize) -> Value {
     match task {
@@ -93,6 +94,14 @@ fn answer(task: &str, user_text: &str, nth_matching: usize) -> Value {
             "category": "chair", "num_instances": 6,
             "assessments": (0..6).map(|i| json!({"instance": i, "attribute": "wooden", "satisfied": i != 5,
                                                   "reason": format!("chair {i}")})).collect::<Vec<_>>()}),
+        // Every object described in the prompt (`obj_id: "<id>", ...`) is used from the front.
+        "obj_functional_sides" => json!({"assessments": user_text
+            .split("obj_id: \"")
+            .skip(1)
+            .filter_map(|rest| rest.split('"').next())
+            .map(|id| json!({"obj_id": id, "obj_description": "", "functional_sides": ["front"], "reason": "used from the front"}))
+            .collect::<Vec<_>>()}),
+        "obj_support_type" => json!({"support_type": "ground", "reason": "on the floor"}),
         "obj_relationship_mapping" => json!({"assessments": [{
             "key": "1", "relationship": "in_harmony_with", "anchor_object": "bed",
             "other_objects": ["wardrobe"], "other_object_counts": [1],
@@ -212,14 +221,22 @@ fn full_plan_with_a_scripted_vlm() {
         scores(out.path(), "scene_2"),
         [json!(1.0), json!(0.0), json!(1.0), json!(1.0)]
     );
-    let f8 = &record(out.path(), "scene_8")["report"]["fidelity"];
-    // Requests: 4 matching + 1 attribute + 1 mapping; views: 4 front + 1 size, each once.
-    assert_eq!(f8["vlm_usage"]["requests"], 6);
+    let r8 = record(out.path(), "scene_8");
+    let f8 = &r8["report"]["fidelity"];
+    // Requests: 1 functional sides (for accessibility) + 4 matching + 1 attribute + 1 mapping;
+    // views: 4 front + 1 size, each once.
+    assert_eq!(f8["vlm_usage"]["requests"], 7);
+    // Accessibility used the VLM's sides: between the scene (states none) and the tables.
+    let acc = &r8["report"]["accessibility"]["objects"];
+    assert!(
+        acc.as_array().unwrap().iter().all(|o| o["sides_source"] == "vlm"),
+        "{acc}"
+    );
     assert_eq!(f8["views_rendered"], 5);
     assert_eq!(f8["oor"]["specs"][1]["mapping"]["source"], "vlm");
     let f2 = &record(out.path(), "scene_2")["report"]["fidelity"];
-    // 12 matching + 1 attribute; 12 front + 6 size views.
-    assert_eq!(f2["vlm_usage"]["requests"], 13);
+    // 1 functional sides + 12 matching + 1 attribute; 12 front + 6 size views.
+    assert_eq!(f2["vlm_usage"]["requests"], 14);
     assert_eq!(f2["views_rendered"], 18);
     assert_eq!(f2["atr"]["specs"][0]["count_satisfied"], 5);
     let pngs = std::fs::read_dir(out.path().join("scene_2/views"))
@@ -280,8 +297,9 @@ async fn interrupted_run_resumes_without_asking_again() {
     let (_keep, scenes, csv) = setup();
     std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
     let out = tempfile::tempdir().unwrap();
-    // Scene 8 needs 6 requests (4 matching, 1 attribute, 1 mapping). The first server answers
-    // 3, then the key is "revoked": the scene fails, the 3 answers are in the cache.
+    // Scene 8 needs 7 requests (functional sides, 4 matching, 1 attribute, 1 mapping). The
+    // first server answers 3, then the key is "revoked": the scene fails, the 3 answers are in
+    // the cache.
     let nth = Arc::new(Nth::default());
     let first = mock_server(3, nth.clone()).await;
     let url = format!("{}/v1", first.uri());
@@ -296,7 +314,7 @@ async fn interrupted_run_resumes_without_asking_again() {
         answered_first >= 4,
         "3 answered and at least one refused: {answered_first}"
     );
-    // The second run asks only the 3 questions not answered before.
+    // The second run asks only the 4 questions not answered before.
     let second = mock_server(usize::MAX, nth.clone()).await;
     let url = format!("{}/v1", second.uri());
     let (s, c, o) = (scenes.clone(), csv.clone(), out.path().to_owned());
@@ -304,7 +322,7 @@ async fn interrupted_run_resumes_without_asking_again() {
         .await
         .unwrap();
     assert!(b.status.success(), "{}", String::from_utf8_lossy(&b.stderr));
-    assert_eq!(support::bodies(&second).await.len(), 3);
+    assert_eq!(support::bodies(&second).await.len(), 4);
     assert_eq!(
         scores(out.path(), "scene_8"),
         [json!(4.0 / 6.0), json!(1.0), json!(0.0), json!(1.0)]
@@ -312,7 +330,7 @@ async fn interrupted_run_resumes_without_asking_again() {
     let usage = &record(out.path(), "scene_8")["report"]["fidelity"]["vlm_usage"];
     assert_eq!(
         (usage["requests"].clone(), usage["cache_hits"].clone()),
-        (json!(6), json!(3))
+        (json!(7), json!(3))
     );
     // A third run of the finished run sends nothing at all (the record is reused).
     let third = mock_server(usize::MAX, nth).await;

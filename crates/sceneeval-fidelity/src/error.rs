@@ -55,9 +55,9 @@ pub enum FidelityError {
     Vlm {
         /// The task.
         task: String,
-        /// The cause.
+        /// The cause (boxed: it is large).
         #[source]
-        source: VlmError,
+        source: Box<VlmError>,
     },
     /// An object view could not be made.
     #[error("cannot make the {view} view of object {object:?}")]

@@ -66,6 +66,7 @@ pub mod labels;
 pub mod lexicon;
 pub mod matching;
 mod params;
+pub mod placement;
 mod report;
 mod views;
 

@@ -229,7 +229,7 @@ pub fn match_by_vlm<V: Vlm>(
 pub(crate) fn vlm_err(task: &str, source: sceneeval_vlm::VlmError) -> FidelityError {
     FidelityError::Vlm {
         task: task.to_owned(),
-        source,
+        source: Box::new(source),
     }
 }
 

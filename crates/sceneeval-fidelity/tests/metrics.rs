@@ -2,6 +2,8 @@
 //! a failing spec, an absent object with `eq,0`, a `surround` group, an unmappable phrase,
 //! the reference switches, and a VLM whose answers are all invalid.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 use sceneeval_annotation::{AnnotationRow, Annotations};
 use sceneeval_fidelity::{
     FidelityEvaluator, FidelityMetric, FidelityParams, MappingStatus, MatchingMethod, MemoViews,

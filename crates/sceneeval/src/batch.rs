@@ -282,7 +282,7 @@ pub fn run_batch(
 ) -> Result<BatchOutcome, EvalError> {
     crate::check_output_dir(&options.out_dir)?;
     let fingerprints = Fingerprints::new();
-    let plan_digest = evaluator.plan().result_digest();
+    let plan_digest = evaluator.result_digest();
     type Done = (SceneRecord, SceneStatus, Option<SceneTiming>);
     let results: Vec<Result<Done, EvalError>> = scenes
         .par_iter()
@@ -398,32 +398,25 @@ impl Ctx<'_> {
             Err(e) => (failed(Stage::Load, &e), false),
             Ok(loaded) => match deadline.check("loading") {
                 Err(e) => (failed(Stage::Load, &EvalError::from(e)), false),
-                Ok(()) => match self
-                    .evaluator
-                    .evaluate_within(&loaded, &deadline, &mut timing.metrics)
-                {
+                Ok(()) => match self.evaluate_loaded(scene, &loaded, &deadline, &mut timing) {
                     Err(e) => (failed(Stage::Evaluate, &e), false),
-                    Ok(mut report) => match self.fidelity(scene, &loaded, &mut timing) {
-                        Err(e) => (failed(Stage::Evaluate, &e), false),
-                        Ok(fidelity) => {
-                            report.plausibility.scene_id = Some(scene.name.clone());
-                            report.fidelity = fidelity;
-                            if self.options.diagnostics {
-                                self.diagnostics(scene, &loaded);
-                            }
-                            let fingerprint = self.fingerprints.of_loaded(
-                                &scene.path,
-                                &loaded,
-                                self.assets,
-                                self.plan_digest,
-                                self.options.annotations.get(&scene.name).cloned(),
-                            );
-                            (
-                                SceneRecord::ok(&scene.name, report).with_fingerprint(fingerprint),
-                                true,
-                            )
+                    Ok(mut report) => {
+                        report.plausibility.scene_id = Some(scene.name.clone());
+                        if self.options.diagnostics {
+                            self.diagnostics(scene, &loaded);
                         }
-                    },
+                        let fingerprint = self.fingerprints.of_loaded(
+                            &scene.path,
+                            &loaded,
+                            self.assets,
+                            self.plan_digest,
+                            self.options.annotations.get(&scene.name).cloned(),
+                        );
+                        (
+                            SceneRecord::ok(&scene.name, report).with_fingerprint(fingerprint),
+                            true,
+                        )
+                    }
                 },
             },
         };
@@ -446,34 +439,53 @@ impl Ctx<'_> {
         Ok((record, status, Some(timing)))
     }
 
-    /// The fidelity metrics of a scene, when the plan runs any and the scene has a row; writes
-    /// `<scene>/matching.json` (and the rendered views under `<scene>/views/`).
-    fn fidelity(
+    /// Runs the plan on a loaded scene: the object views and VLM session when a VLM is
+    /// configured, the plausibility metrics (with the VLM's support types and functional sides
+    /// between what the scene states and the category tables), then the fidelity metrics when
+    /// the plan runs any and the scene has an annotation row (writing `<scene>/matching.json`
+    /// and the views under `<scene>/views/`).
+    fn evaluate_loaded(
         &self,
         scene: &SceneFile,
         loaded: &crate::scene::Scene,
+        deadline: &Deadline,
         timing: &mut SceneTiming,
-    ) -> Result<Option<crate::fidelity::FidelityReport>, EvalError> {
-        if !self.evaluator.plan().has_fidelity() {
-            return Ok(None);
-        }
-        let Some(row) = self.options.rows.get(&scene.name) else {
-            tracing::warn!(scene = %scene.name, "no annotation row: fidelity metrics skipped");
-            return Ok(None);
-        };
-        let start = Instant::now();
+    ) -> Result<crate::SceneReport, EvalError> {
+        let ev = self.evaluator;
         let dir = self.options.out_dir.join(&scene.name);
-        let views = self
-            .evaluator
-            .views_for(loaded, self.assets, Some(dir.join("views")))?;
-        let outcome = self
-            .evaluator
-            .evaluate_fidelity(loaded, &scene.name, row, views.as_deref())?;
-        outcome
-            .matching
-            .write(&dir.join(crate::fidelity::MATCHING_FILE))?;
-        timing.fidelity_seconds = Some(start.elapsed().as_secs_f64());
-        Ok(Some(outcome.report))
+        let row = self.options.rows.get(&scene.name);
+        let fidelity_runs = ev.plan().has_fidelity() && row.is_some();
+        if ev.plan().has_fidelity() && row.is_none() {
+            tracing::warn!(scene = %scene.name, "no annotation row: fidelity metrics skipped");
+        }
+        let session = ev.scene_session();
+        let views = match &session {
+            Some(_) if fidelity_runs || ev.wants_vlm_sources() => {
+                ev.views_for(loaded, self.assets, Some(dir.join("views")))?
+            }
+            _ => None,
+        };
+        let sources = match &session {
+            Some(s) => ev.vlm_sources(loaded, s, views.as_deref())?,
+            None => None,
+        };
+        let mut report = ev.evaluate_with_sources(
+            loaded,
+            sources.as_ref().unwrap_or(ev.sources()),
+            deadline,
+            &mut timing.metrics,
+        )?;
+        if let (true, Some(row)) = (fidelity_runs, row) {
+            let start = Instant::now();
+            let outcome =
+                ev.evaluate_fidelity(loaded, &scene.name, row, session.as_ref(), views.as_deref())?;
+            outcome
+                .matching
+                .write(&dir.join(crate::fidelity::MATCHING_FILE))?;
+            timing.fidelity_seconds = Some(start.elapsed().as_secs_f64());
+            report.fidelity = Some(outcome.report);
+        }
+        Ok(report)
     }
 
     fn diagnostics(&self, scene: &SceneFile, loaded: &crate::scene::Scene) {

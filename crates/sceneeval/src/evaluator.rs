@@ -39,6 +39,7 @@ pub struct Evaluator {
     sources: Sources,
     fidelity: FidelityEvaluator,
     vlm: Option<SharedVlm>,
+    custom_sources: bool,
     #[cfg(feature = "render")]
     renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
 }
@@ -51,12 +52,13 @@ impl Evaluator {
     /// [`EvalError::Plan`] when the plan is invalid (see [`EvaluationPlan::validate`]).
     pub fn new(plan: EvaluationPlan) -> Result<Self, EvalError> {
         plan.validate()?;
-        let fidelity = FidelityEvaluator::new(plan.fidelity.clone(), plan.relations.clone())?;
+        let fidelity = FidelityEvaluator::new(plan.fidelity.clone(), plan.relations)?;
         Ok(Evaluator {
             plan,
             sources: Sources::default(),
             fidelity,
             vlm: None,
+            custom_sources: false,
             #[cfg(feature = "render")]
             renderer: None,
         })
@@ -72,6 +74,21 @@ impl Evaluator {
     /// The VLM, if configured.
     pub fn vlm(&self) -> Option<&SharedVlm> {
         self.vlm.as_ref()
+    }
+
+    /// The digest a result depends on: the plan's [`EvaluationPlan::result_digest`], and the
+    /// VLM's model name when one is configured (answers of another model are other results).
+    pub fn result_digest(&self) -> String {
+        let plan = self.plan.result_digest();
+        match &self.vlm {
+            None => plan,
+            Some(v) => {
+                use crate::vlm::Vlm;
+                blake3::hash(format!("{plan}\nvlm {}", v.model()).as_bytes())
+                    .to_hex()
+                    .to_string()
+            }
+        }
     }
 
     /// Renders the object views the VLM is shown with `renderer` at `settings` (feature
@@ -106,7 +123,88 @@ impl Evaluator {
         Ok(None)
     }
 
-    /// Runs the plan's fidelity metrics on `scene` against `row`, with `views` for the VLM.
+    /// A session for one scene (its usage is recorded with the scene), when a VLM is configured.
+    pub fn scene_session(&self) -> Option<Session<SharedVlm>> {
+        self.vlm.clone().map(Session::new)
+    }
+
+    /// Whether the VLM answers support types or functional sides: a VLM is configured, the
+    /// sources are the default ones and the plan runs support or accessibility.
+    pub(crate) fn wants_vlm_sources(&self) -> bool {
+        self.vlm.is_some()
+            && !self.custom_sources
+            && (self.plan.runs(plausibility::Metric::Support)
+                || self.plan.runs(plausibility::Metric::Accessibility))
+    }
+
+    /// The plausibility sources of one scene with the VLM's answers between what the scene
+    /// states and the category tables (`None`: use [`Evaluator::sources`]). Objects that state
+    /// their own values are not asked about.
+    ///
+    /// # Errors
+    /// [`EvalError::Fidelity`] when a view cannot be made or the VLM cannot be asked.
+    pub fn vlm_sources(
+        &self,
+        scene: &Scene,
+        session: &Session<SharedVlm>,
+        views: Option<&dyn ObjectViews>,
+    ) -> Result<Option<Sources>, EvalError> {
+        use crate::fidelity::placement::{ask_functional_sides, ask_support_types};
+        use crate::plausibility::{Chain, FunctionalSidePriors, Stated, SupportTypePriors};
+        if !self.wants_vlm_sources() {
+            return Ok(None);
+        }
+        let support = match views {
+            Some(v) if self.plan.runs(plausibility::Metric::Support) => {
+                ask_support_types(scene, session, v, |o| o.support_type().is_some())?
+            }
+            _ => Default::default(),
+        };
+        let sides = if self.plan.runs(plausibility::Metric::Accessibility) {
+            ask_functional_sides(scene, session, |o| o.functional_sides().is_some())?
+        } else {
+            Default::default()
+        };
+        Ok(Some(Sources::new(
+            Chain::new(
+                Stated,
+                Chain::new(VlmAnswers(support), SupportTypePriors::default()),
+            ),
+            Chain::new(
+                Stated,
+                Chain::new(VlmAnswers(sides), FunctionalSidePriors::default()),
+            ),
+        )))
+    }
+
+    /// Evaluates one scene with these sources instead of [`Evaluator::sources`].
+    ///
+    /// # Errors
+    /// As [`Evaluator::evaluate_within`].
+    pub fn evaluate_with_sources(
+        &self,
+        scene: &Scene,
+        sources: &Sources,
+        deadline: &Deadline,
+        timings: &mut Vec<MetricTiming>,
+    ) -> Result<SceneReport, EvalError> {
+        let report = plausibility::evaluate_metrics(
+            scene,
+            &self.plan.params,
+            sources,
+            &self.plan.metrics,
+            deadline,
+            timings,
+        )?;
+        Ok(SceneReport {
+            schema: SCENE_REPORT_SCHEMA.to_owned(),
+            plausibility: report,
+            fidelity: None,
+        })
+    }
+
+    /// Runs the plan's fidelity metrics on `scene` against `row`, asking the VLM through
+    /// `session` (see [`Evaluator::scene_session`]) with `views`.
     ///
     /// # Errors
     /// [`EvalError::Fidelity`].
@@ -115,11 +213,11 @@ impl Evaluator {
         scene: &Scene,
         scene_name: &str,
         row: &AnnotationRow,
+        session: Option<&Session<SharedVlm>>,
         views: Option<&dyn ObjectViews>,
     ) -> Result<FidelityOutcome, EvalError> {
-        let session = self.vlm.clone().map(Session::new);
         let res = Resources {
-            session: session.as_ref(),
+            session,
             views,
             scene_name,
         };
@@ -129,8 +227,11 @@ impl Evaluator {
     }
 
     /// Replaces the support-type and functional-side sources (e.g. types given by the generator).
+    ///
+    /// Given sources replace the VLM's support types and functional sides too.
     pub fn with_sources(mut self, sources: Sources) -> Self {
         self.sources = sources;
+        self.custom_sources = true;
         self
     }
 
@@ -166,18 +267,25 @@ impl Evaluator {
         deadline: &Deadline,
         timings: &mut Vec<MetricTiming>,
     ) -> Result<SceneReport, EvalError> {
-        let report = plausibility::evaluate_metrics(
-            scene,
-            &self.plan.params,
-            &self.sources,
-            &self.plan.metrics,
-            deadline,
-            timings,
-        )?;
-        Ok(SceneReport {
-            schema: SCENE_REPORT_SCHEMA.to_owned(),
-            plausibility: report,
-            fidelity: None,
+        self.evaluate_with_sources(scene, &self.sources, deadline, timings)
+    }
+}
+
+/// The VLM's answers as a plausibility source (named `vlm` in the reports).
+struct VlmAnswers<T>(std::collections::BTreeMap<String, T>);
+
+impl<Q> plausibility::Source<Q> for VlmAnswers<Q::Value>
+where
+    Q: plausibility::Question,
+{
+    fn answer(
+        &self,
+        _scene: &Scene,
+        object: &crate::scene::SceneObject,
+    ) -> Option<plausibility::Answer<Q::Value>> {
+        self.0.get(object.id().as_str()).map(|v| plausibility::Answer {
+            value: v.clone(),
+            source: "vlm".to_owned(),
         })
     }
 }
