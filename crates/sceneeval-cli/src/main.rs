@@ -40,7 +40,7 @@ enum Command {
     #[command(subcommand)]
     Annotations(annotations::Command),
     /// Evaluate a folder of scenes and write per-scene results and summary tables.
-    Evaluate(evaluate::Args),
+    Evaluate(Box<evaluate::Args>),
     /// Merge the per-scene results of output folders (e.g. shards) into the summary tables.
     Summarize(summarize::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
@@ -57,7 +57,7 @@ fn main() -> ExitCode {
         Command::Inspect(args) => inspect::run(args),
         Command::Relate(args) => relate::run(args),
         Command::Annotations(cmd) => annotations::run(cmd),
-        Command::Evaluate(args) => evaluate::run(args),
+        Command::Evaluate(args) => evaluate::run(*args),
         Command::Render(args) => render::run(args),
         Command::Summarize(args) => summarize::run(args),
         Command::Vlm(cmd) => vlm::run(cmd),

@@ -24,7 +24,7 @@
 //! (the table there); [`FidelityParams::reference`] sets them all.
 //!
 //! VLM requests go through a [`sceneeval_vlm::Session`] (validation, one re-ask, unanswered
-//! items recorded); views come from an [`ObjectViews`] (feature `render`: [`RenderedViews`],
+//! items recorded); views come from an [`ObjectViews`] (feature `render`: `RenderedViews`,
 //! each view rendered once per object and reused by every metric).
 //!
 //! # Example

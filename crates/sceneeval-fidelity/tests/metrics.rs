@@ -305,3 +305,111 @@ fn candidate_group_cap_warns() {
     );
     assert!(r.cnt.is_none());
 }
+
+#[test]
+fn matching_from_a_reference_file() {
+    let (scene, row) = (scene(), row());
+    let dir = tempfile::tempdir().unwrap();
+    // The reference's obj_matching_result.json shape: the lamp is called a chair here, so
+    // CNT sees 5 chairs (eq,4 no) and no lamp (eq,1 no): table, tv eq,0 -> 2/5.
+    let file = dir.path().join("scene_7").join("obj_matching_result.json");
+    std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+    std::fs::write(
+        &file,
+        serde_json::to_string(&json!({
+            "per_category": {
+                "table": {"t": "a table"},
+                "chair": {"c1": "", "c2": "", "c3": "", "c4": "", "l": "looks like a chair"},
+                "lamp": {}, "tv": {}, "sofa": {}
+            },
+            "not_matched_objs": {},
+            "actual_categories": {"l": "chair"}
+        }))
+        .unwrap(),
+    )
+    .unwrap();
+    let ev = FidelityEvaluator::new(
+        FidelityParams {
+            matching: MatchingMethod::File {
+                path: dir.path().to_owned(),
+            },
+            ..params()
+        },
+        RelationParams::default(),
+    )
+    .unwrap();
+    let res = Resources::<Scripted> {
+        session: None,
+        views: None,
+        scene_name: "scene_7",
+    };
+    let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
+    assert_eq!(out.report.summary.cnt, Some(0.4));
+    assert_eq!(out.matching.file.as_deref(), Some(file.as_path()));
+    // An object the scene does not have is an error naming it.
+    std::fs::write(
+        &file,
+        r#"{"per_category": {"table": {"ghost": ""}}, "not_matched_objs": {}}"#,
+    )
+    .unwrap();
+    let err = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Cnt], &res)
+        .unwrap_err();
+    assert!(err.to_string().contains("ghost"), "{err}");
+    // A category the annotation does not have is an error too.
+    std::fs::write(&file, r#"{"per_category": {"bed": {}}, "not_matched_objs": {}}"#).unwrap();
+    let err = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Cnt], &res)
+        .unwrap_err();
+    assert!(
+        err.to_string().contains("\"bed\" is not an annotated category"),
+        "{err}"
+    );
+}
+
+#[test]
+fn malformed_entries_are_errors_and_several_attributes_are_one_spec() {
+    let scene = scene();
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        7,easy,x,\"eq,1,table\",\"eq,1,table,wooden,round\",,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let vlm = Scripted::from_fn("m", |req| {
+        assert!(
+            req.user_text.contains("[\"wooden\",\"round\"]"),
+            "{}",
+            req.user_text
+        );
+        Ok(AnswerContent::Json {
+            value: json!({"category": "table", "num_instances": 1, "assessments": [
+                {"instance": 0, "attribute": "wooden", "satisfied": true, "reason": ""},
+                {"instance": 0, "attribute": "round", "satisfied": false, "reason": "square"}]}),
+        })
+    });
+    let session = Session::new(&vlm);
+    let views = MemoViews::new(|_, _| Ok(test_image()));
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    // Q6: both attributes are required of the one table: wooden but not round -> 0 of eq,1.
+    let r = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Atr], &res)
+        .unwrap()
+        .report;
+    let spec = &r.atr.as_ref().unwrap().specs[0];
+    assert_eq!(spec.attributes, ["wooden", "round"]);
+    assert_eq!((spec.count_satisfied, spec.satisfied), (Some(0), false));
+    // Q18: an unknown quantifier is an error naming the row, column and entry.
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n7,easy,x,\"about,1,table\",,,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let err = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Cnt], &res)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("row \"7\", ObjCount") && err.contains("about,1,table"),
+        "{err}"
+    );
+}
