@@ -56,6 +56,10 @@ const SCENE_2: [&str; 12] = [
 ];
 
 fn setup() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
+    setup_with(CSV)
+}
+
+fn setup_with(csv_text: &str) -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let scenes = dir.path().join("scenes");
     std::fs::create_dir(&scenes).unwrap();
@@ -64,7 +68,7 @@ fn setup() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
         std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
     }
     let csv = dir.path().join("annotations.csv");
-    std::fs::write(&csv, CSV).unwrap();
+    std::fs::write(&csv, csv_text).unwrap();
     (dir, scenes, csv)
 }
 
@@ -138,7 +142,16 @@ fn scores(out: &Path, scene: &str) -> [Value; 4] {
 }
 
 fn run_library(plan: EvaluationPlan, vlm: Option<SharedVlm>, out: &Path) -> sceneeval::BatchOutcome {
-    let (_keep, scenes, csv) = setup();
+    run_library_with(CSV, plan, vlm, out)
+}
+
+fn run_library_with(
+    csv_text: &str,
+    plan: EvaluationPlan,
+    vlm: Option<SharedVlm>,
+    out: &Path,
+) -> sceneeval::BatchOutcome {
+    let (_keep, scenes, csv) = setup_with(csv_text);
     let annotations = Annotations::read(&csv).unwrap();
     let set = find_scenes(&scenes).unwrap();
     let mut options = BatchOptions {
@@ -430,4 +443,20 @@ fn shards_merged_by_summarize_equal_a_single_run() {
         .arg(shards[0].path())
         .assert()
         .failure();
+}
+
+#[test]
+fn a_changed_annotation_row_invalidates_only_its_record() {
+    let out = tempfile::tempdir().unwrap();
+    let plan = || EvaluationPlan::full(Preset::Default);
+    assert_eq!(run_library(plan(), None, out.path()).evaluated, 2);
+    assert_eq!(run_library(plan(), None, out.path()).reused, 2);
+    // Scene 8 now asks for one chair less; scene 2's row is unchanged.
+    let changed = CSV.replace("eq,0,tv; eq,2,chair", "eq,0,tv; eq,1,chair");
+    let again = run_library_with(&changed, plan(), None, out.path());
+    assert_eq!((again.evaluated, again.reused), (1, 1));
+    assert!(again.statuses.iter().any(|s| matches!(
+        s,
+        sceneeval::SceneStatus::Evaluated { why: sceneeval::Reason::Changed(w) } if w.contains("annotation row")
+    )));
 }
