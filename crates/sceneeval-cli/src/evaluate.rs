@@ -3,16 +3,22 @@
 //! `<out>/summary.md`.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use sceneeval::annotation::Annotations;
+use sceneeval::fidelity::{MatchingMethod, RelationMapping};
 use sceneeval::io::AssetLibrary;
+use sceneeval::render::{RenderSettings, Renderer};
+use sceneeval::vlm::{Answer, Cached, Vlm, VlmError, VlmRequest};
+use sceneeval::vlm_openai::{ApiKey, DEFAULT_API_KEY_VAR, OpenAiConfig, OpenAiVlm};
 use sceneeval::{
-    BatchOptions, EvaluationPlan, Evaluator, Metric, Outcome, Preset, SceneRecord, SceneStatus, Summary,
-    annotation_digest, check_output_dir, find_scenes, run_batch, write_atomic,
+    BatchOptions, EvaluationPlan, Evaluator, Metric, Outcome, Preset, SceneRecord, SceneStatus, SharedVlm,
+    Summary, annotation_digest, check_output_dir, find_scenes, run_batch, write_atomic,
 };
 
 /// Arguments of `sceneeval evaluate`.
@@ -28,14 +34,44 @@ pub struct Args {
     /// Output folder (created if missing; checked for writing before any scene is evaluated).
     #[arg(long, short = 'o', value_name = "DIR")]
     pub out: PathBuf,
-    /// SceneEval-500 annotation CSV (or JSON): adds rows per difficulty to the summary.
+    /// SceneEval-500 annotation CSV (or JSON): the rows the fidelity metrics check (looked up
+    /// by the scene's ID), and rows per difficulty in the summary.
     #[arg(long, value_name = "FILE")]
     pub annotations: Option<PathBuf>,
-    /// Evaluation plan (JSON): preset, metrics, parameters, limits, time budget (see
-    /// docs/formats.md and examples/plans/). Default: every geometry-only metric with this
-    /// implementation's defaults.
-    #[arg(long, value_name = "FILE")]
-    pub plan: Option<PathBuf>,
+    /// What to evaluate: `geometry` (the default: the six geometry metrics, no VLM), `full`
+    /// (the paper's ten metrics), a comma-separated metric list (`collision,cnt,oor`), or a
+    /// plan file (JSON: preset, metrics, parameters, limits, time budget; see docs/formats.md).
+    #[arg(long, value_name = "geometry|full|LIST|FILE")]
+    pub plan: Option<String>,
+    /// OpenAI-compatible API base URL of the VLM for the fidelity metrics (matching, ATR,
+    /// relation mapping), e.g. https://api.openai.com/v1. The key is read from OPENAI_API_KEY.
+    #[arg(long, value_name = "URL", requires = "vlm_model")]
+    pub vlm_base_url: Option<String>,
+    /// The VLM's model name, e.g. gpt-4o-2024-08-06.
+    #[arg(long, value_name = "NAME", requires = "vlm_base_url")]
+    pub vlm_model: Option<String>,
+    /// VLM requests in flight at once over the whole run.
+    #[arg(long, default_value_t = 4, value_name = "N")]
+    pub vlm_concurrency: usize,
+    /// Folder of the VLM response cache (default `<out>/vlm-cache`): a re-run asks nothing
+    /// already answered.
+    #[arg(long, value_name = "DIR")]
+    pub vlm_cache: Option<PathBuf>,
+    /// Object matching: `vlm` (default with a VLM), `labels` (default without), or a matching
+    /// file or folder in the reference's obj_matching_result.json shape.
+    #[arg(long, value_name = "vlm|labels|FILE")]
+    pub matching: Option<String>,
+    /// Relation mapping: `vlm` (default with a VLM) or `lexicon` (default without; unknown
+    /// words still go to the VLM when one is configured).
+    #[arg(long, value_name = "vlm|lexicon")]
+    pub relation_mapping: Option<String>,
+    /// Side of the square object views shown to the VLM, pixels.
+    #[arg(long, default_value_t = 512, value_name = "PX")]
+    pub render_size: u32,
+    /// Evaluate only shard K of N (1-based): the scenes whose position in ID order is K-1
+    /// modulo N. Merge the shards' folders with `sceneeval summarize`.
+    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
+    pub shard: Option<(usize, usize)>,
     /// Parameter preset: `default`, or `reference` for every reference-parity switch (to
     /// compare with published numbers). Replaces the plan file's `preset`; the plan's explicit
     /// values still apply on top.
@@ -71,13 +107,27 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     for skipped in &set.skipped {
         eprintln!("warning: skipped {}: {}", skipped.path.display(), skipped.reason);
     }
-    let scenes = set.scenes;
+    let mut scenes = set.scenes;
     if scenes.is_empty() {
         bail!("no scene_<ID>.json files in {}", args.scenes.display());
     }
-    let mut plan = match &args.plan {
-        Some(path) => EvaluationPlan::read_with_preset(path, args.preset)?,
-        None => EvaluationPlan::with_preset(args.preset.unwrap_or_default()),
+    if let Some((k, n)) = args.shard {
+        scenes = scenes
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| i % n == k - 1)
+            .map(|(_, s)| s)
+            .collect();
+        eprintln!("shard {k}/{n}: {} scenes", scenes.len());
+    }
+    let preset = args.preset.unwrap_or_default();
+    let mut plan = match args.plan.as_deref().map(str::trim) {
+        None | Some("geometry") => EvaluationPlan::with_preset(preset),
+        Some("full") => EvaluationPlan::full(preset),
+        Some(p) if Path::new(p).is_file() => EvaluationPlan::read_with_preset(Path::new(p), args.preset)?,
+        Some(list) => EvaluationPlan::from_metric_list(list, preset).with_context(|| {
+            format!("--plan {list:?} is not geometry, full, a metric list or an existing file")
+        })?,
     };
     if let Some(metrics) = args.metrics {
         plan.metrics = metrics;
@@ -85,7 +135,74 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(b) = args.time_budget {
         plan.time_budget_seconds = (b != 0.0).then_some(b);
     }
-    let evaluator = Evaluator::new(plan)?;
+    let vlm_configured = args.vlm_base_url.is_some();
+    if plan.has_fidelity() {
+        if args.annotations.is_none() {
+            bail!("the plan runs fidelity metrics (cnt, atr, oor, oar), which need --annotations");
+        }
+        match args.matching.as_deref() {
+            None if vlm_configured => plan.fidelity.matching = MatchingMethod::Vlm,
+            None => {}
+            Some("vlm") => plan.fidelity.matching = MatchingMethod::Vlm,
+            Some("labels") => plan.fidelity.matching = MatchingMethod::Labels,
+            Some(path) => {
+                plan.fidelity.matching = MatchingMethod::File {
+                    path: PathBuf::from(path),
+                }
+            }
+        }
+        match args.relation_mapping.as_deref() {
+            None if vlm_configured => plan.fidelity.relation_mapping = RelationMapping::Vlm,
+            None => {}
+            Some("vlm") => plan.fidelity.relation_mapping = RelationMapping::Vlm,
+            Some("lexicon") => plan.fidelity.relation_mapping = RelationMapping::Lexicon,
+            Some(other) => bail!("--relation-mapping {other:?}: expected vlm or lexicon"),
+        }
+        if !vlm_configured {
+            let mut fell_back = Vec::new();
+            if plan.fidelity.matching == MatchingMethod::Vlm {
+                plan.fidelity.matching = MatchingMethod::Labels;
+                fell_back.push("matching by labels");
+            }
+            if plan.fidelity.relation_mapping == RelationMapping::Vlm {
+                plan.fidelity.relation_mapping = RelationMapping::Lexicon;
+                fell_back.push("relations mapped by the lexicon");
+            }
+            eprintln!(
+                "note: no VLM configured (--vlm-base-url, --vlm-model): fidelity runs with {} matching and the {} relation mapping{}; ATR is not judged.",
+                plan.fidelity.matching,
+                plan.fidelity.relation_mapping,
+                if fell_back.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({} instead of the VLM)", fell_back.join(", "))
+                }
+            );
+        }
+    }
+    let mut evaluator = Evaluator::new(plan)?;
+    let mut runtime_stop = None;
+    if let (Some(url), Some(model), true) = (
+        &args.vlm_base_url,
+        &args.vlm_model,
+        evaluator.plan().has_fidelity(),
+    ) {
+        let key = ApiKey::from_env(DEFAULT_API_KEY_VAR)?;
+        let mut config = OpenAiConfig::new(url, model).with_api_key(key);
+        config.max_concurrent_requests = args.vlm_concurrency.max(1);
+        let client = OpenAiVlm::new(config).context("cannot set up the VLM client")?;
+        let (vlm, stop) = RuntimeVlm::start(client)?;
+        runtime_stop = Some(stop);
+        let cache = args
+            .vlm_cache
+            .clone()
+            .unwrap_or_else(|| args.out.join("vlm-cache"));
+        let renderer =
+            Renderer::new().context("the VLM needs object views, but the renderer cannot start")?;
+        evaluator = evaluator
+            .with_vlm(SharedVlm::new(Cached::new(vlm, cache)))
+            .with_renderer(renderer, RenderSettings::square(args.render_size.max(16)));
+    }
     let plan = evaluator.plan();
     let assets = AssetLibrary::from_specs(&args.assets)
         .context("invalid --assets")?
@@ -103,9 +220,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .or_else(|| ann.get(scene_id.trim_start_matches('0')))
     };
     let mut digests = BTreeMap::new();
+    let mut rows = BTreeMap::new();
     for s in &scenes {
         if let Some(row) = row_of(&s.id.to_string()) {
             digests.insert(s.name.clone(), annotation_digest(row));
+            if plan.has_fidelity() {
+                rows.insert(s.name.clone(), row.clone());
+            }
         }
     }
 
@@ -114,7 +235,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ProgressBar::new(scenes.len() as u64)
     };
-    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes {msg}") {
+    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes{msg}") {
         progress.set_style(style.progress_chars("=> "));
     }
     let options = BatchOptions {
@@ -122,7 +243,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         force: args.force,
         diagnostics: args.diagnostics,
         annotations: digests,
+        rows,
     };
+    let (renders, requests, cached) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
     let on_done = |scene: &sceneeval::SceneFile, status: &SceneStatus, record: &SceneRecord| {
         if let (SceneStatus::Failed { .. }, Outcome::Failed { stage, error, causes }) =
             (status, &record.outcome)
@@ -142,6 +265,21 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             // `suspend` prints also when the bar is hidden (`println` would not).
             progress.suspend(|| eprintln!("{text}"));
         }
+        if let (SceneStatus::Evaluated { .. }, Some(f)) =
+            (status, record.report().and_then(|r| r.fidelity.as_ref()))
+        {
+            renders.fetch_add(f.views_rendered, Ordering::Relaxed);
+            if let Some(u) = f.vlm_usage {
+                requests.fetch_add(u.requests - u.cache_hits, Ordering::Relaxed);
+                cached.fetch_add(u.cache_hits, Ordering::Relaxed);
+            }
+            progress.set_message(format!(
+                ", {} renders, {} VLM requests ({} from the cache)",
+                renders.load(Ordering::Relaxed),
+                requests.load(Ordering::Relaxed),
+                cached.load(Ordering::Relaxed)
+            ));
+        }
         progress.inc(1);
     };
     let mut pool = rayon::ThreadPoolBuilder::new();
@@ -151,6 +289,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let pool = pool.build().context("starting worker threads")?;
     let outcome = pool.install(|| run_batch(&scenes, &evaluator, &assets, &options, &on_done))?;
     progress.finish_and_clear();
+    drop(runtime_stop);
 
     let difficulty =
         |r: &SceneRecord| row_of(r.scene_id.as_deref()?).map(|row| row.difficulty.as_str().to_owned());
@@ -169,6 +308,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         plan.preset,
         args.out.display()
     );
+    if evaluator.plan().has_fidelity() {
+        eprintln!(
+            "  fidelity: {} renders, {} VLM requests sent, {} answered from the cache",
+            renders.load(Ordering::Relaxed),
+            requests.load(Ordering::Relaxed),
+            cached.load(Ordering::Relaxed)
+        );
+    }
     for (reason, n) in outcome.reasons() {
         eprintln!("  evaluated because {reason}: {n}");
     }
@@ -184,4 +331,84 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 2/8")?;
+    let (k, n): (usize, usize) = (
+        k.trim().parse().map_err(|_| "K is not a number")?,
+        n.trim().parse().map_err(|_| "N is not a number")?,
+    );
+    if n == 0 || k == 0 || k > n {
+        return Err(format!("shard {k}/{n}: need 1 <= K <= N"));
+    }
+    Ok((k, n))
+}
+
+/// The HTTP client driven by a tokio runtime on its own thread, so that the evaluator's worker
+/// threads can await its answers without a runtime of their own. The CLI owns the runtime;
+/// dropping the returned guard stops it.
+struct RuntimeVlm {
+    inner: Arc<OpenAiVlm>,
+    handle: tokio::runtime::Handle,
+}
+
+struct RuntimeStop(Option<tokio::sync::oneshot::Sender<()>>);
+
+impl Drop for RuntimeStop {
+    fn drop(&mut self) {
+        if let Some(tx) = self.0.take() {
+            let _ = tx.send(());
+        }
+    }
+}
+
+impl RuntimeVlm {
+    fn start(client: OpenAiVlm) -> anyhow::Result<(RuntimeVlm, RuntimeStop)> {
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .context("cannot start the async runtime")?;
+        let handle = rt.handle().clone();
+        let (tx, rx) = tokio::sync::oneshot::channel::<()>();
+        std::thread::Builder::new()
+            .name("vlm-runtime".into())
+            .spawn(move || {
+                let _ = rt.block_on(rx);
+            })
+            .context("cannot start the VLM thread")?;
+        Ok((
+            RuntimeVlm {
+                inner: Arc::new(client),
+                handle,
+            },
+            RuntimeStop(Some(tx)),
+        ))
+    }
+}
+
+impl Vlm for RuntimeVlm {
+    fn model(&self) -> &str {
+        self.inner.model()
+    }
+
+    fn answer(
+        &self,
+        request: &VlmRequest,
+    ) -> impl std::future::Future<Output = Result<Answer, VlmError>> + Send {
+        let (inner, request, handle) = (self.inner.clone(), request.clone(), self.handle.clone());
+        async move {
+            let task = request.task.clone();
+            let model = inner.model().to_owned();
+            handle
+                .spawn(async move { inner.answer(&request).await })
+                .await
+                .map_err(|e| VlmError::Backend {
+                    task,
+                    model,
+                    permanent: true,
+                    source: Box::new(e),
+                })?
+        }
+    }
 }

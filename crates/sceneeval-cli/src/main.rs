@@ -15,6 +15,7 @@ mod evaluate;
 mod inspect;
 mod relate;
 mod render;
+mod summarize;
 mod vlm;
 
 /// Evaluate text-conditioned 3D indoor scenes (SceneEval) and query its spatial predicates.
@@ -39,7 +40,9 @@ enum Command {
     #[command(subcommand)]
     Annotations(annotations::Command),
     /// Evaluate a folder of scenes and write per-scene results and summary tables.
-    Evaluate(evaluate::Args),
+    Evaluate(Box<evaluate::Args>),
+    /// Merge the per-scene results of output folders (e.g. shards) into the summary tables.
+    Summarize(summarize::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
     Render(render::Args),
     /// Work with the vision-language model endpoint (check that it answers).
@@ -54,8 +57,9 @@ fn main() -> ExitCode {
         Command::Inspect(args) => inspect::run(args),
         Command::Relate(args) => relate::run(args),
         Command::Annotations(cmd) => annotations::run(cmd),
-        Command::Evaluate(args) => evaluate::run(args),
+        Command::Evaluate(args) => evaluate::run(*args),
         Command::Render(args) => render::run(args),
+        Command::Summarize(args) => summarize::run(args),
         Command::Vlm(cmd) => vlm::run(cmd),
     };
     match result {

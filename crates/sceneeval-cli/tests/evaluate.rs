@@ -63,7 +63,11 @@ fn broken_scenes_are_recorded_and_the_run_goes_on() {
 
     let csv = std::fs::read_to_string(out.path().join("summary.csv")).unwrap();
     assert!(
-        csv.starts_with("group,scenes,evaluated,failed,COL_ob,COL_sc,SUP,NAV,ACC,OOB,DOOR_blk,WIN_blk\n")
+        csv.starts_with(
+            "group,scenes,evaluated,failed,CNT,ATR,OOR,OAR,COL_ob,COL_sc,SUP,NAV,ACC,OOB,DOOR_blk,WIN_blk,\
+             CNT_n,ATR_n,OOR_n,OAR_n\n"
+        ),
+        "{csv}"
     );
     assert!(csv.contains("\nall,4,2,2,"), "{csv}");
     assert!(out.path().join("summary.md").is_file());

@@ -144,6 +144,9 @@ pub struct BatchOptions {
     pub diagnostics: bool,
     /// The annotation row digest of each scene (by scene name), part of its fingerprint.
     pub annotations: BTreeMap<String, String>,
+    /// The annotation row of each scene (by scene name), read by the fidelity metrics. A
+    /// scene without a row gets no fidelity result (a warning is logged).
+    pub rows: BTreeMap<String, crate::annotation::AnnotationRow>,
 }
 
 /// What happened to one scene of a batch.
@@ -202,6 +205,9 @@ pub struct SceneTiming {
     pub load_seconds: f64,
     /// Each metric that ran, in order.
     pub metrics: Vec<MetricTiming>,
+    /// The fidelity metrics together (matching, renders and VLM requests included), seconds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fidelity_seconds: Option<f64>,
     /// The whole scene, seconds.
     pub total_seconds: f64,
 }
@@ -276,7 +282,7 @@ pub fn run_batch(
 ) -> Result<BatchOutcome, EvalError> {
     crate::check_output_dir(&options.out_dir)?;
     let fingerprints = Fingerprints::new();
-    let plan_digest = evaluator.plan().result_digest();
+    let plan_digest = evaluator.result_digest();
     type Done = (SceneRecord, SceneStatus, Option<SceneTiming>);
     let results: Vec<Result<Done, EvalError>> = scenes
         .par_iter()
@@ -341,8 +347,8 @@ impl Ctx<'_> {
         let Some(old) = &record.fingerprint else {
             return Err(Reason::Unreadable("it has no fingerprint".into()));
         };
-        // No metric of this crate reads the annotation row yet; the text-fidelity metrics will.
-        let compare_annotation = false;
+        // The fidelity metrics read the annotation row: a changed row invalidates the record.
+        let compare_annotation = self.evaluator.plan().has_fidelity();
         match self.fingerprints.why_stale(
             old,
             &scene.path,
@@ -381,6 +387,7 @@ impl Ctx<'_> {
             scene: scene.name.clone(),
             load_seconds: 0.0,
             metrics: Vec::new(),
+            fidelity_seconds: None,
             total_seconds: 0.0,
         };
         let loaded = read_scene_state(&scene.path, self.assets, &plan.read);
@@ -391,10 +398,7 @@ impl Ctx<'_> {
             Err(e) => (failed(Stage::Load, &e), false),
             Ok(loaded) => match deadline.check("loading") {
                 Err(e) => (failed(Stage::Load, &EvalError::from(e)), false),
-                Ok(()) => match self
-                    .evaluator
-                    .evaluate_within(&loaded, &deadline, &mut timing.metrics)
-                {
+                Ok(()) => match self.evaluate_loaded(scene, &loaded, &deadline, &mut timing) {
                     Err(e) => (failed(Stage::Evaluate, &e), false),
                     Ok(mut report) => {
                         report.plausibility.scene_id = Some(scene.name.clone());
@@ -433,6 +437,55 @@ impl Ctx<'_> {
             SceneStatus::Failed { why }
         };
         Ok((record, status, Some(timing)))
+    }
+
+    /// Runs the plan on a loaded scene: the object views and VLM session when a VLM is
+    /// configured, the plausibility metrics (with the VLM's support types and functional sides
+    /// between what the scene states and the category tables), then the fidelity metrics when
+    /// the plan runs any and the scene has an annotation row (writing `<scene>/matching.json`
+    /// and the views under `<scene>/views/`).
+    fn evaluate_loaded(
+        &self,
+        scene: &SceneFile,
+        loaded: &crate::scene::Scene,
+        deadline: &Deadline,
+        timing: &mut SceneTiming,
+    ) -> Result<crate::SceneReport, EvalError> {
+        let ev = self.evaluator;
+        let dir = self.options.out_dir.join(&scene.name);
+        let row = self.options.rows.get(&scene.name);
+        let fidelity_runs = ev.plan().has_fidelity() && row.is_some();
+        if ev.plan().has_fidelity() && row.is_none() {
+            tracing::warn!(scene = %scene.name, "no annotation row: fidelity metrics skipped");
+        }
+        let session = ev.scene_session();
+        let views = match &session {
+            Some(_) if fidelity_runs || ev.wants_vlm_sources() => {
+                ev.views_for(loaded, self.assets, Some(dir.join("views")))?
+            }
+            _ => None,
+        };
+        let sources = match &session {
+            Some(s) => ev.vlm_sources(loaded, s, views.as_deref())?,
+            None => None,
+        };
+        let mut report = ev.evaluate_with_sources(
+            loaded,
+            sources.as_ref().unwrap_or(ev.sources()),
+            deadline,
+            &mut timing.metrics,
+        )?;
+        if let (true, Some(row)) = (fidelity_runs, row) {
+            let start = Instant::now();
+            let outcome =
+                ev.evaluate_fidelity(loaded, &scene.name, row, session.as_ref(), views.as_deref())?;
+            outcome
+                .matching
+                .write(&dir.join(crate::fidelity::MATCHING_FILE))?;
+            timing.fidelity_seconds = Some(start.elapsed().as_secs_f64());
+            report.fidelity = Some(outcome.report);
+        }
+        Ok(report)
     }
 
     fn diagnostics(&self, scene: &SceneFile, loaded: &crate::scene::Scene) {

@@ -24,6 +24,10 @@ pub enum EvalError {
     /// message is the metric's own.
     #[error(transparent)]
     Plausibility(#[from] PlausibilityError),
+    /// A fidelity metric failed (a malformed annotation entry, a matching file, a VLM that
+    /// cannot be reached, a view that cannot be rendered).
+    #[error(transparent)]
+    Fidelity(#[from] sceneeval_fidelity::FidelityError),
     /// Reading or writing a result file failed.
     #[error("{}: {source}", path.display())]
     File {

@@ -1,8 +1,12 @@
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde_json::Value;
 
+use crate::annotation::AnnotationRow;
+use crate::fidelity::{FidelityEvaluator, FidelityOutcome, FidelityReport, ObjectViews, Resources};
 use crate::plausibility::{self, Deadline, MetricTiming, PlausibilityReport, Sources};
 use crate::scene::Scene;
-use crate::{EvalError, EvaluationPlan};
+use crate::vlm::Session;
+use crate::{EvalError, EvaluationPlan, SharedVlm};
 
 /// The schema name and version written into every per-scene report.
 pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
@@ -33,6 +37,11 @@ pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
 pub struct Evaluator {
     plan: EvaluationPlan,
     sources: Sources,
+    fidelity: FidelityEvaluator,
+    vlm: Option<SharedVlm>,
+    custom_sources: bool,
+    #[cfg(feature = "render")]
+    renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
 }
 
 impl Evaluator {
@@ -43,15 +52,186 @@ impl Evaluator {
     /// [`EvalError::Plan`] when the plan is invalid (see [`EvaluationPlan::validate`]).
     pub fn new(plan: EvaluationPlan) -> Result<Self, EvalError> {
         plan.validate()?;
+        let fidelity = FidelityEvaluator::new(plan.fidelity.clone(), plan.relations)?;
         Ok(Evaluator {
             plan,
             sources: Sources::default(),
+            fidelity,
+            vlm: None,
+            custom_sources: false,
+            #[cfg(feature = "render")]
+            renderer: None,
         })
     }
 
+    /// Uses `vlm` for the fidelity metrics (matching, attributes, relation mapping), each
+    /// scene with its own [`Session`] so that its usage is recorded with it.
+    pub fn with_vlm(mut self, vlm: SharedVlm) -> Self {
+        self.vlm = Some(vlm);
+        self
+    }
+
+    /// The VLM, if configured.
+    pub fn vlm(&self) -> Option<&SharedVlm> {
+        self.vlm.as_ref()
+    }
+
+    /// The digest a result depends on: the plan's [`EvaluationPlan::result_digest`], and the
+    /// VLM's model name when one is configured (answers of another model are other results).
+    pub fn result_digest(&self) -> String {
+        let plan = self.plan.result_digest();
+        match &self.vlm {
+            None => plan,
+            Some(v) => {
+                use crate::vlm::Vlm;
+                blake3::hash(format!("{plan}\nvlm {}", v.model()).as_bytes())
+                    .to_hex()
+                    .to_string()
+            }
+        }
+    }
+
+    /// Renders the object views the VLM is shown with `renderer` at `settings` (feature
+    /// `render`); without a renderer the VLM-based matching and ATR cannot run.
+    #[cfg(feature = "render")]
+    pub fn with_renderer(
+        mut self,
+        renderer: crate::render::Renderer,
+        settings: crate::render::RenderSettings,
+    ) -> Self {
+        self.renderer = Some((renderer, settings));
+        self
+    }
+
+    /// Object views of `scene` for the VLM, when a VLM and a renderer are configured; `dir`
+    /// receives the rendered PNGs.
+    #[cfg_attr(not(feature = "render"), allow(unused_variables))]
+    pub(crate) fn views_for(
+        &self,
+        scene: &Scene,
+        assets: &crate::io::AssetLibrary,
+        dir: Option<std::path::PathBuf>,
+    ) -> Result<Option<Box<dyn ObjectViews>>, EvalError> {
+        if self.vlm.is_none() {
+            return Ok(None);
+        }
+        #[cfg(feature = "render")]
+        if let Some((renderer, settings)) = &self.renderer {
+            let v = crate::fidelity::RenderedViews::new(renderer, scene, assets, *settings, dir)?;
+            return Ok(Some(Box::new(v)));
+        }
+        Ok(None)
+    }
+
+    /// A session for one scene (its usage is recorded with the scene), when a VLM is configured.
+    pub fn scene_session(&self) -> Option<Session<SharedVlm>> {
+        self.vlm.clone().map(Session::new)
+    }
+
+    /// Whether the VLM answers support types or functional sides: a VLM is configured, the
+    /// sources are the default ones and the plan runs support or accessibility.
+    pub(crate) fn wants_vlm_sources(&self) -> bool {
+        self.vlm.is_some()
+            && !self.custom_sources
+            && (self.plan.runs(plausibility::Metric::Support)
+                || self.plan.runs(plausibility::Metric::Accessibility))
+    }
+
+    /// The plausibility sources of one scene with the VLM's answers between what the scene
+    /// states and the category tables (`None`: use [`Evaluator::sources`]). Objects that state
+    /// their own values are not asked about.
+    ///
+    /// # Errors
+    /// [`EvalError::Fidelity`] when a view cannot be made or the VLM cannot be asked.
+    pub fn vlm_sources(
+        &self,
+        scene: &Scene,
+        session: &Session<SharedVlm>,
+        views: Option<&dyn ObjectViews>,
+    ) -> Result<Option<Sources>, EvalError> {
+        use crate::fidelity::placement::{ask_functional_sides, ask_support_types};
+        use crate::plausibility::{Chain, FunctionalSidePriors, Stated, SupportTypePriors};
+        if !self.wants_vlm_sources() {
+            return Ok(None);
+        }
+        let support = match views {
+            Some(v) if self.plan.runs(plausibility::Metric::Support) => {
+                ask_support_types(scene, session, v, |o| o.support_type().is_some())?
+            }
+            _ => Default::default(),
+        };
+        let sides = if self.plan.runs(plausibility::Metric::Accessibility) {
+            ask_functional_sides(scene, session, |o| o.functional_sides().is_some())?
+        } else {
+            Default::default()
+        };
+        Ok(Some(Sources::new(
+            Chain::new(
+                Stated,
+                Chain::new(VlmAnswers(support), SupportTypePriors::default()),
+            ),
+            Chain::new(
+                Stated,
+                Chain::new(VlmAnswers(sides), FunctionalSidePriors::default()),
+            ),
+        )))
+    }
+
+    /// Evaluates one scene with these sources instead of [`Evaluator::sources`].
+    ///
+    /// # Errors
+    /// As [`Evaluator::evaluate_within`].
+    pub fn evaluate_with_sources(
+        &self,
+        scene: &Scene,
+        sources: &Sources,
+        deadline: &Deadline,
+        timings: &mut Vec<MetricTiming>,
+    ) -> Result<SceneReport, EvalError> {
+        let report = plausibility::evaluate_metrics(
+            scene,
+            &self.plan.params,
+            sources,
+            &self.plan.metrics,
+            deadline,
+            timings,
+        )?;
+        Ok(SceneReport {
+            schema: SCENE_REPORT_SCHEMA.to_owned(),
+            plausibility: report,
+            fidelity: None,
+        })
+    }
+
+    /// Runs the plan's fidelity metrics on `scene` against `row`, asking the VLM through
+    /// `session` (see [`Evaluator::scene_session`]) with `views`.
+    ///
+    /// # Errors
+    /// [`EvalError::Fidelity`].
+    pub fn evaluate_fidelity(
+        &self,
+        scene: &Scene,
+        scene_name: &str,
+        row: &AnnotationRow,
+        session: Option<&Session<SharedVlm>>,
+        views: Option<&dyn ObjectViews>,
+    ) -> Result<FidelityOutcome, EvalError> {
+        let res = Resources {
+            session,
+            views,
+            scene_name,
+        };
+        Ok(self
+            .fidelity
+            .evaluate(scene, row, &self.plan.fidelity_metrics, &res)?)
+    }
+
     /// Replaces the support-type and functional-side sources (e.g. types given by the generator).
+    ///
+    /// Given sources replace the VLM's support types and functional sides too.
     pub fn with_sources(mut self, sources: Sources) -> Self {
         self.sources = sources;
+        self.custom_sources = true;
         self
     }
 
@@ -87,31 +267,131 @@ impl Evaluator {
         deadline: &Deadline,
         timings: &mut Vec<MetricTiming>,
     ) -> Result<SceneReport, EvalError> {
-        let report = plausibility::evaluate_metrics(
-            scene,
-            &self.plan.params,
-            &self.sources,
-            &self.plan.metrics,
-            deadline,
-            timings,
-        )?;
-        Ok(SceneReport {
-            schema: SCENE_REPORT_SCHEMA.to_owned(),
-            plausibility: report,
+        self.evaluate_with_sources(scene, &self.sources, deadline, timings)
+    }
+}
+
+/// The VLM's answers as a plausibility source (named `vlm` in the reports).
+struct VlmAnswers<T>(std::collections::BTreeMap<String, T>);
+
+impl<Q> plausibility::Source<Q> for VlmAnswers<Q::Value>
+where
+    Q: plausibility::Question,
+{
+    fn answer(
+        &self,
+        _scene: &Scene,
+        object: &crate::scene::SceneObject,
+    ) -> Option<plausibility::Answer<Q::Value>> {
+        self.0.get(object.id().as_str()).map(|v| plausibility::Answer {
+            value: v.clone(),
+            source: "vlm".to_owned(),
         })
     }
 }
 
 /// Everything measured on one scene, serialised as the `report` of its `eval.json` (see
 /// `docs/formats.md`): the schema, then the fields of the [`PlausibilityReport`] (scene id,
-/// object ids, metrics, summary, each metric's evidence) at the same level.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// object ids, metrics, summary, each metric's evidence) at the same level, then `fidelity`
+/// when fidelity metrics ran; their scores `cnt`, `atr`, `oor`, `oar` are also written into
+/// `summary`.
+#[derive(Debug, Clone, PartialEq)]
 pub struct SceneReport {
     /// Always [`SCENE_REPORT_SCHEMA`].
     pub schema: String,
     /// What the plausibility metrics found.
-    #[serde(flatten)]
     pub plausibility: PlausibilityReport,
+    /// What the fidelity metrics found, when they ran.
+    pub fidelity: Option<FidelityReport>,
+}
+
+const FIDELITY_SUMMARY_KEYS: [&str; 4] = ["cnt", "atr", "oor", "oar"];
+
+#[derive(Deserialize)]
+struct SceneReportWire {
+    schema: String,
+    #[serde(flatten)]
+    plausibility: PlausibilityReport,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    fidelity: Option<FidelityReport>,
+}
+
+impl Serialize for SceneReport {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        /// The summary with the fidelity scores after the plausibility numbers.
+        #[derive(Serialize)]
+        struct Summary<'a> {
+            #[serde(flatten)]
+            plausibility: &'a plausibility::PlausibilitySummary,
+            #[serde(flatten, skip_serializing_if = "Option::is_none")]
+            fidelity: Option<crate::fidelity::FidelitySummary>,
+        }
+        /// The report's fields in the plausibility report's order (destructured below, so a
+        /// field added there fails to compile here rather than going missing).
+        #[derive(Serialize)]
+        struct Wire<'a> {
+            schema: &'a str,
+            scene_id: &'a Option<String>,
+            object_ids: &'a [crate::scene::ObjectId],
+            metrics: &'a [crate::Metric],
+            summary: Summary<'a>,
+            collision: &'a Option<plausibility::CollisionReport>,
+            support: &'a Option<plausibility::SupportReport>,
+            navigability: &'a Option<plausibility::NavigabilityReport>,
+            accessibility: &'a Option<plausibility::AccessibilityReport>,
+            out_of_bounds: &'a Option<plausibility::OutOfBoundsReport>,
+            opening_clearance: &'a Option<plausibility::OpeningClearanceReport>,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            fidelity: &'a Option<FidelityReport>,
+        }
+        let PlausibilityReport {
+            scene_id,
+            object_ids,
+            metrics,
+            summary,
+            collision,
+            support,
+            navigability,
+            accessibility,
+            out_of_bounds,
+            opening_clearance,
+        } = &self.plausibility;
+        Wire {
+            schema: &self.schema,
+            scene_id,
+            object_ids,
+            metrics,
+            summary: Summary {
+                plausibility: summary,
+                fidelity: self.fidelity.as_ref().map(|f| f.summary),
+            },
+            collision,
+            support,
+            navigability,
+            accessibility,
+            out_of_bounds,
+            opening_clearance,
+            fidelity: &self.fidelity,
+        }
+        .serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for SceneReport {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let mut value = Value::deserialize(deserializer)?;
+        if let Some(Value::Object(summary)) = value.get_mut("summary") {
+            for k in FIDELITY_SUMMARY_KEYS {
+                summary.remove(k);
+            }
+        }
+        let wire: SceneReportWire = serde_json::from_value(value).map_err(serde::de::Error::custom)?;
+        Ok(SceneReport {
+            schema: wire.schema,
+            plausibility: wire.plausibility,
+            fidelity: wire.fidelity,
+        })
+    }
 }
 
 #[cfg(test)]

@@ -10,6 +10,9 @@
 //! | [`annotation`] | `sceneeval-annotation` | the SceneEval-500 annotation schema |
 //! | [`plausibility`] | `sceneeval-plausibility` | collision, support, navigability, ... |
 //! | `render` (feature `render`) | `sceneeval-render` | offscreen wgpu renders of scenes |
+//! | [`vlm`] | `sceneeval-vlm` | VLM tasks, sessions, the response cache |
+//! | [`fidelity`] | `sceneeval-fidelity` | object matching, CNT, ATR, OOR, OAR |
+//! | `vlm_openai` (feature `openai`) | `sceneeval-vlm-openai` | the OpenAI-compatible HTTP client |
 //!
 //! On top of them: an [`EvaluationPlan`] names the metrics to run and their parameters
 //! (starting from a [`Preset`]: this implementation's defaults or every reference-parity
@@ -51,6 +54,7 @@
 //! ```
 
 pub use sceneeval_annotation as annotation;
+pub use sceneeval_fidelity as fidelity;
 pub use sceneeval_geom as geom;
 pub use sceneeval_io as io;
 pub use sceneeval_plausibility as plausibility;
@@ -58,8 +62,12 @@ pub use sceneeval_relations as relations;
 #[cfg(feature = "render")]
 pub use sceneeval_render as render;
 pub use sceneeval_scene as scene;
+pub use sceneeval_vlm as vlm;
+#[cfg(feature = "openai")]
+pub use sceneeval_vlm_openai as vlm_openai;
 
 mod batch;
+mod dyn_vlm;
 mod error;
 mod evaluator;
 mod files;
@@ -72,6 +80,7 @@ pub use batch::{
     BatchOptions, BatchOutcome, RECORD_FILE, Reason, SceneFile, SceneSet, SceneStatus, SceneTiming,
     SkippedFile, TIMING_FILE, TIMING_SCHEMA, find_scenes, run_batch,
 };
+pub use dyn_vlm::SharedVlm;
 pub use error::EvalError;
 pub use evaluator::{Evaluator, SCENE_REPORT_SCHEMA, SceneReport};
 pub use files::{check_output_dir, write_atomic, write_atomic_with};

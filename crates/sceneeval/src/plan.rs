@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use crate::EvalError;
+use crate::fidelity::{FidelityMetric, FidelityParams};
 use crate::io::{Limits, ReadOptions};
 use crate::plausibility::{Metric, PlausibilityError, PlausibilityParams};
 use crate::relations::RelationParams;
@@ -96,8 +97,13 @@ pub struct EvaluationPlan {
     pub metrics: Vec<Metric>,
     /// Parameters of the plausibility metrics.
     pub params: PlausibilityParams,
-    /// Parameters of the spatial predicates, for the text-fidelity metrics (OOR, OAR; being
-    /// built) and recorded in every result's fingerprint.
+    /// The text-fidelity metrics to run (CNT, ATR, OOR, OAR), without repeats; they need the
+    /// scene's annotation row.
+    pub fidelity_metrics: Vec<FidelityMetric>,
+    /// Parameters of the fidelity metrics: matching, relation mapping, reference switches.
+    pub fidelity: FidelityParams,
+    /// Parameters of the spatial predicates, for the text-fidelity metrics (OOR, OAR) and
+    /// recorded in every result's fingerprint.
     pub relations: RelationParams,
     /// How scene files are read (architecture, the simple architecture's walls and floor).
     pub read: ReadOptions,
@@ -123,6 +129,8 @@ impl EvaluationPlan {
             preset: Preset::Default,
             metrics: Metric::ALL.to_vec(),
             params: PlausibilityParams::default(),
+            fidelity_metrics: Vec::new(),
+            fidelity: FidelityParams::default(),
             relations: RelationParams::default(),
             read: ReadOptions::default(),
             limits: Limits::default(),
@@ -145,8 +153,64 @@ impl EvaluationPlan {
         plan.params.accessibility.walkable_height = 0.0;
         plan.params.opening_clearance.walkable_height = 0.0;
         plan.relations = RelationParams::reference();
+        plan.fidelity = FidelityParams::reference();
         plan.read = ReadOptions::default();
         plan
+    }
+
+    /// The paper's ten metrics (the six geometry metrics and CNT, ATR, OOR, OAR) with the
+    /// preset's parameters. The `default` preset matches by labels and maps relations with the
+    /// lexicon (no VLM needed; ATR is then not judged); `reference` asks the VLM for both.
+    ///
+    /// ```
+    /// use sceneeval::{EvaluationPlan, Preset};
+    /// use sceneeval::fidelity::{FidelityMetric, MatchingMethod};
+    /// let full = EvaluationPlan::full(Preset::Default);
+    /// assert_eq!(full.metrics.len() + full.fidelity_metrics.len(), 10);
+    /// assert_eq!(full.fidelity.matching, MatchingMethod::Labels);
+    /// assert_eq!(EvaluationPlan::full(Preset::Reference).fidelity.matching, MatchingMethod::Vlm);
+    /// assert!(full.runs_fidelity(FidelityMetric::Atr));
+    /// ```
+    pub fn full(preset: Preset) -> Self {
+        let mut plan = EvaluationPlan::with_preset(preset);
+        plan.fidelity_metrics = FidelityMetric::ALL.to_vec();
+        plan
+    }
+
+    /// A plan with the preset's parameters running exactly the metrics named in `list`
+    /// (comma-separated geometry metric names and `cnt`, `atr`, `oor`, `oar`).
+    ///
+    /// # Errors
+    /// [`EvalError::Plan`] naming an unknown metric.
+    pub fn from_metric_list(list: &str, preset: Preset) -> Result<Self, EvalError> {
+        let mut plan = EvaluationPlan::with_preset(preset);
+        plan.metrics.clear();
+        for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            if let Ok(m) = name.parse::<Metric>() {
+                plan.metrics.push(m);
+            } else if let Ok(f) = name.parse::<FidelityMetric>() {
+                plan.fidelity_metrics.push(f);
+            } else {
+                return Err(plan_error(
+                    Some("metrics"),
+                    format!("unknown metric {name:?} (a geometry metric, or cnt, atr, oor, oar)"),
+                ));
+            }
+        }
+        plan.validate()?;
+        Ok(plan)
+    }
+
+    /// Whether the plan runs the fidelity metric `metric`.
+    #[inline]
+    pub fn runs_fidelity(&self, metric: FidelityMetric) -> bool {
+        self.fidelity_metrics.contains(&metric)
+    }
+
+    /// Whether the plan runs any fidelity metric (and so reads annotation rows).
+    #[inline]
+    pub fn has_fidelity(&self) -> bool {
+        !self.fidelity_metrics.is_empty()
     }
 
     /// The plan of a preset.
@@ -248,9 +312,26 @@ impl EvaluationPlan {
     /// # Errors
     /// [`EvalError::Plan`] naming the field, e.g. `params.collision.contact_tolerance`.
     pub fn validate(&self) -> Result<(), EvalError> {
-        if self.metrics.is_empty() {
+        if self.metrics.is_empty() && self.fidelity_metrics.is_empty() {
             return Err(plan_error(Some("metrics"), "the plan lists no metric".into()));
         }
+        for (i, m) in self.fidelity_metrics.iter().enumerate() {
+            if self.fidelity_metrics[..i].contains(m) {
+                return Err(plan_error(
+                    Some(&format!("fidelity_metrics[{i}]")),
+                    format!("metric {m} is listed twice"),
+                ));
+            }
+        }
+        self.fidelity.validate().map_err(|e| {
+            let field = match &e {
+                sceneeval_fidelity::FidelityError::InvalidParameter { name, .. } => {
+                    format!("fidelity.{name}")
+                }
+                _ => "fidelity".to_owned(),
+            };
+            plan_error(Some(&field), e.to_string())
+        })?;
         for (i, m) in self.metrics.iter().enumerate() {
             if self.metrics[..i].contains(m) {
                 return Err(plan_error(
@@ -311,12 +392,20 @@ impl EvaluationPlan {
         struct Semantic<'a> {
             metrics: Vec<Metric>,
             params: &'a PlausibilityParams,
+            #[serde(skip_serializing_if = "Vec::is_empty")]
+            fidelity_metrics: Vec<FidelityMetric>,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            fidelity: Option<&'a FidelityParams>,
             relations: &'a RelationParams,
             read: &'a ReadOptions,
         }
+        let mut fidelity_metrics = self.fidelity_metrics.clone();
+        fidelity_metrics.sort();
         let s = Semantic {
             metrics: self.ordered_metrics(),
             params: &self.params,
+            fidelity: (!fidelity_metrics.is_empty()).then_some(&self.fidelity),
+            fidelity_metrics,
             relations: &self.relations,
             read: &self.read,
         };

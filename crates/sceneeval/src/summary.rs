@@ -2,6 +2,7 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
+use crate::fidelity::FidelitySummary;
 use crate::plausibility::PlausibilitySummary;
 use crate::{EvalError, EvaluationPlan, SceneRecord};
 
@@ -15,6 +16,10 @@ pub const UNANNOTATED: &str = "unannotated";
 ///
 /// | column | per scene | averaged over |
 /// |---|---|---|
+/// | `CNT` | satisfied ObjCount specs / specs | scenes with ObjCount specs (`CNT_n`) |
+/// | `ATR` | satisfied ObjAttr specs / specs | scenes with ObjAttr specs judged by a VLM (`ATR_n`) |
+/// | `OOR` | satisfied OORel specs / specs | scenes with OORel specs (`OOR_n`) |
+/// | `OAR` | satisfied OARel specs / specs | scenes with OARel specs (`OAR_n`) |
 /// | `COL_ob` | objects in collision / objects | scenes with objects |
 /// | `COL_sc` | 1 if any collision, else 0 | evaluated scenes |
 /// | `SUP` | supported objects / objects | scenes with objects |
@@ -24,7 +29,7 @@ pub const UNANNOTATED: &str = "unannotated";
 /// | `DOOR_blk` | blocked doors / doors | scenes with a door |
 /// | `WIN_blk` | blocked windows / windows | scenes with a window |
 ///
-/// Higher is better for SUP, NAV and ACC; lower for the others. A column is empty when no scene
+/// Higher is better for CNT, ATR, OOR, OAR, SUP, NAV and ACC; lower for the others. A column is empty when no scene
 /// of the group has a value (the metric did not run, or never applies).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
@@ -50,6 +55,21 @@ pub struct GroupSummary {
     pub evaluated: usize,
     /// Scenes that failed to load or evaluate.
     pub failed: usize,
+    /// Mean CNT, percent.
+    #[serde(default)]
+    pub cnt: Option<f64>,
+    /// Mean ATR, percent.
+    #[serde(default)]
+    pub atr: Option<f64>,
+    /// Mean OOR, percent.
+    #[serde(default)]
+    pub oor: Option<f64>,
+    /// Mean OAR, percent.
+    #[serde(default)]
+    pub oar: Option<f64>,
+    /// Scenes behind `cnt`, `atr`, `oor`, `oar`.
+    #[serde(default)]
+    pub fidelity_n: [usize; 4],
     /// Mean share of objects in collision, percent.
     pub col_ob: Option<f64>,
     /// Share of scenes with a collision, percent.
@@ -73,13 +93,19 @@ pub const LEGEND: &str = "Values are percentages, macro-averaged over the group'
 (`-`: no scene of the group has a value). Lower is better for COL_ob (objects in collision), \
 COL_sc (scenes with a collision), OOB (objects out of bounds), DOOR_blk and WIN_blk (blocked \
 doors and windows); higher is better for SUP (supported objects), NAV (navigable floor) and ACC \
-(accessible functional sides). `failed` scenes are counted but not averaged.\n";
+(accessible functional sides), and for CNT, ATR, OOR, OAR (satisfied object-count, attribute, \
+object-object and object-architecture specs; `*_n`: scenes with such specs). `failed` scenes are \
+counted but not averaged.\n";
 
-const COLUMNS: [&str; 12] = [
+const COLUMNS: [&str; 20] = [
     "group",
     "scenes",
     "evaluated",
     "failed",
+    "CNT",
+    "ATR",
+    "OOR",
+    "OAR",
     "COL_ob",
     "COL_sc",
     "SUP",
@@ -88,6 +114,10 @@ const COLUMNS: [&str; 12] = [
     "OOB",
     "DOOR_blk",
     "WIN_blk",
+    "CNT_n",
+    "ATR_n",
+    "OOR_n",
+    "OAR_n",
 ];
 
 impl Summary {
@@ -185,12 +215,25 @@ impl GroupSummary {
     fn of<'a>(group: &str, records: impl Iterator<Item = &'a SceneRecord>) -> Self {
         let mut scenes = 0;
         let mut summaries: Vec<&PlausibilitySummary> = Vec::new();
+        let mut fidelity: Vec<FidelitySummary> = Vec::new();
         for r in records {
             scenes += 1;
             if let Some(report) = r.report() {
                 summaries.push(&report.plausibility.summary);
+                if let Some(f) = &report.fidelity {
+                    fidelity.push(f.summary);
+                }
             }
         }
+        let fmean = |f: &dyn Fn(&FidelitySummary) -> Option<f64>| -> (Option<f64>, usize) {
+            let values: Vec<f64> = fidelity.iter().filter_map(f).collect();
+            let n = values.len();
+            ((n > 0).then(|| 100.0 * values.iter().sum::<f64>() / n as f64), n)
+        };
+        let (cnt, cnt_n) = fmean(&|s| s.cnt);
+        let (atr, atr_n) = fmean(&|s| s.atr);
+        let (oor, oor_n) = fmean(&|s| s.oor);
+        let (oar, oar_n) = fmean(&|s| s.oar);
         let mean = |f: &dyn Fn(&PlausibilitySummary) -> Option<f64>| -> Option<f64> {
             let values: Vec<f64> = summaries.iter().filter_map(|s| f(s)).collect();
             (!values.is_empty()).then(|| 100.0 * values.iter().sum::<f64>() / values.len() as f64)
@@ -204,6 +247,11 @@ impl GroupSummary {
             scenes,
             evaluated: summaries.len(),
             failed: scenes - summaries.len(),
+            cnt,
+            atr,
+            oor,
+            oar,
+            fidelity_n: [cnt_n, atr_n, oor_n, oar_n],
             col_ob: mean(&|s| s.col_ob),
             col_sc: mean(&|s| s.col_sc.map(|c| if c { 1.0 } else { 0.0 })),
             sup: mean(&|s| s.sup),
@@ -222,6 +270,10 @@ impl GroupSummary {
             self.scenes.to_string(),
             self.evaluated.to_string(),
             self.failed.to_string(),
+            num(self.cnt),
+            num(self.atr),
+            num(self.oor),
+            num(self.oar),
             num(self.col_ob),
             num(self.col_sc),
             num(self.sup),
@@ -230,6 +282,10 @@ impl GroupSummary {
             num(self.oob),
             num(self.door_blocked),
             num(self.window_blocked),
+            self.fidelity_n[0].to_string(),
+            self.fidelity_n[1].to_string(),
+            self.fidelity_n[2].to_string(),
+            self.fidelity_n[3].to_string(),
         ]
     }
 }
@@ -259,6 +315,7 @@ mod tests {
                     out_of_bounds: None,
                     opening_clearance: None,
                 },
+                fidelity: None,
             },
         )
     }
@@ -317,11 +374,11 @@ mod tests {
         assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             csv.lines().nth(1).unwrap(),
-            "all,3,2,1,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,"
+            "all,3,2,1,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,0,0,0,0"
         );
         let md = s.to_markdown();
         assert!(
-            md.contains("| all | 3 | 2 | 1 | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - |"),
+            md.contains("| all | 3 | 2 | 1 | - | - | - | - | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - | 0 | 0 | 0 | 0 |"),
             "{md}"
         );
         assert!(md.contains("Lower is better for COL_ob"), "{md}");

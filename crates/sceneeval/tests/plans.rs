@@ -49,4 +49,15 @@ fn example_plans_read_and_mean_what_they_say() {
     );
     assert_eq!(quick.limits.max_triangles, 1_000_000);
     assert_eq!(quick.time_budget_seconds, Some(60.0));
+
+    // The paper's ten metrics, VLM matching with the sizes in the prompt, lexicon mapping.
+    let full = EvaluationPlan::read(&plans().join("full-vlm.json")).unwrap();
+    assert_eq!(full.metrics.len() + full.fidelity_metrics.len(), 10);
+    assert_eq!(full.fidelity.matching, sceneeval::fidelity::MatchingMethod::Vlm);
+    assert!(full.fidelity.size_aware_matching);
+    assert_eq!(full.fidelity.max_candidate_groups, 100_000);
+    assert!(
+        full.fidelity.presence_gate_respects_quantifier,
+        "unspecified values keep the preset's"
+    );
 }

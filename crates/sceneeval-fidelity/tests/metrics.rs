@@ -1,0 +1,415 @@
+//! CNT, ATR, OOR and OAR on a small scene, with every expected value worked out by hand:
+//! a failing spec, an absent object with `eq,0`, a `surround` group, an unmappable phrase,
+//! the reference switches, and a VLM whose answers are all invalid.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use sceneeval_annotation::{AnnotationRow, Annotations};
+use sceneeval_fidelity::{
+    FidelityEvaluator, FidelityMetric, FidelityParams, MappingStatus, MatchingMethod, MemoViews,
+    RelationMapping, Resources,
+};
+use sceneeval_geom::{Point2, Point3, Vector3, conventions::pose_from_yaw};
+use sceneeval_relations::RelationParams;
+use sceneeval_scene::{Category, RoomBuilder, Scene};
+use sceneeval_vlm::{AnswerContent, Scripted, Session, check::test_image};
+use serde_json::json;
+
+/// A 4 x 4 m room; a 1 x 1 x 0.8 m table in its centre; four 0.4 x 0.4 x 0.9 m chairs, one on
+/// each side, 0.1 m from the table's edges (chair centres 0.8 m from the table's centre);
+/// a 0.2 m lamp standing on the table (its bottom at the table top, z = 0.8).
+fn scene() -> Scene {
+    let chair = |id: &str, x: f64, y: f64| {
+        (
+            id.to_owned(),
+            Vector3::new(0.2, 0.2, 0.45),
+            pose_from_yaw(Point3::new(x, y, 0.45), 0.0),
+        )
+    };
+    let mut b = Scene::builder()
+        .room_builder(RoomBuilder::rectangle(
+            "r0",
+            Point2::new(0.0, 0.0),
+            Point2::new(4.0, 4.0),
+        ))
+        .add_box(
+            "t",
+            Category::new("table"),
+            Vector3::new(0.5, 0.5, 0.4),
+            pose_from_yaw(Point3::new(2.0, 2.0, 0.4), 0.0),
+        )
+        .add_box(
+            "l",
+            Category::new("Lamp"),
+            Vector3::new(0.1, 0.1, 0.1),
+            pose_from_yaw(Point3::new(2.0, 2.0, 0.9), 0.0),
+        );
+    for (id, h, pose) in [
+        chair("c1", 1.2, 2.0),
+        chair("c2", 2.8, 2.0),
+        chair("c3", 2.0, 1.2),
+        chair("c4", 2.0, 2.8),
+    ] {
+        b = b.add_box(&id, Category::new("chairs"), h, pose);
+    }
+    b.build().unwrap()
+}
+
+fn row() -> AnnotationRow {
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        7,medium,A table with four chairs and a lamp,\
+        \"eq,1,table; eq,4,chair; eq,1,lamp; eq,0,tv; eq,2,sofa\",\
+        \"eq,1,table,wooden; eq,4,chair,red; lt,1,tv,black\",\
+        \"eq,1,surround,0,table,chair:0,chair:1,chair:2,chair:3; eq,4,next_to,0,table,chair; \
+        eq,1,on,0,table,lamp; eq,1,left,0,table,lamp; eq,1,in_harmony_with,0,table,chair; \
+        eq,0,next_to,0,table,tv\",\
+        \"eq,1,middle,table,room; eq,1,against,table,wall\"\n";
+    Annotations::from_csv_str(csv).unwrap().rows.remove(0)
+}
+
+fn params() -> FidelityParams {
+    FidelityParams::default()
+}
+
+/// Answers ATR and relation-mapping requests: the table is wooden, chairs 0-2 are red and
+/// chair 3 is not, and "in_harmony_with" maps to no predicate.
+fn scripted() -> Scripted {
+    Scripted::from_fn("scripted", |req| {
+        let value = match req.task.as_str() {
+            "obj_attribute" if req.user_text.contains("\"table\"") => json!({
+                "category": "table", "num_instances": 1,
+                "assessments": [{"instance": 0, "attribute": "wooden", "satisfied": true, "reason": "oak"}]
+            }),
+            "obj_attribute" => json!({
+                "category": "chair", "num_instances": 4,
+                "assessments": (0..4).map(|i| json!({
+                    "instance": i, "attribute": "red", "satisfied": i < 3, "reason": format!("chair {i}")
+                })).collect::<Vec<_>>()
+            }),
+            "obj_relationship_mapping" => json!({"assessments": [{
+                "key": "4", "relationship": "in_harmony_with", "anchor_object": "table",
+                "other_objects": ["chair"], "other_object_counts": [1],
+                "relationship_types": null, "sides": [], "reason": "no spatial meaning"
+            }]}),
+            other => panic!("unexpected task {other}"),
+        };
+        Ok(AnswerContent::Json { value })
+    })
+}
+
+#[test]
+fn labels_and_lexicon_without_vlm() {
+    let (scene, row) = (scene(), row());
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let res = Resources::<Scripted> {
+        session: None,
+        views: None,
+        scene_name: "scene_7",
+    };
+    let out = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
+    let r = &out.report;
+    // CNT: table 1 (eq,1 yes), chairs 4 (labelled "chairs": plural), lamp 1 ("Lamp"),
+    // tv 0 (eq,0 yes), sofa 0 (eq,2 no) -> 4/5.
+    let cnt = r.cnt.as_ref().unwrap();
+    let verdicts: Vec<bool> = cnt.specs.iter().map(|s| s.satisfied).collect();
+    assert_eq!(verdicts, [true, true, true, true, false]);
+    assert_eq!(r.summary.cnt, Some(0.8));
+    assert_eq!(cnt.message, "4/5 requirements are satisfied.");
+    // ATR: not judged without a VLM.
+    assert_eq!(r.summary.atr, None);
+    assert!(r.atr.as_ref().unwrap().not_judged.is_some());
+    // OOR: surround: 1 anchor x C(4,4) = 1 group, four chairs evenly around: 1 satisfied (yes);
+    // next_to: 1 x C(4,1) = 4 groups, each gap 0.1 m: 4 (eq,4 yes); on: the lamp rests on the
+    // table: 1 (yes); left: the lamp is over the table, not beyond its -x face: 0 (no);
+    // in_harmony_with: not in the lexicon, no VLM: unmapped (no); eq,0 next_to tv: the tv is
+    // absent, the quantifier allows 0 (yes) -> 4/6.
+    let oor = r.oor.as_ref().unwrap();
+    let counts: Vec<(u64, u64, bool)> = oor
+        .specs
+        .iter()
+        .map(|s| (s.num_candidate_groups, s.count_satisfied, s.satisfied))
+        .collect();
+    assert_eq!(
+        counts,
+        [
+            (1, 1, true),
+            (4, 4, true),
+            (1, 1, true),
+            (1, 0, false),
+            (0, 0, false),
+            (0, 0, true)
+        ]
+    );
+    assert_eq!(oor.specs[0].groups[0].others, ["c1", "c2", "c3", "c4"]);
+    assert_eq!(oor.specs[0].mapping.relations, ["surround"]);
+    assert_eq!(oor.specs[3].mapping.relations, ["side_of(left)"]);
+    assert_eq!(oor.specs[4].mapping.status, MappingStatus::Unmapped);
+    assert!(!oor.specs[5].all_objects_present);
+    assert_eq!(r.summary.oor, Some(4.0 / 6.0));
+    // OAR: the table is in the middle of the room (yes) and 1.5 m from every wall (no) -> 1/2.
+    let oar = r.oar.as_ref().unwrap();
+    assert_eq!(oar.specs[0].mapping.relations, ["middle_of_room"]);
+    assert_eq!(oar.specs[1].mapping.relations, ["against_wall"]);
+    assert_eq!(r.summary.oar, Some(0.5));
+    // The matching: 6 of 6 objects, 3 of 5 categories.
+    assert_eq!(r.matching.message, "Matched 3/5 categories. Matched 6/6 objects.");
+}
+
+#[test]
+fn scripted_vlm_judges_attributes_and_maps_unknown_words() {
+    let (scene, row) = (scene(), row());
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let vlm = scripted();
+    let session = Session::new(&vlm);
+    let views = MemoViews::new(|_, _| Ok(test_image()));
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    let out = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
+    let r = &out.report;
+    // ATR: wooden table 1 of 1 (eq,1 yes); red chairs 3 of 4 (eq,4 no); tv absent and lt,1
+    // allows 0 (yes, not asked) -> 2/3.
+    let atr = r.atr.as_ref().unwrap();
+    let got: Vec<(Option<u64>, bool)> = atr
+        .specs
+        .iter()
+        .map(|s| (s.count_satisfied, s.satisfied))
+        .collect();
+    assert_eq!(got, [(Some(1), true), (Some(3), false), (Some(0), true)]);
+    assert_eq!(r.summary.atr, Some(2.0 / 3.0));
+    assert_eq!(atr.specs[1].assessments[3].reason, "chair 3");
+    // OOR: the unknown word went to the VLM, which found no predicate: unmapped, unsatisfied.
+    let oor = r.oor.as_ref().unwrap();
+    assert_eq!(oor.specs[4].mapping.status, MappingStatus::Unmapped);
+    assert_eq!(oor.specs[4].mapping.reason, "no spatial meaning");
+    assert_eq!(r.summary.oor, Some(4.0 / 6.0));
+    // Requests: two attribute specs with objects, one mapping: 3; views: front + size of the
+    // table and the four chairs, each made once.
+    assert_eq!(vlm.requests().len(), 3);
+    assert_eq!(r.vlm_usage.unwrap().requests, 3);
+    assert_eq!(r.views_rendered, 10);
+}
+
+#[test]
+fn reference_switches() {
+    let (scene, row) = (scene(), row());
+    let p = FidelityParams {
+        matching: MatchingMethod::Labels,
+        relation_mapping: RelationMapping::Lexicon,
+        ..FidelityParams::reference()
+    };
+    let ev = FidelityEvaluator::new(p, RelationParams::default()).unwrap();
+    let vlm = scripted();
+    let session = Session::new(&vlm);
+    let views = MemoViews::new(|_, _| Ok(test_image()));
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    let r = ev
+        .evaluate(&scene, &row, &FidelityMetric::ALL, &res)
+        .unwrap()
+        .report;
+    // Q5: the absent tv fails its specs (ATR lt,1 and OOR eq,0). Q4: the unmapped relation
+    // counts as satisfied. ATR 1/3; OOR: surround, next_to, on, unmapped = 4/6.
+    assert_eq!(r.summary.atr, Some(1.0 / 3.0));
+    let v: Vec<bool> = r
+        .oor
+        .as_ref()
+        .unwrap()
+        .specs
+        .iter()
+        .map(|s| s.satisfied)
+        .collect();
+    assert_eq!(v, [true, true, true, false, true, false]);
+    // Q22: with the anchor allowed as target nothing changes here (different categories).
+    assert_eq!(r.summary.oor, Some(4.0 / 6.0));
+}
+
+#[test]
+fn all_invalid_answers_still_give_a_result() {
+    let (scene, row) = (scene(), row());
+    let vlm = Scripted::from_fn("broken", |_| {
+        Ok(AnswerContent::Json {
+            value: json!({"nonsense": true}),
+        })
+    });
+    let session = Session::new(&vlm);
+    let views = MemoViews::new(|_, _| Ok(test_image()));
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    // Labels matching: every ATR question and the mapping question go unanswered.
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let r = ev
+        .evaluate(&scene, &row, &FidelityMetric::ALL, &res)
+        .unwrap()
+        .report;
+    let atr = r.atr.as_ref().unwrap();
+    for s in &atr.specs[..2] {
+        assert!(s.unanswered.is_some() && !s.satisfied, "{s:?}");
+        assert!(s.assessments.iter().all(|a| a.satisfied.is_none()));
+    }
+    assert_eq!(
+        r.oor.as_ref().unwrap().specs[4].mapping.status,
+        MappingStatus::Unanswered
+    );
+    // VLM matching: every object unanswered, none matched: CNT only eq,0,tv holds -> 1/5.
+    let ev = FidelityEvaluator::new(
+        FidelityParams {
+            matching: MatchingMethod::Vlm,
+            ..params()
+        },
+        RelationParams::default(),
+    )
+    .unwrap();
+    let out = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
+    assert_eq!(out.matching.unanswered.len(), 6);
+    assert_eq!(out.report.matching.unanswered, 6);
+    assert_eq!(out.report.summary.cnt, Some(0.2));
+}
+
+#[test]
+fn candidate_group_cap_warns() {
+    let (scene, row) = (scene(), row());
+    let ev = FidelityEvaluator::new(
+        FidelityParams {
+            max_candidate_groups: 2,
+            ..params()
+        },
+        RelationParams::default(),
+    )
+    .unwrap();
+    let res = Resources::<Scripted> {
+        session: None,
+        views: None,
+        scene_name: "scene_7",
+    };
+    let r = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Oor], &res)
+        .unwrap()
+        .report;
+    let next_to = &r.oor.as_ref().unwrap().specs[1];
+    // 4 groups, 2 evaluated (both satisfied): 2 of eq,4 -> no.
+    assert_eq!((next_to.num_candidate_groups, next_to.groups_evaluated), (4, 2));
+    assert!(!next_to.satisfied);
+    assert!(
+        r.warnings.iter().any(|w| w.contains("max_candidate_groups")),
+        "{:?}",
+        r.warnings
+    );
+    assert!(r.cnt.is_none());
+}
+
+#[test]
+fn matching_from_a_reference_file() {
+    let (scene, row) = (scene(), row());
+    let dir = tempfile::tempdir().unwrap();
+    // The reference's obj_matching_result.json shape: the lamp is called a chair here, so
+    // CNT sees 5 chairs (eq,4 no) and no lamp (eq,1 no): table, tv eq,0 -> 2/5.
+    let file = dir.path().join("scene_7").join("obj_matching_result.json");
+    std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+    std::fs::write(
+        &file,
+        serde_json::to_string(&json!({
+            "per_category": {
+                "table": {"t": "a table"},
+                "chair": {"c1": "", "c2": "", "c3": "", "c4": "", "l": "looks like a chair"},
+                "lamp": {}, "tv": {}, "sofa": {}
+            },
+            "not_matched_objs": {},
+            "actual_categories": {"l": "chair"}
+        }))
+        .unwrap(),
+    )
+    .unwrap();
+    let ev = FidelityEvaluator::new(
+        FidelityParams {
+            matching: MatchingMethod::File {
+                path: dir.path().to_owned(),
+            },
+            ..params()
+        },
+        RelationParams::default(),
+    )
+    .unwrap();
+    let res = Resources::<Scripted> {
+        session: None,
+        views: None,
+        scene_name: "scene_7",
+    };
+    let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
+    assert_eq!(out.report.summary.cnt, Some(0.4));
+    assert_eq!(out.matching.file.as_deref(), Some(file.as_path()));
+    // An object the scene does not have is an error naming it.
+    std::fs::write(
+        &file,
+        r#"{"per_category": {"table": {"ghost": ""}}, "not_matched_objs": {}}"#,
+    )
+    .unwrap();
+    let err = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Cnt], &res)
+        .unwrap_err();
+    assert!(err.to_string().contains("ghost"), "{err}");
+    // A category the annotation does not have is an error too.
+    std::fs::write(&file, r#"{"per_category": {"bed": {}}, "not_matched_objs": {}}"#).unwrap();
+    let err = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Cnt], &res)
+        .unwrap_err();
+    assert!(
+        err.to_string().contains("\"bed\" is not an annotated category"),
+        "{err}"
+    );
+}
+
+#[test]
+fn malformed_entries_are_errors_and_several_attributes_are_one_spec() {
+    let scene = scene();
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        7,easy,x,\"eq,1,table\",\"eq,1,table,wooden,round\",,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let vlm = Scripted::from_fn("m", |req| {
+        assert!(
+            req.user_text.contains("[\"wooden\",\"round\"]"),
+            "{}",
+            req.user_text
+        );
+        Ok(AnswerContent::Json {
+            value: json!({"category": "table", "num_instances": 1, "assessments": [
+                {"instance": 0, "attribute": "wooden", "satisfied": true, "reason": ""},
+                {"instance": 0, "attribute": "round", "satisfied": false, "reason": "square"}]}),
+        })
+    });
+    let session = Session::new(&vlm);
+    let views = MemoViews::new(|_, _| Ok(test_image()));
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    // Q6: both attributes are required of the one table: wooden but not round -> 0 of eq,1.
+    let r = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Atr], &res)
+        .unwrap()
+        .report;
+    let spec = &r.atr.as_ref().unwrap().specs[0];
+    assert_eq!(spec.attributes, ["wooden", "round"]);
+    assert_eq!((spec.count_satisfied, spec.satisfied), (Some(0), false));
+    // Q18: an unknown quantifier is an error naming the row, column and entry.
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n7,easy,x,\"about,1,table\",,,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let err = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Cnt], &res)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("row \"7\", ObjCount") && err.contains("about,1,table"),
+        "{err}"
+    );
+}
