@@ -244,6 +244,39 @@ impl EvaluationPlan {
         Self::from_value(value, preset)
     }
 
+    /// A plan from TOML text: the fields of the JSON form, objects as tables (TOML has no
+    /// `null`: leave a field out to keep the preset's value).
+    ///
+    /// ```
+    /// use sceneeval::{EvaluationPlan, Metric};
+    /// let plan = EvaluationPlan::from_toml_str(
+    ///     "metrics = [\"collision\", \"navigability\"]\n\
+    ///      [params.navigability]\n\
+    ///      robot_width = 0.3\n",
+    /// ).unwrap();
+    /// assert_eq!(plan.ordered_metrics(), vec![Metric::Collision, Metric::Navigability]);
+    /// assert_eq!(plan.params.navigability.robot_width, 0.3);
+    /// ```
+    ///
+    /// # Errors
+    /// As [`EvaluationPlan::from_json_str`]; malformed TOML names its line and column.
+    pub fn from_toml_str(text: &str) -> Result<Self, EvalError> {
+        Self::from_toml_str_with_preset(text, None)
+    }
+
+    /// A plan from TOML text; `preset`, when given, replaces the file's `preset` field.
+    ///
+    /// # Errors
+    /// As [`EvaluationPlan::from_toml_str`].
+    pub fn from_toml_str_with_preset(text: &str, preset: Option<Preset>) -> Result<Self, EvalError> {
+        let value: Value = toml::from_str(text).map_err(|e| EvalError::Plan {
+            path: None,
+            field: None,
+            message: format!("malformed TOML: {}", e.to_string().trim_end()),
+        })?;
+        Self::from_value(value, preset)
+    }
+
     fn from_value(value: Value, preset: Option<Preset>) -> Result<Self, EvalError> {
         let Value::Object(given) = value else {
             return Err(plan_error(None, "a plan must be a JSON object".into()));
@@ -277,7 +310,7 @@ impl EvaluationPlan {
         Ok(plan)
     }
 
-    /// A plan from a JSON file.
+    /// A plan from a file: TOML when its name ends in `.toml` (any case), JSON otherwise.
     ///
     /// # Errors
     /// As [`EvaluationPlan::from_json_str`], naming the file.
@@ -285,7 +318,8 @@ impl EvaluationPlan {
         Self::read_with_preset(path, None)
     }
 
-    /// A plan from a JSON file, with `preset` replacing the file's `preset` field when given.
+    /// A plan from a file (TOML or JSON, as [`EvaluationPlan::read`]), with `preset` replacing
+    /// the file's `preset` field when given.
     ///
     /// # Errors
     /// As [`EvaluationPlan::from_json_str`], naming the file.
@@ -295,7 +329,13 @@ impl EvaluationPlan {
             field: None,
             message: e.to_string(),
         })?;
-        Self::from_json_str_with_preset(&text, preset).map_err(|e| match e {
+        let is_toml = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+        let plan = if is_toml {
+            Self::from_toml_str_with_preset(&text, preset)
+        } else {
+            Self::from_json_str_with_preset(&text, preset)
+        };
+        plan.map_err(|e| match e {
             EvalError::Plan { field, message, .. } => EvalError::Plan {
                 path: Some(path.to_owned()),
                 field,

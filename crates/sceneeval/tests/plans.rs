@@ -50,6 +50,20 @@ fn example_plans_read_and_mean_what_they_say() {
     assert_eq!(quick.limits.max_triangles, 1_000_000);
     assert_eq!(quick.time_budget_seconds, Some(60.0));
 
+    // The same plan written in TOML reads to the same value; TOML errors name their line.
+    let quick_toml = EvaluationPlan::read(&plans().join("quick-check.toml")).unwrap();
+    assert_eq!(quick_toml, quick);
+    let typo =
+        EvaluationPlan::from_toml_str("[params.collision]\nexclude_floor_covering = true\n").unwrap_err();
+    assert!(
+        typo.to_string()
+            .contains("params.collision.exclude_floor_covering: unknown field"),
+        "{typo}"
+    );
+    let broken = EvaluationPlan::from_toml_str("metrics = [\"collision\"\n").unwrap_err();
+    assert!(broken.to_string().contains("malformed TOML"), "{broken}");
+    assert!(broken.to_string().contains("line 1"), "{broken}");
+
     // The paper's ten metrics, VLM matching with the sizes in the prompt, lexicon mapping.
     let full = EvaluationPlan::read(&plans().join("full-vlm.json")).unwrap();
     assert_eq!(full.metrics.len() + full.fidelity_metrics.len(), 10);
