@@ -87,7 +87,7 @@ impl Rng {
             self.range(0.3, 4.7),
             h[2] + self.range(0.0, 1.0).max(0.0) * (self.next() % 2) as f64,
         ];
-        let yaw = self.range(-3.14, 3.14);
+        let yaw = self.range(-std::f64::consts::PI, std::f64::consts::PI);
         format!(
             r#"{{"center":[{},{},{}],"half_size":[{},{},{}],"yaw":{yaw}}}"#,
             c[0], c[1], c[2], h[0], h[1], h[2]

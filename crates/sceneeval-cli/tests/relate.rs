@@ -264,8 +264,8 @@ fn declared_objects_and_rooms_answer_as_inline_ones_in_input_order() {
         assert_eq!(a["id"], i + 1, "answers in input order");
     }
     // The nightstand wholly beyond the bed's -x face (see the_four_forms_of_the_issue).
-    for i in 3..6 {
-        assert_eq!(answers[i]["score"], 1.0, "{}", answers[i]);
+    for a in &answers[3..6] {
+        assert_eq!(a["score"], 1.0, "{a}");
     }
     assert_eq!(
         answers[6],

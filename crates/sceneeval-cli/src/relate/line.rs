@@ -133,8 +133,8 @@ impl<'de: 'a, 'a> Visitor<'de> for TextVisitor<'a> {
 pub(crate) enum Operand<'a> {
     /// A declared object's name.
     Name(Cow<'a, str>),
-    /// A box or an asset object.
-    Inline(ObjectSpec),
+    /// A box or an asset object (boxed: a line's fields stay small to move).
+    Inline(Box<ObjectSpec>),
 }
 
 impl<'de: 'a, 'a> Deserialize<'de> for Operand<'a> {
@@ -161,7 +161,8 @@ impl<'de: 'a, 'a> Visitor<'de> for OperandVisitor<'a> {
     }
 
     fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
-        ObjectSpec::deserialize(de::value::MapAccessDeserializer::new(map)).map(Operand::Inline)
+        ObjectSpec::deserialize(de::value::MapAccessDeserializer::new(map))
+            .map(|o| Operand::Inline(Box::new(o)))
     }
 }
 
@@ -213,7 +214,7 @@ mod tests {
         )
         .unwrap();
         assert!(matches!(&line.target, Some(Operand::Name(n)) if n == "café"));
-        assert!(matches!(&line.anchor, Some(Operand::Inline(ObjectSpec::Box(_)))));
+        assert!(matches!(&line.anchor, Some(Operand::Inline(o)) if matches!(**o, ObjectSpec::Box(_))));
         assert!(matches!(&line.room, Some(RoomOperand::Name(n)) if n == "r1"));
         let line: Line<'_> = serde_json::from_str(r#"{"relation":"near","room":{"floor":[]}}"#).unwrap();
         assert!(matches!(&line.room, Some(RoomOperand::Inline(r)) if r.get() == r#"{"floor":[]}"#));

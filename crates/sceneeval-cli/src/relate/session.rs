@@ -1,13 +1,14 @@
 //! The state of one `relate` stream: declared objects and rooms, the cache of prepared
 //! rooms, the asset library, and scoring one parsed line against them.
 
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use sceneeval::geom::{Obb, Real};
 use sceneeval::io::AssetLibrary;
 use sceneeval::relations::spec::{GeomOperands, ObjectSpec, RoomSpec, relation_from_spec, score_geoms};
-use sceneeval::relations::{ObjectGeom, RelationParams};
+use sceneeval::relations::{ObjectGeom, Relation, RelationParams};
 use sceneeval::scene::{Room, SceneObject};
 
 use super::line::{Line, Operand, RoomOperand};
@@ -48,7 +49,10 @@ enum Declared {
 pub(crate) struct RoomCache {
     capacity: usize,
     clock: u64,
-    rooms: HashMap<Box<str>, (Arc<Room>, u64)>,
+    rooms: HashMap<Arc<str>, (Arc<Room>, Cell<u64>)>,
+    /// The room asked for last, with its text: a stream repeating one room compares its text
+    /// instead of hashing it. Its map entry's use stamp stays the newest while it is last.
+    last: Option<(Arc<str>, Arc<Room>)>,
     /// Rooms built so far (cache misses that built a room).
     pub built: usize,
 }
@@ -60,15 +64,22 @@ impl RoomCache {
             capacity: capacity.max(1),
             clock: 0,
             rooms: HashMap::new(),
+            last: None,
             built: 0,
         }
     }
 
     /// The prepared room written as `text` (a JSON object), built on first use.
     pub fn get(&mut self, text: &str) -> Result<Arc<Room>, String> {
+        if let Some((last_text, room)) = &self.last
+            && **last_text == *text
+        {
+            return Ok(Arc::clone(room));
+        }
         self.clock += 1;
-        if let Some((room, used)) = self.rooms.get_mut(text) {
-            *used = self.clock;
+        if let Some((key, (room, used))) = self.rooms.get_key_value(text) {
+            used.set(self.clock);
+            self.last = Some((Arc::clone(key), Arc::clone(room)));
             return Ok(Arc::clone(room));
         }
         let spec: RoomSpec = serde_json::from_str(text).map_err(|e| format!("invalid room: {e}"))?;
@@ -78,12 +89,15 @@ impl RoomCache {
             && let Some(oldest) = self
                 .rooms
                 .iter()
-                .min_by_key(|(_, (_, used))| *used)
+                .min_by_key(|(_, (_, used))| used.get())
                 .map(|(key, _)| key.clone())
         {
             self.rooms.remove(&oldest);
         }
-        self.rooms.insert(text.into(), (Arc::clone(&room), self.clock));
+        let key: Arc<str> = text.into();
+        self.rooms
+            .insert(Arc::clone(&key), (Arc::clone(&room), Cell::new(self.clock)));
+        self.last = Some((key, Arc::clone(&room)));
         Ok(room)
     }
 
@@ -109,6 +123,23 @@ pub(crate) struct Session {
     assets: AssetLibrary,
     names: HashMap<String, Declared>,
     rooms: RoomCache,
+    /// Relations parsed recently, with their name, side and arch as written (at most
+    /// [`RELATIONS_KEPT`], replaced in turn): streams repeat a few relations, and parsing one
+    /// lower-cases and matches names.
+    relations: Vec<(RelationText, Relation)>,
+    /// The next entry of `relations` to replace once it is full.
+    relations_next: usize,
+}
+
+/// How many parsed relations a session keeps (23 relations, some with several arguments).
+const RELATIONS_KEPT: usize = 48;
+
+/// A relation's name, side and arch as written on a line.
+#[derive(Debug, PartialEq)]
+struct RelationText {
+    name: String,
+    side: Option<String>,
+    arch: Option<String>,
 }
 
 impl Session {
@@ -120,6 +151,8 @@ impl Session {
             assets,
             names: HashMap::new(),
             rooms: RoomCache::new(room_cache),
+            relations: Vec::new(),
+            relations_next: 0,
         }
     }
 
@@ -245,15 +278,36 @@ impl Session {
         }
     }
 
+    /// The relation of a query line.
+    fn relation(&mut self, line: &Line<'_>) -> Result<Relation, String> {
+        let name = line.relation.as_ref().map_or("", |t| t.0.as_ref());
+        let side = line.side.as_ref().map(|t| t.0.as_ref());
+        let arch = line.arch.as_ref().map(|t| t.0.as_ref());
+        if let Some((_, relation)) = self
+            .relations
+            .iter()
+            .find(|(t, _)| t.name == name && t.side.as_deref() == side && t.arch.as_deref() == arch)
+        {
+            return Ok(*relation);
+        }
+        let relation = relation_from_spec(name, side, arch).map_err(|e| e.to_string())?;
+        let text = RelationText {
+            name: name.to_owned(),
+            side: side.map(str::to_owned),
+            arch: arch.map(str::to_owned),
+        };
+        if self.relations.len() < RELATIONS_KEPT {
+            self.relations.push((text, relation));
+        } else {
+            self.relations[self.relations_next] = (text, relation);
+            self.relations_next = (self.relations_next + 1) % RELATIONS_KEPT;
+        }
+        Ok(relation)
+    }
+
     /// The score of a query line.
     pub fn score(&mut self, line: &Line<'_>) -> Result<Outcome, String> {
-        let name = line.relation.as_ref().map_or("", |t| t.0.as_ref());
-        let relation = relation_from_spec(
-            name,
-            line.side.as_ref().map(|t| t.0.as_ref()),
-            line.arch.as_ref().map(|t| t.0.as_ref()),
-        )
-        .map_err(|e| e.to_string())?;
+        let relation = self.relation(line)?;
         let room = line.room.as_ref().map(|r| self.room(r)).transpose()?;
         let target = line
             .target

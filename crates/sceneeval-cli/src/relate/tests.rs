@@ -128,7 +128,7 @@ fn an_interactive_client_gets_each_answer_before_it_writes_the_next_line() {
         chunks: VecDeque::from(vec![
             format!("{}\n", box_query(0)).into_bytes(),
             format!("{}\n", box_query(1)).into_bytes(),
-            box_query(2)[..40].as_bytes().to_vec(),
+            box_query(2).as_bytes()[..40].to_vec(),
             format!("{}\n", &box_query(2)[40..]).into_bytes(),
         ]),
         pending: Vec::new(),
@@ -200,10 +200,10 @@ fn declared_and_inline_rooms_give_the_same_bits_and_are_prepared_once() {
         .enumerate()
         .map(|(i, l)| serde_json::to_value(answer_line(l, i + 1, &mut s)).unwrap())
         .collect();
-    for k in 0..relations.len() {
+    for (k, relation) in relations.iter().enumerate() {
         let [a, b, c] = [2 + 3 * k, 3 + 3 * k, 4 + 3 * k].map(|i| answers[i]["score"].as_f64().unwrap());
-        assert_eq!(a.to_bits(), b.to_bits(), "{}", relations[k]);
-        assert_eq!(a.to_bits(), c.to_bits(), "{}", relations[k]);
+        assert_eq!(a.to_bits(), b.to_bits(), "{relation}");
+        assert_eq!(a.to_bits(), c.to_bits(), "{relation}");
     }
     // The declaration and the inline copies share one prepared room.
     assert_eq!(s.rooms_built(), 1);
