@@ -5,7 +5,8 @@
 //! error names the input it came from (the file name, or `line N` for `relate`).
 //!
 //! The number of cases per target is fixed (`SCENEEVAL_FUZZ_CASES`, default 256; 16 runs of
-//! 32 lines for `relate`) and the random generator is seeded deterministically, so CI runs
+//! 32 lines for `relate`, mixing queries, declarations and queries naming declared objects
+//! and rooms) and the random generator is seeded deterministically, so CI runs
 //! the same cases every time in a few seconds. Raise the count for a longer local run:
 //! `SCENEEVAL_FUZZ_CASES=20000 cargo test -p sceneeval-cli --test fuzz --release`.
 
@@ -273,7 +274,15 @@ fn relate_json_lines() {
             r#"{{"id":2,"relation":"surround","anchor":{BED},"targets":[{BED},{BED},{{"center":[3,0,0.3],"half_size":[0.2,0.2,0.3],"rotation":[1,0,0,0,1,0,0,0,1]}}]}}"#
         ),
         r#"{"id":[3],"relation":"against_wall","target":{"center":[2,4,0.3],"half_size":[0.8,1,0.3],"yaw":0},"room":{"floor":[[0,0],[4,0],[4,5],[0,5]],"openings":[{"kind":"door","wall":0,"along":[1.0,1.9],"height":[0.0,2.1]}]}}"#.to_owned(),
+        // Declarations (a box, a mesh asset, a room) and queries naming them.
+        format!(r#"{{"id":"d1","declare":"bed","object":{BED}}}"#),
+        r#"{"id":"d2","declare":"chair","object":{"asset":"fixture.chair","position":[1,1,0],"yaw":0.3,"scale":[1,1,1.2]}}"#.to_owned(),
+        r#"{"id":"d3","declare":"room","room":{"floor":[[0,0],[4,0],[4,5],[0,5]],"height":2.5}}"#.to_owned(),
+        r#"{"id":4,"relation":"near","target":"chair","anchor":"bed"}"#.to_owned(),
+        r#"{"id":5,"relation":"next_to","arch":"wall","target":"bed","room":"room"}"#.to_owned(),
+        r#"{"id":6,"relation":"surround","anchor":"bed","targets":["chair",{"center":[3,0,0.3],"half_size":[0.2,0.2,0.3]},"chair"]}"#.to_owned(),
     ];
+    let assets = format!("fixture={}", fixtures().join("assets").display());
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("queries.jsonl");
     let lines = prop::collection::vec((0..originals.len(), edits()), 32);
@@ -293,7 +302,7 @@ fn relate_json_lines() {
             std::fs::write(&input, &text).unwrap();
             let out = Command::cargo_bin("sceneeval")
                 .unwrap()
-                .args(["relate", "--input"])
+                .args(["relate", "--assets", &assets, "--input"])
                 .arg(&input)
                 .output()
                 .unwrap();
@@ -311,11 +320,20 @@ fn relate_json_lines() {
             prop_assert_eq!(answers.len(), expected, "one answer per non-blank line");
             for a in &answers {
                 let has_score = a.get("score").is_some_and(Value::is_number);
+                let declared = a.get("declared").is_some_and(Value::is_string);
                 let error_names_line = a
                     .get("error")
                     .and_then(Value::as_str)
                     .is_some_and(|e| e.starts_with("line "));
-                prop_assert!(has_score != error_names_line, "{}", a);
+                prop_assert!(
+                    [has_score, declared, error_names_line]
+                        .iter()
+                        .filter(|&&b| b)
+                        .count()
+                        == 1,
+                    "{}",
+                    a
+                );
                 prop_assert!(a.get("id").is_some(), "{}", a);
             }
             Ok(())

@@ -227,3 +227,255 @@ fn every_architecture_relation_answers() {
     assert_eq!(answers[4]["score"], 1.0);
     assert_eq!(answers[5]["score"], 1.0);
 }
+
+fn fixture_assets() -> String {
+    format!(
+        "fixture={}",
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../fixtures/assets")
+            .display()
+    )
+}
+
+#[test]
+fn declared_objects_and_rooms_answer_as_inline_ones_in_input_order() {
+    let room = one_line(ROOM);
+    let stand = r#"{"center":[-1.05,0.5,0.3],"half_size":[0.25,0.2,0.3],"yaw":1.5707963267948966}"#;
+    let lines = [
+        format!(r#"{{"id":"d1","declare":"bed","object":{BED}}}"#),
+        format!(r#"{{"id":"d2","declare":"stand","object":{stand}}}"#),
+        format!(r#"{{"id":"d3","declare":"bedroom","room":{room}}}"#),
+        // Inline, by name, and mixed.
+        format!(r#"{{"id":1,"relation":"side_of","side":"left","target":{stand},"anchor":{BED}}}"#),
+        r#"{"id":2,"relation":"side_of","side":"left","target":"stand","anchor":"bed"}"#.to_owned(),
+        format!(r#"{{"id":3,"relation":"side_of","side":"left","target":"stand","anchor":{BED}}}"#),
+        format!(r#"{{"id":4,"relation":"near","arch":"door","target":{BED},"room":{room}}}"#),
+        r#"{"id":5,"relation":"near","arch":"door","target":"bed","room":"bedroom"}"#.to_owned(),
+        format!(r#"{{"id":6,"relation":"surround","anchor":{BED},"targets":["stand",{stand},"stand"]}}"#),
+        r#"{"id":7,"relation":"surround","anchor":"bed","targets":["stand","stand","stand"]}"#.to_owned(),
+    ];
+    let (code, answers) = relate(&[], &lines.join("\n"));
+    assert_eq!(code, 0, "{answers:?}");
+    assert_eq!(answers.len(), lines.len());
+    assert_eq!(answers[0], json!({"id": "d1", "declared": "bed"}));
+    assert_eq!(answers[1], json!({"id": "d2", "declared": "stand"}));
+    assert_eq!(answers[2], json!({"id": "d3", "declared": "bedroom"}));
+    for (i, a) in answers[3..].iter().enumerate() {
+        assert_eq!(a["id"], i + 1, "answers in input order");
+    }
+    // The nightstand wholly beyond the bed's -x face (see the_four_forms_of_the_issue).
+    for a in &answers[3..6] {
+        assert_eq!(a["score"], 1.0, "{a}");
+    }
+    assert_eq!(
+        answers[6],
+        json!({"id": 4, "score": answers[7]["score"], "holds": answers[7]["holds"]})
+    );
+    assert_eq!(answers[8]["score"], answers[9]["score"]);
+}
+
+#[test]
+fn unknown_names_failed_declarations_and_redeclarations() {
+    let room = one_line(ROOM);
+    let near = |id: &str, target: &str| {
+        format!(r#"{{"id":"{id}","relation":"near","target":{target},"anchor":"bed"}}"#)
+    };
+    let lines = [
+        // 1: before any declaration.
+        near("early", r#""stand""#),
+        format!(r#"{{"id":"d","declare":"bed","object":{BED}}}"#),
+        // 3: the box 2 m from the bed's centre: a 1.0 m gap, inside near's range.
+        near("q1", r#"{"center":[2.0,0,0.3],"half_size":[0.2,0.2,0.3],"yaw":0}"#),
+        // 4: the bed moved 10 m away: declaring it again replaces it.
+        r#"{"id":"move","declare":"bed","object":{"center":[12,0,0.3],"half_size":[0.8,1.0,0.3]}}"#.to_owned(),
+        near("q2", r#"{"center":[2.0,0,0.3],"half_size":[0.2,0.2,0.3],"yaw":0}"#),
+        // 6: a name keeps its kind.
+        format!(r#"{{"id":"kind","declare":"bed","room":{room}}}"#),
+        // 7: a failed declaration leaves the name unusable.
+        r#"{"id":"broken","declare":"bed","object":{"center":[0,0,0],"half_size":[-1,1,1]}}"#.to_owned(),
+        near("q3", r#"{"center":[2.0,0,0.3],"half_size":[0.2,0.2,0.3],"yaw":0}"#),
+        // 9: an object where a room is expected, and the reverse.
+        format!(r#"{{"id":"r","declare":"bedroom","room":{room}}}"#),
+        r#"{"id":"swap","relation":"inside_room","target":"bedroom","room":"bedroom"}"#.to_owned(),
+        r#"{"id":"noroom","relation":"inside_room","target":{"center":[1,1,0.5],"half_size":[0.5,0.5,0.5]},"room":"kitchen"}"#.to_owned(),
+        // 12: declarations carry nothing of a query; references are not declarations.
+        r#"{"id":"mixed","declare":"x","object":{"center":[0,0,0],"half_size":[1,1,1]},"relation":"near"}"#.to_owned(),
+        r#"{"id":"alias","declare":"y","object":"bedroom"}"#.to_owned(),
+        r#"{"id":"nothing","declare":"z"}"#.to_owned(),
+    ];
+    let (code, answers) = relate(&[], &lines.join("\n"));
+    assert_eq!(code, 2);
+    assert_eq!(answers.len(), lines.len());
+    let error = |i: usize| answers[i]["error"].as_str().unwrap_or_default().to_owned();
+    assert!(
+        error(0).contains(r#"no object named "stand" has been declared"#),
+        "{}",
+        error(0)
+    );
+    assert!(error(0).starts_with("line 1: "), "{}", error(0));
+    assert_eq!(answers[2], json!({"id": "q1", "score": 1.0, "holds": true}));
+    assert_eq!(answers[3], json!({"id": "move", "declared": "bed"}));
+    // 12 m away: a gap of 12 - 2 - 0.8 - 0.2 = 9 m, far outside near's range.
+    assert_eq!(answers[4]["holds"], false, "{}", answers[4]);
+    assert!(error(5).contains("declared as an object"), "{}", error(5));
+    assert!(
+        error(6).contains(r#"declaration of "bed""#) && error(6).contains("not a valid box"),
+        "{}",
+        error(6)
+    );
+    assert!(
+        error(7).contains("its declaration on line 7 failed"),
+        "{}",
+        error(7)
+    );
+    assert_eq!(answers[8]["declared"], "bedroom");
+    assert!(error(9).contains("is a room, not an object"), "{}", error(9));
+    assert!(error(10).contains(r#"no room named "kitchen""#), "{}", error(10));
+    assert!(error(11).contains("not \"relation\""), "{}", error(11));
+    assert!(error(12).contains("written in place"), "{}", error(12));
+    assert!(
+        error(13).contains("needs \"object\" or \"room\""),
+        "{}",
+        error(13)
+    );
+}
+
+#[test]
+fn mesh_objects_from_assets_score_as_the_library_scores_them() {
+    use sceneeval::geom::{Vector3, conventions::pose_from_yaw};
+    use sceneeval::io::AssetLibrary;
+    use sceneeval::relations::{ObjectGeom, Relation, RelationParams, batch};
+
+    let assets = fixture_assets();
+    // A nightstand (box) 5 cm left of the bed's bounds (x in [1.2, 2.8] for the 1.6 m wide
+    // bed at x = 2), and the desk chair asset near the bed's foot.
+    let bed = r#"{"asset":"fixture.bed","position":[2.0,2.5,0.0],"yaw":0.0}"#;
+    let stand = r#"{"center":[0.925,2.5,0.275],"half_size":[0.225,0.21,0.275],"yaw":0}"#;
+    let chair = r#"{"asset":"fixture.chair","position":[2.3,0.6,0.0],"yaw":3.0,"scale":1.1}"#;
+    let relations = [
+        "side_of(left)",
+        "next_to",
+        "near",
+        "far",
+        "face_to",
+        "across_from",
+        "inside_of",
+    ];
+    let mut lines = vec![format!(r#"{{"declare":"bed","object":{bed}}}"#)];
+    for r in relations {
+        lines.push(format!(r#"{{"relation":"{r}","target":{stand},"anchor":"bed"}}"#));
+        lines.push(format!(r#"{{"relation":"{r}","target":{chair},"anchor":{bed}}}"#));
+    }
+    let (code, answers) = relate(&["--assets", &assets], &lines.join("\n"));
+    assert_eq!(code, 0, "{answers:?}");
+    assert_eq!(answers[0]["declared"], "bed");
+    // The same objects through the library.
+    let library = AssetLibrary::from_specs(&[&assets]).unwrap();
+    let bed = library
+        .object(
+            "bed",
+            "fixture.bed",
+            pose_from_yaw([2.0, 2.5, 0.0].into(), 0.0),
+            Vector3::repeat(1.0),
+        )
+        .unwrap();
+    let chair = library
+        .object(
+            "chair",
+            "fixture.chair",
+            pose_from_yaw([2.3, 0.6, 0.0].into(), 3.0),
+            Vector3::repeat(1.1),
+        )
+        .unwrap();
+    let stand =
+        sceneeval::geom::Obb::from_yaw([0.925, 2.5, 0.275].into(), Vector3::new(0.225, 0.21, 0.275), 0.0)
+            .unwrap();
+    let p = RelationParams::default();
+    for (k, r) in relations.iter().enumerate() {
+        let relation: Relation = r.parse().unwrap();
+        let by_stand = batch::score_pair(
+            relation,
+            &ObjectGeom::from_box(&stand),
+            &ObjectGeom::from_object(&bed),
+            &p,
+        )
+        .unwrap();
+        let by_chair = batch::score_pair(
+            relation,
+            &ObjectGeom::from_object(&chair),
+            &ObjectGeom::from_object(&bed),
+            &p,
+        )
+        .unwrap();
+        assert_eq!(
+            score(&answers[1 + 2 * k]).to_bits(),
+            by_stand.to_bits(),
+            "{r} stand"
+        );
+        assert_eq!(
+            score(&answers[2 + 2 * k]).to_bits(),
+            by_chair.to_bits(),
+            "{r} chair"
+        );
+    }
+    // The nightstand lies wholly beyond the bed's -x face.
+    assert_eq!(score(&answers[1]), 1.0);
+    // Asset errors name the object and the asset; without --assets no prefix is known.
+    let lines = [
+        r#"{"id":1,"declare":"x","object":{"asset":"fixture.unicorn","position":[0,0,0]}}"#,
+        r#"{"id":2,"relation":"near","target":{"asset":"nowhere.bed","position":[0,0,0]},"anchor":{"center":[0,0,0],"half_size":[1,1,1]}}"#,
+        r#"{"id":3,"relation":"near","target":{"asset":"fixture.bed","position":[0,0,0],"scale":0},"anchor":{"center":[0,0,0],"half_size":[1,1,1]}}"#,
+    ];
+    let (code, answers) = relate(&["--assets", &assets], &lines.join("\n"));
+    assert_eq!(code, 2);
+    let error = |i: usize| answers[i]["error"].as_str().unwrap().to_owned();
+    assert!(error(0).contains("fixture.unicorn"), "{}", error(0));
+    assert!(error(1).contains("nowhere"), "{}", error(1));
+    assert!(error(2).contains("scale"), "{}", error(2));
+    let (_, answers) = relate(&[], lines[1]);
+    assert!(answers[0]["error"].as_str().unwrap().contains("nowhere"));
+}
+
+#[test]
+fn a_pipe_client_gets_each_answer_while_it_waits() {
+    use std::io::{BufRead, BufReader, Write};
+    use std::process::{Command as Std, Stdio};
+    use std::sync::mpsc;
+    use std::time::Duration;
+
+    let mut child = Std::new(assert_cmd::cargo::cargo_bin("sceneeval"))
+        .arg("relate")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let stdout = child.stdout.take().unwrap();
+    let (send, receive) = mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines() {
+            if send.send(line.unwrap()).is_err() {
+                break;
+            }
+        }
+    });
+    // A generous timeout: only a missing flush would make it expire (the process waits for
+    // more input with the answer unsent); no speed is asserted.
+    let wait = Duration::from_secs(120);
+    let declare = format!(r#"{{"id":"d","declare":"bed","object":{BED}}}"#);
+    let query = r#"{"id":"q","relation":"near","target":{"center":[2.0,0,0.3],"half_size":[0.2,0.2,0.3],"yaw":0},"anchor":"bed"}"#;
+    for (line, expected) in [
+        (declare.as_str(), json!({"id": "d", "declared": "bed"})),
+        (query, json!({"id": "q", "score": 1.0, "holds": true})),
+    ] {
+        writeln!(stdin, "{line}").unwrap();
+        stdin.flush().unwrap();
+        let answer = receive
+            .recv_timeout(wait)
+            .expect("an answer while the client waits");
+        assert_eq!(serde_json::from_str::<Value>(&answer).unwrap(), expected);
+    }
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+    reader.join().unwrap();
+}

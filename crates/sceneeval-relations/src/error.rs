@@ -144,6 +144,14 @@ pub enum RelationError {
         /// The second input.
         second: &'static str,
     },
+    /// A scale of an object given as plain data is not finite or not positive.
+    #[error("{what}.scale {scale:?} must be finite and positive")]
+    BadScale {
+        /// The object, e.g. `target`.
+        what: String,
+        /// The scale along x, y, z.
+        scale: [f64; 3],
+    },
     /// A relation was not given an operand its kind needs.
     #[error("relation {relation} needs \"{operand}\"")]
     MissingOperand {

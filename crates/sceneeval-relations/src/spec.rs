@@ -16,6 +16,9 @@
 //! - [`score_operands`]: one score from a relation and its [`Operands`], checking that exactly
 //!   the operands the relation's kind uses are given.
 //! - [`QuerySpec`]: all of the above in one value (the fields of a `relate` line).
+//! - [`AssetObjectSpec`]: a mesh asset by model id with a position, rotation and scale (the
+//!   caller loads the asset); [`ObjectSpec`] is a box or an asset object, told apart by the
+//!   `asset` key. [`score_geoms`] scores [`GeomOperands`], objects that may carry meshes.
 //!
 //! With the `serde` feature (on by default) the spec types deserialize from the documented
 //! schema (`docs/formats.md`, "`sceneeval relate` JSON lines"): unknown fields are errors.
@@ -31,7 +34,8 @@
 //! assert_eq!(query.score(&RelationParams::default()).unwrap(), 1.0);
 //! ```
 
-use sceneeval_geom::{Matrix3, Obb, Point2, Point3, Real, Rotation3, Vector3};
+use sceneeval_geom::na::{Translation3, UnitQuaternion};
+use sceneeval_geom::{Isometry3, Matrix3, Obb, Point2, Point3, Real, Rotation3, Vector3};
 use sceneeval_scene::{Room, RoomBuilder};
 
 use crate::scene_eval::SURROUND_REFERENCE_MAX_TARGETS;
@@ -99,31 +103,192 @@ impl BoxSpec {
     pub fn to_obb(&self, what: &str) -> Result<Obb, RelationError> {
         finite(&self.center, || format!("{what}.center"))?;
         finite(&self.half_size, || format!("{what}.half_size"))?;
-        let rotation = match (self.yaw, &self.rotation) {
-            (Some(_), Some(_)) => {
-                return Err(RelationError::Conflict {
-                    what: what.to_owned(),
-                    first: "\"yaw\"",
-                    second: "\"rotation\"",
-                });
-            }
-            (Some(yaw), None) => {
-                finite(&[yaw], || format!("{what}.yaw"))?;
-                Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
-            }
-            (None, None) => Rotation3::identity(),
-            (None, Some(r)) => {
-                let rows = r.rows();
-                finite(rows.as_flattened(), || format!("{what}.rotation"))?;
-                Rotation3::from_matrix_unchecked(Matrix3::from_fn(|i, j| rows[i][j]))
-            }
-        };
+        let rotation = rotation_of(self.yaw, self.rotation.as_ref(), what)?;
         Obb::new(Point3::from(self.center), Vector3::from(self.half_size), rotation).map_err(|source| {
             RelationError::Geometry {
                 what: format!("{what} is not a valid box"),
                 source,
             }
         })
+    }
+}
+
+/// An object showing a mesh asset: the asset's model id (`PREFIX.ID`, resolved by the caller,
+/// for example through `sceneeval_io::AssetLibrary`), where its object frame stands, its
+/// rotation (a yaw about +z or a row-major matrix; neither means none) and its scale along
+/// the object frame's axes (default 1).
+///
+/// The object frame is the asset's (z up, front -y; `docs/conventions.md`): `position` is
+/// where the asset's origin goes, not the centre of its bounds.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct AssetObjectSpec {
+    /// The model id, `PREFIX.ID`.
+    pub asset: String,
+    /// World position of the object frame's origin, metres.
+    pub position: [Real; 3],
+    /// Rotation about +z, radians.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub yaw: Option<Real>,
+    /// Full rotation (object axes as columns), row-major.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub rotation: Option<RotationSpec>,
+    /// Scale along the object frame's x, y, z (one number for all three); default 1.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
+    pub scale: Option<ScaleSpec>,
+}
+
+/// A scale: one factor for all three axes, or one per axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
+pub enum ScaleSpec {
+    /// The same factor along x, y and z.
+    Uniform(Real),
+    /// Factors along x, y, z.
+    PerAxis([Real; 3]),
+}
+
+impl AssetObjectSpec {
+    /// The pose placing the object frame in the world (`world_from_object`). `what` names
+    /// the object in errors.
+    ///
+    /// # Errors
+    /// [`RelationError::NotFinite`], [`RelationError::Conflict`] for both a yaw and a
+    /// rotation, [`RelationError::Geometry`] for a matrix that is not a proper rotation.
+    pub fn pose(&self, what: &str) -> Result<Isometry3, RelationError> {
+        finite(&self.position, || format!("{what}.position"))?;
+        let rotation = rotation_of(self.yaw, self.rotation.as_ref(), what)?;
+        // A zero-size box at the origin checks the rotation exactly as a box's is checked.
+        Obb::new(Point3::from(self.position), Vector3::zeros(), rotation).map_err(|source| {
+            RelationError::Geometry {
+                what: format!("{what}.rotation is not a valid rotation"),
+                source,
+            }
+        })?;
+        Ok(Isometry3::from_parts(
+            Translation3::from(Vector3::from(self.position)),
+            UnitQuaternion::from_rotation_matrix(&rotation),
+        ))
+    }
+
+    /// The scale along the object frame's x, y, z.
+    ///
+    /// # Errors
+    /// [`RelationError::BadScale`] when a factor is not finite or not positive.
+    pub fn scale(&self, what: &str) -> Result<Vector3, RelationError> {
+        let scale = match self.scale {
+            None => Vector3::repeat(1.0),
+            Some(ScaleSpec::Uniform(s)) => Vector3::repeat(s),
+            Some(ScaleSpec::PerAxis(s)) => Vector3::from(s),
+        };
+        if scale.iter().all(|s| s.is_finite() && *s > 0.0) {
+            Ok(scale)
+        } else {
+            Err(RelationError::BadScale {
+                what: what.to_owned(),
+                scale: [scale.x, scale.y, scale.z],
+            })
+        }
+    }
+}
+
+/// An object given as plain data: a solid box ([`BoxSpec`]) or a mesh asset
+/// ([`AssetObjectSpec`]). In JSON the two are told apart by the `asset` key: an object with
+/// `asset` is an asset object, any other a box.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
+pub enum ObjectSpec {
+    /// A solid box.
+    Box(BoxSpec),
+    /// A mesh asset placed in the world.
+    Asset(AssetObjectSpec),
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for ObjectSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        // Every key of both forms, read in one pass (no buffering), then sorted out.
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Fields {
+            #[serde(default)]
+            center: Option<[Real; 3]>,
+            #[serde(default)]
+            half_size: Option<[Real; 3]>,
+            #[serde(default)]
+            yaw: Option<Real>,
+            #[serde(default)]
+            rotation: Option<RotationSpec>,
+            #[serde(default)]
+            asset: Option<String>,
+            #[serde(default)]
+            position: Option<[Real; 3]>,
+            #[serde(default)]
+            scale: Option<ScaleSpec>,
+        }
+        let f = Fields::deserialize(deserializer)?;
+        match f.asset {
+            Some(asset) => {
+                if f.center.is_some() || f.half_size.is_some() {
+                    return Err(D::Error::custom(
+                        "an asset object is placed by \"position\" (its origin); \"center\" and \"half_size\" belong to boxes",
+                    ));
+                }
+                let position = f.position.ok_or_else(|| D::Error::missing_field("position"))?;
+                Ok(ObjectSpec::Asset(AssetObjectSpec {
+                    asset,
+                    position,
+                    yaw: f.yaw,
+                    rotation: f.rotation,
+                    scale: f.scale,
+                }))
+            }
+            None => {
+                if f.position.is_some() || f.scale.is_some() {
+                    return Err(D::Error::custom(
+                        "\"position\" and \"scale\" belong to asset objects (with \"asset\"); a box has \"center\" and \"half_size\"",
+                    ));
+                }
+                Ok(ObjectSpec::Box(BoxSpec {
+                    center: f.center.ok_or_else(|| D::Error::missing_field("center"))?,
+                    half_size: f.half_size.ok_or_else(|| D::Error::missing_field("half_size"))?,
+                    yaw: f.yaw,
+                    rotation: f.rotation,
+                }))
+            }
+        }
+    }
+}
+
+/// The rotation given by a `yaw` or a row-major `rotation` (neither: identity), unchecked
+/// beyond finiteness (callers validate it as part of a box).
+fn rotation_of(
+    yaw: Option<Real>,
+    rotation: Option<&RotationSpec>,
+    what: &str,
+) -> Result<Rotation3, RelationError> {
+    match (yaw, rotation) {
+        (Some(_), Some(_)) => Err(RelationError::Conflict {
+            what: what.to_owned(),
+            first: "\"yaw\"",
+            second: "\"rotation\"",
+        }),
+        (Some(yaw), None) => {
+            finite(&[yaw], || format!("{what}.yaw"))?;
+            Ok(Rotation3::from_axis_angle(&Vector3::z_axis(), yaw))
+        }
+        (None, None) => Ok(Rotation3::identity()),
+        (None, Some(r)) => {
+            let rows = r.rows();
+            finite(rows.as_flattened(), || format!("{what}.rotation"))?;
+            Ok(Rotation3::from_matrix_unchecked(Matrix3::from_fn(|i, j| {
+                rows[i][j]
+            })))
+        }
     }
 }
 
@@ -306,6 +471,45 @@ pub fn score_operands(
     operands: &Operands<'_>,
     params: &RelationParams,
 ) -> Result<Real, RelationError> {
+    let views: Option<Vec<ObjectGeom<'_>>> = operands
+        .targets
+        .map(|targets| targets.iter().map(ObjectGeom::from_box).collect());
+    score_geoms(
+        relation,
+        &GeomOperands {
+            target: operands.target.map(ObjectGeom::from_box),
+            anchor: operands.anchor.map(ObjectGeom::from_box),
+            targets: views.as_deref(),
+            room: operands.room,
+        },
+        params,
+    )
+}
+
+/// [`Operands`] as predicate views: objects that may carry a mesh (see [`ObjectGeom`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct GeomOperands<'a> {
+    /// The object being located.
+    pub target: Option<ObjectGeom<'a>>,
+    /// The reference object.
+    pub anchor: Option<ObjectGeom<'a>>,
+    /// The objects around the anchor (`surround` only).
+    pub targets: Option<&'a [ObjectGeom<'a>]>,
+    /// The room (object-architecture relations only).
+    pub room: Option<&'a Room>,
+}
+
+/// The score of `relation` on `operands` whose objects may carry meshes (the distance
+/// relations and `face_to` use them; see [`ObjectGeom`]). [`score_operands`] is this for
+/// boxes.
+///
+/// # Errors
+/// As [`score_operands`].
+pub fn score_geoms(
+    relation: Relation,
+    operands: &GeomOperands<'_>,
+    params: &RelationParams,
+) -> Result<Real, RelationError> {
     let missing = |operand: &'static str| RelationError::MissingOperand {
         relation: relation.to_string(),
         operand,
@@ -338,12 +542,7 @@ pub fn score_operands(
             unexpected(operands.room.is_some(), "room")?;
             let target = operands.target.ok_or_else(|| missing("target"))?;
             let anchor = operands.anchor.ok_or_else(|| missing("anchor"))?;
-            batch::score_pair(
-                relation,
-                &ObjectGeom::from_box(target),
-                &ObjectGeom::from_box(anchor),
-                params,
-            )
+            batch::score_pair(relation, &target, &anchor, params)
         }
         RelationKind::MultiTarget => {
             unexpected(operands.target.is_some(), "target (surround takes targets)")?;
@@ -359,20 +558,14 @@ pub fn score_operands(
                     limit: SURROUND_REFERENCE_MAX_TARGETS,
                 });
             }
-            let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
-            Ok(surround(&views, &ObjectGeom::from_box(anchor), params))
+            Ok(surround(targets, &anchor, params))
         }
         RelationKind::ObjectArchitecture => {
             unexpected(operands.anchor.is_some(), "anchor")?;
             unexpected(operands.targets.is_some(), "targets")?;
             let target = operands.target.ok_or_else(|| missing("target"))?;
             let room = operands.room.ok_or_else(|| missing("room"))?;
-            arch::score_rooms(
-                relation,
-                &ObjectGeom::from_box(target),
-                std::slice::from_ref(room),
-                params,
-            )
+            arch::score_rooms(relation, &target, std::slice::from_ref(room), params)
         }
     }
 }
@@ -648,6 +841,119 @@ mod tests {
         );
         let spec = RoomSpec::new(vec![[0.0, 0.0], [1.0, 0.0]]);
         assert!(matches!(spec.build(), Err(RelationError::Room { .. })));
+    }
+
+    #[test]
+    fn asset_objects_are_placed_and_checked() {
+        let spec = AssetObjectSpec {
+            asset: "fixture.chair".into(),
+            position: [1.0, 2.0, 0.0],
+            yaw: Some(std::f64::consts::FRAC_PI_2),
+            rotation: None,
+            scale: Some(ScaleSpec::Uniform(2.0)),
+        };
+        let pose = spec.pose("target").unwrap();
+        // Turned 90 degrees counter-clockwise: local +x points along world +y.
+        let x = pose * Point3::new(1.0, 0.0, 0.0);
+        assert!((x - Point3::new(1.0, 3.0, 0.0)).norm() < 1e-12, "{x}");
+        assert_eq!(spec.scale("target").unwrap(), Vector3::repeat(2.0));
+        let mut bad = spec.clone();
+        bad.scale = Some(ScaleSpec::PerAxis([1.0, 0.0, 1.0]));
+        assert!(matches!(bad.scale("t"), Err(RelationError::BadScale { .. })));
+        let mut bad = spec.clone();
+        bad.rotation = Some(RotationSpec::Flat([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]));
+        assert!(matches!(bad.pose("t"), Err(RelationError::Conflict { .. })));
+        bad.yaw = None;
+        bad.rotation = Some(RotationSpec::Flat([1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]));
+        assert!(matches!(bad.pose("t"), Err(RelationError::Geometry { .. })));
+        bad.rotation = None;
+        bad.position[2] = Real::NAN;
+        assert_eq!(
+            bad.pose("t").unwrap_err(),
+            RelationError::NotFinite {
+                field: "t.position".into()
+            }
+        );
+    }
+
+    #[cfg(feature = "serde")]
+    #[test]
+    fn objects_are_boxes_or_assets_by_their_keys() {
+        let b: ObjectSpec = serde_json::from_str(r#"{"center":[0,0,1],"half_size":[1,1,1]}"#).unwrap();
+        assert_eq!(
+            b,
+            ObjectSpec::Box(BoxSpec {
+                center: [0.0, 0.0, 1.0],
+                half_size: [1.0; 3],
+                yaw: None,
+                rotation: None
+            })
+        );
+        let a: ObjectSpec =
+            serde_json::from_str(r#"{"asset":"fixture.bed","position":[1,2,0],"yaw":0.5,"scale":[1,1,2]}"#)
+                .unwrap();
+        assert!(
+            matches!(&a, ObjectSpec::Asset(s) if s.asset == "fixture.bed" && s.scale == Some(ScaleSpec::PerAxis([1.0, 1.0, 2.0])))
+        );
+        for (text, expect) in [
+            (r#"{"asset":"x.y","center":[0,0,0]}"#, "belong to boxes"),
+            (r#"{"asset":"x.y"}"#, "missing field `position`"),
+            (
+                r#"{"center":[0,0,0],"position":[0,0,0]}"#,
+                "belong to asset objects",
+            ),
+            (r#"{"center":[0,0,0]}"#, "missing field `half_size`"),
+            (
+                r#"{"center":[0,0,0],"half_size":[1,1,1],"colour":1}"#,
+                "unknown field `colour`",
+            ),
+        ] {
+            let e = serde_json::from_str::<ObjectSpec>(text).unwrap_err().to_string();
+            assert!(e.contains(expect), "{text}: {e}");
+        }
+    }
+
+    #[test]
+    fn geometry_operands_score_as_box_operands_for_boxes() {
+        let params = RelationParams::default();
+        let a = unit_cube(0.0).to_obb("a").unwrap();
+        let b = unit_cube(1.3).to_obb("b").unwrap();
+        let room = square_room().build().unwrap();
+        for name in ["next_to", "side_of(left)", "on_top", "far"] {
+            let r: Relation = name.parse().unwrap();
+            let by_box = score_operands(
+                r,
+                &Operands {
+                    target: Some(&a),
+                    anchor: Some(&b),
+                    ..Operands::default()
+                },
+                &params,
+            )
+            .unwrap();
+            let by_geom = score_geoms(
+                r,
+                &GeomOperands {
+                    target: Some(ObjectGeom::from_box(&a)),
+                    anchor: Some(ObjectGeom::from_box(&b)),
+                    ..GeomOperands::default()
+                },
+                &params,
+            )
+            .unwrap();
+            assert_eq!(by_box.to_bits(), by_geom.to_bits(), "{name}");
+        }
+        let views = [ObjectGeom::from_box(&a)];
+        let surround_with_room = GeomOperands {
+            anchor: Some(ObjectGeom::from_box(&b)),
+            targets: Some(&views),
+            room: Some(&room),
+            ..GeomOperands::default()
+        };
+        assert!(matches!(
+            score_geoms(Relation::Surround, &surround_with_room, &params),
+            Err(RelationError::UnexpectedOperand { operand: "room", .. })
+        ));
     }
 
     #[test]

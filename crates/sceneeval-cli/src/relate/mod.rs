@@ -1,0 +1,257 @@
+//! `sceneeval relate`: answers spatial-relation queries given as JSON lines, one answer line
+//! per non-blank input line, so that any language can use the predicates.
+//!
+//! The line schema (version 1) is documented in `docs/formats.md` ("`sceneeval relate` JSON
+//! lines"): queries, and declarations of named objects (boxes or mesh assets from
+//! `--assets`) and rooms that later queries refer to by name. A line that cannot be answered
+//! gets `{"id": ..., "error": "..."}` (the id when it could be read, else `null`) and
+//! processing goes on. Blank lines are skipped. Exit status: 0 when every line was answered
+//! without error, 2 when some line got an error answer, 1 when the input could not be read at
+//! all.
+//!
+//! Speed: each line is parsed once into borrowed, typed fields ([`line`]); rooms are prepared
+//! once per distinct room text and kept in a bounded cache ([`session::RoomCache`]), so an
+//! inline room costs what a declared one costs; answers are buffered and flushed only when
+//! the input has nothing more to read at once (see [`answer_all`]).
+
+mod line;
+mod session;
+
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use sceneeval::geom::Real;
+use sceneeval::io::AssetLibrary;
+use sceneeval::relations::RelationParams;
+use serde::Serialize;
+use serde_json::value::RawValue;
+
+use line::{IdOnly, Line, LineKind};
+use session::{Outcome, Session};
+
+/// The only line-schema version this build understands.
+pub const SCHEMA_VERSION: u64 = 1;
+
+/// Size of the input and output buffers.
+const BUFFER_BYTES: usize = 1 << 16;
+
+/// Arguments of `sceneeval relate`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Read queries from this file instead of standard input (one JSON object per line).
+    #[arg(long, short, value_name = "FILE")]
+    pub input: Option<PathBuf>,
+    /// Use the reference implementation's behaviour where it differs from the paper
+    /// (`on_top` from the centre plane, `surround` with the median, `corner_of_room` from mean
+    /// directions, `middle_of_room` from the bounds centre, distances from the smaller box).
+    #[arg(long)]
+    pub reference: bool,
+    /// Asset folder for a model-id prefix, as `PREFIX=DIR` (layout chosen from the prefix) or
+    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, plain:
+    /// objects may then name an asset (`"asset": "PREFIX.ID"`) instead of being boxes.
+    /// Repeat for several prefixes.
+    #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
+    pub assets: Vec<String>,
+    /// How many distinct rooms written in place (not declared) stay prepared at once; the
+    /// least recently used is dropped beyond that.
+    #[arg(long, value_name = "N", default_value_t = 256)]
+    pub room_cache: usize,
+}
+
+/// Runs the subcommand.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let params = if args.reference {
+        RelationParams::reference()
+    } else {
+        RelationParams::default()
+    };
+    let assets = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
+    let mut session = Session::new(params, assets, args.room_cache);
+    let stdout = io::stdout();
+    let mut out = BufWriter::with_capacity(BUFFER_BYTES, stdout.lock());
+    let failed = match &args.input {
+        Some(path) => {
+            let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+            answer_all(file, &mut out, &mut session).with_context(|| format!("reading {}", path.display()))?
+        }
+        None => answer_all(io::stdin().lock(), &mut out, &mut session).context("reading standard input")?,
+    };
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        tracing::warn!(failed, "some lines could not be answered");
+        ExitCode::from(2)
+    })
+}
+
+/// Answers every line of `input` into `out`; returns how many lines got an error answer.
+///
+/// `out` is flushed whenever the next read would have to wait for more input (the input
+/// buffer is empty), and at the end: a client that writes a line and waits gets its answer,
+/// and a file or a fast producer is answered in large writes.
+fn answer_all(input: impl Read, out: &mut impl Write, session: &mut Session) -> anyhow::Result<usize> {
+    let mut input = BufReader::with_capacity(BUFFER_BYTES, input);
+    let mut failed = 0;
+    let mut line = Vec::new();
+    let mut number = 0usize;
+    while next_line(&mut input, &mut line, out)? {
+        number += 1;
+        let answer = match std::str::from_utf8(&line) {
+            Ok(text) if text.trim_ascii().is_empty() => continue,
+            Ok(text) => answer_line(text, number, session),
+            Err(e) => Answer::error(null_id(), format!("not UTF-8: {e}")),
+        };
+        let answer = match answer {
+            Answer::Error { id, error } => {
+                failed += 1;
+                Answer::Error {
+                    id,
+                    error: format!("line {number}: {error}"),
+                }
+            }
+            ok => ok,
+        };
+        serde_json::to_writer(&mut *out, &answer)?;
+        out.write_all(b"\n")?;
+    }
+    out.flush()?;
+    Ok(failed)
+}
+
+/// Reads the next line (with its newline, if any) into `line`; `false` at the end of the
+/// input. Flushes `out` before every read that may wait.
+fn next_line<R: Read>(
+    input: &mut BufReader<R>,
+    line: &mut Vec<u8>,
+    out: &mut impl Write,
+) -> io::Result<bool> {
+    line.clear();
+    loop {
+        if input.buffer().is_empty() {
+            out.flush()?;
+        }
+        let available = match input.fill_buf() {
+            Ok(available) => available,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if available.is_empty() {
+            return Ok(!line.is_empty());
+        }
+        match available.iter().position(|&b| b == b'\n') {
+            Some(end) => {
+                line.extend_from_slice(&available[..=end]);
+                input.consume(end + 1);
+                return Ok(true);
+            }
+            None => {
+                let n = available.len();
+                line.extend_from_slice(available);
+                input.consume(n);
+            }
+        }
+    }
+}
+
+/// One answer line: `{"id", "score", "holds"}`, `{"id", "declared"}` or `{"id", "error"}`.
+/// The id is the line's JSON text, echoed byte for byte (a 30-digit integer stays a 30-digit
+/// integer).
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+enum Answer<'a> {
+    Score {
+        id: &'a RawValue,
+        score: Real,
+        holds: bool,
+    },
+    Declared {
+        id: &'a RawValue,
+        declared: String,
+    },
+    Error {
+        id: &'a RawValue,
+        error: String,
+    },
+}
+
+impl<'a> Answer<'a> {
+    fn error(id: &'a RawValue, error: impl Into<String>) -> Self {
+        Answer::Error {
+            id,
+            error: error.into(),
+        }
+    }
+}
+
+/// JSON `null`.
+fn null_id() -> &'static RawValue {
+    RawValue::NULL
+}
+
+/// The id of a line that did not parse as a whole, verbatim, or `null`.
+fn raw_id(text: &str) -> &RawValue {
+    match serde_json::from_str::<IdOnly<'_>>(text) {
+        Ok(IdOnly { id: Some(id) }) => id,
+        _ => null_id(),
+    }
+}
+
+/// Answers one non-blank line (line `number` of the input).
+fn answer_line<'t>(text: &'t str, number: usize, session: &mut Session) -> Answer<'t> {
+    // Checked first: serde would also read a struct from an array of its fields.
+    if !text.trim_ascii_start().starts_with('{') {
+        return match serde_json::from_str::<serde::de::IgnoredAny>(text) {
+            Ok(_) => Answer::error(null_id(), "a line must be a JSON object"),
+            Err(e) => Answer::error(null_id(), format!("invalid JSON: {e}")),
+        };
+    }
+    let line: Line<'t> = match serde_json::from_str(text) {
+        Ok(line) => line,
+        Err(e) => {
+            // The line may be well-formed JSON whose id can be read even when the rest cannot
+            // be converted (for example a number too large for a double elsewhere).
+            let what = if e.is_data() {
+                "invalid query"
+            } else {
+                "invalid JSON"
+            };
+            return Answer::error(raw_id(text), format!("{what}: {e}"));
+        }
+    };
+    let id: &'t RawValue = match line.id {
+        Some(id) => id,
+        None => null_id(),
+    };
+    if let Some(version) = line.version
+        && version.get() != "1"
+    {
+        return Answer::error(
+            id,
+            format!(
+                "unsupported schema version {} (this build reads version {SCHEMA_VERSION})",
+                version.get()
+            ),
+        );
+    }
+    let outcome = match line.kind() {
+        Ok(LineKind::Query(query)) => session.score(query),
+        Ok(LineKind::DeclareObject(name, object)) => session.declare_object(name, object, number),
+        Ok(LineKind::DeclareRoom(name, room)) => session.declare_room(name, room, number),
+        Err(e) => Err(e),
+    };
+    match outcome {
+        Ok(Outcome::Score(score)) => Answer::Score {
+            id,
+            score,
+            holds: session.holds(score),
+        },
+        Ok(Outcome::Declared(declared)) => Answer::Declared { id, declared },
+        Err(e) => Answer::error(id, e),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,394 @@
+//! The state of one `relate` stream: declared objects and rooms, the cache of prepared
+//! rooms, the asset library, and scoring one parsed line against them.
+
+use std::cell::Cell;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use sceneeval::geom::{Obb, Real};
+use sceneeval::io::AssetLibrary;
+use sceneeval::relations::spec::{GeomOperands, ObjectSpec, RoomSpec, relation_from_spec, score_geoms};
+use sceneeval::relations::{ObjectGeom, Relation, RelationParams};
+use sceneeval::scene::{Room, SceneObject};
+
+use super::line::{Line, Operand, RoomOperand};
+
+/// An object ready for the predicates: a solid box, or a mesh asset placed in the world.
+#[derive(Debug, Clone)]
+pub(crate) enum Object {
+    /// A solid box.
+    Box(Obb),
+    /// A mesh asset (`Arc`: declared objects are shared without copying).
+    Mesh(Arc<SceneObject>),
+}
+
+impl Object {
+    fn geom(&self) -> ObjectGeom<'_> {
+        match self {
+            Object::Box(obb) => ObjectGeom::from_box(obb),
+            Object::Mesh(object) => ObjectGeom::from_object(object),
+        }
+    }
+}
+
+/// What a declared name stands for.
+#[derive(Debug)]
+enum Declared {
+    Object(Object),
+    Room(Arc<Room>),
+    /// The latest declaration of the name, on this line, failed: the name is unusable until
+    /// declared again (an earlier declaration is not silently used instead).
+    Failed {
+        line: usize,
+    },
+}
+
+/// Prepared rooms keyed by their JSON text as written, least recently used evicted beyond
+/// `capacity`.
+#[derive(Debug)]
+pub(crate) struct RoomCache {
+    capacity: usize,
+    clock: u64,
+    rooms: HashMap<Arc<str>, (Arc<Room>, Cell<u64>)>,
+    /// The room asked for last, with its text: a stream repeating one room compares its text
+    /// instead of hashing it. Its map entry's use stamp stays the newest while it is last.
+    last: Option<(Arc<str>, Arc<Room>)>,
+    /// Rooms built so far (cache misses that built a room).
+    pub built: usize,
+}
+
+impl RoomCache {
+    /// An empty cache holding at most `capacity` rooms (at least one).
+    pub fn new(capacity: usize) -> Self {
+        RoomCache {
+            capacity: capacity.max(1),
+            clock: 0,
+            rooms: HashMap::new(),
+            last: None,
+            built: 0,
+        }
+    }
+
+    /// The prepared room written as `text` (a JSON object), built on first use.
+    pub fn get(&mut self, text: &str) -> Result<Arc<Room>, String> {
+        if let Some((last_text, room)) = &self.last
+            && **last_text == *text
+        {
+            return Ok(Arc::clone(room));
+        }
+        self.clock += 1;
+        if let Some((key, (room, used))) = self.rooms.get_key_value(text) {
+            used.set(self.clock);
+            self.last = Some((Arc::clone(key), Arc::clone(room)));
+            return Ok(Arc::clone(room));
+        }
+        let spec: RoomSpec = serde_json::from_str(text).map_err(|e| format!("invalid room: {e}"))?;
+        let room = Arc::new(spec.build().map_err(|e| e.to_string())?);
+        self.built += 1;
+        if self.rooms.len() >= self.capacity
+            && let Some(oldest) = self
+                .rooms
+                .iter()
+                .min_by_key(|(_, (_, used))| used.get())
+                .map(|(key, _)| key.clone())
+        {
+            self.rooms.remove(&oldest);
+        }
+        let key: Arc<str> = text.into();
+        self.rooms
+            .insert(Arc::clone(&key), (Arc::clone(&room), Cell::new(self.clock)));
+        self.last = Some((key, Arc::clone(&room)));
+        Ok(room)
+    }
+
+    /// How many rooms the cache holds.
+    #[cfg(test)]
+    pub fn len(&self) -> usize {
+        self.rooms.len()
+    }
+}
+
+/// What a line produced.
+#[derive(Debug, PartialEq)]
+pub(crate) enum Outcome {
+    /// A query's score.
+    Score(Real),
+    /// A declaration's name.
+    Declared(String),
+}
+
+/// One stream's state.
+pub(crate) struct Session {
+    params: RelationParams,
+    assets: AssetLibrary,
+    names: HashMap<String, Declared>,
+    rooms: RoomCache,
+    /// Relations parsed recently, with their name, side and arch as written (at most
+    /// [`RELATIONS_KEPT`], replaced in turn): streams repeat a few relations, and parsing one
+    /// lower-cases and matches names.
+    relations: Vec<(RelationText, Relation)>,
+    /// The next entry of `relations` to replace once it is full.
+    relations_next: usize,
+}
+
+/// How many parsed relations a session keeps (23 relations, some with several arguments).
+const RELATIONS_KEPT: usize = 48;
+
+/// A relation's name, side and arch as written on a line.
+#[derive(Debug, PartialEq)]
+struct RelationText {
+    name: String,
+    side: Option<String>,
+    arch: Option<String>,
+}
+
+impl Session {
+    /// A session scoring with `params`, loading assets from `assets`, keeping at most
+    /// `room_cache` inline rooms prepared.
+    pub fn new(params: RelationParams, assets: AssetLibrary, room_cache: usize) -> Self {
+        Session {
+            params,
+            assets,
+            names: HashMap::new(),
+            rooms: RoomCache::new(room_cache),
+            relations: Vec::new(),
+            relations_next: 0,
+        }
+    }
+
+    /// Whether `score` means the relation holds.
+    pub fn holds(&self, score: Real) -> bool {
+        self.params.holds(score)
+    }
+
+    /// Rooms prepared so far (declared or inline).
+    #[cfg(test)]
+    pub fn rooms_built(&self) -> usize {
+        self.rooms.built
+    }
+
+    /// Declares `name` as `object`; on failure the name becomes unusable (see
+    /// [`Declared::Failed`]).
+    pub fn declare_object(
+        &mut self,
+        name: &str,
+        object: &Operand<'_>,
+        line: usize,
+    ) -> Result<Outcome, String> {
+        let result = match object {
+            Operand::Inline(spec) => self.build(spec, name),
+            Operand::Name(_) => {
+                Err("a declaration's \"object\" must be an object written in place, not a name".to_owned())
+            }
+        };
+        self.settle(name, result.map(Declared::Object), line)
+    }
+
+    /// Declares `name` as `room`.
+    pub fn declare_room(
+        &mut self,
+        name: &str,
+        room: &RoomOperand<'_>,
+        line: usize,
+    ) -> Result<Outcome, String> {
+        let result = match room {
+            RoomOperand::Inline(text) => self.rooms.get(text.get()),
+            RoomOperand::Name(_) => {
+                Err("a declaration's \"room\" must be a room written in place, not a name".to_owned())
+            }
+        };
+        self.settle(name, result.map(Declared::Room), line)
+    }
+
+    /// Records the result of declaring `name`: a name keeps its kind (object or room) for the
+    /// whole stream; declaring it again with the same kind replaces it.
+    fn settle(
+        &mut self,
+        name: &str,
+        result: Result<Declared, String>,
+        line: usize,
+    ) -> Result<Outcome, String> {
+        let kind = |d: &Declared| match d {
+            Declared::Object(_) => Some("an object"),
+            Declared::Room(_) => Some("a room"),
+            Declared::Failed { .. } => None,
+        };
+        if let (Ok(new), Some(old)) = (&result, self.names.get(name))
+            && let (Some(new_kind), Some(old_kind)) = (kind(new), kind(old))
+            && new_kind != old_kind
+        {
+            return Err(format!(
+                "{name:?} is declared as {old_kind}; a name cannot be declared again as {new_kind}"
+            ));
+        }
+        match result {
+            Ok(declared) => {
+                self.names.insert(name.to_owned(), declared);
+                Ok(Outcome::Declared(name.to_owned()))
+            }
+            Err(e) => {
+                self.names.insert(name.to_owned(), Declared::Failed { line });
+                Err(format!("declaration of {name:?}: {e}"))
+            }
+        }
+    }
+
+    /// The object written as `spec`; `what` names it in errors.
+    fn build(&self, spec: &ObjectSpec, what: &str) -> Result<Object, String> {
+        match spec {
+            ObjectSpec::Box(b) => b.to_obb(what).map(Object::Box).map_err(|e| e.to_string()),
+            ObjectSpec::Asset(a) => {
+                let pose = a.pose(what).map_err(|e| e.to_string())?;
+                let scale = a.scale(what).map_err(|e| e.to_string())?;
+                self.assets
+                    .object(what, &a.asset, pose, scale)
+                    .map(|o| Object::Mesh(Arc::new(o)))
+                    .map_err(|e| format!("{what}: {}", with_causes(&e)))
+            }
+        }
+    }
+
+    /// The object an operand stands for (a clone of a declared one: a box copy or an `Arc`).
+    fn object(&self, operand: &Operand<'_>, what: &str) -> Result<Object, String> {
+        match operand {
+            Operand::Inline(spec) => self.build(spec, what),
+            Operand::Name(name) => match self.names.get(name.as_ref()) {
+                Some(Declared::Object(object)) => Ok(object.clone()),
+                Some(Declared::Room(_)) => Err(format!("{what}: {name:?} is a room, not an object")),
+                Some(Declared::Failed { line }) => Err(format!(
+                    "{what}: {name:?} is unusable: its declaration on line {line} failed"
+                )),
+                None => Err(format!("{what}: no object named {name:?} has been declared")),
+            },
+        }
+    }
+
+    /// The room an operand stands for.
+    fn room(&mut self, operand: &RoomOperand<'_>) -> Result<Arc<Room>, String> {
+        match operand {
+            RoomOperand::Inline(text) => self.rooms.get(text.get()),
+            RoomOperand::Name(name) => match self.names.get(name.as_ref()) {
+                Some(Declared::Room(room)) => Ok(Arc::clone(room)),
+                Some(Declared::Object(_)) => Err(format!("room: {name:?} is an object, not a room")),
+                Some(Declared::Failed { line }) => Err(format!(
+                    "room: {name:?} is unusable: its declaration on line {line} failed"
+                )),
+                None => Err(format!("room: no room named {name:?} has been declared")),
+            },
+        }
+    }
+
+    /// The relation of a query line.
+    fn relation(&mut self, line: &Line<'_>) -> Result<Relation, String> {
+        let name = line.relation.as_ref().map_or("", |t| t.0.as_ref());
+        let side = line.side.as_ref().map(|t| t.0.as_ref());
+        let arch = line.arch.as_ref().map(|t| t.0.as_ref());
+        if let Some((_, relation)) = self
+            .relations
+            .iter()
+            .find(|(t, _)| t.name == name && t.side.as_deref() == side && t.arch.as_deref() == arch)
+        {
+            return Ok(*relation);
+        }
+        let relation = relation_from_spec(name, side, arch).map_err(|e| e.to_string())?;
+        let text = RelationText {
+            name: name.to_owned(),
+            side: side.map(str::to_owned),
+            arch: arch.map(str::to_owned),
+        };
+        if self.relations.len() < RELATIONS_KEPT {
+            self.relations.push((text, relation));
+        } else {
+            self.relations[self.relations_next] = (text, relation);
+            self.relations_next = (self.relations_next + 1) % RELATIONS_KEPT;
+        }
+        Ok(relation)
+    }
+
+    /// The score of a query line.
+    pub fn score(&mut self, line: &Line<'_>) -> Result<Outcome, String> {
+        let relation = self.relation(line)?;
+        let room = line.room.as_ref().map(|r| self.room(r)).transpose()?;
+        let target = line
+            .target
+            .as_ref()
+            .map(|o| self.object(o, "target"))
+            .transpose()?;
+        let anchor = line
+            .anchor
+            .as_ref()
+            .map(|o| self.object(o, "anchor"))
+            .transpose()?;
+        let targets = line
+            .targets
+            .as_ref()
+            .map(|ts| {
+                ts.iter()
+                    .enumerate()
+                    .map(|(i, o)| self.object(o, &format!("targets[{i}]")))
+                    .collect::<Result<Vec<Object>, String>>()
+            })
+            .transpose()?;
+        let views: Option<Vec<ObjectGeom<'_>>> =
+            targets.as_ref().map(|ts| ts.iter().map(Object::geom).collect());
+        score_geoms(
+            relation,
+            &GeomOperands {
+                target: target.as_ref().map(Object::geom),
+                anchor: anchor.as_ref().map(Object::geom),
+                targets: views.as_deref(),
+                room: room.as_deref(),
+            },
+            &self.params,
+        )
+        .map(Outcome::Score)
+        .map_err(|e| e.to_string())
+    }
+}
+
+/// An error and its causes, joined by `: `.
+fn with_causes(error: &dyn std::error::Error) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        text.push_str(": ");
+        text.push_str(&cause.to_string());
+        source = cause.source();
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ROOM: &str = r#"{"floor":[[0,0],[4,0],[4,3],[0,3]]}"#;
+
+    #[test]
+    fn the_room_cache_builds_each_text_once_and_evicts_the_least_recently_used() {
+        let mut cache = RoomCache::new(2);
+        let a = cache.get(ROOM).unwrap();
+        let again = cache.get(ROOM).unwrap();
+        assert!(Arc::ptr_eq(&a, &again));
+        assert_eq!(cache.built, 1);
+        let other = r#"{"floor":[[0,0],[5,0],[5,3],[0,3]]}"#;
+        let third = r#"{"floor":[[0,0],[6,0],[6,3],[0,3]]}"#;
+        cache.get(other).unwrap();
+        // ROOM was used before `other`: adding a third evicts ROOM, keeps `other`.
+        cache.get(third).unwrap();
+        assert_eq!(cache.len(), 2);
+        assert_eq!(cache.built, 3);
+        cache.get(other).unwrap();
+        assert_eq!(cache.built, 3, "other stayed cached");
+        cache.get(ROOM).unwrap();
+        assert_eq!(cache.built, 4, "ROOM was evicted and built again");
+        assert!(cache.get(r#"{"floor":[[0,0],[1,0]]}"#).is_err());
+        assert!(
+            cache
+                .get(r#"{"floor":3}"#)
+                .unwrap_err()
+                .starts_with("invalid room")
+        );
+        assert_eq!(cache.len(), 2, "failures are not cached");
+    }
+}
