@@ -36,15 +36,18 @@ mod error;
 mod mesh;
 mod obb;
 pub mod parry_adapter;
+mod penetration;
 pub mod planar;
 mod polygon;
 mod ray;
+mod solid;
 
 pub use aabb::Aabb;
 pub use conventions::Side;
 pub use error::GeomError;
 pub use mesh::{Mesh, RayHit};
 pub use obb::Obb;
+pub use penetration::{Overlap, Penetration, PenetrationQuery};
 pub use polygon::Polygon2;
 pub use ray::{Plane, Ray};
 
