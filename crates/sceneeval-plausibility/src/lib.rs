@@ -64,7 +64,6 @@ mod objects;
 mod oob;
 mod plane;
 mod raster;
-mod solid;
 mod sources;
 mod support;
 
@@ -80,7 +79,10 @@ pub use clearance::{
     BlockingObject, OpeningClearance, OpeningClearanceParams, OpeningClearanceReport, OpeningSide,
     SideClearance, opening_clearance,
 };
-pub use collision::{CollisionParams, CollisionReport, ContactKind, ObjectCollision, PairContact, collision};
+pub use collision::{
+    CollisionParams, CollisionReport, CollisionWork, ContactKind, ObjectCollision, PairContact, collision,
+    collision_with_work,
+};
 #[cfg(feature = "images")]
 pub use diagnostics::write_diagnostics;
 pub use error::PlausibilityError;

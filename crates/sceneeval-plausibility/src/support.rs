@@ -8,7 +8,6 @@ use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
-use crate::collision::lattice;
 use crate::error::check_non_negative;
 use crate::plane::{area, convex_contains, convex_hull};
 use crate::sources::{SupportType, SupportTypeSource};
@@ -388,4 +387,42 @@ fn ray_origins(o: &SceneObject, world: &[Point3], g: &Vector3, params: &SupportP
     }
     origins.extend(lattice_points);
     origins
+}
+
+/// Appends the centroids of the `k^2` sub-triangles of the `k`-subdivision of `t`.
+pub(crate) fn lattice(t: &[Point3; 3], k: usize, out: &mut Vec<Point3>) {
+    let (a, e1, e2) = (t[0], t[1] - t[0], t[2] - t[0]);
+    let kf = k as Real;
+    for i in 0..k {
+        for j in 0..k - i {
+            let (fi, fj) = (i as Real, j as Real);
+            out.push(a + e1 * ((fi + 1.0 / 3.0) / kf) + e2 * ((fj + 1.0 / 3.0) / kf));
+            if j + 1 < k - i {
+                out.push(a + e1 * ((fi + 2.0 / 3.0) / kf) + e2 * ((fj + 2.0 / 3.0) / kf));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_has_k_squared_points_inside() {
+        let t = [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
+        for k in 1..6 {
+            let mut pts = Vec::new();
+            lattice(&t, k, &mut pts);
+            assert_eq!(pts.len(), k * k);
+            assert!(pts.iter().all(|p| p.x > 0.0 && p.y > 0.0 && p.x + p.y < 1.0));
+            // The centroids average to the triangle's centroid.
+            let mean = pts.iter().fold(Vector3::zeros(), |acc, p| acc + p.coords) / (k * k) as f64;
+            assert!((mean - Vector3::new(1.0 / 3.0, 1.0 / 3.0, 0.0)).norm() < 1e-12);
+        }
+    }
 }
