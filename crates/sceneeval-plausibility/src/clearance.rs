@@ -7,7 +7,9 @@ use sceneeval_scene::{ObjectId, OpeningKind, Room, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
+use crate::collision::{default_floor_covering_words, is_floor_covering};
 use crate::error::check_non_negative;
+use crate::index::{BoxIndex, WorkCounter};
 use crate::objects::ObjectInfo;
 use crate::plane::{area3, clip_half_space};
 
@@ -44,6 +46,12 @@ pub struct OpeningClearanceParams {
     /// Objects whose top is at most this above their floor (rugs, doormats) do not block,
     /// metres. Default 0: every object can block, as in the reference.
     pub walkable_height: Real,
+    /// Floor coverings (rugs, carpets, doormats) do not block an opening. Default `true`; the
+    /// reference counts a doormat in front of a door as blocking it (`false`).
+    pub exclude_floor_coverings: bool,
+    /// Whole words that mark a floor covering in an object's category (or, without a category,
+    /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
+    pub floor_covering_words: Vec<String>,
 }
 
 impl Default for OpeningClearanceParams {
@@ -59,6 +67,8 @@ impl Default for OpeningClearanceParams {
             pixels_per_metre: 100.0,
             touch_tolerance: 0.001,
             walkable_height: 0.0,
+            exclude_floor_coverings: true,
+            floor_covering_words: default_floor_covering_words(),
         }
     }
 }
@@ -174,6 +184,7 @@ pub(crate) fn opening_clearance_with(
     infos: &[ObjectInfo],
 ) -> Result<OpeningClearanceReport, PlausibilityError> {
     params.validate()?;
+    let candidates = Candidates::new(scene, infos, params);
     let list: Vec<(&Room, &Wall, &sceneeval_scene::Opening)> = scene
         .openings()
         .filter(|(_, _, o)| match o.kind {
@@ -201,7 +212,7 @@ pub(crate) fn opening_clearance_with(
                 .into_iter()
                 .map(|side| {
                     let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance);
-                    side_clearance(scene, infos, &frame, side, depth, params)
+                    side_clearance(scene, &candidates, &frame, side, depth, params)
                 })
                 .collect();
             OpeningClearance {
@@ -382,17 +393,48 @@ impl OcclusionMap {
     }
 }
 
+/// The objects an opening's clearance box can meet: their world boxes indexed, floor
+/// coverings and walkable objects left out as the parameters say.
+pub(crate) struct Candidates {
+    members: Vec<usize>,
+    index: BoxIndex,
+}
+
+impl Candidates {
+    pub(crate) fn new(scene: &Scene, infos: &[ObjectInfo], params: &OpeningClearanceParams) -> Self {
+        let members: Vec<usize> = scene
+            .objects()
+            .iter()
+            .enumerate()
+            .filter(|(k, o)| {
+                infos[*k].max_z - infos[*k].floor_z > params.walkable_height
+                    && !(params.exclude_floor_coverings && is_floor_covering(o, &params.floor_covering_words))
+            })
+            .map(|(k, _)| k)
+            .collect();
+        let boxes: Vec<Aabb> = members
+            .iter()
+            .map(|&k| *scene.objects()[k].world_aabb())
+            .collect();
+        Candidates {
+            index: BoxIndex::new(&boxes),
+            members,
+        }
+    }
+}
+
 /// Per object in the box: its clipped polygons; then rasterised.
 pub(crate) fn intruding_parts(
     scene: &Scene,
-    infos: &[ObjectInfo],
+    candidates: &Candidates,
     frame: &OpeningFrame,
-    walkable: Real,
 ) -> Vec<(usize, Vec<Vec<Point3>>)> {
     let box_aabb = frame.world_aabb();
     let mut out = Vec::new();
-    for (k, o) in scene.objects().iter().enumerate() {
-        if !o.world_aabb().intersects(&box_aabb) || infos[k].max_z - infos[k].floor_z <= walkable {
+    for m in candidates.index.query(&box_aabb, &WorkCounter::default()) {
+        let k = candidates.members[m];
+        let o = &scene.objects()[k];
+        if !o.world_aabb().intersects(&box_aabb) {
             continue;
         }
         let world: Vec<Point3> = o.mesh().vertices().iter().map(|v| o.pose() * v).collect();
@@ -414,7 +456,7 @@ pub(crate) fn intruding_parts(
 
 fn side_clearance(
     scene: &Scene,
-    infos: &[ObjectInfo],
+    candidates: &Candidates,
     frame: &OpeningFrame,
     side: OpeningSide,
     depth: Real,
@@ -424,7 +466,7 @@ fn side_clearance(
     let total = (map.nu * map.nw) as Real;
     let mut union = vec![false; map.nu * map.nw];
     let mut blocking = Vec::new();
-    for (k, parts) in intruding_parts(scene, infos, frame, params.walkable_height) {
+    for (k, parts) in intruding_parts(scene, candidates, frame) {
         let mut mine = vec![false; union.len()];
         for p in &parts {
             map.fill(p, |i| mine[i] = true);

@@ -101,6 +101,7 @@ pub fn write_diagnostics(
     written.push(save(&acc_img, &dir.join("accessibility.png"))?);
 
     let clearance = crate::clearance::opening_clearance_with(scene, &params.opening_clearance, &infos)?;
+    let candidates = crate::clearance::Candidates::new(scene, &infos, &params.opening_clearance);
     for (room, wall, opening) in scene.openings() {
         let Some(report) = clearance
             .openings
@@ -119,8 +120,7 @@ pub fn write_diagnostics(
             );
             let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre);
             let mut mask = vec![false; occ.nu * occ.nw];
-            for (_, parts) in intruding_parts(scene, &infos, &frame, params.opening_clearance.walkable_height)
-            {
+            for (_, parts) in intruding_parts(scene, &candidates, &frame) {
                 for part in &parts {
                     occ.fill(part, |i| mask[i] = true);
                 }

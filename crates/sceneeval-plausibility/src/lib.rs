@@ -59,6 +59,7 @@ mod collision;
 #[cfg(feature = "images")]
 mod diagnostics;
 mod error;
+mod index;
 mod navigability;
 mod objects;
 mod oob;
@@ -73,7 +74,10 @@ use sceneeval_geom::Real;
 use sceneeval_scene::Scene;
 use serde::{Deserialize, Serialize};
 
-pub use accessibility::{AccessibilityParams, AccessibilityReport, ObjectAccess, SideAccess, accessibility};
+pub use accessibility::{
+    AccessibilityParams, AccessibilityReport, ObjectAccess, SideAccess, accessibility,
+    accessibility_with_work,
+};
 pub use category::normalize_category;
 pub use clearance::{
     BlockingObject, OpeningClearance, OpeningClearanceParams, OpeningClearanceReport, OpeningSide,
@@ -86,16 +90,18 @@ pub use collision::{
 #[cfg(feature = "images")]
 pub use diagnostics::write_diagnostics;
 pub use error::PlausibilityError;
+pub use index::IndexWork;
 pub use navigability::{
     NavigabilityParams, NavigabilityReport, OccupancyMap, RoomNavigability, navigability, occupancy_map,
 };
+pub use objects::Footprint;
 pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds};
 pub use raster::{Grid, Resolution};
 pub use sources::{
     Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesSource, GivenFunctionalSides,
     GivenSupportTypes, SUPPORT_TYPE_TABLE, Stated, SupportType, SupportTypePriors, SupportTypeSource,
 };
-pub use support::{ObjectSupport, SupportParams, SupportReport, Supporter, support};
+pub use support::{ObjectSupport, SupportParams, SupportReport, Supporter, support, support_with_work};
 
 /// The parameters of every metric, each with the reference's defaults.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -5,8 +5,9 @@ use sceneeval_scene::{ObjectId, OpeningKind, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
+use crate::collision::{default_floor_covering_words, is_floor_covering};
 use crate::error::check_non_negative;
-use crate::objects::{ObjectInfo, object_infos};
+use crate::objects::{Footprint, ObjectInfo, object_infos};
 use crate::plane::{ccw, exposed_boundary};
 use crate::raster::{Grid, Resolution, components8};
 
@@ -33,6 +34,15 @@ pub struct NavigabilityParams {
     /// Depth in metres of the strip in front of a door, on its room's side, from which a room
     /// counts as reachable (default 0.5).
     pub door_strip_depth: Real,
+    /// Floor coverings (rugs, carpets, mats) are walked over, not obstacles. Default `true`;
+    /// the reference draws them like any object (`false`).
+    pub exclude_floor_coverings: bool,
+    /// Whole words that mark a floor covering in an object's category (or, without a category,
+    /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
+    pub floor_covering_words: Vec<String>,
+    /// Obstacle footprints: convex hulls of the projected meshes (default) or, as the
+    /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
+    pub footprint: Footprint,
 }
 
 impl Default for NavigabilityParams {
@@ -45,6 +55,9 @@ impl Default for NavigabilityParams {
             walkable_height: 0.0,
             door_max_sill: 0.05,
             door_strip_depth: 0.5,
+            exclude_floor_coverings: true,
+            floor_covering_words: default_floor_covering_words(),
+            footprint: Footprint::ConvexHull,
         }
     }
 }
@@ -240,10 +253,14 @@ fn build_map(
     }
     let flags: Vec<bool> = infos
         .iter()
-        .map(|i| i.obstructs(params.height_cutoff, params.walkable_height))
+        .zip(scene.objects())
+        .map(|(i, o)| {
+            i.obstructs(params.height_cutoff, params.walkable_height)
+                && !(params.exclude_floor_coverings && is_floor_covering(o, &params.floor_covering_words))
+        })
         .collect();
     for (info, _) in infos.iter().zip(&flags).filter(|(_, f)| **f) {
-        grid.for_convex_within(&info.footprint, r, |k| blocked[k] = true);
+        grid.for_convex_within(info.footprint_of(params.footprint).0, r, |k| blocked[k] = true);
     }
     let free = blocked.iter().map(|b| !b).collect();
     Ok((OccupancyMap { grid, floor, free }, flags))

@@ -1,13 +1,14 @@
 //! Out-of-bounds (OOB): how much of each object lies over a floor.
 
 use rayon::prelude::*;
-use sceneeval_geom::{Point2, Point3, Real, Vector2};
+use sceneeval_geom::{Point2, Point3, Real};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
 use crate::accessibility::scene_floor_pieces;
 use crate::error::check_non_negative;
+use crate::index::{BoxIndex, WorkCounter, flat, grown};
 use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space};
 
 /// Parameters of the out-of-bounds metric (reference yaml `OutOfBoundMetric`).
@@ -112,12 +113,21 @@ pub(crate) fn out_of_bounds_with(
             reason: "must lie in [0, 1]",
         });
     }
+    // The floor pieces near an object come from an index over their boxes (grown by the
+    // boundary tolerance), so large, finely triangulated floors cost `log` per object.
+    let margin = params.boundary_tolerance;
+    let index = BoxIndex::new(
+        &pieces
+            .iter()
+            .map(|p| flat(&grown(&p.bounds, margin)))
+            .collect::<Vec<_>>(),
+    );
     let objects: Vec<ObjectBounds> = scene
         .objects()
         .par_iter()
         .map(|o| {
             let surface_area = o.mesh().surface_area();
-            let over = area_over_floor(o, pieces, params.below_floor_tolerance, params.boundary_tolerance);
+            let over = area_over_floor(o, pieces, &index, params.below_floor_tolerance, margin);
             let ratio = if surface_area > 0.0 {
                 (over / surface_area).clamp(0.0, 1.0)
             } else {
@@ -140,15 +150,23 @@ pub(crate) fn out_of_bounds_with(
     })
 }
 
-fn area_over_floor(o: &SceneObject, pieces: &[FloorPiece], tol: Real, margin: Real) -> Real {
+fn area_over_floor(
+    o: &SceneObject,
+    pieces: &[FloorPiece],
+    index: &BoxIndex,
+    tol: Real,
+    margin: Real,
+) -> Real {
     let aabb = o.world_aabb();
     let ob = (
         Point2::new(aabb.min.x, aabb.min.y),
         Point2::new(aabb.max.x, aabb.max.y),
     );
-    let grow = |b: &(Point2, Point2)| (b.0 - Vector2::repeat(margin), b.1 + Vector2::repeat(margin));
-    let near: Vec<&FloorPiece> = pieces
-        .iter()
+    let grow = |b: &(Point2, Point2)| grown(b, margin);
+    let near: Vec<&FloorPiece> = index
+        .query_flat(&ob, &WorkCounter::default())
+        .into_iter()
+        .map(|k| &pieces[k])
         .filter(|p| boxes_overlap(&grow(&p.bounds), &ob))
         .collect();
     if near.is_empty() {

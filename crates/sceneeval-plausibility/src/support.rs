@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
 use crate::error::check_non_negative;
+use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::plane::{area, convex_contains, convex_hull};
 use crate::sources::{SupportType, SupportTypeSource};
 
@@ -152,6 +153,9 @@ struct Target<'a> {
 /// have positive area (three non-collinear contacts at least). Many rays form the hull, so a
 /// single ray slipping through a shared edge cannot decide the outcome.
 ///
+/// The targets rays may hit are found with a bounding-volume hierarchy over their boxes, so
+/// the metric grows as `n log n` in the number of objects.
+///
 /// # Errors
 /// [`PlausibilityError::InvalidParameter`] for negative or non-finite parameters.
 pub fn support(
@@ -159,6 +163,19 @@ pub fn support(
     params: &SupportParams,
     types: &dyn SupportTypeSource,
 ) -> Result<SupportReport, PlausibilityError> {
+    support_with_work(scene, params, types).map(|(report, _)| report)
+}
+
+/// [`support`] and the work of its spatial-index queries (boxes tested, candidate targets),
+/// for tests and profiling.
+///
+/// # Errors
+/// As [`support`].
+pub fn support_with_work(
+    scene: &Scene,
+    params: &SupportParams,
+    types: &dyn SupportTypeSource,
+) -> Result<(SupportReport, IndexWork), PlausibilityError> {
     params.validate()?;
     let mut targets: Vec<Target<'_>> = Vec::new();
     for (k, o) in scene.objects().iter().enumerate() {
@@ -180,6 +197,8 @@ pub fn support(
             targets.push(arch_target(c, Supporter::Ceiling(rid)));
         }
     }
+    let index = BoxIndex::new(&targets.iter().map(|t| t.aabb).collect::<Vec<_>>());
+    let work = WorkCounter::default();
     let objects: Vec<ObjectSupport> = scene
         .objects()
         .par_iter()
@@ -190,7 +209,7 @@ pub fn support(
                 Some(a) => (a.value, Some(a.source)),
                 None => (SupportType::Ground, None),
             };
-            check_object(k, o, support_type, type_source, &targets, params)
+            check_object(k, o, support_type, type_source, &targets, &index, &work, params)
         })
         .collect();
     let num_supported = objects.iter().filter(|o| o.supported).count();
@@ -198,12 +217,13 @@ pub fn support(
     if num_unknown_type > 0 {
         tracing::debug!(num_unknown_type, "support types unknown, checked as ground");
     }
-    Ok(SupportReport {
+    let report = SupportReport {
         sup: (!objects.is_empty()).then(|| num_supported as Real / objects.len() as Real),
         objects,
         num_supported,
         num_unknown_type,
-    })
+    };
+    Ok((report, work.total()))
 }
 
 fn arch_target(mesh: &Mesh, what: Supporter) -> Target<'_> {
@@ -226,12 +246,15 @@ pub(crate) fn gravity(support_type: SupportType, object: &SceneObject) -> Vector
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn check_object(
-    index: usize,
+    own: usize,
     o: &SceneObject,
     support_type: SupportType,
     type_source: Option<String>,
     targets: &[Target<'_>],
+    index: &BoxIndex,
+    work: &WorkCounter,
     params: &SupportParams,
 ) -> ObjectSupport {
     let g = gravity(support_type, o);
@@ -246,9 +269,11 @@ fn check_object(
             .loosened(1e-9)
     });
     let candidates: Vec<&Target<'_>> = match corridor {
-        Some(c) => targets
-            .iter()
-            .filter(|t| t.object != Some(index) && t.aabb.intersects(&c))
+        Some(c) => index
+            .query(&c, work)
+            .into_iter()
+            .map(|k| &targets[k])
+            .filter(|t| t.object != Some(own))
             .collect(),
         None => Vec::new(),
     };
