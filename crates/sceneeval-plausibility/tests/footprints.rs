@@ -260,3 +260,45 @@ fn support_and_accessibility_index_work_grows_as_n_log_n() {
         assert!(last <= 2.0 * first, "{per_object:?}");
     }
 }
+
+#[test]
+fn a_two_centimetre_grid_over_a_large_scene_is_stored_as_runs() {
+    // A 150 x 150 m hall with 2,500 boxes: 7,520 x 7,520 = 56.6 million pixels at 2 cm (the
+    // old per-pixel masks needed about 7 bytes each). The runs need a few per row.
+    let n = 2500;
+    let cols = 50;
+    let side = 150.0;
+    let mut b = Scene::builder().room_builder(RoomBuilder::rectangle(
+        "hall",
+        Point2::new(0.0, 0.0),
+        Point2::new(side, side),
+    ));
+    for k in 0..n {
+        let (x, y) = (1.5 + (k % cols) as f64 * 3.0, 1.5 + (k / cols) as f64 * 3.0);
+        b = b.add_box(
+            &format!("o{k}"),
+            "cabinet",
+            Point3::new(x, y, 0.4),
+            Vector3::new(1.2, 0.6, 0.8),
+            0.4,
+        );
+    }
+    let s = b.build().unwrap();
+    let p = NavigabilityParams {
+        resolution: Resolution::MetresPerPixel(0.02),
+        ..NavigabilityParams::default()
+    };
+    let map = occupancy_map(&s, &p).unwrap();
+    let pixels = map.grid.width * map.grid.height;
+    assert!(pixels > 50_000_000, "{pixels}");
+    // At most one run more than the boxes a row crosses (50), and far fewer than pixels.
+    assert!(
+        map.free.runs().len() <= map.grid.height * 51,
+        "{}",
+        map.free.runs().len()
+    );
+    let r = navigability(&s, &p).unwrap();
+    assert_eq!(r.num_components, 1);
+    assert_eq!(r.nav, 1.0);
+    assert_eq!(r.obstacles.len(), n);
+}

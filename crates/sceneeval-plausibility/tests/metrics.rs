@@ -592,8 +592,9 @@ fn bad_parameters_are_rejected() {
             ..
         })
     ));
+    // 4.4 m at 1e-7 m per pixel: 44 million pixels per side.
     let p = NavigabilityParams {
-        resolution: Resolution::MetresPerPixel(1e-5),
+        resolution: Resolution::MetresPerPixel(1e-7),
         ..NavigabilityParams::default()
     };
     assert!(matches!(
