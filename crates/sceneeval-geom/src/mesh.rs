@@ -71,7 +71,8 @@ pub struct RayHit {
     pub toi: Real,
     /// Hit point in world coordinates.
     pub point: Point3,
-    /// Unit normal of the hit triangle in world coordinates (its sign follows the winding).
+    /// Unit normal of the hit triangle in world coordinates, turned toward the ray's origin
+    /// (whichever side of the triangle the ray hits).
     pub normal: Vector3,
 }
 

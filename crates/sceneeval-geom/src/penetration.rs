@@ -3,7 +3,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use crate::solid::SolidTables;
+use crate::solid::{PointClass, SolidTables};
 use crate::{Aabb, Isometry3, Mesh, Point3, Real, Vector3};
 
 /// A vertex this close to the other surface (metres) does not decide a nesting test.
@@ -12,8 +12,11 @@ const NEST_EPS: Real = 1e-6;
 const MAX_NEST_COMPONENTS: usize = 64;
 /// Point queries of the witness pass that precedes the best-first search.
 const WITNESS_QUERIES: u64 = 256;
-/// Candidate triangles the witness pass spreads its queries over.
-const WITNESS_CANDIDATES: usize = 4096;
+/// Point queries of the witness pass's first look, before the balls are tried.
+const FIRST_LOOK: u64 = 16;
+/// Point queries per direction spent looking for a larger bound once a pair is known to
+/// collide ([`DepthSearch::Colliding`]).
+const REFINE_QUERIES: u64 = 64;
 
 /// How [`Mesh::penetration`] searches.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,8 +29,27 @@ pub struct PenetrationQuery {
     /// Most point queries (closest point plus inside test) per direction; a search that runs
     /// out is reported as undecided.
     pub budget: usize,
-    /// Search for the largest bound instead of stopping at the first one above the tolerance.
-    pub deepest: bool,
+    /// Which pairs get their largest depth bound searched for.
+    pub depth: DepthSearch,
+}
+
+/// How far [`Mesh::penetration`] searches once the verdict is known.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum DepthSearch {
+    /// Stop at the first bound above the tolerance (the verdict alone; fastest): the depth
+    /// reported is that of the first surface point found deeper than the tolerance (or of the
+    /// first ball found inside both).
+    #[default]
+    Verdict,
+    /// Once a pair is known to collide, spend a few more queries (64 per direction) on larger
+    /// bounds, deepest candidates first: exact for box-like overlaps, a lower bound otherwise.
+    /// A resting contact's depth stays unsearched below the tolerance.
+    Colliding,
+    /// Search every pair for its largest bound, resting contacts included (slowest: a flat
+    /// contact is sampled down to the spacing).
+    All,
 }
 
 impl Default for PenetrationQuery {
@@ -36,7 +58,7 @@ impl Default for PenetrationQuery {
             tolerance: 0.005,
             spacing: 0.0025,
             budget: 2048,
-            deepest: false,
+            depth: DepthSearch::Verdict,
         }
     }
 }
@@ -79,8 +101,9 @@ pub enum Overlap {
 pub struct Penetration {
     /// How the meshes meet.
     pub overlap: Overlap,
-    /// A certified lower bound on the penetration depth in metres (see above). When
-    /// colliding and not searching for the deepest, the first bound found above the tolerance.
+    /// A certified lower bound on the penetration depth in metres (see above): the largest
+    /// found by the search [`PenetrationQuery::depth`] asks for (with
+    /// [`DepthSearch::Verdict`], the first found above the tolerance).
     pub depth: Real,
     /// The sample spacing used (metres).
     pub spacing: Real,
@@ -100,8 +123,10 @@ pub(crate) fn penetration(
     pb: &Isometry3,
     q: &PenetrationQuery,
 ) -> Penetration {
+    let all = q.depth == DepthSearch::All;
     let mut s = Search {
         q: *q,
+        deepest: all,
         best: 0.0,
         queries: 0,
         undecided: false,
@@ -118,34 +143,52 @@ pub(crate) fn penetration(
         // One mesh placed twice at the same pose: the largest interior ball is shared.
         out.overlap = Overlap::Surface;
         out.colliding = true;
-        out.depth = 2.0 * a.solid().balls.first().map_or(0.0, |ball| ball.radius);
+        out.depth = 2.0 * a.solid().balls(a).first().map_or(0.0, |ball| ball.radius);
         return out;
     }
-    if a.intersects(pa, b, pb) {
+    if surfaces_meet(a, pa, b, pb) {
         out.overlap = Overlap::Surface;
-        s.balls(a, pa, b, pb);
-        s.balls(b, pb, a, pa);
+        // A deep penetration shows within a few queries of the witness passes; copies placed
+        // on top of each other (coincident surfaces) only through their balls.
         let (mut spent_a, mut spent_b) = (0, 0);
-        if !q.deepest && !s.found() {
-            spent_a = s.witness(a, pa, b, pb);
+        for limit in [FIRST_LOOK, WITNESS_QUERIES] {
+            if !all && !s.found() {
+                spent_a = s.witness(a, pa, b, pb, limit, spent_a);
+            }
+            if !all && !s.found() {
+                spent_b = s.witness(b, pb, a, pa, limit, spent_b);
+            }
+            if limit == FIRST_LOOK && (all || !s.found()) {
+                s.balls(a, pa, b, pb);
+                s.balls(b, pb, a, pa);
+            }
         }
-        if !q.deepest && !s.found() {
-            spent_b = s.witness(b, pb, a, pa);
-        }
-        if q.deepest || !s.found() {
+        if all || !s.found() {
             s.surface(a, pa, b, pb, spent_a);
         }
-        if q.deepest || !s.found() {
+        if all || !s.found() {
             s.surface(b, pb, a, pa, spent_b);
         }
         out.colliding = s.found();
         out.undecided = !out.colliding && s.undecided;
+        if out.colliding && q.depth == DepthSearch::Colliding {
+            // The verdict is in: look for a larger bound, with a short budget.
+            s.deepest = true;
+            s.balls(a, pa, b, pb);
+            s.balls(b, pb, a, pa);
+            let undecided = s.undecided;
+            let spent = (q.budget as u64).saturating_sub(REFINE_QUERIES);
+            s.surface(a, pa, b, pb, spent);
+            s.surface(b, pb, a, pa, spent);
+            s.undecided = undecided;
+        }
     } else {
         for (first_inside, inner, pi, outer, po) in [(true, a, pa, b, pb), (false, b, pb, a, pa)] {
             if s.nested(inner, pi, outer, po) {
                 out.overlap = Overlap::Nested { first_inside };
                 out.colliding = true;
-                if q.deepest {
+                if q.depth != DepthSearch::Verdict {
+                    s.deepest = true;
                     s.balls(a, pa, b, pb);
                     s.balls(b, pb, a, pa);
                     s.surface(inner, pi, outer, po, 0);
@@ -159,12 +202,19 @@ pub(crate) fn penetration(
     out
 }
 
+/// Whether the two placed surfaces touch or cross.
+fn surfaces_meet(a: &Mesh, pa: &Isometry3, b: &Mesh, pb: &Isometry3) -> bool {
+    crate::tritri::surfaces_meet(a, a.solid(), b, b.solid(), &(pa.inverse() * pb))
+}
+
 fn same_pose(a: &Isometry3, b: &Isometry3) -> bool {
     (a.translation.vector - b.translation.vector).norm() <= 1e-12 && a.rotation.angle_to(&b.rotation) <= 1e-12
 }
 
 struct Search {
     q: PenetrationQuery,
+    /// Searching for the largest bound (else for the first above the tolerance).
+    deepest: bool,
     /// Largest certified bound found.
     best: Real,
     queries: u64,
@@ -350,16 +400,41 @@ impl Search {
 
     /// Whether the search can stop: a collision is proven and the deepest bound is not wanted.
     fn done(&self) -> bool {
-        !self.q.deepest && self.found()
+        !self.deepest && self.found()
     }
 
     /// Items whose bound does not exceed this cannot change the outcome.
     fn threshold(&self) -> Real {
-        if self.q.deepest {
-            self.best
+        if self.deepest { self.best } else { self.q.tolerance }
+    }
+
+    /// How far a sample's query resolves its distance, given its box depth `bd` (its depth is
+    /// `min(distance, bd)`, so farther distances never matter): up to `bd` when searching for
+    /// the deepest bound, else up to a few tolerances as well (a deeper point is a witness
+    /// either way). The bounded search stays cheap deep inside round objects.
+    fn reach(&self, bd: Real) -> Real {
+        let bd = bd.max(NEST_EPS);
+        if self.deepest {
+            bd
         } else {
-            self.q.tolerance
+            bd.min(4.0 * self.q.tolerance)
         }
+    }
+
+    /// Records the depth of a surface sample `pt` of the first mesh found inside the second:
+    /// `min(distance, box depth)`; a witness whose distance was only bounded by a short reach
+    /// is measured once more, up to its box depth, so that the bound reported is its depth.
+    fn sample(&mut self, p: &Placed<'_>, pt: &Point3, class: &PointClass) {
+        if !class.inside {
+            return;
+        }
+        let bd = p.box_depth(pt);
+        let mut depth = class.distance.min(bd);
+        if !class.exact && depth < bd && depth > self.q.tolerance {
+            self.queries += 1;
+            depth = p.ty.classify_within(p.y, pt, bd).distance.min(bd);
+        }
+        self.raise(depth);
     }
 
     fn raise(&mut self, depth: Real) {
@@ -371,13 +446,13 @@ impl Search {
     /// Interior balls of `x` inside `y`.
     fn balls(&mut self, x: &Mesh, px: &Isometry3, y: &Mesh, py: &Isometry3) {
         let p = Placed::new(x, px, y, py);
-        for ball in &p.tx.balls {
+        for ball in p.tx.balls(p.x) {
             let c = p.t * ball.centre;
             if !p.bx.contains_point(&c) {
                 continue;
             }
             self.queries += 1;
-            let class = p.ty.classify(y, &c);
+            let class = p.ty.classify_within(y, &c, ball.radius);
             if class.inside {
                 let rho = ball.radius.min(class.distance).min(p.box_depth(&c));
                 self.raise(2.0 * rho);
@@ -404,7 +479,8 @@ impl Search {
                     break;
                 }
                 self.queries += 1;
-                let class = p.ty.classify(y, &point);
+                // Distances beyond the box depth do not change the depth: resolve up to it.
+                let class = p.ty.classify_within(y, &point, p.box_depth(&point).max(NEST_EPS));
                 if class.distance <= NEST_EPS {
                     continue;
                 }
@@ -418,58 +494,70 @@ impl Search {
         false
     }
 
-    /// A cheap first look for a collision's witness: the centroids of triangles of `x` spread
-    /// evenly over those that can reach deeper than the tolerance into `y` (a deep
-    /// penetration shows at many of them, whatever the bounds' order). Returns the queries
+    /// A cheap first look for a collision's witness: the centroids of representative
+    /// triangles of the hierarchy's nodes that can reach deeper than the tolerance into `y`,
+    /// level by level (so the samples spread over the surface before they densify); a deep
+    /// penetration shows at many of them, whatever the bounds' order. Returns the queries
     /// made.
-    fn witness_pass(&mut self, p: &Placed<'_>, limit: u64) -> u64 {
+    fn witness_pass(&mut self, p: &Placed<'_>, skip: u64, limit: u64) -> u64 {
         let tree = &p.tx.tree;
-        let mut candidates: Vec<u32> = Vec::new();
-        let mut stack = vec![0usize];
-        while let Some(n) = stack.pop() {
-            if candidates.len() >= WITNESS_CANDIDATES {
+        if tree.nodes.is_empty() {
+            return 0;
+        }
+        // The walk is deterministic: the first `skip` probes were made by an earlier look.
+        let mut seen: u64 = 0;
+        let mut spent = skip;
+        let mut queue: std::collections::VecDeque<(usize, u32)> = std::collections::VecDeque::new();
+        queue.push_back((0, u32::MAX));
+        let probe = |s: &mut Search, k: u32, spent: &mut u64, seen: &mut u64| {
+            *seen += 1;
+            if *seen <= skip {
+                return;
+            }
+            let g = centroid(&p.triangle(k));
+            *spent += 1;
+            s.queries += 1;
+            let class = p.ty.classify_within(p.y, &g, s.reach(p.box_depth(&g)));
+            s.sample(p, &g, &class);
+        };
+        while let Some((n, parent_rep)) = queue.pop_front() {
+            if spent >= limit || self.done() {
                 break;
             }
             if p.region_bound(&p.node_corners(n)) <= self.q.tolerance {
                 continue;
             }
-            if tree.nodes[n].is_leaf() {
-                candidates.extend(
-                    tree.leaf(n)
-                        .iter()
-                        .filter(|&&k| p.region_bound(&p.triangle(k)) > self.q.tolerance),
-                );
-            } else {
-                let [l, r] = tree.children(n);
-                stack.push(r);
-                stack.push(l);
-            }
-        }
-        if candidates.is_empty() {
-            return 0;
-        }
-        let count = (candidates.len() as u64).min(limit);
-        let mut spent = 0;
-        for i in 0..count {
-            let k = candidates[(i * candidates.len() as u64 / count) as usize];
-            let g = centroid(&p.triangle(k));
-            spent += 1;
-            self.queries += 1;
-            let class = p.ty.classify(p.y, &g);
-            if class.inside {
-                self.raise(class.distance.min(p.box_depth(&g)));
-                if self.done() {
-                    break;
+            let node = &tree.nodes[n];
+            if node.is_leaf() {
+                for &k in tree.leaf(n) {
+                    if spent >= limit || self.done() {
+                        break;
+                    }
+                    if p.region_bound(&p.triangle(k)) > self.q.tolerance {
+                        probe(self, k, &mut spent, &mut seen);
+                    }
                 }
+                continue;
+            }
+            if node.rep != parent_rep && p.region_bound(&p.triangle(node.rep)) > self.q.tolerance {
+                probe(self, node.rep, &mut spent, &mut seen);
+            }
+            for child in tree.children(n) {
+                queue.push_back((child, node.rep));
             }
         }
         spent
     }
 
-    /// [`Search::witness_pass`] from `x` into `y`: the queries spent.
-    fn witness(&mut self, x: &Mesh, px: &Isometry3, y: &Mesh, py: &Isometry3) -> u64 {
+    /// [`Search::witness_pass`] from `x` into `y` up to `limit` queries in all (`spent` of
+    /// them already made by an earlier, shorter look): the queries spent.
+    fn witness(&mut self, x: &Mesh, px: &Isometry3, y: &Mesh, py: &Isometry3, limit: u64, spent: u64) -> u64 {
         let p = Placed::new(x, px, y, py);
-        self.witness_pass(&p, (self.q.budget as u64).min(WITNESS_QUERIES))
+        let limit = (self.q.budget as u64).min(limit);
+        if spent >= limit {
+            return spent;
+        }
+        self.witness_pass(&p, spent, limit)
     }
 
     /// The best-first search for points of `x`'s surface deep inside `y`, `spent` queries of
@@ -537,12 +625,15 @@ impl Search {
                     let rho = h.norm();
                     spent += 1;
                     self.queries += 1;
-                    let (class, side) = p.ty.classify_ball(p.y, &c, rho);
-                    let near = class.distance.min(p.box_depth(&c));
+                    let (class, side) = p.ty.classify_ball(p.y, &c, rho, 2.0 * rho);
+                    let bd = p.box_depth(&c);
+                    // An upper bound on the depth at the centre (for the children's bounds) and
+                    // a lower bound (for a certified bound when the whole ball is inside).
+                    let near = if class.exact { class.distance.min(bd) } else { bd };
                     match side {
                         Some(false) => continue,
                         Some(true) => {
-                            self.raise(near - rho);
+                            self.raise(class.distance.min(bd) - rho);
                             if self.done() {
                                 return;
                             }
@@ -555,8 +646,10 @@ impl Search {
                         let corners = p.node_corners(child);
                         let lipschitz = (near + (cc - c).norm() + ch.norm()).max(0.0);
                         let mut bound = p.region_bound(&corners).min(lipschitz);
-                        if bound > self.threshold() {
-                            bound = bound.min(p.ty.convex_bound(p.y, class.triangle, &corners));
+                        if let Some(t) = class.triangle
+                            && bound > self.threshold()
+                        {
+                            bound = bound.min(p.ty.convex_bound(p.y, t, &corners));
                         }
                         push(&mut heap, tier, bound, Item::Node(child as u32), self.threshold());
                     }
@@ -566,20 +659,22 @@ impl Search {
                     let rho = tri_radius(&t, &g);
                     spent += 1;
                     self.queries += 1;
-                    let (class, side) = p.ty.classify_ball(p.y, &g, rho);
-                    let near = class.distance.min(p.box_depth(&g));
-                    if class.inside {
-                        self.raise(near);
-                    }
+                    let bd = p.box_depth(&g);
+                    let (class, side) = p.ty.classify_ball(p.y, &g, rho, (2.0 * rho).max(self.reach(bd)));
+                    let certain = class.distance.min(bd);
+                    let near = if class.exact { certain } else { bd };
+                    self.sample(&p, &g, &class);
                     match side {
                         Some(false) => continue,
-                        Some(true) => self.raise(near - rho),
+                        Some(true) => self.raise(certain - rho),
                         None => {}
                     }
                     if self.done() || rho <= self.q.spacing {
                         continue;
                     }
-                    if p.ty.convex_bound(p.y, class.triangle, &t) <= self.threshold() {
+                    if let Some(tri) = class.triangle
+                        && p.ty.convex_bound(p.y, tri, &t) <= self.threshold()
+                    {
                         continue;
                     }
                     let tier = u8::from(!class.inside);
@@ -597,8 +692,10 @@ impl Search {
                         let cg = centroid(&child);
                         let lipschitz = (near + (cg - g).norm() + tri_radius(&child, &cg)).max(0.0);
                         let mut bound = p.region_bound(&child).min(lipschitz);
-                        if bound > self.threshold() {
-                            bound = bound.min(p.ty.convex_bound(p.y, class.triangle, &child));
+                        if let Some(tri) = class.triangle
+                            && bound > self.threshold()
+                        {
+                            bound = bound.min(p.ty.convex_bound(p.y, tri, &child));
                         }
                         push(&mut heap, tier, bound, Item::Tri(child), self.threshold());
                     }
@@ -606,10 +703,8 @@ impl Search {
                 Item::Point(pt) => {
                     spent += 1;
                     self.queries += 1;
-                    let class = p.ty.classify(p.y, &pt);
-                    if class.inside {
-                        self.raise(class.distance.min(p.box_depth(&pt)));
-                    }
+                    let class = p.ty.classify_within(p.y, &pt, self.reach(p.box_depth(&pt)));
+                    self.sample(&p, &pt, &class);
                 }
             }
         }
@@ -634,7 +729,7 @@ mod tests {
         // the corners of each inside the other.
         let (a, b) = (cube(0.5), cube(0.5));
         let q = PenetrationQuery {
-            deepest: true,
+            depth: DepthSearch::All,
             ..PenetrationQuery::default()
         };
         let r = a.penetration(&at(0.0, 0.0, 0.0), &b, &at(0.99, 0.3, 0.2), &q);

@@ -30,7 +30,9 @@ const DIPOLE_DISTANCE: Real = 2.0;
 /// Boundary-edge clusters at least this many box diagonals away are bounded as a whole.
 const EDGE_FAR: Real = 2.0;
 /// Triangles whose inward ray seeds an interior ball.
-const BALL_SEEDS: usize = 32;
+const BALL_SEEDS: usize = 12;
+/// Steps a ball takes away from its closest surface point.
+const BALL_STEPS: usize = 4;
 /// Interior balls kept per mesh.
 const MAX_BALLS: usize = 8;
 /// Probe vertices per connected component.
@@ -43,12 +45,14 @@ const MAX_REGION_PLANES: usize = 64;
 /// Where a point lies relative to a mesh's solid.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct PointClass {
-    /// Distance to the surface (mesh frame, metres).
+    /// Distance to the surface (mesh frame, metres); a lower bound when not `exact`.
     pub distance: Real,
+    /// Whether `distance` is the distance (else the search radius it exceeds).
+    pub exact: bool,
     /// Whether the point is inside the solid.
     pub inside: bool,
-    /// The triangle holding the closest surface point.
-    pub triangle: u32,
+    /// The triangle holding the closest surface point, when the distance is exact.
+    pub triangle: Option<u32>,
 }
 
 /// A ball inside a mesh's solid, in the mesh frame.
@@ -87,37 +91,52 @@ pub(crate) struct SolidTables {
     pub(crate) tree: TriangleTree,
     boundary: EdgeTree,
     pub(crate) components: Vec<Component>,
-    pub(crate) balls: Vec<Ball>,
+    /// Interior balls, found on first use.
+    balls: std::sync::OnceLock<Vec<Ball>>,
     patches: Patches,
     /// The solid as a union of its components, if the surface has no boundary and at most
     /// [`MAX_REGIONS`] components.
     pub(crate) regions: Option<Vec<Region>>,
+    /// For such a mesh of several components: each component as a mesh of its own, so that a
+    /// point's side is decided by the pseudo-normals (or rays) of the few components whose
+    /// box holds it instead of a winding number over the whole mesh.
+    parts: Vec<Mesh>,
 }
 
 impl SolidTables {
     pub(crate) fn new(mesh: &Mesh) -> Self {
         let weld = weld_ids(mesh);
-        let (components, count) = components(mesh, &weld);
+        let edges = half_edges(mesh, &weld);
+        let (components, count) = components(mesh, &edges);
         let normals = (mesh.is_closed() && count == 1).then(|| pseudo_normals(mesh, &weld));
         let tree = TriangleTree::new(mesh);
-        let boundary = EdgeTree::new(boundary_edges(mesh, &weld));
-        let patches = Patches::new(mesh, &weld);
+        let boundary = EdgeTree::new(boundary_edges(mesh, &edges));
+        let patches = Patches::new(mesh, &edges);
         // Without a boundary chain every component's winding number is an integer, and a
         // point inside the solid is enclosed by some component: its depth is at most its
         // distance to that component's boundary.
         let regions = (boundary.nodes.is_empty() && components.len() <= MAX_REGIONS)
             .then(|| components.iter().map(|c| region(mesh, c, &patches)).collect());
-        let mut tables = SolidTables {
+        let parts = if regions.is_some() && components.len() > 1 {
+            components.iter().filter_map(|c| part_mesh(mesh, c)).collect()
+        } else {
+            Vec::new()
+        };
+        SolidTables {
             normals,
             tree,
             boundary,
             components,
-            balls: Vec::new(),
+            balls: std::sync::OnceLock::new(),
             patches,
             regions,
-        };
-        tables.balls = interior_balls(mesh, &tables);
-        tables
+            parts,
+        }
+    }
+
+    /// A few large balls inside the solid (mesh frame), largest first; found on first use.
+    pub(crate) fn balls(&self, mesh: &Mesh) -> &[Ball] {
+        self.balls.get_or_init(|| interior_balls(mesh, self))
     }
 
     /// Whether the inside test is the pseudo-normal one (a closed, connected mesh).
@@ -128,21 +147,75 @@ impl SolidTables {
 
     /// Distance to the surface and the exact inside decision for a mesh-frame point.
     pub(crate) fn classify(&self, mesh: &Mesh, p: &Point3) -> PointClass {
-        let (distance, pseudo, triangle) = self.closest(mesh, p);
-        let inside = match pseudo {
-            Some(inside) => inside,
-            None => {
-                mesh.aabb().contains_point(p) && {
-                    let (w, _) = self.winding(mesh, p, 0.0);
-                    w.abs() >= 0.5
-                }
-            }
-        };
-        PointClass {
-            distance,
-            inside,
-            triangle,
+        self.classify_within(mesh, p, Real::INFINITY)
+    }
+
+    /// [`SolidTables::classify`] with the distance resolved only up to `max_dist`: beyond it,
+    /// `distance` is `max_dist` (a lower bound), `exact` is false and no triangle is known.
+    /// The closest-point search then prunes everything farther than `max_dist`, which keeps
+    /// a point deep inside a round object as cheap as one near its surface; the inside
+    /// decision comes from the winding number.
+    pub(crate) fn classify_within(&self, mesh: &Mesh, p: &Point3, max_dist: Real) -> PointClass {
+        match self.closest(mesh, p, max_dist) {
+            Some((distance, pseudo, triangle)) => PointClass {
+                distance,
+                exact: true,
+                inside: pseudo.unwrap_or_else(|| self.winding_inside(mesh, p)),
+                triangle: Some(triangle),
+            },
+            None => PointClass {
+                distance: max_dist,
+                exact: false,
+                inside: self.far_inside(mesh, p),
+                triangle: None,
+            },
         }
+    }
+
+    /// The inside decision for a point known to lie farther than some radius from the
+    /// surface: for a simple solid, the side of the surface two rays (in fixed, non-axis
+    /// directions) first hit from, when they agree; otherwise the winding number.
+    fn far_inside(&self, mesh: &Mesh, p: &Point3) -> bool {
+        if !mesh.aabb().contains_point(p) {
+            return false;
+        }
+        if self.normals.is_some() {
+            let from_inside = |dir: Vector3| {
+                let ray = crate::parry::query::Ray::new(
+                    PVector::new(p.x, p.y, p.z),
+                    PVector::new(dir.x, dir.y, dir.z),
+                );
+                // parry turns the hit normal toward the ray; the winding says which side.
+                mesh.parry_shape()
+                    .cast_local_ray_and_get_normal(&ray, Real::MAX, false)
+                    .and_then(|hit| mesh.triangles().get(hit.subshape as usize).map(|_| hit.subshape))
+                    .map(|t| {
+                        let [a, b, c] = mesh.triangle(t as usize);
+                        dir.dot(&(b - a).cross(&(c - a))) > 0.0
+                    })
+            };
+            let first = from_inside(Vector3::new(0.5773, 0.6012, 0.5527));
+            let second = from_inside(Vector3::new(-0.6403, 0.3512, -0.6832));
+            match (first, second) {
+                (Some(a), Some(b)) if a == b => return a,
+                (None, None) => return false,
+                _ => {}
+            }
+        }
+        self.winding_inside(mesh, p)
+    }
+
+    fn winding_inside(&self, mesh: &Mesh, p: &Point3) -> bool {
+        if !mesh.aabb().contains_point(p) {
+            return false;
+        }
+        if !self.parts.is_empty() {
+            // No boundary: inside the solid is inside some component.
+            return self.parts.iter().any(|part| {
+                part.aabb().contains_point(p) && part.solid().classify_within(part, p, 0.0).inside
+            });
+        }
+        self.winding(mesh, p, 0.0).0.abs() >= 0.5
     }
 
     /// An upper bound on the distance to the surface of every point in the convex hull of
@@ -153,33 +226,75 @@ impl SolidTables {
         self.patches.bound(mesh, triangle as usize, corners)
     }
 
-    /// [`SolidTables::classify`] at the centre `c` of a ball of radius `rho`, and the side of
-    /// the whole ball when it is certain: `Some(true)` when every point of the ball is inside,
-    /// `Some(false)` when every point is outside.
-    pub(crate) fn classify_ball(&self, mesh: &Mesh, c: &Point3, rho: Real) -> (PointClass, Option<bool>) {
-        let (distance, pseudo, triangle) = self.closest(mesh, c);
-        if let Some(inside) = pseudo {
+    /// [`SolidTables::classify_within`] at the centre `c` of a ball of radius `rho` (with
+    /// `max_dist >= rho`), and the side of the whole ball when it is certain: `Some(true)` when
+    /// every point of the ball is inside, `Some(false)` when every point is outside.
+    pub(crate) fn classify_ball(
+        &self,
+        mesh: &Mesh,
+        c: &Point3,
+        rho: Real,
+        max_dist: Real,
+    ) -> (PointClass, Option<bool>) {
+        let bx = mesh.aabb();
+        let max_dist = max_dist.max(rho);
+        if !bx.loosened(rho).contains_point(c) {
+            // Outside the box grown by the radius: the whole ball is outside the box.
+            let class = match self.closest(mesh, c, max_dist) {
+                Some((distance, _, t)) => PointClass {
+                    distance,
+                    exact: true,
+                    inside: false,
+                    triangle: Some(t),
+                },
+                None => PointClass {
+                    distance: max_dist,
+                    exact: false,
+                    inside: false,
+                    triangle: None,
+                },
+            };
+            return (class, Some(false));
+        }
+        let found = self.closest(mesh, c, max_dist);
+        let (distance, exact, pseudo, triangle) = match found {
+            Some((d, pseudo, t)) => (d, true, pseudo, Some(t)),
+            None => (max_dist, false, None, None),
+        };
+        let clear = distance > rho;
+        if found.is_none() && self.normals.is_some() {
+            // A simple solid with no surface within the ball: one side throughout.
+            let inside = self.far_inside(mesh, c);
             let class = PointClass {
                 distance,
+                exact,
                 inside,
                 triangle,
             };
-            return (class, (distance > rho).then_some(inside));
+            return (class, Some(inside));
         }
-        let bx = mesh.aabb();
-        if !bx.loosened(rho).contains_point(c) {
-            // Outside the box grown by the radius: the whole ball is outside the box.
-            return (
-                PointClass {
-                    distance,
-                    inside: false,
-                    triangle,
-                },
-                Some(false),
-            );
+        if let Some(inside) = pseudo {
+            let class = PointClass {
+                distance,
+                exact,
+                inside,
+                triangle,
+            };
+            return (class, clear.then_some(inside));
+        }
+        if clear && !self.parts.is_empty() {
+            // No boundary: the side is constant on a ball that misses the surface.
+            let inside = self.winding_inside(mesh, c);
+            let class = PointClass {
+                distance,
+                exact,
+                inside,
+                triangle,
+            };
+            return (class, Some(inside));
         }
         // How far the winding number can move within the ball, if the ball misses the surface.
-        let drift = if distance > rho {
+        let drift = if clear {
             rho * self.boundary.gradient_bound(c, rho)
         } else {
             Real::INFINITY
@@ -188,6 +303,7 @@ impl SolidTables {
         let inside = bx.contains_point(c) && w.abs() >= 0.5;
         let class = PointClass {
             distance,
+            exact,
             inside,
             triangle,
         };
@@ -205,18 +321,22 @@ impl SolidTables {
         (class, side)
     }
 
-    /// Distance from a mesh-frame point to the surface, for a simple solid the pseudo-normal
-    /// inside decision, and the closest triangle.
-    fn closest(&self, mesh: &Mesh, p: &Point3) -> (Real, Option<bool>, u32) {
-        let (proj, (tri, loc)) = mesh
-            .parry_shape()
-            .project_local_point_and_get_location(PVector::new(p.x, p.y, p.z), false);
+    /// Distance from a mesh-frame point to the surface (if at most `max_dist`), for a simple
+    /// solid the pseudo-normal inside decision, and the closest triangle.
+    fn closest(&self, mesh: &Mesh, p: &Point3, max_dist: Real) -> Option<(Real, Option<bool>, u32)> {
+        let pt = PVector::new(p.x, p.y, p.z);
+        let (proj, (tri, loc)) = if max_dist.is_finite() {
+            mesh.parry_shape()
+                .project_local_point_and_get_location_with_max_dist(pt, false, max_dist)?
+        } else {
+            mesh.parry_shape().project_local_point_and_get_location(pt, false)
+        };
         let q = Point3::new(proj.point.x, proj.point.y, proj.point.z);
         let d = (p - q).norm();
         let Some(n) = &self.normals else {
-            return (d, None, tri);
+            return Some((d, None, tri));
         };
-        (d, Some((p - q).dot(&n.at(mesh, tri as usize, loc)) < 0.0), tri)
+        Some((d, Some((p - q).dot(&n.at(mesh, tri as usize, loc)) < 0.0), tri))
     }
 
     /// The winding number at `q` (mesh frame) and a bound on its error, refined until the
@@ -250,7 +370,7 @@ struct Patch {
 }
 
 impl Patches {
-    fn new(mesh: &Mesh, weld: &[u32]) -> Self {
+    fn new(mesh: &Mesh, edges: &[HalfEdge]) -> Self {
         let tris = mesh.triangles();
         let scale = 1.0 + mesh.aabb().extents().norm();
         let planes: Vec<(Vector3, Real, Real)> = (0..tris.len())
@@ -262,47 +382,15 @@ impl Patches {
                 (n, n.dot(&a.coords), area)
             })
             .collect();
-        let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
-        fn find(parent: &mut [u32], mut x: u32) -> u32 {
-            while parent[x as usize] != x {
-                let up = parent[parent[x as usize] as usize];
-                parent[x as usize] = up;
-                x = up;
+        let mut sets = Sets::new(tris.len());
+        edge_neighbours(edges, |e, f| {
+            let (p, q) = (&planes[e.tri as usize], &planes[f.tri as usize]);
+            if p.0.dot(&q.0) >= 1.0 - 1e-12 && (p.1 - q.1).abs() <= 1e-9 * scale {
+                sets.union(e.tri, f.tri);
             }
-            x
-        }
-        let mut first_user: HashMap<(u32, u32), u32> = HashMap::with_capacity(tris.len() * 3 / 2);
-        for (ti, t) in tris.iter().enumerate() {
-            for k in 0..3 {
-                let (a, b) = (weld[t[k] as usize], weld[t[(k + 1) % 3] as usize]);
-                let key = (a.min(b), a.max(b));
-                match first_user.get(&key) {
-                    Some(&other) => {
-                        let (p, q) = (&planes[ti], &planes[other as usize]);
-                        if p.0.dot(&q.0) >= 1.0 - 1e-12 && (p.1 - q.1).abs() <= 1e-9 * scale {
-                            let (x, y) = (find(&mut parent, ti as u32), find(&mut parent, other));
-                            if x != y {
-                                parent[x.max(y) as usize] = x.min(y);
-                            }
-                        }
-                    }
-                    None => {
-                        first_user.insert(key, ti as u32);
-                    }
-                }
-            }
-        }
-        let mut slot: HashMap<u32, u32> = HashMap::new();
-        let mut members: Vec<Vec<u32>> = Vec::new();
-        let of: Vec<u32> = (0..tris.len() as u32)
-            .map(|ti| {
-                let root = find(&mut parent, ti);
-                *slot.entry(root).or_insert_with(|| {
-                    members.push(Vec::new());
-                    (members.len() - 1) as u32
-                })
-            })
-            .collect();
+        });
+        let (of, count) = sets.ids();
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
         for (ti, &p) in of.iter().enumerate() {
             members[p as usize].push(ti as u32);
         }
@@ -367,6 +455,26 @@ impl Patches {
     }
 }
 
+/// One component as a mesh of its own (its vertices renumbered), or `None` if it cannot be
+/// built (every triangle degenerate).
+fn part_mesh(mesh: &Mesh, c: &Component) -> Option<Mesh> {
+    let mut index: HashMap<u32, u32> = HashMap::new();
+    let mut vertices = Vec::new();
+    let triangles: Vec<[u32; 3]> = c
+        .members
+        .iter()
+        .map(|&t| {
+            mesh.triangles()[t as usize].map(|v| {
+                *index.entry(v).or_insert_with(|| {
+                    vertices.push(mesh.vertices()[v as usize]);
+                    (vertices.len() - 1) as u32
+                })
+            })
+        })
+        .collect();
+    Mesh::new(vertices, triangles).ok()
+}
+
 /// The [`Region`] of one closed component.
 fn region(mesh: &Mesh, c: &Component, patches: &Patches) -> Region {
     let mut ids: Vec<u32> = c.members.iter().map(|&t| patches.of[t as usize]).collect();
@@ -401,6 +509,93 @@ fn region(mesh: &Mesh, c: &Component, patches: &Patches) -> Region {
         }
     }
     Region { aabb: c.aabb, planes }
+}
+
+/// A triangle's edge between welded vertices, for the sorting-based adjacency passes.
+#[derive(Debug, Clone, Copy)]
+struct HalfEdge {
+    /// The welded ends, smaller first.
+    key: (u32, u32),
+    /// Whether the triangle runs it from `key.0` to `key.1`.
+    forward: bool,
+    tri: u32,
+    /// The original vertex indices, in the triangle's direction.
+    from: u32,
+    to: u32,
+}
+
+/// Every triangle's three edges (skipping edges whose ends weld together), sorted by welded
+/// ends then triangle: triangles sharing an edge are neighbours in the list.
+fn half_edges(mesh: &Mesh, weld: &[u32]) -> Vec<HalfEdge> {
+    let mut out = Vec::with_capacity(mesh.triangles().len() * 3);
+    for (ti, t) in mesh.triangles().iter().enumerate() {
+        for k in 0..3 {
+            let (from, to) = (t[k], t[(k + 1) % 3]);
+            let (a, b) = (weld[from as usize], weld[to as usize]);
+            if a != b {
+                out.push(HalfEdge {
+                    key: (a.min(b), a.max(b)),
+                    forward: a < b,
+                    tri: ti as u32,
+                    from,
+                    to,
+                });
+            }
+        }
+    }
+    out.sort_unstable_by_key(|e| (e.key, e.tri));
+    out
+}
+
+/// Union-find over `n` items, the smaller index as root.
+struct Sets(Vec<u32>);
+
+impl Sets {
+    fn new(n: usize) -> Self {
+        Sets((0..n as u32).collect())
+    }
+
+    fn find(&mut self, mut x: u32) -> u32 {
+        while self.0[x as usize] != x {
+            let up = self.0[self.0[x as usize] as usize];
+            self.0[x as usize] = up;
+            x = up;
+        }
+        x
+    }
+
+    fn union(&mut self, a: u32, b: u32) {
+        let (x, y) = (self.find(a), self.find(b));
+        if x != y {
+            self.0[x.max(y) as usize] = x.min(y);
+        }
+    }
+
+    /// Each item's set as a dense id numbered in order of the sets' smallest members.
+    fn ids(&mut self) -> (Vec<u32>, usize) {
+        let n = self.0.len();
+        let mut dense = vec![u32::MAX; n];
+        let mut ids = Vec::with_capacity(n);
+        let mut count = 0u32;
+        for k in 0..n as u32 {
+            let r = self.find(k) as usize;
+            if dense[r] == u32::MAX {
+                dense[r] = count;
+                count += 1;
+            }
+            ids.push(dense[r]);
+        }
+        (ids, count as usize)
+    }
+}
+
+/// Calls `f` for every pair of consecutive half-edges on one welded edge.
+fn edge_neighbours(edges: &[HalfEdge], mut f: impl FnMut(&HalfEdge, &HalfEdge)) {
+    for w in edges.windows(2) {
+        if w[0].key == w[1].key {
+            f(&w[0], &w[1]);
+        }
+    }
 }
 
 /// Ids of vertices merged by exact position.
@@ -486,44 +681,14 @@ fn pseudo_normals(mesh: &Mesh, weld: &[u32]) -> PseudoNormals {
 }
 
 /// Connected components (triangles sharing a welded edge), largest first, and their count.
-fn components(mesh: &Mesh, weld: &[u32]) -> (Vec<Component>, usize) {
+fn components(mesh: &Mesh, edges: &[HalfEdge]) -> (Vec<Component>, usize) {
     let tris = mesh.triangles();
-    let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            let up = parent[parent[x as usize] as usize];
-            parent[x as usize] = up;
-            x = up;
-        }
-        x
-    }
-    let mut first_user: HashMap<(u32, u32), u32> = HashMap::with_capacity(tris.len() * 3 / 2);
-    for (ti, t) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (weld[t[k] as usize], weld[t[(k + 1) % 3] as usize]);
-            let key = (a.min(b), a.max(b));
-            match first_user.get(&key) {
-                Some(&other) => {
-                    let (x, y) = (find(&mut parent, ti as u32), find(&mut parent, other));
-                    if x != y {
-                        parent[x.max(y) as usize] = x.min(y);
-                    }
-                }
-                None => {
-                    first_user.insert(key, ti as u32);
-                }
-            }
-        }
-    }
-    let mut slot: HashMap<u32, usize> = HashMap::new();
-    let mut members: Vec<Vec<u32>> = Vec::new();
-    for ti in 0..tris.len() as u32 {
-        let root = find(&mut parent, ti);
-        let k = *slot.entry(root).or_insert_with(|| {
-            members.push(Vec::new());
-            members.len() - 1
-        });
-        members[k].push(ti);
+    let mut sets = Sets::new(tris.len());
+    edge_neighbours(edges, |e, f| sets.union(e.tri, f.tri));
+    let (of, count) = sets.ids();
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
+    for (ti, &c) in of.iter().enumerate() {
+        members[c as usize].push(ti as u32);
     }
     let count = members.len();
     let v = mesh.vertices();
@@ -574,28 +739,17 @@ type Edge = (Point3, Point3, Real);
 
 /// Edges of the surface's boundary chain: welded edges whose directed uses do not cancel,
 /// with the number of uncancelled uses. Empty for a closed, consistently wound mesh.
-fn boundary_edges(mesh: &Mesh, weld: &[u32]) -> Vec<Edge> {
-    let mut net: HashMap<(u32, u32), (i32, u32, u32)> =
-        HashMap::with_capacity(mesh.triangles().len() * 3 / 2);
-    for t in mesh.triangles() {
-        for k in 0..3 {
-            let (i, j) = (t[k], t[(k + 1) % 3]);
-            let (a, b) = (weld[i as usize], weld[j as usize]);
-            if a == b {
-                continue;
-            }
-            let e = net.entry((a.min(b), a.max(b))).or_insert((0, i, j));
-            e.0 += if a < b { 1 } else { -1 };
+fn boundary_edges(mesh: &Mesh, edges: &[HalfEdge]) -> Vec<Edge> {
+    let v = mesh.vertices();
+    let mut out = Vec::new();
+    for group in edges.chunk_by(|a, b| a.key == b.key) {
+        let net: i32 = group.iter().map(|e| if e.forward { 1 } else { -1 }).sum();
+        if net != 0 {
+            let e = &group[0];
+            out.push((v[e.from as usize], v[e.to as usize], Real::from(net.abs())));
         }
     }
-    let v = mesh.vertices();
-    let mut out: Vec<((u32, u32), Edge)> = net
-        .into_iter()
-        .filter(|(_, (n, _, _))| *n != 0)
-        .map(|(key, (n, i, j))| (key, (v[i as usize], v[j as usize], Real::from(n.abs()))))
-        .collect();
-    out.sort_unstable_by_key(|(key, _)| *key);
-    out.into_iter().map(|(_, e)| e).collect()
+    out
 }
 
 /// Balls inside the solid: from the largest triangles, the midpoint of the inward ray to the
@@ -658,7 +812,7 @@ fn interior_balls(mesh: &Mesh, tables: &SolidTables) -> Vec<Ball> {
 
 /// A ball inside the solid grown by a few steps away from its closest surface point.
 fn grow_ball(mesh: &Mesh, tables: &SolidTables, mut centre: Point3, mut radius: Real) -> Ball {
-    for _ in 0..8 {
+    for _ in 0..BALL_STEPS {
         let proj = mesh
             .parry_shape()
             .project_local_point(PVector::new(centre.x, centre.y, centre.z), false);
@@ -697,6 +851,8 @@ pub(crate) struct TreeNode {
     index: u32,
     /// Triangles of a leaf; 0 for an internal node.
     count: u32,
+    /// The node's triangle whose centroid lies nearest `centre`: its representative.
+    pub rep: u32,
 }
 
 impl TreeNode {
@@ -744,6 +900,7 @@ impl TriangleTree {
             radius: 0.0,
             index: 0,
             count: 0,
+            rep: 0,
         };
         let mut weighted = Vector3::zeros();
         for &(g, k) in items.iter() {
@@ -763,9 +920,15 @@ impl TriangleTree {
         } else {
             nalgebra::center(&node.lo, &node.hi)
         };
-        for &(_, k) in items.iter() {
+        let mut nearest = Real::INFINITY;
+        for &(g, k) in items.iter() {
             for p in mesh.triangle(k as usize) {
                 node.radius = node.radius.max((p - node.centre).norm());
+            }
+            let d = (g - node.centre).norm_squared();
+            if d < nearest || (d == nearest && k < node.rep) {
+                nearest = d;
+                node.rep = k;
             }
         }
         if items.len() <= LEAF_SIZE {
@@ -1038,7 +1201,7 @@ fn point_segment_distance(p: &Point3, a: &Point3, b: &Point3) -> Real {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::Isometry3;
 
@@ -1093,10 +1256,18 @@ mod tests {
             );
             let c = t.classify(&mesh, &p);
             assert_eq!(c.inside, mesh.winding_number(&p) > 0.5, "{p}");
+            // Resolving distances only up to 1 mm: rays decide points farther than that.
+            let far = t.classify_within(&mesh, &p, 1e-3);
+            assert_eq!(far.inside, c.inside, "{p}");
+            assert_eq!(far.exact, c.distance <= 1e-3);
             assert!((c.distance - mesh.distance_to_point(&Isometry3::identity(), &p)).abs() < 1e-12);
         }
         // One ball, the largest inscribed one for a box (radius = smallest half extent).
-        assert!((t.balls[0].radius - 0.2).abs() < 1e-9, "{:?}", t.balls);
+        assert!(
+            (t.balls(&mesh)[0].radius - 0.2).abs() < 1e-9,
+            "{:?}",
+            t.balls(&mesh)
+        );
         assert_eq!(t.components.len(), 1);
     }
 
@@ -1156,7 +1327,7 @@ mod tests {
                 0.7 * (f * 1.31).sin(),
             );
             let rho = 0.02 + 0.1 * (f * 0.11).sin().abs();
-            let (_, side) = t.classify_ball(&open, &c, rho);
+            let (_, side) = t.classify_ball(&open, &c, rho, rho);
             if let Some(side) = side {
                 // Every point of the ball agrees.
                 for j in 0..20 {
@@ -1194,9 +1365,9 @@ mod tests {
         assert!(!t.classify(&m, &Point3::new(0.3, 0.3, -0.3)).inside);
         // The thin slab's ball has radius 0.05 (half its thickness).
         assert!(
-            t.balls.iter().any(|b| (b.radius - 0.05).abs() < 1e-6),
+            t.balls(&m).iter().any(|b| (b.radius - 0.05).abs() < 1e-6),
             "{:?}",
-            t.balls
+            t.balls(&m)
         );
     }
 }

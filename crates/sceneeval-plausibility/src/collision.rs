@@ -1,7 +1,7 @@
 //! Collision (COL): which objects interpenetrate, and how deeply.
 
 use rayon::prelude::*;
-use sceneeval_geom::{Overlap, PenetrationQuery, Real};
+use sceneeval_geom::{DepthSearch, Overlap, PenetrationQuery, Real};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
@@ -37,9 +37,12 @@ pub struct CollisionParams {
     /// search runs out before it can rule a collision out is reported `undecided` (and not
     /// colliding). Default 2048.
     pub depth_sample_budget: usize,
-    /// Search every colliding pair for its largest depth bound instead of stopping at the first
-    /// one above the tolerance (slower; the verdicts are the same). Default `false`.
-    pub measure_depth: bool,
+    /// How far the depth is searched once the verdict is known (the verdicts are the same):
+    /// `verdict` (default) reports the depth of the first point found deeper than the
+    /// tolerance (fastest), `colliding` spends up to 64 more point queries per direction on
+    /// colliding pairs, `all` searches every pair for its largest bound, resting contacts too
+    /// (slowest).
+    pub depth_search: DepthSearch,
 }
 
 impl Default for CollisionParams {
@@ -50,7 +53,7 @@ impl Default for CollisionParams {
             floor_covering_words: default_floor_covering_words(),
             depth_sample_spacing: 0.0025,
             depth_sample_budget: 2048,
-            measure_depth: false,
+            depth_search: DepthSearch::Verdict,
         }
     }
 }
@@ -80,7 +83,7 @@ impl CollisionParams {
             tolerance: self.contact_tolerance,
             spacing: self.depth_sample_spacing,
             budget: self.depth_sample_budget,
-            deepest: self.measure_depth,
+            depth: self.depth_search,
         }
     }
 }
@@ -109,9 +112,10 @@ pub struct PairContact {
     /// How they meet.
     pub kind: ContactKind,
     /// A certified lower bound on the penetration depth in metres (see [`collision`]): for a
-    /// colliding pair the first bound found above the tolerance (the largest one with
-    /// [`CollisionParams::measure_depth`]); for a resting contact the largest found above the
-    /// tolerance's reach, often 0.
+    /// colliding pair, by default, the depth of the first point found deeper than the
+    /// tolerance (larger ones with [`CollisionParams::depth_search`]); for a resting contact
+    /// the largest found where the search looked, often 0 (all of it with
+    /// [`DepthSearch::All`]).
     pub depth: Real,
     /// Spacing in metres of the surface points examined; a resting contact's deepest surface
     /// point lies at most `contact_tolerance + depth_spacing` deep.
@@ -189,8 +193,9 @@ pub struct CollisionWork {
 /// [`PairContact::depth_spacing`] deep). Two boxes overlapping face to face by `d` have depth
 /// `d`. A pair whose surfaces do not meet collides when a connected part of one lies inside
 /// the other (nested; the reference misses this, quirk Q23). The reference instead pushes one
-/// object 5 mm away from the contacts and tests again. The search is best first and stops at
-/// the first bound above the tolerance; its cost per pair is bounded by
+/// object 5 mm away from the contacts and tests again. The search is best first; the verdict
+/// needs only the first bound above the tolerance ([`CollisionParams::depth_search`] says
+/// whether colliding pairs are then measured); its cost per pair is bounded by
 /// [`CollisionParams::depth_sample_budget`] point queries per direction, each logarithmic in
 /// the triangle count.
 ///

@@ -26,6 +26,39 @@
 //! | out-of-bounds | [`out_of_bounds`] | `oob` |
 //! | opening clearance | [`opening_clearance`] | `doors_blocked`, `windows_blocked` |
 //!
+//! # Open meshes
+//! Most real assets (3D-FUTURE, Objaverse, Sweet Home 3D) are not watertight. An object's
+//! solid is then where its surface's generalized winding number is at least 1/2
+//! ([`sceneeval_geom::Mesh::contains_point`]): a box missing a face (a desk top without an
+//! underside, an armchair without a bottom) keeps its inside, as if the hole were lidded; a
+//! cavity closed on five sides (a drawer, a shelf compartment) counts as solid; a single sheet
+//! encloses nothing. Closed meshes of several touching or overlapping parts are the union of
+//! their parts. Collision treats open and closed meshes alike on that basis (see
+//! [`collision`]); the 2-D metrics use only the projected surface, so they do not depend on
+//! it.
+//!
+//! # Deliberate deviations, and the parameters that restore the reference
+//! - Floor coverings (rugs, carpets, mats, by the words of an object's category or
+//!   description) are walked over: `exclude_floor_coverings` (default `true`, with
+//!   `floor_covering_words`) in [`CollisionParams`], [`NavigabilityParams`],
+//!   [`AccessibilityParams`] and [`OpeningClearanceParams`].
+//! - Footprints on the floor plan are convex hulls of the projected meshes, not the bounding
+//!   rectangles the reference draws (an oval bath leaves a corridor open beside its corners):
+//!   `footprint` ([`Footprint::BoundingBox`] for the reference) in [`NavigabilityParams`] and
+//!   [`AccessibilityParams`].
+//! - Collision forgives contacts within `contact_tolerance` by proven penetration depth
+//!   rather than by the reference's 5 mm push, and counts nested objects.
+//!
+//! # Cost
+//! Every metric grows as `n log n` in the number of objects: collision's broad phase is a
+//! sweep over boxes and its narrow phase a bounded search per overlapping pair
+//! ([`collision_with_work`] counts its point queries); support, accessibility, clearance and
+//! out-of-bounds find what a ray, strip or box can meet through a bounding-volume hierarchy
+//! ([`support_with_work`], [`accessibility_with_work`] count its box tests); navigability
+//! works on runs of free pixels per row, so its memory grows with rows, not pixels. Per-mesh
+//! tables (inside tests, hierarchies) are built once per mesh and shared by every object
+//! placing it.
+//!
 //! # Example
 //! ```
 //! use sceneeval_geom::{Point2, Point3, Vector3};
@@ -97,6 +130,7 @@ pub use navigability::{
 pub use objects::Footprint;
 pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds};
 pub use raster::{Grid, Resolution};
+pub use sceneeval_geom::DepthSearch;
 pub use sources::{
     Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesSource, GivenFunctionalSides,
     GivenSupportTypes, SUPPORT_TYPE_TABLE, Stated, SupportType, SupportTypePriors, SupportTypeSource,

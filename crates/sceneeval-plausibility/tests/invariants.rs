@@ -56,7 +56,7 @@ proptest! {
         prop_assert_eq!(r1.num_in_collision, r2.num_in_collision);
         // The first bound found above the tolerance depends on which object is searched
         // first; the largest one does not.
-        let deepest = CollisionParams { measure_depth: true, ..CollisionParams::default() };
+        let deepest = CollisionParams { depth_search: sceneeval_geom::DepthSearch::All, ..CollisionParams::default() };
         let d1 = collision(&mk(true), &deepest).unwrap();
         let d2 = collision(&mk(false), &deepest).unwrap();
         if let (Some(c1), Some(c2)) = (d1.contacts.first(), d2.contacts.first()) {

@@ -89,7 +89,7 @@ fn resting_three_millimetres_deep_is_contact_not_collision() {
     // The verdict needs no depth below the tolerance (the overlap lies within 5 mm of the
     // table's top face); measured, it is the 3 mm.
     let measured = CollisionParams {
-        measure_depth: true,
+        depth_search: sceneeval_geom::DepthSearch::All,
         ..CollisionParams::default()
     };
     let r = collision(&s, &measured).unwrap();
