@@ -20,7 +20,10 @@ sides) and times one task with one peer, printing one JSON line:
   accessibility  shapely (each functional side's strip, clipped to the floor, minus the
                  footprints an STRtree finds near it; free area over strip area)
 
-Setup (loading the manifest, building meshes) is not timed; peak memory is the process's.
+Setup (loading the manifest, building meshes and BVHs of the distinct meshes) is not timed,
+as sceneeval's per-mesh tables are not in its repeated runs; peak memory is the process's.
+trimesh's manager (a BVH per object) and the embree support scene are skipped above 2 M and
+8 M triangles, where they would not fit in the measuring machine's memory.
 """
 
 import argparse
@@ -266,6 +269,14 @@ def main():
     args = ap.parse_args()
     m, meshes, poses = load(args.manifest)
     task = (args.task, args.peer)
+    # Peers that copy every object's triangles (a BVH per object, one scene-wide ray
+    # structure) are skipped where they would not fit in memory on the measuring machine.
+    total = sum(len(meshes[o["mesh"]][1]) for o in m["objects"])
+    limits = {("collision", "trimesh"): 2_000_000, ("support", "embree"): 8_000_000}
+    if task in limits and total > limits[task]:
+        print(json.dumps({"manifest": args.manifest, "objects": len(m["objects"]), "task": args.task,
+                          "peer": args.peer, "skipped": f"{total:,} triangles > {limits[task]:,}"}))
+        return
     if task == ("collision", "fcl"):
         seconds, info = collision_fcl(m, meshes, poses)
     elif task == ("collision", "trimesh"):

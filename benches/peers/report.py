@@ -95,9 +95,7 @@ def main():
     }
     rows = defaultdict(dict)
     for p in peers:
-        if p.get("failed"):
-            key = (kind_of(p["manifest"]), p["task"], p["peer"])
-            rows[key]["failed"] = True
+        if p.get("failed") or p.get("skipped"):
             continue
         key = (kind_of(p["manifest"]), p["task"], p["peer"])
         rows[key][p["objects"]] = p
@@ -106,7 +104,7 @@ def main():
         print("| scenes | task | peer | objects | peer | sceneeval | ratio | peer memory |")
         print("|---|---|---|---|---|---|---|---|")
         for (kind, task, peer), by_n in sorted(rows.items()):
-            for n in sorted(k for k in by_n if k != "failed"):
+            for n in sorted(by_n):
                 p = by_n[n]
                 ours = times[(kind, n)].get(ours_for[task])
                 ratio = p["seconds"] / ours if ours else None

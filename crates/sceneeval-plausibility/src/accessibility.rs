@@ -6,7 +6,7 @@ use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
-use crate::collision::{default_floor_covering_words, is_floor_covering};
+use crate::collision::{default_floor_covering_words, floor_coverings};
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, IndexWork, WorkCounter, flat};
 use crate::objects::{Footprint, ObjectInfo, object_infos};
@@ -194,13 +194,16 @@ fn accessibility_counted(
     pieces: &[FloorPiece],
     work: &WorkCounter,
 ) -> Result<AccessibilityReport, PlausibilityError> {
-    let objects_all = scene.objects();
+    let coverings = floor_coverings(
+        scene.objects(),
+        params.exclude_floor_coverings,
+        &params.floor_covering_words,
+    );
     let members: Vec<usize> = (0..infos.len())
         .filter(|&i| {
             infos[i].obstructs(params.height_cutoff, params.walkable_height)
                 && infos[i].footprint_of(params.footprint).0.len() >= 3
-                && !(params.exclude_floor_coverings
-                    && is_floor_covering(&objects_all[i], &params.floor_covering_words))
+                && !coverings[i]
         })
         .collect();
     let blockers = Blockers {

@@ -7,7 +7,7 @@ use sceneeval_scene::{ObjectId, OpeningKind, Room, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
-use crate::collision::{default_floor_covering_words, is_floor_covering};
+use crate::collision::{default_floor_covering_words, floor_coverings};
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, WorkCounter};
 use crate::objects::ObjectInfo;
@@ -402,15 +402,13 @@ pub(crate) struct Candidates {
 
 impl Candidates {
     pub(crate) fn new(scene: &Scene, infos: &[ObjectInfo], params: &OpeningClearanceParams) -> Self {
-        let members: Vec<usize> = scene
-            .objects()
-            .iter()
-            .enumerate()
-            .filter(|(k, o)| {
-                infos[*k].max_z - infos[*k].floor_z > params.walkable_height
-                    && !(params.exclude_floor_coverings && is_floor_covering(o, &params.floor_covering_words))
-            })
-            .map(|(k, _)| k)
+        let coverings = floor_coverings(
+            scene.objects(),
+            params.exclude_floor_coverings,
+            &params.floor_covering_words,
+        );
+        let members: Vec<usize> = (0..scene.objects().len())
+            .filter(|&k| infos[k].max_z - infos[k].floor_z > params.walkable_height && !coverings[k])
             .collect();
         let boxes: Vec<Aabb> = members
             .iter()

@@ -6,7 +6,7 @@ use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
-use crate::category::has_word;
+use crate::category::{has_word, normalize_category};
 use crate::error::check_non_negative;
 
 /// The words that mark a floor covering by default: `rug`, `carpet`, `mat`, `doormat`.
@@ -226,10 +226,11 @@ pub fn collision_with_work(
 ) -> Result<(CollisionReport, CollisionWork), PlausibilityError> {
     params.validate()?;
     let objects = scene.objects();
-    let excluded: Vec<bool> = objects
-        .iter()
-        .map(|o| params.exclude_floor_coverings && is_floor_covering(o, &params.floor_covering_words))
-        .collect();
+    let excluded = floor_coverings(
+        objects,
+        params.exclude_floor_coverings,
+        &params.floor_covering_words,
+    );
     let tested: Vec<usize> = (0..objects.len()).filter(|&i| !excluded[i]).collect();
     let candidates = sweep_and_prune(objects, &tested);
     let query = params.query();
@@ -263,9 +264,9 @@ pub fn collision_with_work(
     }
     let report_objects: Vec<ObjectCollision> = objects
         .iter()
+        .zip(colliding_with)
         .enumerate()
-        .map(|(i, o)| {
-            let mut with = colliding_with[i].clone();
+        .map(|(i, (o, mut with))| {
             with.sort_unstable();
             ObjectCollision {
                 id: o.id().clone(),
@@ -306,12 +307,22 @@ pub fn collision_with_work(
     Ok((report, work))
 }
 
-/// Whether the object is a flat floor covering by its category (or description).
-pub(crate) fn is_floor_covering(o: &SceneObject, words: &[String]) -> bool {
-    match o.category() {
-        Some(c) => has_word(c, words),
-        None => o.description().is_some_and(|d| has_word(d, words)),
+/// Per object, whether it is a floor covering left out: `exclude` and one of `words` (whole
+/// words, singular or plural) in its category or, without a category, its description. The
+/// words are normalised once.
+pub(crate) fn floor_coverings(objects: &[SceneObject], exclude: bool, words: &[String]) -> Vec<bool> {
+    if !exclude {
+        return vec![false; objects.len()];
     }
+    let words: Vec<String> = words.iter().map(|w| normalize_category(w)).collect();
+    objects
+        .iter()
+        .map(|o| {
+            o.category()
+                .or(o.description())
+                .is_some_and(|text| has_word(text, &words))
+        })
+        .collect()
 }
 
 /// Candidate pairs `(i, j)`, `i < j`, whose world AABBs overlap, in lexicographic order.

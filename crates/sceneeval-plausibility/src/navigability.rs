@@ -5,7 +5,7 @@ use sceneeval_scene::{ObjectId, OpeningKind, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
-use crate::collision::{default_floor_covering_words, is_floor_covering};
+use crate::collision::{default_floor_covering_words, floor_coverings};
 use crate::error::check_non_negative;
 use crate::objects::{Footprint, ObjectInfo, object_infos};
 use crate::plane::{ccw, exposed_boundary};
@@ -257,13 +257,15 @@ fn build_map(
             }
         }
     }
+    let coverings = floor_coverings(
+        scene.objects(),
+        params.exclude_floor_coverings,
+        &params.floor_covering_words,
+    );
     let flags: Vec<bool> = infos
         .iter()
-        .zip(scene.objects())
-        .map(|(i, o)| {
-            i.obstructs(params.height_cutoff, params.walkable_height)
-                && !(params.exclude_floor_coverings && is_floor_covering(o, &params.floor_covering_words))
-        })
+        .zip(&coverings)
+        .map(|(i, &covering)| i.obstructs(params.height_cutoff, params.walkable_height) && !covering)
         .collect();
     for (info, _) in infos.iter().zip(&flags).filter(|(_, f)| **f) {
         blockers.push(Blocker::Footprint(info.footprint_of(params.footprint).0));
