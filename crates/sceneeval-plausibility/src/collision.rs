@@ -315,12 +315,14 @@ pub(crate) fn floor_coverings(objects: &[SceneObject], exclude: bool, words: &[S
         return vec![false; objects.len()];
     }
     let words: Vec<String> = words.iter().map(|w| normalize_category(w)).collect();
+    // Scenes repeat a few categories many times: decide each text once.
+    let mut seen: std::collections::HashMap<&str, bool> = std::collections::HashMap::new();
     objects
         .iter()
         .map(|o| {
             o.category()
                 .or(o.description())
-                .is_some_and(|text| has_word(text, &words))
+                .is_some_and(|text| *seen.entry(text).or_insert_with(|| has_word(text, &words)))
         })
         .collect()
 }

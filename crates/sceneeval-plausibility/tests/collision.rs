@@ -439,3 +439,97 @@ fn objects_sharing_poses_cost_a_bounded_number_of_queries_per_pair() {
     // Five times the objects: about the same work per pair.
     assert!(per_pair[1] <= 1.5 * per_pair[0] + 1.0, "{per_pair:?}");
 }
+
+/// A closed L-shaped prism (the L of width 1 and arm 0.4, `h` high), scaled by `s`,
+/// centred on its bounding box; subdivided sides so the hierarchy has depth.
+fn l_prism(s: f64, h: f64) -> Arc<Mesh> {
+    let outline = [
+        (0.0, 0.0),
+        (1.0, 0.0),
+        (1.0, 0.4),
+        (0.4, 0.4),
+        (0.4, 1.0),
+        (0.0, 1.0),
+    ];
+    let n = outline.len() as u32;
+    let at = |x: f64, y: f64, z: f64| Point3::new(s * (x - 0.5), s * (y - 0.5), z - 0.5 * h);
+    let mut v: Vec<Point3> = Vec::new();
+    for &(x, y) in &outline {
+        v.push(at(x, y, 0.0));
+    }
+    for &(x, y) in &outline {
+        v.push(at(x, y, h));
+    }
+    let mut t = Vec::new();
+    // Caps: fans from the corner (0, 0), from which the L is star-shaped.
+    for k in 1..n - 1 {
+        t.push([0, k + 1, k]);
+        t.push([n, n + k, n + k + 1]);
+    }
+    for k in 0..n {
+        let j = (k + 1) % n;
+        t.push([k, j, n + j]);
+        t.push([k, n + j, n + k]);
+    }
+    let m = Mesh::new(v, t).unwrap();
+    assert!(m.is_closed());
+    Arc::new(m)
+}
+
+/// Distance from `p` to the nearest triangle of the placed mesh, by brute force over every
+/// triangle (no hierarchy).
+fn brute_distance(m: &Mesh, pose: &Isometry3, p: &Point3) -> f64 {
+    use sceneeval_geom::parry::query::PointQuery;
+    use sceneeval_geom::parry::shape::Triangle;
+    let l = pose.inverse_transform_point(p);
+    let q = sceneeval_geom::parry::math::Vector::new(l.x, l.y, l.z);
+    (0..m.triangles().len())
+        .map(|k| {
+            let [a, b, c] = m.triangle(k);
+            let v = |p: Point3| sceneeval_geom::parry::math::Vector::new(p.x, p.y, p.z);
+            Triangle::new(v(a), v(b), v(c)).distance_to_local_point(q, false)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Non-convex closed meshes at random poses: whenever a vertex of one lies strictly inside
+    /// the other (exact winding number) farther than the tolerance from its surface (distance
+    /// to every triangle), the pair collides.
+    #[test]
+    fn a_vertex_deep_inside_the_other_always_collides(
+        sa in 0.3..1.2f64, sb in 0.3..1.2f64,
+        ra in (-3.2..3.2f64, -3.2..3.2f64, -3.2..3.2f64),
+        rb in (-3.2..3.2f64, -3.2..3.2f64, -3.2..3.2f64),
+        dir in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+        reach in 0.0..1.2f64,
+    ) {
+        let (a, b) = (l_prism(sa, 0.3), l_prism(sb, 0.25));
+        let d = Vector3::new(dir.0, dir.1, dir.2).try_normalize(1e-6).unwrap_or(Vector3::x());
+        let gap = reach * 0.5 * (sa + sb);
+        let pa = pose(2.0, 2.5, 1.0, ra.0, ra.1, ra.2);
+        let pb = pose(2.0 + d.x * gap, 2.5 + d.y * gap, 1.0 + d.z * gap, rb.0, rb.1, rb.2);
+        let s = Scene::builder()
+            .object(SceneObject::from_mesh("a", a.clone(), pa).unwrap())
+            .object(SceneObject::from_mesh("b", b.clone(), pb).unwrap())
+            .build()
+            .unwrap();
+        let params = CollisionParams::default();
+        let r = collision(&s, &params).unwrap();
+        let deep_vertex = |x: &Mesh, px: &Isometry3, y: &Mesh, py: &Isometry3| {
+            x.vertices().iter().any(|v| {
+                let w = px * v;
+                let local = py.inverse_transform_point(&w);
+                y.winding_number(&local) > 0.5 && brute_distance(y, py, &w) > params.contact_tolerance + 1e-9
+            })
+        };
+        if deep_vertex(&a, &pa, &b, &pb) || deep_vertex(&b, &pb, &a, &pa) {
+            prop_assert!(r.col_sc, "{:?}", r.contacts);
+        }
+        if let Some(c) = r.contacts.first() {
+            prop_assert!(!c.undecided, "{c:?}");
+        }
+    }
+}
