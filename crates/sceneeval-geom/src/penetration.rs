@@ -57,7 +57,7 @@ impl Default for PenetrationQuery {
         PenetrationQuery {
             tolerance: 0.005,
             spacing: 0.0025,
-            budget: 2048,
+            budget: 8192,
             depth: DepthSearch::Verdict,
         }
     }
@@ -446,6 +446,16 @@ impl Search {
     /// Interior balls of `x` inside `y`.
     fn balls(&mut self, x: &Mesh, px: &Isometry3, y: &Mesh, py: &Isometry3) {
         let p = Placed::new(x, px, y, py);
+        // A ball inside both solids lies in both boxes: where their overlap is no thicker than
+        // the bound to beat (a resting contact), no ball can help, and none are built.
+        let (c, h) = p.node_box(0);
+        let Some(overlap) = Aabb::from_center_half_extents(c, h).intersection(&p.bx) else {
+            return;
+        };
+        let thinnest = overlap.extents().min();
+        if thinnest <= self.threshold() {
+            return;
+        }
         for ball in p.tx.balls(p.x) {
             let c = p.t * ball.centre;
             if !p.bx.contains_point(&c) {

@@ -99,8 +99,10 @@ pub(crate) struct SolidTables {
     pub(crate) regions: Option<Vec<Region>>,
     /// For such a mesh of several components: each component as a mesh of its own, so that a
     /// point's side is decided by the pseudo-normals (or rays) of the few components whose
-    /// box holds it instead of a winding number over the whole mesh.
-    parts: Vec<Mesh>,
+    /// box holds it instead of a winding number over the whole mesh. Built on first use.
+    parts: std::sync::OnceLock<Vec<Mesh>>,
+    /// Whether the mesh has such parts.
+    has_parts: bool,
 }
 
 impl SolidTables {
@@ -117,11 +119,7 @@ impl SolidTables {
         // distance to that component's boundary.
         let regions = (boundary.nodes.is_empty() && components.len() <= MAX_REGIONS)
             .then(|| components.iter().map(|c| region(mesh, c, &patches)).collect());
-        let parts = if regions.is_some() && components.len() > 1 {
-            components.iter().filter_map(|c| part_mesh(mesh, c)).collect()
-        } else {
-            Vec::new()
-        };
+        let has_parts = regions.is_some() && components.len() > 1;
         SolidTables {
             normals,
             tree,
@@ -130,7 +128,8 @@ impl SolidTables {
             balls: std::sync::OnceLock::new(),
             patches,
             regions,
-            parts,
+            parts: std::sync::OnceLock::new(),
+            has_parts,
         }
     }
 
@@ -209,9 +208,15 @@ impl SolidTables {
         if !mesh.aabb().contains_point(p) {
             return false;
         }
-        if !self.parts.is_empty() {
+        if self.has_parts {
             // No boundary: inside the solid is inside some component.
-            return self.parts.iter().any(|part| {
+            let parts = self.parts.get_or_init(|| {
+                self.components
+                    .iter()
+                    .filter_map(|c| part_mesh(mesh, c))
+                    .collect()
+            });
+            return parts.iter().any(|part| {
                 part.aabb().contains_point(p) && part.solid().classify_within(part, p, 0.0).inside
             });
         }
@@ -282,7 +287,7 @@ impl SolidTables {
             };
             return (class, clear.then_some(inside));
         }
-        if clear && !self.parts.is_empty() {
+        if clear && self.has_parts {
             // No boundary: the side is constant on a ball that misses the surface.
             let inside = self.winding_inside(mesh, c);
             let class = PointClass {
@@ -764,10 +769,15 @@ fn interior_balls(mesh: &Mesh, tables: &SolidTables) -> Vec<Ball> {
     order.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
     let scale = mesh.aabb().extents().norm().max(1e-9);
     let mut balls: Vec<Ball> = Vec::new();
-    // The centre of the box is the deepest point of convex, box-like shapes.
-    let centre = mesh.aabb().center();
-    let class = tables.classify(mesh, &centre);
-    if class.inside && class.distance > 0.0 {
+    // The centre of the box is the deepest point of convex, box-like shapes. A point inside
+    // is no farther from the surface than from the box's faces: search no farther.
+    let bx = mesh.aabb();
+    let centre = bx.center();
+    let reach = (0..3)
+        .map(|k| bx.half_extents()[k])
+        .fold(Real::INFINITY, Real::min);
+    let class = tables.classify_within(mesh, &centre, reach.max(1e-9) * (1.0 + 1e-9));
+    if class.inside && class.exact && class.distance > 0.0 {
         balls.push(grow_ball(mesh, tables, centre, class.distance));
     }
     for &(_, k) in order.iter().take(BALL_SEEDS) {
@@ -785,9 +795,10 @@ fn interior_balls(mesh: &Mesh, tables: &SolidTables) -> Vec<Ball> {
             let Some(toi) = mesh.parry_shape().cast_local_ray(&ray, 2.0 * scale, false) else {
                 continue;
             };
+            // The hit lies half the ray away: the surface is no farther than that.
             let centre = start + dir * (0.5 * toi);
-            let class = tables.classify(mesh, &centre);
-            if class.inside && class.distance > 0.0 {
+            let class = tables.classify_within(mesh, &centre, 0.5 * toi * (1.0 + 1e-9) + 1e-12);
+            if class.inside && class.exact && class.distance > 0.0 {
                 balls.push(grow_ball(mesh, tables, centre, class.distance));
                 break;
             }
@@ -810,19 +821,26 @@ fn interior_balls(mesh: &Mesh, tables: &SolidTables) -> Vec<Ball> {
     kept
 }
 
-/// A ball inside the solid grown by a few steps away from its closest surface point.
+/// A ball inside the solid grown by a few steps away from its closest surface point (every
+/// search bounded by a little more than the current radius, so that a ball deep inside a
+/// round object stays cheap).
 fn grow_ball(mesh: &Mesh, tables: &SolidTables, mut centre: Point3, mut radius: Real) -> Ball {
     for _ in 0..BALL_STEPS {
-        let proj = mesh
-            .parry_shape()
-            .project_local_point(PVector::new(centre.x, centre.y, centre.z), false);
+        let Some(proj) = mesh.parry_shape().project_local_point_with_max_dist(
+            PVector::new(centre.x, centre.y, centre.z),
+            false,
+            radius * (1.0 + 1e-9) + 1e-12,
+        ) else {
+            break;
+        };
         let away = centre - Point3::new(proj.point.x, proj.point.y, proj.point.z);
         let Some(dir) = away.try_normalize(0.0) else {
             break;
         };
         let next = centre + dir * (0.5 * radius);
-        let class = tables.classify(mesh, &next);
-        if !(class.inside && class.distance > radius) {
+        // Moving by r/2 away, the surface is at most 1.5 r from the new centre.
+        let class = tables.classify_within(mesh, &next, 1.5 * radius * (1.0 + 1e-9));
+        if !(class.inside && class.exact && class.distance > radius) {
             break;
         }
         centre = next;
@@ -889,6 +907,10 @@ impl TriangleTree {
         tree
     }
 
+    /// Appends the subtree over `items` (centroid, triangle) in depth-first order. Leaves are
+    /// measured from their triangles; internal nodes aggregate their children (boxes, area
+    /// vectors and areas add up; the radius is bounded through the children's), so the build
+    /// costs `n log n` for the splits and `n` for the measures.
     fn build(&mut self, mesh: &Mesh, items: &mut [(Point3, u32)]) {
         let at = self.nodes.len();
         let mut node = TreeNode {
@@ -902,36 +924,36 @@ impl TriangleTree {
             count: 0,
             rep: 0,
         };
-        let mut weighted = Vector3::zeros();
-        for &(g, k) in items.iter() {
-            let [a, b, c] = mesh.triangle(k as usize);
-            for p in [a, b, c] {
-                node.lo = node.lo.inf(&p);
-                node.hi = node.hi.sup(&p);
-            }
-            let n = (b - a).cross(&(c - a)) * 0.5;
-            let area = n.norm();
-            node.normal += n;
-            node.area += area;
-            weighted += g.coords * area;
-        }
-        node.centre = if node.area > 0.0 {
-            Point3::from(weighted / node.area)
-        } else {
-            nalgebra::center(&node.lo, &node.hi)
-        };
-        let mut nearest = Real::INFINITY;
-        for &(g, k) in items.iter() {
-            for p in mesh.triangle(k as usize) {
-                node.radius = node.radius.max((p - node.centre).norm());
-            }
-            let d = (g - node.centre).norm_squared();
-            if d < nearest || (d == nearest && k < node.rep) {
-                nearest = d;
-                node.rep = k;
-            }
-        }
         if items.len() <= LEAF_SIZE {
+            let mut weighted = Vector3::zeros();
+            for &(g, k) in items.iter() {
+                let [a, b, c] = mesh.triangle(k as usize);
+                for p in [a, b, c] {
+                    node.lo = node.lo.inf(&p);
+                    node.hi = node.hi.sup(&p);
+                }
+                let n = (b - a).cross(&(c - a)) * 0.5;
+                let area = n.norm();
+                node.normal += n;
+                node.area += area;
+                weighted += g.coords * area;
+            }
+            node.centre = if node.area > 0.0 {
+                Point3::from(weighted / node.area)
+            } else {
+                nalgebra::center(&node.lo, &node.hi)
+            };
+            let mut nearest = Real::INFINITY;
+            for &(g, k) in items.iter() {
+                for p in mesh.triangle(k as usize) {
+                    node.radius = node.radius.max((p - node.centre).norm());
+                }
+                let d = (g - node.centre).norm_squared();
+                if d < nearest || (d == nearest && k < node.rep) {
+                    nearest = d;
+                    node.rep = k;
+                }
+            }
             items.sort_unstable_by_key(|&(_, k)| k);
             node.index = self.order.len() as u32;
             node.count = items.len() as u32;
@@ -953,9 +975,25 @@ impl TriangleTree {
         items.select_nth_unstable_by(mid, |(c, i), (d, j)| c[axis].total_cmp(&d[axis]).then(i.cmp(j)));
         let (left, right) = items.split_at_mut(mid);
         self.build(mesh, left);
-        let right_index = self.nodes.len() as u32;
+        let right_index = self.nodes.len();
         self.build(mesh, right);
-        self.nodes[at].index = right_index;
+        let (l, r) = (self.nodes[at + 1], self.nodes[right_index]);
+        let area = l.area + r.area;
+        let centre = if area > 0.0 {
+            Point3::from((l.centre.coords * l.area + r.centre.coords * r.area) / area)
+        } else {
+            nalgebra::center(&l.lo.inf(&r.lo), &l.hi.sup(&r.hi))
+        };
+        let (dl, dr) = ((l.centre - centre).norm(), (r.centre - centre).norm());
+        let node = &mut self.nodes[at];
+        node.lo = l.lo.inf(&r.lo);
+        node.hi = l.hi.sup(&r.hi);
+        node.normal = l.normal + r.normal;
+        node.area = area;
+        node.centre = centre;
+        node.radius = (dl + l.radius).max(dr + r.radius);
+        node.rep = if dl <= dr { l.rep } else { r.rep };
+        node.index = right_index as u32;
     }
 
     /// The children of internal node `n`.
