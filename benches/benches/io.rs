@@ -9,46 +9,21 @@
 // A benchmark binary may stop on a set-up failure.
 #![allow(clippy::expect_used)]
 
-use std::f64::consts::TAU;
+mod common;
+
 use std::hint::black_box;
 use std::path::Path;
 
+use common::cylinder;
 use criterion::{Criterion, criterion_group, criterion_main};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Isometry3, Point2, Point3, Vector3};
 use sceneeval_io::assets::PlainFolderSource;
 use sceneeval_io::{
-    AssetLibrary, GlbMesh, ReadOptions, read_scene_state, scene_state_to_string, write_glb, write_scene_state,
+    AssetLibrary, ReadOptions, read_scene_state, scene_state_to_string, write_glb, write_scene_state,
 };
+use sceneeval_scene::Category;
 use sceneeval_scene::{RoomBuilder, Scene};
-
-/// A closed cylinder (asset frame: y up, origin at the bottom centre) of `segments` sides and
-/// `bands` height bands: `2 * segments * bands + 2 * segments` triangles.
-fn cylinder(name: &str, radius: f32, height: f32, segments: u32, bands: u32) -> GlbMesh {
-    let mut positions = Vec::new();
-    for b in 0..=bands {
-        let y = height * b as f32 / bands as f32;
-        for s in 0..segments {
-            let a = (TAU as f32) * s as f32 / segments as f32;
-            positions.push([radius * a.cos(), y, radius * a.sin()]);
-        }
-    }
-    let bottom = positions.len() as u32;
-    positions.push([0.0, 0.0, 0.0]);
-    positions.push([0.0, height, 0.0]);
-    let mut indices = Vec::new();
-    let at = |b: u32, s: u32| b * segments + s % segments;
-    for b in 0..bands {
-        for s in 0..segments {
-            indices.extend([at(b, s), at(b + 1, s), at(b, s + 1)]);
-            indices.extend([at(b, s + 1), at(b + 1, s), at(b + 1, s + 1)]);
-        }
-    }
-    for s in 0..segments {
-        indices.extend([bottom, at(0, s), at(0, s + 1)]);
-        indices.extend([bottom + 1, at(bands, s + 1), at(bands, s)]);
-    }
-    GlbMesh::new(name, positions, indices)
-}
 
 /// Writes the assets and `scene_0.json` into `dir`; returns the scene's path.
 fn setup(dir: &Path) -> std::path::PathBuf {
@@ -97,11 +72,10 @@ fn setup(dir: &Path) -> std::path::PathBuf {
     for i in 0..20u32 {
         let c = Point3::new(11.0 + 0.25 * (i % 5) as f64, 1.0 + 2.0 * (i / 5) as f64, 0.3);
         builder = builder.add_box(
-            &format!("box{i}"),
-            "box",
-            c,
-            Vector3::new(0.2, 0.3, 0.6),
-            0.1 * i as f64,
+            format!("box{i}"),
+            Category::new("box"),
+            Vector3::new(0.1, 0.15, 0.3),
+            pose_from_yaw(c, 0.1 * i as f64),
         );
     }
     let scene = builder.build().expect("scene");

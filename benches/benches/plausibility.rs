@@ -1,7 +1,7 @@
 //! Criterion benchmarks of the plausibility metrics (`sceneeval-plausibility`).
 //!
 //! Each metric on scenes of 5, 20, 50, 100 and 200 objects of about 5k triangles
-//! (`sceneeval_benches::scenes::scene`), on one rayon thread; all metrics together at 50 objects
+//! (`sceneeval_test_support::scenes::scene`), on one rayon thread; all metrics together at 50 objects
 //! on one and two threads; and `evaluate` on a fixture-size box scene (for the "500 scenes in
 //! under a minute" target). Run with
 //! `cargo bench -p sceneeval-benches --bench plausibility`.
@@ -13,13 +13,13 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use sceneeval_benches::scenes;
 use sceneeval_plausibility::{
     AccessibilityParams, CollisionParams, FunctionalSidePriors, NavigabilityParams, OpeningClearanceParams,
     OutOfBoundsParams, PlausibilityParams, Sources, SupportParams, SupportTypePriors, accessibility,
     collision, evaluate, navigability, opening_clearance, out_of_bounds, support,
 };
 use sceneeval_scene::Scene;
+use sceneeval_test_support::scenes;
 
 const SIZES: [usize; 5] = [5, 20, 50, 100, 200];
 

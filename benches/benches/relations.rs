@@ -1,8 +1,9 @@
 //! Criterion benchmarks of the spatial predicates (`sceneeval-relations`).
 //!
-//! Every predicate on boxes and on ~5k-triangle meshes (UV ellipsoids from
-//! `sceneeval_benches::meshes`), the object-architecture predicates in a four-wall room with a
-//! door and a window, the scene-level lookup by id, and the batch form over 1,000 pairs. The
+//! Every predicate on boxes and on ~5k-triangle meshes (`Mesh::uv_ellipsoid` and
+//! `Mesh::subdivided_box`), the object-architecture predicates in a four-wall room with a
+//! door and a window, the scene-level evaluation by id and by index, and the batch form over
+//! 1,000 pairs. The
 //! configurations are fixed (a nightstand beside a bed, four chairs around a table, a bed
 //! against a wall); the target straddles region boundaries so that the clipping kernels do
 //! real work. Run with
@@ -15,13 +16,12 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use sceneeval_benches::meshes::{subdivided_box, uv_ellipsoid};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Side, Vector3};
 use sceneeval_relations::{
-    ArchElement, LongShort, ObjectGeom, OpeningSpec, Relation, RelationParams, RoomGeometry, SceneRelations,
-    arch, batch,
+    ArchElement, LongShort, ObjectGeom, Query, Relation, RelationParams, SceneRelations, arch, batch,
 };
-use sceneeval_scene::{OpeningKind, RoomBuilder, Scene};
+use sceneeval_scene::{Category, Room, RoomBuilder, Scene};
 
 fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
     Obb::from_yaw(Point3::new(c[0], c[1], c[2]), Vector3::new(h[0], h[1], h[2]), yaw).expect("a valid box")
@@ -46,34 +46,12 @@ impl MeshObject {
     }
 }
 
-fn room() -> RoomGeometry {
-    RoomGeometry::from_outline(
-        "bedroom",
-        vec![
-            Point2::new(0.0, 0.0),
-            Point2::new(4.0, 0.0),
-            Point2::new(4.0, 5.0),
-            Point2::new(0.0, 5.0),
-        ],
-        0.0,
-        2.8,
-        0.1,
-        &[
-            OpeningSpec {
-                kind: OpeningKind::Door,
-                wall: 0,
-                along: [1.0, 1.9],
-                height: [0.0, 2.1],
-            },
-            OpeningSpec {
-                kind: OpeningKind::Window,
-                wall: 1,
-                along: [1.5, 3.5],
-                height: [0.9, 2.0],
-            },
-        ],
-    )
-    .expect("a valid room")
+/// The test bedroom with a window on wall 1 (x = 4), y in [1.5, 3.5], 0.9 to 2.0 m up.
+fn room() -> Room {
+    sceneeval_test_support::bedroom("bedroom")
+        .window(1, [1.5, 3.5], [0.9, 2.0])
+        .build()
+        .expect("a valid room")
 }
 
 /// The two-object relations benchmarked, one per base name (sides: one representative each).
@@ -156,7 +134,7 @@ fn object_object(c: &mut Criterion) {
     let views: Vec<ObjectGeom<'_>> = chairs.iter().map(ObjectGeom::from_box).collect();
     let anchor = ObjectGeom::from_box(&table);
     g.bench_function("surround_4", |bench| {
-        bench.iter(|| sceneeval_relations::surround(black_box(&anchor), black_box(&views), &p))
+        bench.iter(|| sceneeval_relations::surround(black_box(&views), black_box(&anchor), &p))
     });
     g.finish();
 }
@@ -164,12 +142,12 @@ fn object_object(c: &mut Criterion) {
 fn object_object_meshes(c: &mut Criterion) {
     let p = RelationParams::default();
     let bed = MeshObject::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
         [2.0, 4.0, 0.3],
         0.0,
     );
     let stand = MeshObject::new(
-        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
         [0.9, 4.5, 0.35],
         0.3,
     );
@@ -183,18 +161,18 @@ fn object_object_meshes(c: &mut Criterion) {
     // Meshes whose surfaces cross (distance 0 by the intersection test) and nested meshes
     // (surfaces apart; the winding-number test decides).
     let crossing = MeshObject::new(
-        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
         [1.3, 4.5, 0.35],
         0.3,
     );
     let nested = MeshObject::new(
-        subdivided_box(&Vector3::new(0.1, 0.1, 0.1), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.1, 0.1, 0.1), 20).expect("mesh"),
         [2.0, 4.0, 0.3],
         0.3,
     );
     // The same nightstand 0.79 m from the bed (the exact distance search grows with the gap).
     let apart = MeshObject::new(
-        subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
+        Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
         [0.2, 4.5, 0.35],
         1.0,
     );
@@ -226,7 +204,7 @@ fn object_architecture(c: &mut Criterion) {
     }
     g.finish();
     let mesh_bed = MeshObject::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
         [2.0, 3.93, 0.3],
         0.05,
     );
@@ -250,27 +228,36 @@ fn scene_level_and_batch(c: &mut Criterion) {
         ))
         .add_box(
             "bed",
-            "bed",
-            Point3::new(2.0, 4.0, 0.3),
-            Vector3::new(1.6, 2.0, 0.6),
-            0.0,
+            Category::new("bed"),
+            Vector3::new(0.8, 1.0, 0.3),
+            pose_from_yaw(Point3::new(2.0, 4.0, 0.3), 0.0),
         )
         .add_box(
             "stand",
-            "nightstand",
-            Point3::new(1.0, 4.5, 0.35),
-            Vector3::new(0.5, 0.4, 0.7),
-            0.3,
+            Category::new("nightstand"),
+            Vector3::new(0.25, 0.2, 0.35),
+            pose_from_yaw(Point3::new(1.0, 4.5, 0.35), 0.3),
         )
         .build()
         .expect("a valid scene");
-    let rel = SceneRelations::new(&scene, p).expect("valid parameters");
+    let rel = SceneRelations::new(p).expect("valid parameters");
     let mut g = configure(c, "relations/scene");
+    let side_of = Query::new(Relation::SideOf(Side::Left))
+        .target("stand")
+        .anchor("bed");
     g.bench_function("pair_side_of_by_id", |bench| {
-        bench.iter(|| rel.pair(black_box(Relation::SideOf(Side::Left)), "stand", "bed"))
+        bench.iter(|| rel.evaluate(&scene, black_box(&side_of)))
     });
+    let against = Query::new(Relation::AgainstWall).target("bed");
     g.bench_function("arch_against_wall_by_id", |bench| {
-        bench.iter(|| rel.arch(black_box(Relation::AgainstWall), "bed", &[]))
+        bench.iter(|| rel.evaluate(&scene, black_box(&against)))
+    });
+    let (stand, bed) = (
+        scene.object_index("stand").expect("stand"),
+        scene.object_index("bed").expect("bed"),
+    );
+    g.bench_function("pair_side_of_by_index", |bench| {
+        bench.iter(|| rel.pair(&scene, black_box(Relation::SideOf(Side::Left)), stand, bed))
     });
     g.finish();
 

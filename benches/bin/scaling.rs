@@ -24,7 +24,6 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
 
-use sceneeval_benches::scenes::{AssetSet, box_set, mesh8k_set, scaling_scene};
 use sceneeval_geom::conventions::object_from_asset;
 use sceneeval_geom::{Mesh, Real, Vector3};
 use sceneeval_io::{AssetLibrary, GlbMesh, ReadOptions, read_scene_state, write_glb, write_scene_state};
@@ -34,6 +33,7 @@ use sceneeval_plausibility::{
     out_of_bounds, support,
 };
 use sceneeval_scene::Scene;
+use sceneeval_test_support::scenes::{AssetSet, box_set, mesh8k_set, scaling_scene};
 use serde_json::{Value, json};
 
 const METRICS: [&str; 6] = [

@@ -4,8 +4,10 @@
 //! obtain memory (`alloc`, `alloc_zeroed`, `realloc`); [`allocations_during`] runs a closure
 //! once to warm it up and returns how many allocations a second run made on this thread.
 //! `tests/no_allocation.rs` uses them on `sceneeval-relations`' predicates on plain geometry
-//! (every relation, on boxes and on meshes), their batch forms and `sceneeval-geom`'s exact
-//! box and mesh distances. Run with `cargo test -p sceneeval-alloc-check`.
+//! (every relation, on boxes and on meshes), their batch forms, `sceneeval-geom`'s exact
+//! box and mesh distances, and the loop of a layout optimiser (objects moved in a scene,
+//! relations asked by index, `sceneeval-plausibility`'s per-object checks), as the
+//! `layout_optimizer` example runs it. Run with `cargo test -p sceneeval-alloc-check`.
 //!
 //! This package exists because a global allocator needs `unsafe impl GlobalAlloc`, which the
 //! rest of the workspace forbids; it is not published.

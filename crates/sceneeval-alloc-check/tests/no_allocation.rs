@@ -6,17 +6,20 @@
 //! of the 23 relations through the dispatching kernels ([`batch::score_pair`], [`surround`],
 //! [`arch::score_rooms`]) on boxes and on ~5k-triangle meshes, in several configurations
 //! (touching, overlapping, nested, apart, far) so that the different code paths run; the batch
-//! forms; and `sceneeval-geom`'s exact box and mesh distances.
+//! forms; `sceneeval-geom`'s exact box and mesh distances; and the optimiser's loop: moving
+//! objects in a scene and asking relations by index ([`SceneRelations`]) and plausibility
+//! checks ([`LayoutChecks`]), as the `layout_optimizer` example's annealing steps do.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use sceneeval_alloc_check::{CountingAllocator, allocations_during};
-use sceneeval_benches::meshes::{subdivided_box, uv_ellipsoid};
-use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Vector3};
+use sceneeval_examples::layout::{Annealer, Layout};
+use sceneeval_geom::{Isometry3, Mesh, Obb, Point3, Real, Vector3};
+use sceneeval_plausibility::{LayoutChecks, OutOfBoundsParams};
 use sceneeval_relations::{
-    ObjectGeom, OpeningSpec, Relation, RelationKind, RelationParams, RoomGeometry, arch, batch, surround,
+    ObjectGeom, Relation, RelationKind, RelationParams, SceneRelations, arch, batch, surround,
 };
-use sceneeval_scene::OpeningKind;
+use sceneeval_scene::{Category, Room, Scene};
 
 #[global_allocator]
 static ALLOCATOR: CountingAllocator = CountingAllocator;
@@ -44,29 +47,12 @@ impl Placed {
     }
 }
 
-/// A 4 x 5 m room with a door on wall 0 and a window on wall 1.
-fn room() -> RoomGeometry {
-    let outline = vec![
-        Point2::new(0.0, 0.0),
-        Point2::new(4.0, 0.0),
-        Point2::new(4.0, 5.0),
-        Point2::new(0.0, 5.0),
-    ];
-    let openings = [
-        OpeningSpec {
-            kind: OpeningKind::Door,
-            wall: 0,
-            along: [1.0, 1.9],
-            height: [0.0, 2.1],
-        },
-        OpeningSpec {
-            kind: OpeningKind::Window,
-            wall: 1,
-            along: [1.5, 3.5],
-            height: [0.9, 2.0],
-        },
-    ];
-    RoomGeometry::from_outline("bedroom", outline, 0.0, 2.8, 0.1, &openings).unwrap()
+/// The test bedroom (door on wall 0) with a window on wall 1.
+fn room() -> Room {
+    sceneeval_test_support::bedroom("bedroom")
+        .window(1, [1.5, 3.5], [0.9, 2.0])
+        .build()
+        .unwrap()
 }
 
 /// Scores every relation for `target` against `anchor` (and, for `surround`, `around`) and the
@@ -76,7 +62,7 @@ fn assert_no_allocation(
     target: &ObjectGeom<'_>,
     anchor: &ObjectGeom<'_>,
     around: &[ObjectGeom<'_>],
-    rooms: &[RoomGeometry],
+    rooms: &[Room],
     params: &RelationParams,
 ) {
     for relation in Relation::all() {
@@ -84,7 +70,7 @@ fn assert_no_allocation(
             RelationKind::ObjectObject => {
                 allocations_during(|| batch::score_pair(relation, target, anchor, params).unwrap())
             }
-            RelationKind::MultiTarget => allocations_during(|| surround(anchor, around, params)),
+            RelationKind::MultiTarget => allocations_during(|| surround(around, anchor, params)),
             RelationKind::ObjectArchitecture => {
                 allocations_during(|| arch::score_rooms(relation, target, rooms, params).unwrap())
             }
@@ -135,7 +121,7 @@ fn relation_kernels_on_boxes_allocate_nothing() {
 fn relation_kernels_on_meshes_allocate_nothing() {
     let rooms = [room()];
     let bed = Placed::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
         [2.0, 4.0, 0.3],
         0.05,
     );
@@ -143,7 +129,7 @@ fn relation_kernels_on_meshes_allocate_nothing() {
         .map(|k| {
             let angle = Real::from(k) * std::f64::consts::TAU / 3.0;
             Placed::new(
-                subdivided_box(&Vector3::new(0.25, 0.25, 0.45), 6).unwrap(),
+                Mesh::subdivided_box(&Vector3::new(0.25, 0.25, 0.45), 6).unwrap(),
                 [2.0 + 1.2 * angle.cos(), 4.0 + 1.4 * angle.sin(), 0.45],
                 angle,
             )
@@ -159,7 +145,7 @@ fn relation_kernels_on_meshes_allocate_nothing() {
             } else {
                 Vector3::new(0.25, 0.2, 0.35)
             };
-            let stand = Placed::new(subdivided_box(&half, 20).unwrap(), center, yaw);
+            let stand = Placed::new(Mesh::subdivided_box(&half, 20).unwrap(), center, yaw);
             let target = stand.view();
             let what = format!("mesh at {center:?}");
             assert_no_allocation(&what, &target, &anchor, &around, &rooms, &params);
@@ -196,7 +182,7 @@ fn batch_forms_allocate_nothing() {
 #[test]
 fn geometry_distances_allocate_nothing() {
     let a = Placed::new(
-        uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
+        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).unwrap(),
         [2.0, 4.0, 0.3],
         0.05,
     );
@@ -207,7 +193,7 @@ fn geometry_distances_allocate_nothing() {
     ];
     for (center, yaw) in TARGETS {
         let b = Placed::new(
-            subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).unwrap(),
+            Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).unwrap(),
             center,
             yaw,
         );
@@ -226,6 +212,70 @@ fn geometry_distances_allocate_nothing() {
             let n = allocations_during(f);
             assert_eq!(n, 0, "{name} at {center:?} allocated {n} times");
         }
+    }
+}
+
+#[test]
+fn the_optimiser_loop_allocates_nothing_per_step() {
+    // The layout_optimizer example's loop: each step moves one object (Scene::set_pose), asks
+    // 27 goals (relations by index, the plausibility in-bounds check) and moves it back or
+    // not. After a warm-up (the checks' clip buffers grow once), 200 more steps allocate
+    // nothing.
+    let mut layout = Layout::new().unwrap();
+    let mut annealer = Annealer::new(&mut layout, 1, 6_000).unwrap();
+    for _ in 0..50 {
+        annealer.step(&mut layout).unwrap();
+    }
+    let n = allocations_during(|| {
+        for _ in 0..100 {
+            annealer.step(&mut layout).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "200 annealing steps allocated {n} times");
+}
+
+#[test]
+fn scene_queries_by_index_and_layout_checks_allocate_nothing() {
+    // Every relation by index on a scene (surround over four chairs), and the out-of-bounds
+    // check, for an object moved between calls.
+    let mut builder = Scene::builder().room(room());
+    let pose = |c: [Real; 3], yaw: Real| {
+        sceneeval_geom::conventions::pose_from_yaw(Point3::new(c[0], c[1], c[2]), yaw)
+    };
+    builder = builder.add_box(
+        "bed",
+        Category::new("bed"),
+        Vector3::new(0.8, 1.0, 0.3),
+        pose([2.0, 4.0, 0.3], 0.05),
+    );
+    for k in 0..4 {
+        let a = Real::from(k) * std::f64::consts::FRAC_PI_2 + 0.1;
+        builder = builder.add_box(
+            format!("chair{k}"),
+            Category::new("chair"),
+            Vector3::new(0.25, 0.25, 0.45),
+            pose([2.0 + 1.2 * a.cos(), 4.0 + 1.4 * a.sin(), 0.45], a),
+        );
+    }
+    let mut scene = builder.build().unwrap();
+    let rel = SceneRelations::new(RelationParams::default()).unwrap();
+    let checks = LayoutChecks::new(scene.rooms(), &OutOfBoundsParams::default()).unwrap();
+    let mut scratch = checks.scratch();
+    let chairs = [1, 2, 3, 4];
+    for (center, yaw) in TARGETS {
+        scene.set_pose(1, pose(center, yaw)).unwrap();
+        for relation in Relation::all() {
+            let n = allocations_during(|| match relation.kind() {
+                RelationKind::ObjectObject => rel.pair(&scene, relation, 1, 0).unwrap().score,
+                RelationKind::MultiTarget => rel.surround(&scene, &chairs, 0).unwrap().score,
+                RelationKind::ObjectArchitecture => rel.arch(&scene, relation, 1, &[]).unwrap().score,
+            });
+            assert_eq!(n, 0, "{relation} at {center:?} allocated {n} times");
+        }
+        let n = allocations_during(|| checks.in_bounds_ratio(&scene.objects()[1], &mut scratch));
+        assert_eq!(n, 0, "in_bounds_ratio at {center:?} allocated {n} times");
+        let n = allocations_during(|| scene.set_pose(2, pose(center, -yaw)).unwrap());
+        assert_eq!(n, 0, "set_pose allocated {n} times");
     }
 }
 

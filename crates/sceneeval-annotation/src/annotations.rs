@@ -362,11 +362,58 @@ fn csv_error(source: csv::Error, path: Option<&Path>) -> AnnotationError {
     }
 }
 
-fn read_csv<R: Read>(reader: R, path: Option<&Path>) -> Result<Annotations, AnnotationError> {
+/// The 1-based line where a quoted cell opens that is still open at the end of the input, as
+/// the `csv` reader splits cells (a `"` opens a quoted cell only at the start of a cell; `""`
+/// inside is an escaped quote; after the closing quote the cell goes on unquoted). The `csv`
+/// crate silently ends such a cell at the end of the file, swallowing every later row.
+fn unterminated_quote(bytes: &[u8]) -> Option<u64> {
+    #[derive(Clone, Copy, PartialEq)]
+    enum State {
+        CellStart,
+        Unquoted,
+        Quoted,
+        QuoteInQuoted,
+    }
+    let mut state = State::CellStart;
+    let mut line = 1u64;
+    let mut opened_at = 0u64;
+    for &b in bytes {
+        state = match (state, b) {
+            (State::CellStart, b'"') => {
+                opened_at = line;
+                State::Quoted
+            }
+            (State::CellStart | State::Unquoted | State::QuoteInQuoted, b',' | b'\n' | b'\r') => {
+                State::CellStart
+            }
+            (State::CellStart | State::Unquoted, _) => State::Unquoted,
+            (State::Quoted, b'"') => State::QuoteInQuoted,
+            (State::Quoted, _) => State::Quoted,
+            (State::QuoteInQuoted, b'"') => State::Quoted,
+            (State::QuoteInQuoted, _) => State::Unquoted,
+        };
+        if b == b'\n' {
+            line += 1;
+        }
+    }
+    (state == State::Quoted).then_some(opened_at)
+}
+
+fn read_csv<R: Read>(mut reader: R, path: Option<&Path>) -> Result<Annotations, AnnotationError> {
+    let mut bytes = Vec::new();
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(|e| csv_error(csv::Error::from(e), path))?;
+    if let Some(line) = unterminated_quote(&bytes) {
+        return Err(AnnotationError::UnterminatedQuote {
+            path: path.map(Path::to_path_buf),
+            line,
+        });
+    }
     let mut rdr = csv::ReaderBuilder::new()
         .flexible(true)
         .has_headers(true)
-        .from_reader(reader);
+        .from_reader(bytes.as_slice());
     let header: Vec<String> = rdr
         .headers()
         .map_err(|e| csv_error(e, path))?
@@ -634,6 +681,38 @@ mod tests {
         assert!(e.to_string().contains("line 1"), "{e}");
         let e = Annotations::read_csv("/nonexistent/annotations.csv").unwrap_err();
         assert!(e.to_string().contains("/nonexistent/annotations.csv"), "{e}");
+    }
+
+    #[test]
+    fn a_quote_that_is_never_closed_is_an_error() {
+        let header = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n";
+        // Row 2's description opens a quote on line 3 that the file never closes: without the
+        // check, row 3 would vanish into that cell.
+        let text = format!("{header}0,easy,fine,,,,\n1,easy,\"A room, with a bed,,,,\n2,hard,x,,,,\n");
+        let e = Annotations::from_csv_str(&text).unwrap_err();
+        assert!(
+            matches!(e, AnnotationError::UnterminatedQuote { line: 3, .. }),
+            "{e}"
+        );
+        assert!(
+            e.to_string().contains("line 3") && e.to_string().contains("never closed"),
+            "{e}"
+        );
+        // Closed quotes, escaped quotes, quotes inside unquoted cells and line breaks inside
+        // quoted cells are fine.
+        let ok = format!(
+            "{header}0,easy,\"A \"\"quoted\"\" word\",,,,\n1,easy,6\" tall,,,,\n2,hard,\"two\nlines\",,,,\n"
+        );
+        let a = Annotations::from_csv_str(&ok).unwrap();
+        assert_eq!(a.rows.len(), 3);
+        assert_eq!(a.rows[0].description, "A \"quoted\" word");
+        assert_eq!(a.rows[1].description, "6\" tall");
+        assert_eq!(
+            unterminated_quote(b"\"a\"b\"c"),
+            None,
+            "after the closing quote the cell is unquoted"
+        );
+        assert_eq!(unterminated_quote(b"x\n\r\n\"open"), Some(3));
     }
 
     #[test]

@@ -34,6 +34,15 @@ pub enum AnnotationError {
         #[source]
         source: csv::Error,
     },
+    /// A quoted cell is still open at the end of the file (its closing `"` is missing): the
+    /// rest of the file would silently become part of that cell.
+    #[error("{}CSV line {line}: the quoted cell that starts here is never closed (a `\"` is missing)", at(.path))]
+    UnterminatedQuote {
+        /// The file, when reading from a file.
+        path: Option<PathBuf>,
+        /// The 1-based line where the quoted cell starts.
+        line: u64,
+    },
     /// The header lacks one of `ID, Difficulty, Description, ObjCount, ObjAttr, OORel, OARel`.
     #[error("{}missing required column {column:?}; the header has {found:?}", at(.path))]
     MissingColumn {

@@ -253,8 +253,9 @@ impl AnnotationRow {
     /// categories of object matching.
     pub fn categories(&self) -> Vec<&str> {
         let mut out: Vec<&str> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         for c in self.obj_counts() {
-            if !out.contains(&c.category.as_str()) {
+            if seen.insert(c.category.as_str()) {
                 out.push(&c.category);
             }
         }

@@ -1,7 +1,9 @@
-//! `sceneeval evaluate`: evaluate a folder of scenes, write `<out>/<scene>/eval.json` as each
-//! scene finishes, then `<out>/summary.csv` and `<out>/summary.md`.
+//! `sceneeval evaluate`: evaluate a folder of scenes, write `<out>/<scene>/eval.json` and
+//! `<out>/<scene>/timing.json` as each scene finishes, then `<out>/summary.csv` and
+//! `<out>/summary.md`.
 
-use std::path::{Path, PathBuf};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
@@ -9,8 +11,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sceneeval::annotation::Annotations;
 use sceneeval::io::AssetLibrary;
 use sceneeval::{
-    BatchOptions, EvaluationPlan, Evaluator, Metric, SceneRecord, SceneStatus, Summary, find_scenes,
-    run_batch,
+    BatchOptions, EvaluationPlan, Evaluator, Metric, Outcome, Preset, SceneRecord, SceneStatus, Summary,
+    annotation_digest, check_output_dir, find_scenes, run_batch, write_atomic,
 };
 
 /// Arguments of `sceneeval evaluate`.
@@ -23,20 +25,30 @@ pub struct Args {
     /// Repeat for several prefixes.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
-    /// Output folder (created if missing).
+    /// Output folder (created if missing; checked for writing before any scene is evaluated).
     #[arg(long, short = 'o', value_name = "DIR")]
     pub out: PathBuf,
     /// SceneEval-500 annotation CSV (or JSON): adds rows per difficulty to the summary.
     #[arg(long, value_name = "FILE")]
     pub annotations: Option<PathBuf>,
-    /// Evaluation plan (JSON): metrics and parameters. Default: every geometry-only metric with
-    /// the reference's parameters.
+    /// Evaluation plan (JSON): preset, metrics, parameters, limits, time budget (see
+    /// docs/formats.md and examples/plans/). Default: every geometry-only metric with this
+    /// implementation's defaults.
     #[arg(long, value_name = "FILE")]
     pub plan: Option<PathBuf>,
+    /// Parameter preset: `default`, or `reference` for every reference-parity switch (to
+    /// compare with published numbers). Replaces the plan file's `preset`; the plan's explicit
+    /// values still apply on top.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<Preset>,
     /// Run only these metrics (comma-separated), overriding the plan's list.
     #[arg(long, value_delimiter = ',', value_name = "METRIC,...")]
     pub metrics: Option<Vec<Metric>>,
-    /// Evaluate again scenes that already have a successful `eval.json`.
+    /// Wall-time budget per scene in seconds, overriding the plan's (default 600); a scene
+    /// over it is recorded as failed and the run goes on. 0 means no budget.
+    #[arg(long, value_name = "SECONDS")]
+    pub time_budget: Option<f64>,
+    /// Evaluate every scene again, even those whose earlier result still matches.
     #[arg(long)]
     pub force: bool,
     /// Worker threads (default: one per core).
@@ -51,27 +63,51 @@ pub struct Args {
 }
 
 /// Runs the subcommand. Exits with failure when any scene failed to load or evaluate (each
-/// failure is recorded in its `eval.json` and counted in the summary).
+/// failure is recorded in its `eval.json`, printed with its cause chain and counted in the
+/// summary). Everything that can be checked before evaluating (the scene names, the plan, the
+/// asset folders, the annotations, the output folder) is checked first.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let scenes = find_scenes(&args.scenes)?;
+    let set = find_scenes(&args.scenes)?;
+    for skipped in &set.skipped {
+        eprintln!("warning: skipped {}: {}", skipped.path.display(), skipped.reason);
+    }
+    let scenes = set.scenes;
     if scenes.is_empty() {
         bail!("no scene_<ID>.json files in {}", args.scenes.display());
     }
-    let assets = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
     let mut plan = match &args.plan {
-        Some(path) => EvaluationPlan::read(path)?,
-        None => EvaluationPlan::geometry_only(),
+        Some(path) => EvaluationPlan::read_with_preset(path, args.preset)?,
+        None => EvaluationPlan::with_preset(args.preset.unwrap_or_default()),
     };
     if let Some(metrics) = args.metrics {
         plan.metrics = metrics;
     }
+    if let Some(b) = args.time_budget {
+        plan.time_budget_seconds = (b != 0.0).then_some(b);
+    }
     let evaluator = Evaluator::new(plan)?;
+    let plan = evaluator.plan();
+    let assets = AssetLibrary::from_specs(&args.assets)
+        .context("invalid --assets")?
+        .with_limits(plan.limits);
     let annotations = args
         .annotations
         .as_deref()
         .map(|p| Annotations::read(p).with_context(|| format!("reading annotations {}", p.display())))
         .transpose()?;
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    check_output_dir(&args.out)?;
+
+    let row_of = |scene_id: &str| {
+        let ann = annotations.as_ref()?;
+        ann.get(scene_id)
+            .or_else(|| ann.get(scene_id.trim_start_matches('0')))
+    };
+    let mut digests = BTreeMap::new();
+    for s in &scenes {
+        if let Some(row) = row_of(&s.id.to_string()) {
+            digests.insert(s.name.clone(), annotation_digest(row));
+        }
+    }
 
     let progress = if args.no_progress {
         ProgressBar::hidden()
@@ -85,11 +121,26 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         out_dir: args.out.clone(),
         force: args.force,
         diagnostics: args.diagnostics,
-        ..BatchOptions::default()
+        annotations: digests,
     };
-    let on_done = |scene: &sceneeval::SceneFile, status: SceneStatus| {
-        if status == SceneStatus::Failed {
-            progress.println(format!("failed: {} (see its eval.json)", scene.name));
+    let on_done = |scene: &sceneeval::SceneFile, status: &SceneStatus, record: &SceneRecord| {
+        if let (SceneStatus::Failed { .. }, Outcome::Failed { stage, error, causes }) =
+            (status, &record.outcome)
+        {
+            let mut text = format!(
+                "failed: {} ({} stage): {error}",
+                scene.path.display(),
+                match stage {
+                    sceneeval::Stage::Load => "load",
+                    sceneeval::Stage::Evaluate => "evaluate",
+                }
+            );
+            for cause in causes {
+                text.push_str("\n  caused by: ");
+                text.push_str(cause);
+            }
+            // `suspend` prints also when the bar is hidden (`println` would not).
+            progress.suspend(|| eprintln!("{text}"));
         }
         progress.inc(1);
     };
@@ -101,34 +152,36 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let outcome = pool.install(|| run_batch(&scenes, &evaluator, &assets, &options, &on_done))?;
     progress.finish_and_clear();
 
-    let difficulty = |r: &SceneRecord| {
-        let ann = annotations.as_ref()?;
-        let id = r.scene_id.as_deref()?;
-        ann.get(id)
-            .or_else(|| ann.get(id.trim_start_matches('0')))
-            .map(|row| row.difficulty.as_str().to_owned())
-    };
-    let summary = Summary::from_records(&outcome.records, difficulty);
-    write(&args.out.join("summary.csv"), &summary.to_csv()?)?;
+    let difficulty =
+        |r: &SceneRecord| row_of(r.scene_id.as_deref()?).map(|row| row.difficulty.as_str().to_owned());
+    let summary = Summary::from_records(&outcome.records, difficulty).with_plan(plan);
+    write_atomic(&args.out.join("summary.csv"), summary.to_csv()?.as_bytes())?;
     let markdown = summary.to_markdown();
-    write(&args.out.join("summary.md"), &markdown)?;
+    write_atomic(&args.out.join("summary.md"), markdown.as_bytes())?;
 
     print!("{markdown}");
     eprintln!(
-        "{} scenes: {} evaluated, {} kept from an earlier run, {} failed; results in {}",
+        "{} scenes: {} evaluated, {} kept from an earlier run, {} failed; preset {}; results in {}",
         scenes.len(),
         outcome.evaluated,
-        outcome.skipped,
+        outcome.reused,
         outcome.failed,
+        plan.preset,
         args.out.display()
     );
+    for (reason, n) in outcome.reasons() {
+        eprintln!("  evaluated because {reason}: {n}");
+    }
+    let (load, per_metric) = outcome.time_per_metric();
+    if outcome.evaluated + outcome.failed > 0 {
+        let parts: Vec<String> = std::iter::once(format!("loading {load:.2} s"))
+            .chain(per_metric.iter().map(|(m, s)| format!("{m} {s:.2} s")))
+            .collect();
+        eprintln!("  time over the evaluated scenes: {}", parts.join(", "));
+    }
     Ok(if outcome.failed > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
     })
-}
-
-fn write(path: &Path, text: &str) -> anyhow::Result<()> {
-    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
 }

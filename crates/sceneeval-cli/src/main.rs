@@ -14,6 +14,8 @@ mod annotations;
 mod evaluate;
 mod inspect;
 mod relate;
+mod render;
+mod vlm;
 
 /// Evaluate text-conditioned 3D indoor scenes (SceneEval) and query its spatial predicates.
 #[derive(Debug, Parser)]
@@ -38,6 +40,11 @@ enum Command {
     Annotations(annotations::Command),
     /// Evaluate a folder of scenes and write per-scene results and summary tables.
     Evaluate(evaluate::Args),
+    /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
+    Render(render::Args),
+    /// Work with the vision-language model endpoint (check that it answers).
+    #[command(subcommand)]
+    Vlm(vlm::Command),
 }
 
 fn main() -> ExitCode {
@@ -48,6 +55,8 @@ fn main() -> ExitCode {
         Command::Relate(args) => relate::run(args),
         Command::Annotations(cmd) => annotations::run(cmd),
         Command::Evaluate(args) => evaluate::run(args),
+        Command::Render(args) => render::run(args),
+        Command::Vlm(cmd) => vlm::run(cmd),
     };
     match result {
         Ok(code) => code,

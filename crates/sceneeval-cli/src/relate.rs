@@ -14,13 +14,12 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use sceneeval::geom::{Matrix3, Obb, Point2, Point3, Real, Rotation3, Vector3};
-use sceneeval::relations::{
-    ObjectGeom, OpeningSpec, Relation, RelationError, RelationKind, RelationParams, RoomGeometry, arch,
-    batch, surround,
-};
-use sceneeval::scene::OpeningKind;
+use sceneeval::relations::{ObjectGeom, Relation, RelationKind, RelationParams, arch, batch, surround};
+use sceneeval::scene::{Room, RoomBuilder};
+use serde::de::IgnoredAny;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
+use serde_json::value::RawValue;
 
 /// The only line-schema version this build understands.
 pub const SCHEMA_VERSION: u64 = 1;
@@ -82,7 +81,7 @@ fn answer_all(
         let answer = match std::str::from_utf8(&line) {
             Ok(text) if text.trim().is_empty() => continue,
             Ok(text) => answer_line(text, params),
-            Err(e) => Answer::error(Value::Null, format!("line {number}: not UTF-8: {e}")),
+            Err(e) => Answer::error(null_id(), format!("line {number}: not UTF-8: {e}")),
         };
         let answer = match answer {
             Answer::Error { id, error } => {
@@ -105,16 +104,24 @@ fn answer_all(
     Ok(failed)
 }
 
-/// One answer line: `{"id", "score", "holds"}` or `{"id", "error"}`.
+/// One answer line: `{"id", "score", "holds"}` or `{"id", "error"}`. The id is the query's
+/// JSON text, echoed byte for byte (a 30-digit integer stays a 30-digit integer).
 #[derive(Debug, Serialize)]
 #[serde(untagged)]
 enum Answer {
-    Score { id: Value, score: Real, holds: bool },
-    Error { id: Value, error: String },
+    Score {
+        id: Box<RawValue>,
+        score: Real,
+        holds: bool,
+    },
+    Error {
+        id: Box<RawValue>,
+        error: String,
+    },
 }
 
 impl Answer {
-    fn error(id: Value, error: impl Into<String>) -> Self {
+    fn error(id: Box<RawValue>, error: impl Into<String>) -> Self {
         Answer::Error {
             id,
             error: error.into(),
@@ -122,11 +129,24 @@ impl Answer {
     }
 }
 
-/// Just the id of a line, every other field skipped without being converted.
+/// Just the id of a line, as written, every other field skipped without being converted.
 #[derive(Debug, Deserialize)]
-struct IdOnly {
-    #[serde(default)]
-    id: Value,
+struct IdOnly<'a> {
+    #[serde(default, borrow)]
+    id: Option<&'a RawValue>,
+}
+
+/// JSON `null`.
+fn null_id() -> Box<RawValue> {
+    RawValue::NULL.to_owned()
+}
+
+/// The id of a line, verbatim, or `null` when it cannot be read.
+fn raw_id(text: &str) -> Box<RawValue> {
+    match serde_json::from_str::<IdOnly<'_>>(text) {
+        Ok(IdOnly { id: Some(id) }) => id.to_owned(),
+        _ => null_id(),
+    }
 }
 
 /// A query line as written by clients (schema version 1).
@@ -136,8 +156,8 @@ struct QueryLine {
     #[serde(default)]
     version: Option<u64>,
     #[serde(default)]
-    #[allow(dead_code, reason = "read before the typed parse so that errors can echo it")]
-    id: Option<Value>,
+    #[allow(dead_code, reason = "echoed verbatim from the text, see `raw_id`")]
+    id: Option<IgnoredAny>,
     relation: String,
     #[serde(default)]
     side: Option<String>,
@@ -206,16 +226,13 @@ struct OpeningLine {
 
 /// Answers one non-blank line.
 fn answer_line(text: &str, params: &RelationParams) -> Answer {
+    // The line may be well-formed JSON whose id can be read even when the rest cannot be
+    // converted (for example a number too large for a double elsewhere).
+    let id = raw_id(text);
     let value: Value = match serde_json::from_str(text) {
         Ok(v) => v,
-        Err(e) => {
-            // The line may still be well-formed JSON whose id can be read (for example with a
-            // number too large for a double elsewhere, which is skipped unparsed here).
-            let id = serde_json::from_str::<IdOnly>(text).map_or(Value::Null, |x| x.id);
-            return Answer::error(id, format!("invalid JSON: {e}"));
-        }
+        Err(e) => return Answer::error(id, format!("invalid JSON: {e}")),
     };
-    let id = value.get("id").cloned().unwrap_or(Value::Null);
     if !value.is_object() {
         return Answer::error(id, "a query must be a JSON object");
     }
@@ -263,7 +280,7 @@ fn evaluate(q: &QueryLine, params: &RelationParams) -> anyhow::Result<Real> {
                 .map(|(i, b)| build_box(b, &format!("targets[{i}]")))
                 .collect::<anyhow::Result<Vec<Obb>>>()?;
             let views: Vec<ObjectGeom<'_>> = boxes.iter().map(ObjectGeom::from_box).collect();
-            Ok(surround(&ObjectGeom::from_box(&anchor), &views, params))
+            Ok(surround(&views, &ObjectGeom::from_box(&anchor), params))
         }
         RelationKind::ObjectArchitecture => {
             unexpected(q.anchor.is_some(), "anchor", relation)?;
@@ -358,7 +375,7 @@ fn build_box(spec: &BoxSpec, what: &str) -> anyhow::Result<Obb> {
     Obb::new(center, half, rotation).with_context(|| format!("{what} is not a valid box"))
 }
 
-fn build_room(spec: &RoomSpec) -> anyhow::Result<RoomGeometry> {
+fn build_room(spec: &RoomSpec) -> anyhow::Result<Room> {
     for (i, p) in spec.floor.iter().enumerate() {
         finite(p, &format!("room.floor[{i}]"))?;
     }
@@ -366,36 +383,21 @@ fn build_room(spec: &RoomSpec) -> anyhow::Result<RoomGeometry> {
         &[spec.floor_z, spec.height, spec.wall_thickness],
         "room.floor_z/height/wall_thickness",
     )?;
-    let openings = spec
-        .openings
-        .iter()
-        .enumerate()
-        .map(|(i, o)| {
-            let kind = match o.kind.to_ascii_lowercase().as_str() {
-                "door" => OpeningKind::Door,
-                "window" => OpeningKind::Window,
-                other => anyhow::bail!("room.openings[{i}].kind {other:?} is not \"door\" or \"window\""),
-            };
-            finite(&o.along, &format!("room.openings[{i}].along"))?;
-            finite(&o.height, &format!("room.openings[{i}].height"))?;
-            Ok(OpeningSpec {
-                kind,
-                wall: o.wall,
-                along: o.along,
-                height: o.height,
-            })
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?;
     let outline = spec.floor.iter().map(|p| Point2::new(p[0], p[1])).collect();
-    RoomGeometry::from_outline(
-        "room",
-        outline,
-        spec.floor_z,
-        spec.height,
-        spec.wall_thickness,
-        &openings,
-    )
-    .map_err(|e: RelationError| anyhow::anyhow!(e))
+    let mut room = RoomBuilder::polygon("room", outline)
+        .floor_z(spec.floor_z)
+        .wall_height(spec.height)
+        .wall_thickness(spec.wall_thickness);
+    for (i, o) in spec.openings.iter().enumerate() {
+        finite(&o.along, &format!("room.openings[{i}].along"))?;
+        finite(&o.height, &format!("room.openings[{i}].height"))?;
+        room = match o.kind.to_ascii_lowercase().as_str() {
+            "door" => room.door(o.wall, o.along, o.height),
+            "window" => room.window(o.wall, o.along, o.height),
+            other => anyhow::bail!("room.openings[{i}].kind {other:?} is not \"door\" or \"window\""),
+        };
+    }
+    room.build().map_err(|e| anyhow::anyhow!("room: {e}"))
 }
 
 #[cfg(test)]
@@ -421,5 +423,21 @@ mod tests {
         );
         let broken = answer("{not json");
         assert_eq!(broken["id"], Value::Null);
+    }
+
+    #[test]
+    fn ids_are_echoed_verbatim() {
+        let params = RelationParams::default();
+        for id in [
+            "123456789012345678901234567890",
+            "-0.10000000000000000000001",
+            "1e400",
+            r#""caf\u00e9""#,
+            r#"{"run": 3, "k": [1, 2.50]}"#,
+        ] {
+            let line = format!(r#"{{"id":{id},"relation":"beside"}}"#);
+            let out = serde_json::to_string(&answer_line(&line, &params)).unwrap();
+            assert!(out.starts_with(&format!(r#"{{"id":{id},"error":"#)), "{out}");
+        }
     }
 }

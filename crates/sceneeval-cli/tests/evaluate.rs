@@ -2,15 +2,12 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::{Path, PathBuf};
+mod common;
 
-use assert_cmd::Command;
+use std::path::Path;
+
+use common::{fixtures, record};
 use predicates::prelude::*;
-use serde_json::Value;
-
-fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
-}
 
 /// A scenes folder with fixture scenes 0 and 5, a malformed file and a scene whose asset is
 /// missing.
@@ -29,19 +26,7 @@ fn scenes_dir() -> tempfile::TempDir {
 }
 
 fn evaluate(scenes: &Path, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
-    let assets = format!("fixture={}", fixtures().join("assets").display());
-    Command::cargo_bin("sceneeval")
-        .unwrap()
-        .arg("evaluate")
-        .arg(scenes)
-        .args(["--assets", &assets, "--no-progress", "--out"])
-        .arg(out)
-        .args(extra)
-        .assert()
-}
-
-fn record(out: &Path, scene: &str) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(out.join(scene).join("eval.json")).unwrap()).unwrap()
+    common::evaluate(scenes, &fixtures().join("assets"), out, extra)
 }
 
 #[test]
@@ -57,7 +42,7 @@ fn broken_scenes_are_recorded_and_the_run_goes_on() {
 
     let ok = record(out.path(), "scene_5");
     assert_eq!(ok["status"], "ok");
-    assert_eq!(ok["schema"], "sceneeval.eval/1");
+    assert_eq!(ok["schema"], "sceneeval.eval/2");
     assert_eq!(ok["scene_id"], "5");
     assert_eq!(ok["report"]["schema"], "sceneeval.scene-report/1");
     // Fixture scene 5 is the colliding pair.

@@ -7,38 +7,17 @@ use std::path::Path;
 
 use assert_cmd::Command;
 use predicates::prelude::*;
+use sceneeval::geom::conventions::pose_from_yaw;
 use sceneeval::geom::{Isometry3, Point2, Point3, Side, Vector3};
 use sceneeval::io::assets::PlainFolderSource;
 use sceneeval::io::{AssetLibrary, GlbMesh, write_glb, write_scene_state};
-use sceneeval::scene::{RoomBuilder, Scene, SupportType};
+use sceneeval::scene::{Category, RoomBuilder, Scene, SupportType};
 
 /// A 1 x 0.5 x 0.8 m (width x depth x height) block asset, y up, front +z, origin at the
 /// bottom centre, with a sidecar category.
 fn write_asset(dir: &Path) {
     let (mut positions, mut indices) = (Vec::new(), Vec::new());
-    for k in 0..8u32 {
-        positions.push([
-            if k & 1 == 0 { -0.5 } else { 0.5 },
-            if k & 2 == 0 { 0.0 } else { 0.8 },
-            if k & 4 == 0 { -0.25 } else { 0.25 },
-        ]);
-    }
-    for t in [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ] {
-        indices.extend(t);
-    }
+    sceneeval_test_support::push_cuboid(&mut positions, &mut indices, [-0.5, 0.0, -0.25], [0.5, 0.8, 0.25]);
     write_glb(
         &dir.join("dresser.glb"),
         &[GlbMesh::new("dresser", positions, indices)],
@@ -83,10 +62,9 @@ fn write_scene(dir: &Path) -> String {
         .object(dresser)
         .add_box(
             "table",
-            "table",
-            Point3::new(2.0, 1.5, 0.375),
-            Vector3::new(1.2, 0.8, 0.75),
-            0.0,
+            Category::new("table"),
+            Vector3::new(0.6, 0.4, 0.375),
+            pose_from_yaw(Point3::new(2.0, 1.5, 0.375), 0.0),
         )
         .build()
         .unwrap();

@@ -31,7 +31,7 @@
 //! Width is the asset's x extent, depth its z extent (front to back) and height its y extent;
 //! in the object frame these become x, y and z.
 
-use sceneeval_io::GlbMesh;
+use sceneeval_io::{GlbImage, GlbMaterial, GlbMesh};
 
 use crate::primitives::{Part, bounds_of};
 
@@ -76,20 +76,135 @@ impl AssetDef {
         self.parts.iter().find(|p| p.name == name)
     }
 
-    /// The parts as GLB meshes (one node each, `f32` positions), for `sceneeval_io::write_glb`.
+    /// The parts as GLB meshes (one node each, `f32` positions, a matte material of the
+    /// part's colour from [`part_color`]), for `sceneeval_io::write_glb`. The painting's canvas
+    /// carries an embedded PNG landscape ([`landscape_png`]) mapped onto its front.
     pub fn glb_meshes(&self) -> Vec<GlbMesh> {
         self.parts
             .iter()
             .map(|p| {
-                GlbMesh::new(
+                let mesh = GlbMesh::new(
                     p.name.clone(),
                     // Narrowing to f32 is the point: glTF stores f32 positions.
                     p.positions.iter().map(|q| q.map(|c| c as f32)).collect(),
                     p.triangles.iter().flatten().copied().collect(),
-                )
+                );
+                let material = GlbMaterial::color(part_color(self.id, &p.name));
+                if (self.id, p.name.as_str()) == ("painting", "canvas") {
+                    // The picture spans the canvas's x (u) and y (v runs down the image).
+                    let (lo, hi) = p.bounds();
+                    let uvs = p
+                        .positions
+                        .iter()
+                        .map(|q| {
+                            [
+                                ((q[0] - lo[0]) / (hi[0] - lo[0])) as f32,
+                                (1.0 - (q[1] - lo[1]) / (hi[1] - lo[1])) as f32,
+                            ]
+                        })
+                        .collect();
+                    mesh.with_uvs(uvs)
+                        .with_material(material.with_texture(GlbImage::EmbeddedPng(landscape_png())))
+                } else {
+                    mesh.with_material(material)
+                }
             })
             .collect()
     }
+}
+
+/// Linear RGB colours of the catalog's materials.
+mod palette {
+    pub const WOOD: [f32; 3] = [0.40, 0.22, 0.10];
+    pub const LIGHT_WOOD: [f32; 3] = [0.60, 0.42, 0.24];
+    pub const DARK_WOOD: [f32; 3] = [0.22, 0.11, 0.05];
+    pub const WHITE_FABRIC: [f32; 3] = [0.85, 0.85, 0.82];
+    pub const PILLOW: [f32; 3] = [0.70, 0.75, 0.85];
+    pub const GREY_FABRIC: [f32; 3] = [0.32, 0.33, 0.35];
+    pub const BLACK: [f32; 3] = [0.03, 0.03, 0.03];
+    pub const METAL: [f32; 3] = [0.55, 0.55, 0.57];
+    pub const BRASS: [f32; 3] = [0.65, 0.45, 0.15];
+    pub const CREAM: [f32; 3] = [0.90, 0.82, 0.62];
+    pub const WARDROBE: [f32; 3] = [0.78, 0.74, 0.66];
+    pub const RUG_RED: [f32; 3] = [0.50, 0.07, 0.05];
+    pub const FRAME: [f32; 3] = [0.35, 0.20, 0.06];
+    pub const SCREEN: [f32; 3] = [0.02, 0.03, 0.05];
+    pub const TERRACOTTA: [f32; 3] = [0.55, 0.18, 0.07];
+    pub const FOLIAGE: [f32; 3] = [0.07, 0.32, 0.06];
+    pub const CARDBOARD: [f32; 3] = [0.55, 0.36, 0.18];
+    pub const LABEL: [f32; 3] = [0.90, 0.90, 0.88];
+}
+
+/// The linear RGB base colour of part `part` of asset `asset`, chosen to match the
+/// descriptions (a grey fabric sofa, a white mattress, a wooden nightstand with a metal handle,
+/// a black TV frame, ...).
+pub fn part_color(asset: &str, part: &str) -> [f32; 3] {
+    use palette::*;
+    match (asset, part) {
+        ("bed", "mattress") => WHITE_FABRIC,
+        ("bed", p) if p.starts_with("pillow") => PILLOW,
+        ("bed" | "nightstand" | "chair", _) => {
+            if part == "handle" {
+                METAL
+            } else {
+                WOOD
+            }
+        }
+        ("desk" | "coffee_table" | "bookshelf", _) => LIGHT_WOOD,
+        ("dining_table", _) => DARK_WOOD,
+        ("sofa", p) if p.starts_with("leg") => BLACK,
+        ("sofa", _) => GREY_FABRIC,
+        ("wardrobe" | "tv_stand", p) if p.starts_with("handle") => METAL,
+        ("wardrobe", _) => WARDROBE,
+        ("tv_stand", _) => DARK_WOOD,
+        ("table_lamp", "shade") => CREAM,
+        ("table_lamp", _) => BRASS,
+        ("floor_lamp", "shade") | ("ceiling_lamp", "shade" | "canopy") => WHITE_FABRIC,
+        ("floor_lamp" | "ceiling_lamp", _) => BLACK,
+        ("rug", _) => RUG_RED,
+        ("painting", "canvas") => [1.0, 1.0, 1.0],
+        ("painting", _) => FRAME,
+        ("tv", "screen") => SCREEN,
+        ("tv", _) => BLACK,
+        ("plant", "pot") => TERRACOTTA,
+        ("plant", _) => FOLIAGE,
+        ("storage_box", "label") => LABEL,
+        ("storage_box", _) => CARDBOARD,
+        _ => [0.8, 0.8, 0.8],
+    }
+}
+
+/// The painting's picture: a 32 x 24 PNG of a blue sky with a yellow sun over green hills,
+/// drawn by code (byte-identical on every run).
+pub fn landscape_png() -> Vec<u8> {
+    let (w, h) = (32u32, 24u32);
+    let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let (fx, fy) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+            let horizon = 14.0 + 2.5 * (fx * 0.35).sin();
+            let sun = (fx - 23.0).powi(2) + (fy - 6.0).powi(2) < 12.0;
+            let px: [u8; 4] = if fy > horizon {
+                // Hills, darker towards the bottom.
+                let shade = (fy - horizon) / (f64::from(h) - horizon);
+                [(70.0 - 30.0 * shade) as u8, (150.0 - 50.0 * shade) as u8, 50, 255]
+            } else if sun {
+                [250, 215, 60, 255]
+            } else {
+                // Sky, lighter towards the horizon.
+                let t = fy / horizon;
+                [(90.0 + 80.0 * t) as u8, (150.0 + 60.0 * t) as u8, 230, 255]
+            };
+            rgba.extend_from_slice(&px);
+        }
+    }
+    let mut png = Vec::new();
+    // Encoding an in-memory image of the right size cannot fail; an empty result would make
+    // the canvas fall back to its white base colour.
+    if let Some(image) = image::RgbaImage::from_raw(w, h, rgba) {
+        let _ = image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png);
+    }
+    png
 }
 
 /// A box part from x, y and z ranges (asset frame: y up, +z front).
@@ -512,6 +627,37 @@ mod tests {
         let bed = asset("bed").unwrap();
         assert_eq!(bed.part("headboard").unwrap().bounds().1[1], 1.1);
         assert_eq!(bed.part("mattress").unwrap().bounds().1[1], 0.55);
+    }
+
+    #[test]
+    fn every_part_has_a_colour_matching_its_description() {
+        for a in catalog() {
+            for p in &a.parts {
+                assert_ne!(part_color(a.id, &p.name), [0.8, 0.8, 0.8], "{}/{}", a.id, p.name);
+            }
+        }
+        assert_eq!(part_color("sofa", "cushion_0"), palette::GREY_FABRIC);
+        assert_eq!(part_color("bed", "mattress"), palette::WHITE_FABRIC);
+        assert_eq!(part_color("nightstand", "handle"), palette::METAL);
+        assert_eq!(part_color("tv", "panel"), palette::BLACK);
+        let meshes = asset("painting").unwrap().glb_meshes();
+        let canvas = meshes.iter().find(|m| m.name == "canvas").unwrap();
+        assert!(canvas.uvs.is_some());
+        assert!(canvas.material.as_ref().unwrap().texture.is_some());
+    }
+
+    #[test]
+    fn the_landscape_is_a_small_png_with_sky_sun_and_hills() {
+        let png = landscape_png();
+        let img = image::load_from_memory(&png).unwrap().to_rgba8();
+        assert_eq!(img.dimensions(), (32, 24));
+        // Texel (23, 6) is the sun's centre; (2, 1) sky; (2, 22) hills.
+        assert_eq!(img.get_pixel(23, 6).0, [250, 215, 60, 255]);
+        let sky = img.get_pixel(2, 1).0;
+        assert!(sky[2] > sky[1] && sky[1] > sky[0], "{sky:?}");
+        let hill = img.get_pixel(2, 22).0;
+        assert!(hill[1] > hill[0] && hill[1] > hill[2], "{hill:?}");
+        assert_eq!(png, landscape_png(), "deterministic");
     }
 
     #[test]

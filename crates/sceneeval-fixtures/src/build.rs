@@ -14,6 +14,7 @@ use sceneeval_scene::{Scene, SceneObject};
 
 use crate::FixtureError;
 use crate::spec::{Model, Placement, SceneSpec};
+use sceneeval_geom::conventions::pose_from_yaw;
 
 /// The rigid pose of a placement: its yaw about +z and its bottom centre as translation.
 pub fn placement_pose(p: &Placement) -> Isometry3 {
@@ -67,7 +68,7 @@ where
                 let size = Vector3::from(*size).component_mul(&scale);
                 // The box's origin is its centre, half its height above the bottom centre.
                 let center = pose * Point3::new(0.0, 0.0, 0.5 * size.z);
-                SceneObject::new_box(id, center, size, p.yaw_deg.to_radians())
+                SceneObject::new_box(id, size * 0.5, pose_from_yaw(center, p.yaw_deg.to_radians()))
                     .map_err(scene_err)?
                     .with_category(*category)
                     .with_description(*description)

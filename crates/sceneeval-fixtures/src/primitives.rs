@@ -8,6 +8,8 @@
 
 use std::f64::consts::PI;
 
+use sceneeval_geom::{CUBOID_TRIANGLES, cuboid_corner};
+
 /// One named part of an asset: a closed triangle mesh in the asset frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Part {
@@ -37,34 +39,10 @@ fn unit_circle(k: usize, n: usize) -> (f64, f64) {
 impl Part {
     /// An axis-aligned box spanning `min` to `max` (8 vertices, 12 triangles).
     pub fn cuboid(name: &str, min: [f64; 3], max: [f64; 3]) -> Part {
-        let positions = (0..8)
-            .map(|k| {
-                [
-                    if k & 1 == 0 { min[0] } else { max[0] },
-                    if k & 2 == 0 { min[1] } else { max[1] },
-                    if k & 4 == 0 { min[2] } else { max[2] },
-                ]
-            })
-            .collect();
-        // Bit 0 selects +x, bit 1 +y, bit 2 +z; each face counter-clockwise seen from outside.
-        let triangles = vec![
-            [0, 2, 1],
-            [1, 2, 3], // -z
-            [4, 5, 6],
-            [5, 7, 6], // +z
-            [0, 1, 4],
-            [1, 5, 4], // -y
-            [2, 6, 3],
-            [3, 6, 7], // +y
-            [0, 4, 2],
-            [2, 4, 6], // -x
-            [1, 3, 5],
-            [3, 7, 5], // +x
-        ];
         Part {
             name: name.to_owned(),
-            positions,
-            triangles,
+            positions: (0..8).map(|k| cuboid_corner(k, min, max)).collect(),
+            triangles: CUBOID_TRIANGLES.to_vec(),
         }
     }
 

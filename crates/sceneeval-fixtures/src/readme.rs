@@ -80,7 +80,8 @@ pub fn readme(assets: &[AssetDef], expected: &Expected) -> String {
          what the generator writes.\n\n\
          ## Files\n\n\
          - `assets/<id>.glb`: procedural furniture as binary glTF, y up, front toward +z, metres, \
-         origin at the bottom centre of the bounds; `assets/<id>.json` holds its `category` and \
+         origin at the bottom centre of the bounds, a matte base colour per part (the painting's \
+         canvas shows a small embedded PNG landscape); `assets/<id>.json` holds its `category` and \
          `description`. Scenes refer to them as `{prefix}.<id>`; load them with \
          `--assets {prefix}={dir}` (plain folder layout).\n\
          - `scenes/scene_<N>.json`: sceneState scenes written by `sceneeval-io`. Every object \

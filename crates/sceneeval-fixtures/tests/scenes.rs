@@ -11,8 +11,10 @@ use std::sync::OnceLock;
 
 use sceneeval_annotation::{Annotations, Severity};
 use sceneeval_fixtures::expected::{Expected, ExpectedScene};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Obb, Point2, Point3, Polygon2, Real, Side, Vector2, Vector3};
 use sceneeval_io::{AssetLibrary, ReadOptions, read_scene_state};
+use sceneeval_scene::Category;
 use sceneeval_scene::{OpeningKind, Scene, SceneObject, SupportType};
 
 /// Tolerance on lengths: the assets store f32 coordinates (about 1e-7 m of rounding) and
@@ -818,10 +820,9 @@ fn the_navigability_check_sees_splits_narrow_gaps_and_blocked_doors() {
             .room_builder(room())
             .add_box(
                 "shelf",
-                "bookshelf",
-                Point3::new(0.5 * length, 2.0, z),
-                Vector3::new(length, 0.3, 0.2),
-                0.0,
+                Category::new("bookshelf"),
+                Vector3::new(length, 0.3, 0.2) * 0.5,
+                pose_from_yaw(Point3::new(0.5 * length, 2.0, z), 0.0),
             )
             .build()
             .unwrap()
@@ -841,10 +842,9 @@ fn the_navigability_check_sees_splits_narrow_gaps_and_blocked_doors() {
         .room_builder(room())
         .add_box(
             "w",
-            "wardrobe",
-            Point3::new(0.95, 0.3, 1.0),
-            Vector3::new(1.0, 0.6, 2.0),
-            0.0,
+            Category::new("wardrobe"),
+            Vector3::new(0.5, 0.3, 1.0),
+            pose_from_yaw(Point3::new(0.95, 0.3, 1.0), 0.0),
         )
         .build()
         .unwrap();
@@ -856,9 +856,24 @@ fn the_navigability_check_sees_splits_narrow_gaps_and_blocked_doors() {
 fn vertex_depth_of_two_boxes() {
     // Unit boxes whose centres are 0.9 m apart in x overlap by 0.1 m; the corners of each
     // inside the other are 0.1 m from the nearest face.
-    let a = SceneObject::new_box("a", Point3::new(0.0, 0.0, 0.5), Vector3::repeat(1.0), 0.0).unwrap();
-    let b = SceneObject::new_box("b", Point3::new(0.9, 0.2, 0.6), Vector3::new(1.0, 0.5, 0.5), 0.0).unwrap();
+    let a = SceneObject::new_box(
+        "a",
+        Vector3::repeat(0.5),
+        pose_from_yaw(Point3::new(0.0, 0.0, 0.5), 0.0),
+    )
+    .unwrap();
+    let b = SceneObject::new_box(
+        "b",
+        Vector3::new(0.5, 0.25, 0.25),
+        pose_from_yaw(Point3::new(0.9, 0.2, 0.6), 0.0),
+    )
+    .unwrap();
     assert!((vertex_depth(&a, &b) - 0.1).abs() < 1e-12);
-    let far = SceneObject::new_box("c", Point3::new(3.0, 0.0, 0.5), Vector3::repeat(1.0), 0.0).unwrap();
+    let far = SceneObject::new_box(
+        "c",
+        Vector3::repeat(0.5),
+        pose_from_yaw(Point3::new(3.0, 0.0, 0.5), 0.0),
+    )
+    .unwrap();
     assert_eq!(vertex_depth(&a, &far), 0.0);
 }

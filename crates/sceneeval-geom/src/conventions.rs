@@ -31,7 +31,8 @@
 use std::fmt;
 use std::str::FromStr;
 
-use crate::{Real, Rotation3, Vector3};
+use crate::na::{Translation3, UnitQuaternion};
+use crate::{Isometry3, Point3, Real, Rotation3, Vector3};
 
 /// World up direction, `+z`.
 pub const UP: Vector3 = Vector3::new(0.0, 0.0, 1.0);
@@ -68,6 +69,25 @@ pub fn object_from_asset() -> Rotation3 {
 /// A rotation about +z by `yaw` radians.
 pub fn rotation_from_yaw(yaw: Real) -> Rotation3 {
     Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
+}
+
+/// The pose (`world_from_object`) of an upright object whose frame origin is at `origin`,
+/// turned by `yaw` radians about +z: the rigid transform every API that places an object by
+/// its yaw builds, so that an object created from a yaw and one moved to the same yaw have
+/// bit-identical poses.
+///
+/// ```
+/// use sceneeval_geom::{conventions::pose_from_yaw, Point3, Vector3};
+/// let pose = pose_from_yaw(Point3::new(1.0, 2.0, 0.5), std::f64::consts::FRAC_PI_2);
+/// // Yaw 90 degrees turns the object's front (-y) to world +x.
+/// assert!((pose * -Vector3::y() - Vector3::x()).norm() < 1e-12);
+/// assert_eq!(pose * Point3::origin(), Point3::new(1.0, 2.0, 0.5));
+/// ```
+pub fn pose_from_yaw(origin: Point3, yaw: Real) -> Isometry3 {
+    Isometry3::from_parts(
+        Translation3::from(origin.coords),
+        UnitQuaternion::from_rotation_matrix(&rotation_from_yaw(yaw)),
+    )
 }
 
 /// The yaw of a rotation: the z angle of its XYZ Euler decomposition,

@@ -59,6 +59,14 @@ pub enum GeomError {
         /// Index of the second edge.
         second: usize,
     },
+    /// An input is too large or too intricate to process within a stated bound on the work.
+    #[error("{what} is too complex to check: it needs more than {limit} steps")]
+    TooComplex {
+        /// What was refused.
+        what: &'static str,
+        /// The bound on the work.
+        limit: usize,
+    },
     /// A value that must be finite is not.
     #[error("{what} is not finite")]
     NonFinite {

@@ -46,6 +46,7 @@ mod penetration;
 pub mod planar;
 mod polygon;
 mod ray;
+mod shapes;
 mod solid;
 mod tritri;
 
@@ -55,8 +56,9 @@ pub use error::GeomError;
 pub use mesh::{Mesh, RayHit};
 pub use obb::Obb;
 pub use penetration::{DepthSearch, Overlap, Penetration, PenetrationQuery};
-pub use polygon::Polygon2;
+pub use polygon::{MAX_EDGE_PAIRS, Polygon2};
 pub use ray::{Plane, Ray};
+pub use shapes::{CUBOID_TRIANGLES, cuboid_corner, weld_vertices};
 
 /// The scalar type of every public geometry value (metres, radians).
 pub type Real = f64;

@@ -133,45 +133,6 @@ impl Mesh {
         })
     }
 
-    /// A closed box centred at the origin with the given half extents (8 vertices, 12
-    /// outward triangles). Zero half extents are allowed along at most one axis (a flat box).
-    pub fn cuboid(half_extents: &Vector3) -> Result<Self, GeomError> {
-        if !half_extents.iter().all(|v| v.is_finite()) {
-            return Err(GeomError::NonFinite {
-                what: "box half extents",
-            });
-        }
-        if half_extents.iter().any(|&v| v < 0.0) {
-            return Err(GeomError::NegativeExtent((*half_extents).into()));
-        }
-        let h = half_extents;
-        let vertices = (0..8)
-            .map(|k| {
-                Point3::new(
-                    if k & 1 == 0 { -h.x } else { h.x },
-                    if k & 2 == 0 { -h.y } else { h.y },
-                    if k & 4 == 0 { -h.z } else { h.z },
-                )
-            })
-            .collect();
-        // Outward, counter-clockwise seen from outside.
-        let triangles = vec![
-            [0, 2, 1],
-            [1, 2, 3], // -z
-            [4, 5, 6],
-            [5, 7, 6], // +z
-            [0, 1, 4],
-            [1, 5, 4], // -y
-            [2, 6, 3],
-            [3, 6, 7], // +y
-            [0, 4, 2],
-            [2, 4, 6], // -x
-            [1, 3, 5],
-            [3, 7, 5], // +x
-        ];
-        Mesh::new(vertices, triangles)
-    }
-
     /// This mesh mapped by the affine map `p -> linear * p + translation`. A map with negative
     /// determinant (a mirror) reverses every triangle so that the winding stays outward.
     pub fn transformed(&self, linear: &Matrix3, translation: &Vector3) -> Result<Self, GeomError> {
@@ -457,15 +418,7 @@ fn signed_volume<'a>(v: &[Point3], tris: impl Iterator<Item = &'a [u32; 3]>) -> 
 /// component outward. Returns whether the whole mesh is closed and consistently orientable.
 fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool {
     // Weld vertices at identical positions so that split seams (normals, UVs) still connect.
-    let mut weld: HashMap<[u64; 3], u32> = HashMap::with_capacity(vertices.len());
-    let ids: Vec<u32> = vertices
-        .iter()
-        .map(|p| {
-            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-            let next = weld.len() as u32;
-            *weld.entry(key).or_insert(next)
-        })
-        .collect();
+    let (ids, _) = crate::weld_vertices(vertices);
     let welded = |t: &[u32; 3]| [ids[t[0] as usize], ids[t[1] as usize], ids[t[2] as usize]];
 
     // Undirected edge -> triangles using it.

@@ -27,6 +27,13 @@ impl<'de> serde::Deserialize<'de> for Polygon2 {
 
 impl Polygon2 {
     /// A validated simple polygon.
+    ///
+    /// # Errors
+    /// [`GeomError::NonFinitePoint`], [`GeomError::TooFewPoints`], [`GeomError::ZeroArea`],
+    /// [`GeomError::SelfIntersecting`] (naming the first such pair of edges), and
+    /// [`GeomError::TooComplex`] for an outline whose simplicity check would need more than
+    /// [`MAX_EDGE_PAIRS`] edge pairs (see the cost note on the check below: only outlines with
+    /// thousands of overlapping long edges come near it).
     pub fn new(points: Vec<Point2>) -> Result<Self, GeomError> {
         for (index, p) in points.iter().enumerate() {
             if !p.x.is_finite() || !p.y.is_finite() {
@@ -52,7 +59,7 @@ impl Polygon2 {
         if poly.signed_area().abs() <= Real::EPSILON * poly.bbox_diagonal_sq() {
             return Err(GeomError::ZeroArea);
         }
-        if let Some((first, second)) = poly.find_self_intersection() {
+        if let Some((first, second)) = poly.find_self_intersection()? {
             return Err(GeomError::SelfIntersecting { first, second });
         }
         Ok(poly)
@@ -242,36 +249,85 @@ impl Polygon2 {
         inside.clamp(0.0, 1.0)
     }
 
-    /// The first pair of non-adjacent edges that touch or cross, if any (O(n^2)).
-    fn find_self_intersection(&self) -> Option<(usize, usize)> {
+    /// A pair of edges that makes the outline non-simple, if any: non-adjacent edges that
+    /// touch or cross, or adjacent edges that fold back on each other.
+    ///
+    /// Sort and sweep along x: edges are visited by their lowest x, and each is tested only
+    /// against the edges whose x range reaches it (edges whose x ranges are apart cannot
+    /// meet). The cost is `O(n log n + k)` for `k` pairs of edges whose x ranges overlap: about
+    /// `n` for a floor outline (a vertical line meets it a few times), quadratic only for
+    /// outlines such as a comb of thousands of long teeth. Those are refused beyond
+    /// [`MAX_EDGE_PAIRS`] candidate pairs rather than stall.
+    fn find_self_intersection(&self) -> Result<Option<(usize, usize)>, GeomError> {
         let n = self.points.len();
-        for i in 0..n {
+        let x_range = |i: usize| {
             let (a, b) = self.edge(i);
-            for j in (i + 1)..n {
-                let adjacent = j == i + 1 || (i == 0 && j == n - 1);
-                let (c, d) = self.edge(j);
-                if adjacent {
-                    // Adjacent edges share one point; they are bad only if they fold back on
-                    // each other (collinear and overlapping beyond the shared point).
-                    let shared = if j == i + 1 { b } else { a };
-                    let (u, v) = if j == i + 1 {
-                        (a - shared, d - shared)
-                    } else {
-                        (b - shared, c - shared)
-                    };
-                    if u.perp(&v) == 0.0 && u.dot(&v) > 0.0 {
-                        return Some((i, j));
-                    }
-                    continue;
-                }
-                if segments_intersect(&a, &b, &c, &d) {
-                    return Some((i, j));
+            (a.x.min(b.x), a.x.max(b.x))
+        };
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_unstable_by(|&i, &j| x_range(i).0.total_cmp(&x_range(j).0).then(i.cmp(&j)));
+        // Count the candidate pairs first (n log n): edge `order[k]` meets the earlier edges
+        // whose x range ends at or after its start, i.e. `k` minus those ending before it (an
+        // edge ending before another's start also starts before it, so comes earlier).
+        let mut ends: Vec<Real> = (0..n).map(|i| x_range(i).1).collect();
+        ends.sort_unstable_by(Real::total_cmp);
+        let pairs: usize = order
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| {
+                let lo = x_range(i).0;
+                k - ends.partition_point(|&e| e < lo)
+            })
+            .sum();
+        if pairs > MAX_EDGE_PAIRS {
+            return Err(GeomError::TooComplex {
+                what: "polygon outline",
+                limit: MAX_EDGE_PAIRS,
+            });
+        }
+        let mut active: Vec<usize> = Vec::new();
+        let mut found: Option<(usize, usize)> = None;
+        for &i in &order {
+            let (lo, _) = x_range(i);
+            active.retain(|&j| x_range(j).1 >= lo);
+            for &j in &active {
+                let (first, second) = (i.min(j), i.max(j));
+                if self.edges_conflict(first, second) && found.is_none_or(|f| (first, second) < f) {
+                    found = Some((first, second));
                 }
             }
+            active.push(i);
         }
-        None
+        #[cfg(test)]
+        tests::EDGE_PAIRS.with(|c| c.set(c.get() + pairs));
+        Ok(found)
+    }
+
+    /// Whether edges `i < j` make the outline non-simple.
+    fn edges_conflict(&self, i: usize, j: usize) -> bool {
+        let n = self.points.len();
+        let (a, b) = self.edge(i);
+        let (c, d) = self.edge(j);
+        let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+        if adjacent {
+            // Adjacent edges share one point; they are bad only if they fold back on each
+            // other (collinear and overlapping beyond the shared point).
+            let shared = if j == i + 1 { b } else { a };
+            let (u, v) = if j == i + 1 {
+                (a - shared, d - shared)
+            } else {
+                (b - shared, c - shared)
+            };
+            return u.perp(&v) == 0.0 && u.dot(&v) > 0.0;
+        }
+        segments_intersect(&a, &b, &c, &d)
     }
 }
+
+/// The most candidate edge pairs [`Polygon2::new`] examines when checking that an outline is
+/// simple (about half a second of work); outlines needing more are refused with
+/// [`GeomError::TooComplex`].
+pub const MAX_EDGE_PAIRS: usize = 100_000_000;
 
 /// Whether the closed segments `a`-`b` and `c`-`d` share a point.
 fn segments_intersect(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> bool {
@@ -296,6 +352,56 @@ fn on_segment(a: &Point2, b: &Point2, p: &Point2) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Candidate edge pairs examined by `find_self_intersection` on this thread.
+        pub(super) static EDGE_PAIRS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    #[test]
+    fn simplicity_check_examines_about_n_pairs_for_a_floor_outline() {
+        // A wobbly 100,000-gon: the sweep examines a few pairs per edge.
+        let n = 100_000;
+        let pts = sceneeval_test_support::wobbly_outline(n);
+        EDGE_PAIRS.with(|c| c.set(0));
+        let poly = Polygon2::new(pts.clone()).unwrap();
+        let pairs = EDGE_PAIRS.with(Cell::get);
+        // About 7 pairs per edge (near the outline's leftmost and rightmost points its edges
+        // run almost vertically, and a few hundred of them overlap in x), not n^2 / 2 = 5e9.
+        assert!(pairs < 10 * n as usize, "{pairs} pairs");
+        assert_eq!(poly.len(), n as usize);
+        // The same outline with one vertex pulled across it is found.
+        let mut bad = pts;
+        bad[500] = p(-30.0, 0.1);
+        assert!(matches!(
+            Polygon2::new(bad),
+            Err(GeomError::SelfIntersecting { .. })
+        ));
+    }
+
+    #[test]
+    fn a_comb_beyond_the_pair_budget_is_refused() {
+        // 12,000 teeth spanning the whole width: every long edge overlaps every other in x
+        // (about 2.9e8 candidate pairs), so the outline is refused instead of checked.
+        let teeth = 12_000;
+        let mut pts = vec![p(0.0, 0.0)];
+        for k in 0..teeth {
+            let y = f64::from(k) + 1.0;
+            pts.push(p(100.0, y - 0.75));
+            pts.push(p(100.0, y - 0.25));
+            pts.push(p(0.5, y - 0.25));
+            pts.push(p(0.5, y));
+        }
+        pts.push(p(0.0, f64::from(teeth)));
+        assert_eq!(
+            Polygon2::new(pts),
+            Err(GeomError::TooComplex {
+                what: "polygon outline",
+                limit: MAX_EDGE_PAIRS,
+            })
+        );
+    }
 
     fn p(x: f64, y: f64) -> Point2 {
         Point2::new(x, y)

@@ -605,15 +605,7 @@ fn edge_neighbours(edges: &[HalfEdge], mut f: impl FnMut(&HalfEdge, &HalfEdge)) 
 
 /// Ids of vertices merged by exact position.
 fn weld_ids(mesh: &Mesh) -> Vec<u32> {
-    let mut ids: HashMap<[u64; 3], u32> = HashMap::with_capacity(mesh.vertices().len());
-    mesh.vertices()
-        .iter()
-        .map(|p| {
-            let next = ids.len() as u32;
-            *ids.entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-                .or_insert(next)
-        })
-        .collect()
+    crate::weld_vertices(mesh.vertices()).0
 }
 
 /// Angle-weighted pseudo-normals of a closed mesh's faces, edges and (welded) vertices.

@@ -136,7 +136,7 @@ pub enum IoError {
     },
     /// No asset source is registered for a model id's prefix.
     #[error("model id {model_id:?}: no asset source for prefix {prefix:?} (registered: {})",
-        if .registered.is_empty() { "none; pass --assets PREFIX=DIR".to_owned() } else { .registered.join(", ") })]
+        if .registered.is_empty() { "none".to_owned() } else { .registered.join(", ") })]
     UnknownPrefix {
         /// The model id.
         model_id: String,
@@ -174,6 +174,18 @@ pub enum IoError {
         /// Why it was refused.
         reason: String,
     },
+    /// A file an asset refers to (an external glTF buffer) could not be read; the cause names
+    /// that file.
+    #[error("{}: cannot read {what}", .path.display())]
+    Reference {
+        /// The asset file that refers to it.
+        path: PathBuf,
+        /// What was referred to, e.g. `buffer 0 ("tri.bin")`.
+        what: String,
+        /// Why it could not be read.
+        #[source]
+        source: Box<IoError>,
+    },
     /// A file or a declared size is over a limit, checked before anything is allocated for it.
     #[error("{}: the {what} holds {size} bytes, over the limit of {limit}", .path.display())]
     TooLarge {
@@ -185,6 +197,44 @@ pub enum IoError {
         size: u64,
         /// The limit in bytes.
         limit: u64,
+    },
+    /// An asset has more triangles than [`crate::Limits::max_triangles`] allows (every
+    /// instance of a mesh counted), found from the declared sizes before decoding.
+    #[error("{}: the asset has {triangles} triangles, over the budget of {limit}", .path.display())]
+    TooManyTriangles {
+        /// The asset file.
+        path: PathBuf,
+        /// Its triangle count.
+        triangles: u64,
+        /// The budget.
+        limit: u64,
+    },
+    /// Loading an asset would need more memory than [`crate::Limits::max_asset_memory_bytes`]
+    /// allows (estimated from the declared sizes before decoding).
+    #[error("{}: loading {vertices} vertices and {triangles} triangles needs about {estimate} bytes, over the budget of {limit}", .path.display())]
+    OverMemoryBudget {
+        /// The asset file.
+        path: PathBuf,
+        /// Its vertex count.
+        vertices: u64,
+        /// Its triangle count.
+        triangles: u64,
+        /// The estimated peak memory in bytes.
+        estimate: u64,
+        /// The budget in bytes.
+        limit: u64,
+    },
+    /// A text file (a scene file) is not valid UTF-8.
+    #[error("{}:{line}:{column}: not valid UTF-8 (byte offset {offset})", .path.display())]
+    InvalidUtf8 {
+        /// The file.
+        path: PathBuf,
+        /// Offset of the first invalid byte from the start of the file.
+        offset: usize,
+        /// 1-based line of that byte.
+        line: usize,
+        /// 1-based column (in bytes) of that byte.
+        column: usize,
     },
     /// An asset file holds no triangles.
     #[error("{}: the file holds no triangles", .path.display())]
@@ -264,6 +314,23 @@ impl IoError {
         }
     }
 
+    /// Decodes `bytes` read from `path` as UTF-8, naming the byte offset, line and column of
+    /// the first invalid byte otherwise.
+    pub(crate) fn utf8<'b>(path: &std::path::Path, bytes: &'b [u8]) -> Result<&'b str, IoError> {
+        std::str::from_utf8(bytes).map_err(|e| {
+            let offset = e.valid_up_to();
+            let before = &bytes[..offset];
+            let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+            let line_start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            IoError::InvalidUtf8 {
+                path: path.to_owned(),
+                offset,
+                line,
+                column: offset - line_start + 1,
+            }
+        })
+    }
+
     /// The JSON pointer the error refers to, if it refers to a place in a sceneState file.
     pub fn pointer(&self) -> Option<&str> {
         match self {
@@ -295,7 +362,11 @@ impl IoError {
             | IoError::ObjectAsset { path, .. }
             | IoError::BadAssetFile { path, .. }
             | IoError::RejectedUri { path, .. }
+            | IoError::Reference { path, .. }
             | IoError::TooLarge { path, .. }
+            | IoError::TooManyTriangles { path, .. }
+            | IoError::OverMemoryBudget { path, .. }
+            | IoError::InvalidUtf8 { path, .. }
             | IoError::EmptyMesh { path }
             | IoError::AssetGeometry { path, .. }
             | IoError::BadMetadata { path, .. } => Some(path),

@@ -255,6 +255,17 @@ pub fn object_from_asset_scaled(scale: &Vector3) -> Matrix3 {
     Matrix3::from_diagonal(scale) * object_from_asset().matrix()
 }
 
+/// The linear map from a mesh file's coordinates to the (unscaled) object frame:
+/// `object_from_asset() * alignment`, where `alignment` is the asset source's rotation for
+/// datasets not stored y-up with front +z (see `crate::assets::AssetLocation::alignment`).
+/// Geometry and appearance loading both use this, so their meshes agree vertex for vertex.
+pub fn object_from_file(alignment: Option<&Rotation3>) -> Matrix3 {
+    match alignment {
+        Some(e) => object_from_asset().matrix() * e.matrix(),
+        None => *object_from_asset().matrix(),
+    }
+}
+
 fn isometry(rotation: &Rotation3, translation: &Vector3) -> Isometry3 {
     Isometry3::from_parts(
         Translation3::from(*translation),

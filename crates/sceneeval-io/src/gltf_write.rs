@@ -1,13 +1,18 @@
 //! Writing binary glTF 2.0 (`.glb`) files: one node and one triangle mesh per [`GlbMesh`].
 //!
-//! The writer exists for generated test assets (the fixtures) and for exporting meshes; it
-//! writes geometry only (positions and indices, no normals or materials). Output is
+//! The writer exists for generated test assets (the fixtures) and for exporting meshes. It
+//! writes positions and indices, and on request vertex colours (`COLOR_0`), texture
+//! coordinates (`TEXCOORD_0`) and a material ([`GlbMaterial`]: base colour factor, alpha mode,
+//! a base colour texture embedded in the file or referred to by URI); never normals. Output is
 //! deterministic: identical input gives byte-identical files.
 //!
 //! Layout of the file: one little-endian binary buffer holding, for each mesh in order, its
-//! positions (`f32` x, y, z) then its indices (`u32`); per mesh a `POSITION` accessor with
-//! `min`/`max` and an index accessor; per mesh one node (no transform, named like the mesh)
-//! that is a root of the single, default scene.
+//! positions (`f32` x, y, z), its indices (`u32`), then its colours (`f32` RGBA) and texture
+//! coordinates (`f32` u, v) if any, then an embedded image (padded to 4 bytes); per mesh a
+//! `POSITION` accessor with `min`/`max`, an index accessor and one accessor per extra
+//! attribute; per mesh one node (no transform, named like the mesh) that is a root of the
+//! single, default scene; per mesh with a material one material (and one texture and image
+//! when it has a texture; the default sampler).
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
@@ -29,6 +34,56 @@ pub struct GlbMesh {
     pub positions: Vec<[f32; 3]>,
     /// Triangle vertex indices, three per triangle, counter-clockwise seen from outside.
     pub indices: Vec<u32>,
+    /// Linear RGBA vertex colours (`COLOR_0`), one per position, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colors: Option<Vec<[f32; 4]>>,
+    /// Texture coordinates (`TEXCOORD_0`, `(0, 0)` = the image's top-left corner), one per
+    /// position, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uvs: Option<Vec<[f32; 2]>>,
+    /// The mesh's material, if any (without one, readers use glTF's default: white).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<GlbMaterial>,
+}
+
+/// A material for [`GlbMesh::with_material`]: glTF's metallic-roughness model reduced to what
+/// generated assets need.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct GlbMaterial {
+    /// Linear RGBA base colour factor.
+    pub base_color: [f32; 4],
+    /// `OPAQUE` (false) or `BLEND` (true) alpha mode.
+    #[serde(default)]
+    pub blend: bool,
+    /// A base colour texture (sampled with `TEXCOORD_0`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<GlbImage>,
+}
+
+impl GlbMaterial {
+    /// An opaque, untextured material of linear RGB colour `rgb`.
+    pub fn color(rgb: [f32; 3]) -> Self {
+        GlbMaterial {
+            base_color: [rgb[0], rgb[1], rgb[2], 1.0],
+            blend: false,
+            texture: None,
+        }
+    }
+
+    /// This material with a base colour texture.
+    pub fn with_texture(mut self, image: GlbImage) -> Self {
+        self.texture = Some(image);
+        self
+    }
+}
+
+/// Where a texture image comes from.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum GlbImage {
+    /// PNG bytes stored in the file's binary buffer.
+    EmbeddedPng(Vec<u8>),
+    /// A URI written as is (a file next to the `.glb`, or a `data:` URI).
+    Uri(String),
 }
 
 impl GlbMesh {
@@ -38,7 +93,28 @@ impl GlbMesh {
             name: name.into(),
             positions,
             indices,
+            colors: None,
+            uvs: None,
+            material: None,
         }
+    }
+
+    /// This mesh with a material.
+    pub fn with_material(mut self, material: GlbMaterial) -> Self {
+        self.material = Some(material);
+        self
+    }
+
+    /// This mesh with linear RGBA vertex colours (one per position).
+    pub fn with_colors(mut self, colors: Vec<[f32; 4]>) -> Self {
+        self.colors = Some(colors);
+        self
+    }
+
+    /// This mesh with texture coordinates (one per position).
+    pub fn with_uvs(mut self, uvs: Vec<[f32; 2]>) -> Self {
+        self.uvs = Some(uvs);
+        self
     }
 
     fn check(&self) -> Result<(), IoError> {
@@ -66,6 +142,35 @@ impl GlbMesh {
         let n = self.positions.len();
         if let Some((k, &i)) = self.indices.iter().enumerate().find(|&(_, &i)| i as usize >= n) {
             return Err(bad(format!("index {k} is {i}, but there are {n} vertices")));
+        }
+        if let Some(c) = &self.colors
+            && c.len() != n
+        {
+            return Err(bad(format!("has {} colours for {n} vertices", c.len())));
+        }
+        if let Some(uv) = &self.uvs
+            && uv.len() != n
+        {
+            return Err(bad(format!(
+                "has {} texture coordinates for {n} vertices",
+                uv.len()
+            )));
+        }
+        let extra_finite = self
+            .colors
+            .iter()
+            .flatten()
+            .all(|c| c.iter().all(|v| v.is_finite()))
+            && self.uvs.iter().flatten().all(|c| c.iter().all(|v| v.is_finite()))
+            && self
+                .material
+                .as_ref()
+                .is_none_or(|m| m.base_color.iter().all(|v| v.is_finite()));
+        if !extra_finite {
+            return Err(bad("has a colour or texture coordinate that is not finite".into()));
+        }
+        if self.material.as_ref().is_some_and(|m| m.texture.is_some()) && self.uvs.is_none() {
+            return Err(bad("has a textured material but no texture coordinates".into()));
         }
         Ok(())
     }
@@ -150,18 +255,35 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
             bin.extend_from_slice(&i.to_le_bytes());
         }
         let indices_len = bin.len() - indices_offset;
+        let colors_range = m.colors.as_ref().map(|colors| {
+            let offset = bin.len();
+            for c in colors.iter().flatten() {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+            (offset, bin.len() - offset)
+        });
+        let uvs_range = m.uvs.as_ref().map(|uvs| {
+            let offset = bin.len();
+            for c in uvs.iter().flatten() {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+            (offset, bin.len() - offset)
+        });
+        let image_range = match m.material.as_ref().and_then(|mat| mat.texture.as_ref()) {
+            Some(GlbImage::EmbeddedPng(png)) => {
+                let offset = bin.len();
+                bin.extend_from_slice(png);
+                let len = bin.len() - offset;
+                while !bin.len().is_multiple_of(4) {
+                    bin.push(0);
+                }
+                Some((offset, len))
+            }
+            _ => None,
+        };
 
         let view = |root: &mut json::Root, offset: usize, len: usize, target| {
-            root.push(json::buffer::View {
-                buffer,
-                byte_length: USize64::from(len),
-                byte_offset: Some(USize64::from(offset)),
-                byte_stride: None,
-                extensions: Default::default(),
-                extras: Default::default(),
-                name: None,
-                target: Some(Valid(target)),
-            })
+            push_view(root, buffer, offset, len, Some(target))
         };
         let positions_view = view(
             &mut root,
@@ -208,16 +330,48 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
             normalized: false,
             sparse: None,
         });
+        let mut attributes = BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]);
+        let float_accessor = |root: &mut json::Root, (offset, len): (usize, usize), count, type_| {
+            let attribute_view = view(root, offset, len, json::buffer::Target::ArrayBuffer);
+            root.push(json::Accessor {
+                buffer_view: Some(attribute_view),
+                byte_offset: None,
+                count: USize64::from(count),
+                component_type: Valid(json::accessor::GenericComponentType(
+                    json::accessor::ComponentType::F32,
+                )),
+                extensions: Default::default(),
+                extras: Default::default(),
+                type_: Valid(type_),
+                min: None,
+                max: None,
+                name: None,
+                normalized: false,
+                sparse: None,
+            })
+        };
+        if let Some(range) = colors_range {
+            let acc = float_accessor(&mut root, range, m.positions.len(), json::accessor::Type::Vec4);
+            attributes.insert(Valid(json::mesh::Semantic::Colors(0)), acc);
+        }
+        if let Some(range) = uvs_range {
+            let acc = float_accessor(&mut root, range, m.positions.len(), json::accessor::Type::Vec2);
+            attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), acc);
+        }
+        let material = m
+            .material
+            .as_ref()
+            .map(|mat| push_material(&mut root, buffer, &m.name, mat, image_range));
         let mesh = root.push(json::Mesh {
             extensions: Default::default(),
             extras: Default::default(),
             name: Some(m.name.clone()),
             primitives: vec![json::mesh::Primitive {
-                attributes: BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]),
+                attributes,
                 extensions: Default::default(),
                 extras: Default::default(),
                 indices: Some(indices),
-                material: None,
+                material,
                 mode: Valid(json::mesh::Mode::Triangles),
                 targets: None,
             }],
@@ -255,6 +409,85 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
     glb.to_vec().map_err(|e| IoError::BadGlbMesh {
         name: meshes[0].name.clone(),
         reason: format!("cannot assemble the binary glTF: {e}"),
+    })
+}
+
+/// Adds a view of `len` bytes at `offset` of `buffer` to `root`.
+fn push_view(
+    root: &mut json::Root,
+    buffer: json::Index<json::Buffer>,
+    offset: usize,
+    len: usize,
+    target: Option<json::buffer::Target>,
+) -> json::Index<json::buffer::View> {
+    root.push(json::buffer::View {
+        buffer,
+        byte_length: USize64::from(len),
+        byte_offset: Some(USize64::from(offset)),
+        byte_stride: None,
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        target: target.map(Valid),
+    })
+}
+
+/// Adds `material` (and its texture and image) to `root`; `image_range` is where an embedded
+/// image lies in the binary buffer.
+fn push_material(
+    root: &mut json::Root,
+    buffer: json::Index<json::Buffer>,
+    name: &str,
+    material: &GlbMaterial,
+    image_range: Option<(usize, usize)>,
+) -> json::Index<json::Material> {
+    let texture = material.texture.as_ref().map(|image| {
+        let (buffer_view, mime_type, uri) = match (image, image_range) {
+            (GlbImage::EmbeddedPng(_), Some((offset, len))) => {
+                let view = push_view(root, buffer, offset, len, None);
+                (Some(view), Some(json::image::MimeType("image/png".into())), None)
+            }
+            (GlbImage::Uri(uri), _) => (None, None, Some(uri.clone())),
+            (GlbImage::EmbeddedPng(_), None) => (None, None, None),
+        };
+        let source = root.push(json::Image {
+            buffer_view,
+            mime_type,
+            name: Some(name.to_owned()),
+            uri,
+            extensions: Default::default(),
+            extras: Default::default(),
+        });
+        let texture = root.push(json::Texture {
+            name: None,
+            sampler: None,
+            source,
+            extensions: Default::default(),
+            extras: Default::default(),
+        });
+        json::texture::Info {
+            index: texture,
+            tex_coord: 0,
+            extensions: Default::default(),
+            extras: Default::default(),
+        }
+    });
+    root.push(json::Material {
+        name: Some(name.to_owned()),
+        alpha_mode: Valid(if material.blend {
+            json::material::AlphaMode::Blend
+        } else {
+            json::material::AlphaMode::Opaque
+        }),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(material.base_color),
+            base_color_texture: texture,
+            // A matte, non-metallic surface: the base colour is what a viewer sees.
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(1.0),
+            ..Default::default()
+        },
+        ..Default::default()
     })
 }
 
@@ -316,6 +549,68 @@ mod tests {
     }
 
     #[test]
+    fn materials_colours_and_textures_round_trip() {
+        let plain = cube("plain", 0.0);
+        let json_of = |bytes: &[u8]| gltf::Gltf::from_slice(bytes).unwrap().document.into_json();
+        // Geometry-only meshes write no material, texture or image entries.
+        let root = json_of(&write_glb_to_vec(std::slice::from_ref(&plain)).unwrap());
+        assert!(root.materials.is_empty() && root.textures.is_empty() && root.images.is_empty());
+
+        let n = plain.positions.len();
+        let png = vec![0x89, b'P', b'N', b'G', 1, 2, 3];
+        let textured = cube("textured", 2.0)
+            .with_uvs(vec![[0.25, 0.75]; n])
+            .with_colors(vec![[0.5, 0.25, 1.0, 1.0]; n])
+            .with_material(
+                GlbMaterial::color([0.9, 0.1, 0.1]).with_texture(GlbImage::EmbeddedPng(png.clone())),
+            );
+        let linked = cube("linked", 4.0).with_uvs(vec![[0.0, 0.0]; n]).with_material(
+            GlbMaterial::color([0.1, 0.9, 0.1]).with_texture(GlbImage::Uri("wood.png".into())),
+        );
+        let bytes = write_glb_to_vec(&[plain, textured, linked]).unwrap();
+        let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+        let blob = gltf.blob.clone().unwrap();
+        assert_eq!(gltf.materials().count(), 2);
+        let prim = gltf.meshes().nth(1).unwrap().primitives().next().unwrap();
+        let material = prim.material();
+        let pbr = material.pbr_metallic_roughness();
+        assert_eq!(pbr.base_color_factor(), [0.9, 0.1, 0.1, 1.0]);
+        let image = pbr.base_color_texture().unwrap().texture().source();
+        match image.source() {
+            gltf::image::Source::View { view, mime_type } => {
+                assert_eq!(mime_type, "image/png");
+                assert_eq!(&blob[view.offset()..view.offset() + view.length()], &png[..]);
+            }
+            other => panic!("{other:?}"),
+        }
+        let reader = prim.reader(|_| Some(&blob[..]));
+        let uvs: Vec<[f32; 2]> = reader.read_tex_coords(0).unwrap().into_f32().collect();
+        assert_eq!(uvs, vec![[0.25, 0.75]; n]);
+        let colors: Vec<[f32; 4]> = reader.read_colors(0).unwrap().into_rgba_f32().collect();
+        assert_eq!(colors[0], [0.5, 0.25, 1.0, 1.0]);
+        let linked = gltf
+            .meshes()
+            .nth(2)
+            .unwrap()
+            .primitives()
+            .next()
+            .unwrap()
+            .material();
+        let image = linked
+            .pbr_metallic_roughness()
+            .base_color_texture()
+            .unwrap()
+            .texture()
+            .source();
+        assert!(matches!(
+            image.source(),
+            gltf::image::Source::Uri { uri: "wood.png", .. }
+        ));
+        // Every accessor stays 4-byte aligned after the 7-byte image.
+        assert!(gltf.accessors().all(|a| a.view().unwrap().offset() % 4 == 0));
+    }
+
+    #[test]
     fn invalid_meshes_are_rejected() {
         let err = |m: GlbMesh| match write_glb_to_vec(&[m]) {
             Err(IoError::BadGlbMesh { reason, .. }) => reason,
@@ -331,6 +626,10 @@ mod tests {
         m.positions[3][1] = f32::NAN;
         assert!(err(m).contains("vertex 3"));
         assert!(err(GlbMesh::new("e", vec![], vec![])).contains("no vertices"));
+        assert!(err(cube("c", 0.0).with_colors(vec![[1.0; 4]; 3])).contains("3 colours"));
+        assert!(err(cube("c", 0.0).with_uvs(vec![[0.0; 2]])).contains("1 texture coordinates"));
+        let textured = GlbMaterial::color([1.0; 3]).with_texture(GlbImage::Uri("t.png".into()));
+        assert!(err(cube("c", 0.0).with_material(textured)).contains("no texture coordinates"));
         assert!(write_glb_to_vec(&[]).is_err());
     }
 

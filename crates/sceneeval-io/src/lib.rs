@@ -9,9 +9,14 @@
 //!   Sources exist for the 3D-FUTURE, Objathor, HSSD and LayoutVLM folder layouts and for a
 //!   plain folder (`ID.glb` / `ID.gltf` / `ID.obj` with an optional `ID.json` sidecar).
 //! - [`mesh_load`]: GLB/glTF (node hierarchy flattened, transforms baked) and OBJ (every group).
+//! - [`appearance`]: materials, textures and render meshes, loaded only when a renderer asks
+//!   ([`AssetLibrary::appearance`]); scene reading never decodes a texture.
 //! - [`frames`]: the asset-to-object frame conversion, which happens in this crate and nowhere
 //!   else.
 //! - [`write_glb`]: a small deterministic binary glTF writer for generated assets.
+//! - [`Limits`]: file-size, triangle and memory budgets, checked against declared sizes before
+//!   anything is allocated; an asset over budget fails with [`IoError::TooLarge`],
+//!   [`IoError::TooManyTriangles`] or [`IoError::OverMemoryBudget`].
 //!
 //! # Conventions
 //! sstk `transform.data` is 16 numbers in column-major order and maps **asset** coordinates
@@ -78,18 +83,22 @@
 //! assert_eq!(back.rooms(), scene.rooms());
 //! ```
 
+pub mod appearance;
 pub mod assets;
 mod error;
 pub mod frames;
 mod gltf_write;
 mod json_out;
+mod limits;
 pub mod mesh_load;
 pub mod scene_state;
 pub mod uri;
 
+pub use appearance::Appearance;
 pub use assets::{Asset, AssetInfo, AssetLibrary, AssetSource, AssetSpec, Layout};
 pub use error::IoError;
-pub use gltf_write::{GlbMesh, write_glb, write_glb_to_vec};
+pub use gltf_write::{GlbImage, GlbMaterial, GlbMesh, write_glb, write_glb_to_vec};
+pub use limits::{ESTIMATED_BYTES_PER_TRIANGLE, ESTIMATED_BYTES_PER_VERTEX, Limits};
 pub use scene_state::{
     ArchitectureMode, ReadOptions, SimpleFloorHeight, read_scene_state, read_scene_state_str,
     scene_state_to_string, write_scene_state,

@@ -8,21 +8,25 @@
 //!   warning. Textures are never decoded: only the buffers are loaded, from the GLB binary
 //!   chunk, `data:` URIs, or files inside the asset's own folder ([`crate::uri`]); a buffer
 //!   URI that leads anywhere else is an error, and no file is read before its size is checked
-//!   against [`MAX_ASSET_FILE_BYTES`].
-//! - **OBJ** (`tobj` crate): faces triangulated, every object and group concatenated; material
-//!   libraries are not read.
+//!   against [`Limits::max_file_bytes`]. A node that is the child of several nodes is an
+//!   error (invalid glTF; it would multiply the geometry).
+//! - **OBJ** (`tobj` crate): `f` records triangulated, every object and group concatenated;
+//!   `l` (polyline) and `p` (point) records are not faces and are dropped, so a file of lines
+//!   only holds no triangles; material libraries are not read.
 //!
 //! Every accessor is checked against its buffer before it is read, so a corrupt file is an
-//! error, never a panic.
+//! error, never a panic. The declared vertex and triangle counts (every instance of a glTF
+//! mesh counted; the `v` and `f` records of an OBJ) are checked against the triangle and
+//! memory budgets of [`Limits`] before any geometry is decoded.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use sceneeval_geom::na::Matrix4;
 use sceneeval_geom::{Point3, Real};
 
-use crate::IoError;
+use crate::{IoError, Limits};
 
 /// Vertices and triangles as read from a file, in the file's coordinates.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -31,6 +35,9 @@ pub struct RawMesh {
     pub positions: Vec<Point3>,
     /// Triangles as vertex index triples.
     pub triangles: Vec<[u32; 3]>,
+    /// Every file read to build the mesh: the mesh file first, then any external glTF
+    /// buffers in buffer order.
+    pub files: Vec<PathBuf>,
 }
 
 impl RawMesh {
@@ -43,20 +50,32 @@ impl RawMesh {
 }
 
 /// Reads the triangles of a `.glb`, `.gltf` or `.obj` file (chosen by extension, ignoring
-/// case).
+/// case) within the default [`Limits`].
+///
+/// # Errors
+/// As [`read_mesh_file_with`].
+pub fn read_mesh_file(path: &Path) -> Result<RawMesh, IoError> {
+    read_mesh_file_with(path, &Limits::default())
+}
+
+/// Reads the triangles of a `.glb`, `.gltf` or `.obj` file (chosen by extension, ignoring
+/// case), refusing files, triangle counts and memory estimates over `limits` before
+/// allocating for them.
 ///
 /// # Errors
 /// [`IoError::File`] when the file cannot be read, [`IoError::BadAssetFile`] when it cannot
-/// be parsed or has an unsupported extension, [`IoError::EmptyMesh`] when it has no triangles.
-pub fn read_mesh_file(path: &Path) -> Result<RawMesh, IoError> {
+/// be parsed or has an unsupported extension, [`IoError::EmptyMesh`] when it has no triangles,
+/// [`IoError::TooLarge`], [`IoError::TooManyTriangles`] or [`IoError::OverMemoryBudget`] when
+/// it is over a limit.
+pub fn read_mesh_file_with(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
     let mesh = match ext.as_str() {
-        "glb" | "gltf" => read_gltf(path)?,
-        "obj" => read_obj(path)?,
+        "glb" | "gltf" => read_gltf(path, limits)?,
+        "obj" => read_obj(path, limits)?,
         _ => {
             return Err(IoError::BadAssetFile {
                 path: path.to_owned(),
@@ -72,42 +91,83 @@ pub fn read_mesh_file(path: &Path) -> Result<RawMesh, IoError> {
     Ok(mesh)
 }
 
-fn bad(path: &Path, message: impl Into<String>) -> IoError {
+pub(crate) fn bad(path: &Path, message: impl Into<String>) -> IoError {
     IoError::BadAssetFile {
         path: path.to_owned(),
         message: message.into(),
     }
 }
 
-fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
-    let bytes = crate::uri::read_file_limited(path, MAX_ASSET_FILE_BYTES)?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| bad(path, e.to_string()))?;
-    let buffers = load_buffers(path, &gltf)?;
-    let doc = &gltf.document;
+fn read_gltf(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
+    let bytes = crate::uri::read_file_limited(path, limits.max_file_bytes)?;
+    let gltf = parse_gltf(path, &bytes)?;
+    let instances = mesh_instances(path, &gltf.document, limits)?;
+    let (buffers, buffer_files) = load_buffers(path, &gltf, limits)?;
+    let mut out = RawMesh {
+        files: std::iter::once(path.to_owned()).chain(buffer_files).collect(),
+        ..RawMesh::default()
+    };
+    for (mesh, global) in &instances {
+        for prim in mesh.primitives() {
+            if let Some(raw) = primitive_geometry(path, &buffers, &prim, global)? {
+                out.append(raw.positions.into_iter(), raw.triangles.into_iter());
+            }
+        }
+    }
+    Ok(out)
+}
 
-    let roots: Vec<gltf::Node<'_>> = match doc.default_scene() {
+/// The mesh instances of the default scene (every scene's roots if there is no default scene,
+/// every root node if there are no scenes), depth first in file order, each with its node's
+/// global transform. The declared vertex and triangle counts of every instance are checked
+/// against `limits` as they are met, before any geometry is decoded.
+///
+/// # Errors
+/// [`IoError::BadAssetFile`] for a node with two parents or a cyclic hierarchy;
+/// [`IoError::TooManyTriangles`] or [`IoError::OverMemoryBudget`] over the limits.
+pub(crate) fn mesh_instances<'a>(
+    path: &Path,
+    doc: &'a gltf::Document,
+    limits: &Limits,
+) -> Result<Vec<(gltf::Mesh<'a>, Matrix4<Real>)>, IoError> {
+    // A node listed as the child of several nodes would be visited (and its geometry
+    // duplicated) once per parent, exponentially in a deep enough hierarchy.
+    let mut parent: Vec<Option<usize>> = vec![None; doc.nodes().len()];
+    for n in doc.nodes() {
+        for c in n.children() {
+            if let Some(first) = parent[c.index()].replace(n.index())
+                && first != n.index()
+            {
+                return Err(bad(
+                    path,
+                    format!(
+                        "node {} is a child of both node {first} and node {} (invalid glTF)",
+                        c.index(),
+                        n.index()
+                    ),
+                ));
+            }
+        }
+    }
+    let mut roots: Vec<gltf::Node<'_>> = match doc.default_scene() {
         Some(scene) => scene.nodes().collect(),
         None if doc.scenes().len() > 0 => doc.scenes().flat_map(|s| s.nodes()).collect(),
-        None => {
-            // No scenes: every node that is nobody's child is a root.
-            let mut is_child = vec![false; doc.nodes().len()];
-            for n in doc.nodes() {
-                for c in n.children() {
-                    is_child[c.index()] = true;
-                }
-            }
-            doc.nodes().filter(|n| !is_child[n.index()]).collect()
-        }
+        // No scenes: every node that is nobody's child is a root.
+        None => doc.nodes().filter(|n| parent[n.index()].is_none()).collect(),
     };
-    let mut out = RawMesh::default();
-    // Depth-first with an explicit stack; a hierarchy deeper than the number of nodes has a
-    // cycle (invalid glTF).
+    let mut seen_root = vec![false; doc.nodes().len()];
+    roots.retain(|n| !std::mem::replace(&mut seen_root[n.index()], true));
+
+    // The instances to read, in depth-first order, with their global transforms. A hierarchy
+    // deeper than the number of nodes has a cycle (invalid glTF).
+    let mut instances: Vec<(gltf::Mesh<'a>, Matrix4<Real>)> = Vec::new();
     let max_depth = doc.nodes().len();
     let mut stack: Vec<(gltf::Node<'_>, Matrix4<Real>, usize)> = roots
         .into_iter()
         .rev()
         .map(|n| (n, Matrix4::identity(), 0))
         .collect();
+    let (mut vertices, mut triangles) = (0u64, 0u64);
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > max_depth {
             return Err(bad(path, "the node hierarchy has a cycle"));
@@ -117,34 +177,84 @@ fn read_gltf(path: &Path) -> Result<RawMesh, IoError> {
         let global = parent * local;
         if let Some(mesh) = node.mesh() {
             for prim in mesh.primitives() {
-                read_primitive(path, &buffers, &prim, &global, &mut out)?;
+                let (v, t) = declared_size(&prim);
+                vertices = vertices.saturating_add(v);
+                triangles = triangles.saturating_add(t);
             }
+            // Checked per instance, so a mesh placed by a million nodes fails at once.
+            limits.check_mesh(path, vertices, triangles)?;
+            instances.push((mesh, global));
         }
         for child in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((child, global, depth + 1));
         }
     }
-    Ok(out)
+    Ok(instances)
 }
 
-/// Largest asset file, external buffer or embedded buffer read (bytes). A larger one is
-/// refused before anything is allocated for it.
-pub const MAX_ASSET_FILE_BYTES: u64 = 1 << 30;
+/// Parses and validates a glTF document. `gltf`'s validation indexes the accessor list with
+/// a primitive's POSITION index unchecked (gltf-json 1.4.1, `mesh.rs`), so a file naming an
+/// accessor that does not exist would panic there: that index is checked first.
+pub(crate) fn parse_gltf(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf, IoError> {
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| bad(path, e.to_string()))?;
+    let json = raw.document.as_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+            if let Some(index) = prim.attributes.get(&position)
+                && index.value() >= json.accessors.len()
+            {
+                return Err(bad(
+                    path,
+                    format!(
+                        "mesh {m} primitive {p}: POSITION names accessor {} but the file has {}",
+                        index.value(),
+                        json.accessors.len()
+                    ),
+                ));
+            }
+        }
+    }
+    let blob = raw.blob;
+    let document =
+        gltf::Document::from_json(raw.document.into_json()).map_err(|e| bad(path, e.to_string()))?;
+    Ok(gltf::Gltf { document, blob })
+}
+
+/// The vertex and triangle counts a primitive declares (zero for points and lines).
+fn declared_size(prim: &gltf::Primitive<'_>) -> (u64, u64) {
+    let vertices = prim
+        .get(&gltf::Semantic::Positions)
+        .map_or(0, |a| a.count() as u64);
+    let indices = prim.indices().map_or(vertices, |a| a.count() as u64);
+    let triangles = match prim.mode() {
+        Mode::Triangles => indices / 3,
+        Mode::TriangleStrip | Mode::TriangleFan => indices.saturating_sub(2),
+        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => return (0, 0),
+    };
+    (vertices, triangles)
+}
 
 /// The glTF's buffers: the GLB blob, `data:` URIs, or files inside the asset's own folder
 /// ([`crate::uri`]); never a file elsewhere. Each buffer must hold at least the `byteLength`
-/// it declares.
-fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data>, IoError> {
+/// it declares. Also returns the external files read.
+pub(crate) fn load_buffers(
+    path: &Path,
+    gltf: &gltf::Gltf,
+    limits: &Limits,
+) -> Result<(Vec<gltf::buffer::Data>, Vec<PathBuf>), IoError> {
+    let max = limits.max_file_bytes;
     let mut blob = gltf.blob.clone();
     let mut out = Vec::with_capacity(gltf.document.buffers().len());
+    let mut files = Vec::new();
     for buffer in gltf.document.buffers() {
         let declared = buffer.length() as u64;
-        if declared > MAX_ASSET_FILE_BYTES {
+        if declared > max {
             return Err(IoError::TooLarge {
                 path: path.to_owned(),
                 what: format!("buffer {}", buffer.index()),
                 size: declared,
-                limit: MAX_ASSET_FILE_BYTES,
+                limit: max,
             });
         }
         let mut data = match buffer.source() {
@@ -157,7 +267,25 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data
                     ),
                 )
             })?,
-            gltf::buffer::Source::Uri(uri) => crate::uri::read_uri(path, uri, MAX_ASSET_FILE_BYTES)?,
+            gltf::buffer::Source::Uri(uri) => {
+                if !uri.starts_with("data:") {
+                    let folder = path.parent().unwrap_or_else(|| Path::new("."));
+                    files.push(crate::uri::resolve_in_folder(folder, path, uri)?);
+                }
+                match crate::uri::read_uri(path, uri, max) {
+                    Ok(data) => data,
+                    // Refusals already name this file; a missing or unreadable buffer file is
+                    // reported as this file's problem, with the buffer's error as the cause.
+                    Err(e @ IoError::RejectedUri { .. }) => return Err(e),
+                    Err(e) => {
+                        return Err(IoError::Reference {
+                            path: path.to_owned(),
+                            what: format!("buffer {} ({})", buffer.index(), crate::uri::quoted(uri)),
+                            source: Box::new(e),
+                        });
+                    }
+                }
+            }
         };
         if (data.len() as u64) < declared {
             return Err(bad(
@@ -175,12 +303,12 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data
         }
         out.push(gltf::buffer::Data(data));
     }
-    Ok(out)
+    Ok((out, files))
 }
 
 /// Checks that reading `count` elements of `size` bytes through `accessor` stays inside its
 /// buffer, so that the `gltf` reader can neither panic nor silently stop early.
-fn check_accessor(
+pub(crate) fn check_accessor(
     path: &Path,
     what: &str,
     accessor: &gltf::Accessor<'_>,
@@ -238,20 +366,23 @@ fn check_accessor(
     }
 }
 
-fn read_primitive(
+/// The vertices (transformed by `global`) and triangles of a triangle primitive, in the order
+/// the file stores them (triangles index the primitive's own vertices); `None` for a point or
+/// line primitive (skipped with a warning). Triangles are wound counter-clockwise even under
+/// a mirroring `global`.
+pub(crate) fn primitive_geometry(
     path: &Path,
     buffers: &[gltf::buffer::Data],
     prim: &gltf::Primitive<'_>,
     global: &Matrix4<Real>,
-    out: &mut RawMesh,
-) -> Result<(), IoError> {
+) -> Result<Option<RawMesh>, IoError> {
     let mode = prim.mode();
     if matches!(
         mode,
         Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip
     ) {
         tracing::warn!(file = %path.display(), ?mode, "skipping a point or line primitive");
-        return Ok(());
+        return Ok(None);
     }
     let Some(positions) = prim.get(&gltf::Semantic::Positions) else {
         return Err(bad(path, "a triangle primitive has no POSITION attribute"));
@@ -309,8 +440,37 @@ fn read_primitive(
             t.swap(1, 2);
         }
     }
-    out.append(points.into_iter(), tris.into_iter());
-    Ok(())
+    Ok(Some(RawMesh {
+        positions: points,
+        triangles: tris,
+        files: Vec::new(),
+    }))
+}
+
+/// The OBJ text without its `l` (polyline) and `p` (point) records, which `tobj` would
+/// otherwise turn into triangles when they list three or more vertices; blank lines keep
+/// the line numbers. Also counts the `v` records and the triangles of the `f` records (a
+/// polygon of `k` corners gives `k - 2`).
+pub(crate) fn obj_faces_only(text: &str) -> (String, u64, u64) {
+    let mut out = String::with_capacity(text.len());
+    let (mut vertices, mut triangles) = (0u64, 0u64);
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("l" | "p") => {}
+            Some(keyword) => {
+                if keyword == "v" {
+                    vertices += 1;
+                } else if keyword == "f" {
+                    triangles += (words.count() as u64).saturating_sub(2);
+                }
+                out.push_str(line);
+            }
+            None => out.push_str(line),
+        }
+        out.push('\n');
+    }
+    (out, vertices, triangles)
 }
 
 /// Triangles of a triangle list, strip or fan.
@@ -330,35 +490,54 @@ fn triangles(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
-fn read_obj(path: &Path) -> Result<RawMesh, IoError> {
-    let file = std::fs::File::open(path).map_err(|e| IoError::file(path, e))?;
-    let mut reader = std::io::BufReader::new(file);
+/// tobj options: faces triangulated, points and lines ignored; `single_index` gives one index
+/// per vertex for positions, normals and texture coordinates together.
+pub(crate) fn obj_options(single_index: bool) -> tobj::LoadOptions {
     // The struct update covers fields that exist only with some tobj features.
     #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
+    tobj::LoadOptions {
         triangulate: true,
-        single_index: false,
+        single_index,
         ignore_points: true,
         ignore_lines: true,
         ..Default::default()
-    };
+    }
+}
+
+/// Checks that every index of an OBJ model names one of its vertices.
+pub(crate) fn check_obj_indices(path: &Path, model: &tobj::Model) -> Result<(), IoError> {
+    let m = &model.mesh;
+    let n = m.positions.len() / 3;
+    match m.indices.iter().find(|&&i| i as usize >= n) {
+        Some(&i) => Err(bad(
+            path,
+            format!(
+                "object {:?}: index {i} is out of range ({n} vertices)",
+                model.name
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn read_obj(path: &Path, limits: &Limits) -> Result<RawMesh, IoError> {
+    let bytes = crate::uri::read_file_limited(path, limits.max_file_bytes)?;
+    let text = String::from_utf8_lossy(&bytes);
+    let (faces_only, vertices, triangles) = obj_faces_only(&text);
+    limits.check_mesh(path, vertices, triangles)?;
+    let mut reader = std::io::Cursor::new(faces_only.as_bytes());
     // Material libraries are not needed for geometry: do not read them.
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::GenericFailure))
-            .map_err(|e| bad(path, e.to_string()))?;
-    let mut out = RawMesh::default();
+    let (models, _materials) = tobj::load_obj_buf(&mut reader, &obj_options(false), |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })
+    .map_err(|e| bad(path, e.to_string()))?;
+    let mut out = RawMesh {
+        files: vec![path.to_owned()],
+        ..RawMesh::default()
+    };
     for model in &models {
+        check_obj_indices(path, model)?;
         let m = &model.mesh;
-        let n = m.positions.len() / 3;
-        if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= n) {
-            return Err(bad(
-                path,
-                format!(
-                    "object {:?}: index {i} is out of range ({n} vertices)",
-                    model.name
-                ),
-            ));
-        }
         out.append(
             m.positions
                 .chunks_exact(3)
@@ -468,12 +647,39 @@ mod tests {
             assert!(matches!(err, IoError::RejectedUri { .. }), "{uri}: {err}");
         }
 
+        // A missing buffer file is this file's error, caused by the buffer's.
+        std::fs::write(&path, gltf_with_buffer_uri("missing.bin")).unwrap();
+        let err = read_mesh_file(&path).unwrap_err();
+        assert!(matches!(err, IoError::Reference { .. }), "{err}");
+        assert!(
+            err.to_string()
+                .contains("a.gltf: cannot read buffer 0 (missing.bin)"),
+            "{err}"
+        );
+        let cause = std::error::Error::source(&err).unwrap().to_string();
+        assert!(cause.contains("missing.bin"), "{cause}");
+
         // A buffer shorter than it declares is an error, not a short read.
         std::fs::write(folder.join("short.bin"), &triangle_bytes()[..20]).unwrap();
         std::fs::write(&path, gltf_with_buffer_uri("short.bin")).unwrap();
         let err = read_mesh_file(&path).unwrap_err();
         assert!(
             err.to_string().contains("declares 36 bytes but holds 20"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_position_accessor_that_does_not_exist_is_an_error_not_a_panic() {
+        // gltf-json 1.4.1 validation indexes the accessor list with this index unchecked.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.gltf");
+        let text = gltf_with_buffer_uri("x.bin").replace(r#""POSITION":0"#, r#""POSITION":5"#);
+        std::fs::write(&path, text).unwrap();
+        let err = read_mesh_file(&path).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("POSITION names accessor 5 but the file has 1"),
             "{err}"
         );
     }

@@ -31,7 +31,7 @@ use crate::IoError;
 const MAX_QUOTED_URI: usize = 120;
 
 /// A URI shortened for an error message.
-fn quoted(uri: &str) -> String {
+pub(crate) fn quoted(uri: &str) -> String {
     if uri.len() <= MAX_QUOTED_URI {
         return uri.to_owned();
     }

@@ -634,3 +634,56 @@ fn no_corruption_of_a_glb_panics() {
         )
         .unwrap();
 }
+
+#[test]
+fn repeated_openings_whole_wall_doors_and_low_ceilings() {
+    let f = Fixture::new();
+    // Two holes with one id in one wall: an error naming both.
+    let mut v = valid();
+    v.pointer_mut("/scene/arch/elements/1/holes")
+        .unwrap()
+        .as_array_mut()
+        .unwrap()
+        .extend([
+            json!({"id": "d", "type": "Window", "box": {"min": [2.5, 1], "max": [3.5, 2]}}),
+            json!({"id": "d", "type": "Door", "box": {"min": [0.1, 0], "max": [0.8, 2]}}),
+        ]);
+    match f.error(&v) {
+        IoError::DuplicateElement {
+            pointer, first, what, ..
+        } => {
+            assert_eq!(pointer, "/scene/arch/elements/1/holes/2");
+            assert_eq!(first, "/scene/arch/elements/1/holes/1");
+            assert!(what.contains("opening id \"d\""), "{what}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // A door wider and taller than its wall: clipped to the wall, which has no solid left.
+    let mut v = valid();
+    v.pointer_mut("/scene/arch/elements/2")
+        .unwrap()
+        .as_object_mut()
+        .unwrap()
+        .insert(
+            "holes".into(),
+            json!([{"type": "Door", "box": {"min": [-1, -1], "max": [9, 9]}}]),
+        );
+    let scene = f.read(&v).unwrap();
+    let wall = &scene.rooms()[0].walls()[1];
+    assert!(wall.mesh().is_none() && wall.solid_boxes().is_empty());
+    assert_eq!(wall.openings()[0].along, [0.0, 3.0]);
+    assert_eq!(wall.openings()[0].height, [0.0, 2.8]);
+    // A Ceiling at or below its Floor is ignored (as the reference ignores Ceilings): the
+    // ceiling comes from the walls' tops.
+    let mut v = valid();
+    v.pointer_mut("/scene/arch/elements")
+        .unwrap()
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"id": "c", "roomId": "r", "type": "Ceiling",
+                     "points": [[0, 0, -0.5], [4, 0, -0.5], [4, 3, -0.5], [0, 3, -0.5]]}));
+    let scene = f.read(&v).unwrap();
+    let room = &scene.rooms()[0];
+    assert!(room.explicit_ceiling().is_none());
+    assert_eq!(room.ceiling_z(), Some(2.8));
+}

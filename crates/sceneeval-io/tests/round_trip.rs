@@ -11,12 +11,14 @@ use std::path::Path;
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::na::{Translation3, UnitQuaternion};
 use sceneeval_geom::{Isometry3, Point2, Point3, Side, Vector3};
 use sceneeval_io::{
     AssetLibrary, ReadOptions, read_scene_state, read_scene_state_str, scene_state_to_string,
     write_scene_state,
 };
+use sceneeval_scene::Category;
 use sceneeval_scene::{RoomBuilder, Scene, SceneObject, SupportType};
 
 fn pose(x: f64, y: f64, z: f64, yaw: f64) -> Isometry3 {
@@ -58,17 +60,15 @@ fn rich_scene(library: &AssetLibrary) -> Scene {
         )
         .add_box(
             "bed",
-            "bed",
-            Point3::new(2.0, 3.0, 0.25),
-            Vector3::new(1.6, 2.0, 0.5),
-            std::f64::consts::PI,
+            Category::new("bed"),
+            Vector3::new(0.8, 1.0, 0.25),
+            pose_from_yaw(Point3::new(2.0, 3.0, 0.25), std::f64::consts::PI),
         )
         .object(
             SceneObject::new_box(
                 "idx5_generator.desk",
-                Point3::new(1.0, 0.5, 0.4),
-                Vector3::new(1.2, 0.6, 0.8),
-                0.3,
+                Vector3::new(0.6, 0.3, 0.4),
+                pose_from_yaw(Point3::new(1.0, 0.5, 0.4), 0.3),
             )
             .unwrap()
             .with_index(5)
@@ -241,10 +241,7 @@ fn random_poses_and_scales_round_trip() {
             let scale = Vector3::new(if mirror { -s.0 } else { s.0 }, s.1, s.2);
             let a = Scene::builder()
                 .object(library.object("asset", "fixture.bump", pose, scale).unwrap())
-                .object(
-                    SceneObject::new_box_with_pose("box", Vector3::new(size.0, size.1, size.2), pose)
-                        .unwrap(),
-                )
+                .object(SceneObject::new_box("box", Vector3::new(size.0, size.1, size.2), pose).unwrap())
                 .build()
                 .unwrap();
             let first = scene_state_to_string(&a).unwrap();

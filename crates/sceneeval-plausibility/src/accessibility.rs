@@ -5,8 +5,6 @@ use sceneeval_geom::{Point2, Point3, Real, Side};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
-use crate::collision::{default_floor_covering_words, floor_coverings};
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, IndexWork, WorkCounter, flat};
 use crate::objects::{Footprint, ObjectInfo, object_infos};
@@ -14,6 +12,7 @@ use crate::plane::{
     FloorPiece, area, bounds, boxes_overlap, ccw, clip_convex, floor_pieces, subtract_convex,
 };
 use crate::sources::FunctionalSidesSource;
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the accessibility metric (reference yaml `AccessibilityMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -31,12 +30,6 @@ pub struct AccessibilityParams {
     /// Objects whose top is at most this above their floor (rugs) do not block, metres.
     /// Default 0: every object blocks, as in the reference.
     pub walkable_height: Real,
-    /// Floor coverings (rugs, carpets, mats) do not block: one reaches a bed across its rug.
-    /// Default `true`; the reference draws them like any object (`false`).
-    pub exclude_floor_coverings: bool,
-    /// Whole words that mark a floor covering in an object's category (or, without a category,
-    /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
-    pub floor_covering_words: Vec<String>,
     /// The blocking footprints: convex hulls of the projected meshes (default) or, as the
     /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
     pub footprint: Footprint,
@@ -49,8 +42,6 @@ impl Default for AccessibilityParams {
             strip_width: 0.2,
             height_cutoff: 2.0,
             walkable_height: 0.0,
-            exclude_floor_coverings: true,
-            floor_covering_words: default_floor_covering_words(),
             footprint: Footprint::ConvexHull,
         }
     }
@@ -122,8 +113,7 @@ pub struct AccessibilityReport {
 /// the object's frame at its centre height, projected on the floor plan (reference notes 7.4).
 /// Its free part is computed exactly by polygon clipping: the strip intersected with the
 /// floors, minus the footprints of the other objects that obstruct (as for navigability: some
-/// part below the height cut-off, top above the walkable height, not a floor covering unless
-/// [`AccessibilityParams::exclude_floor_coverings`] is off). Footprints are the convex hulls
+/// part below the height cut-off, top above the walkable height). Footprints are the convex hulls
 /// of the projected meshes, a deliberate deviation from the reference's bounding rectangles
 /// ([`AccessibilityParams::footprint`] restores those). Off-floor area counts as blocked, as
 /// in the reference. The footprints and floor pieces a strip can meet are found with a
@@ -156,7 +146,7 @@ pub fn accessibility_with_work(
     let infos = object_infos(scene);
     let pieces = scene_floor_pieces(scene);
     let work = WorkCounter::default();
-    let report = accessibility_counted(scene, params, sides, &infos, &pieces, &work)?;
+    let report = accessibility_counted(scene, params, sides, &infos, &pieces, &work, &Deadline::none())?;
     Ok((report, work.total()))
 }
 
@@ -171,8 +161,17 @@ pub(crate) fn accessibility_with(
     source: &dyn FunctionalSidesSource,
     infos: &[ObjectInfo],
     pieces: &[FloorPiece],
+    deadline: &Deadline,
 ) -> Result<AccessibilityReport, PlausibilityError> {
-    accessibility_counted(scene, params, source, infos, pieces, &WorkCounter::default())
+    accessibility_counted(
+        scene,
+        params,
+        source,
+        infos,
+        pieces,
+        &WorkCounter::default(),
+        deadline,
+    )
 }
 
 /// The footprints that block strips, their boxes indexed, and the floor pieces indexed.
@@ -193,17 +192,12 @@ fn accessibility_counted(
     infos: &[ObjectInfo],
     pieces: &[FloorPiece],
     work: &WorkCounter,
+    deadline: &Deadline,
 ) -> Result<AccessibilityReport, PlausibilityError> {
-    let coverings = floor_coverings(
-        scene.objects(),
-        params.exclude_floor_coverings,
-        &params.floor_covering_words,
-    );
     let members: Vec<usize> = (0..infos.len())
         .filter(|&i| {
             infos[i].obstructs(params.height_cutoff, params.walkable_height)
                 && infos[i].footprint_of(params.footprint).0.len() >= 3
-                && !coverings[i]
         })
         .collect();
     let blockers = Blockers {
@@ -224,6 +218,7 @@ fn accessibility_counted(
         .par_iter()
         .enumerate()
         .map(|(k, o)| {
+            deadline.check("accessibility")?;
             let answer = source.functional_sides(scene, o);
             let sides_source = answer.as_ref().map(|a| a.source.clone());
             let mut wanted: Vec<Side> = answer.map(|a| a.value).unwrap_or_default();
@@ -237,15 +232,15 @@ fn accessibility_counted(
                 Some(b) if b.score >= s.score => Some(b),
                 _ => Some(s),
             });
-            ObjectAccess {
+            Ok(ObjectAccess {
                 id: o.id().clone(),
                 sides_source,
                 best_side: best.map(|b| b.side),
                 score: best.map(|b| b.score),
                 sides,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, PlausibilityError>>()?;
     let scored: Vec<Real> = objects.iter().filter_map(|o| o.score).collect();
     Ok(AccessibilityReport {
         num_scored: scored.len(),

@@ -6,12 +6,11 @@ use sceneeval_geom::{Aabb, Point2, Point3, Real, Vector2};
 use sceneeval_scene::{ObjectId, OpeningKind, Room, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
-use crate::collision::{default_floor_covering_words, floor_coverings};
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, WorkCounter};
 use crate::objects::ObjectInfo;
 use crate::plane::{area3, clip_half_space};
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the opening-clearance metric (reference yaml `OpeningClearanceMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -46,12 +45,6 @@ pub struct OpeningClearanceParams {
     /// Objects whose top is at most this above their floor (rugs, doormats) do not block,
     /// metres. Default 0: every object can block, as in the reference.
     pub walkable_height: Real,
-    /// Floor coverings (rugs, carpets, doormats) do not block an opening. Default `true`; the
-    /// reference counts a doormat in front of a door as blocking it (`false`).
-    pub exclude_floor_coverings: bool,
-    /// Whole words that mark a floor covering in an object's category (or, without a category,
-    /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
-    pub floor_covering_words: Vec<String>,
 }
 
 impl Default for OpeningClearanceParams {
@@ -67,14 +60,12 @@ impl Default for OpeningClearanceParams {
             pixels_per_metre: 100.0,
             touch_tolerance: 0.001,
             walkable_height: 0.0,
-            exclude_floor_coverings: true,
-            floor_covering_words: default_floor_covering_words(),
         }
     }
 }
 
 impl OpeningClearanceParams {
-    fn validate(&self) -> Result<(), PlausibilityError> {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         let m = "opening_clearance";
         check_non_negative(m, "door_depth", self.door_depth, false)?;
         check_non_negative(m, "window_depth", self.window_depth, false)?;
@@ -175,13 +166,14 @@ pub fn opening_clearance(
     params: &OpeningClearanceParams,
 ) -> Result<OpeningClearanceReport, PlausibilityError> {
     let infos = crate::objects::object_infos(scene);
-    opening_clearance_with(scene, params, &infos)
+    opening_clearance_with(scene, params, &infos, &Deadline::none())
 }
 
 pub(crate) fn opening_clearance_with(
     scene: &Scene,
     params: &OpeningClearanceParams,
     infos: &[ObjectInfo],
+    deadline: &Deadline,
 ) -> Result<OpeningClearanceReport, PlausibilityError> {
     params.validate()?;
     let candidates = Candidates::new(scene, infos, params);
@@ -195,6 +187,7 @@ pub(crate) fn opening_clearance_with(
     let openings: Vec<OpeningClearance> = list
         .par_iter()
         .map(|(room, wall, o)| {
+            deadline.check("opening_clearance")?;
             let depth = match o.kind {
                 OpeningKind::Door if params.door_depth_from_width => o.width(),
                 OpeningKind::Door => params.door_depth,
@@ -215,7 +208,7 @@ pub(crate) fn opening_clearance_with(
                     side_clearance(scene, &candidates, &frame, side, depth, params)
                 })
                 .collect();
-            OpeningClearance {
+            Ok(OpeningClearance {
                 opening: o.id.clone(),
                 kind: o.kind,
                 wall: wall.id().to_owned(),
@@ -224,9 +217,9 @@ pub(crate) fn opening_clearance_with(
                 height: o.hole_height(),
                 blocked: sides.iter().any(|s| s.blocked),
                 sides,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, PlausibilityError>>()?;
     let count = |kind: OpeningKind, blocked: bool| {
         openings
             .iter()
@@ -393,8 +386,8 @@ impl OcclusionMap {
     }
 }
 
-/// The objects an opening's clearance box can meet: their world boxes indexed, floor
-/// coverings and walkable objects left out as the parameters say.
+/// The objects an opening's clearance box can meet: their world boxes indexed, walkable
+/// objects left out as the parameters say.
 pub(crate) struct Candidates {
     members: Vec<usize>,
     index: BoxIndex,
@@ -402,13 +395,8 @@ pub(crate) struct Candidates {
 
 impl Candidates {
     pub(crate) fn new(scene: &Scene, infos: &[ObjectInfo], params: &OpeningClearanceParams) -> Self {
-        let coverings = floor_coverings(
-            scene.objects(),
-            params.exclude_floor_coverings,
-            &params.floor_covering_words,
-        );
         let members: Vec<usize> = (0..scene.objects().len())
-            .filter(|&k| infos[k].max_z - infos[k].floor_z > params.walkable_height && !coverings[k])
+            .filter(|&k| infos[k].max_z - infos[k].floor_z > params.walkable_height)
             .collect();
         let boxes: Vec<Aabb> = members
             .iter()

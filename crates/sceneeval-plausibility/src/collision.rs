@@ -5,9 +5,9 @@ use sceneeval_geom::{DepthSearch, Overlap, PenetrationQuery, Real};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::category::{has_word, normalize_category};
 use crate::error::check_non_negative;
+use crate::{Deadline, PlausibilityError};
 
 /// The words that mark a floor covering by default: `rug`, `carpet`, `mat`, `doormat`.
 pub(crate) fn default_floor_covering_words() -> Vec<String> {
@@ -61,7 +61,7 @@ impl Default for CollisionParams {
 }
 
 impl CollisionParams {
-    fn validate(&self) -> Result<(), PlausibilityError> {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         check_non_negative("collision", "contact_tolerance", self.contact_tolerance, false)?;
         check_non_negative(
             "collision",
@@ -214,7 +214,7 @@ pub struct CollisionWork {
 /// # Errors
 /// [`PlausibilityError::InvalidParameter`] for a negative tolerance or a zero spacing/budget.
 pub fn collision(scene: &Scene, params: &CollisionParams) -> Result<CollisionReport, PlausibilityError> {
-    collision_with_work(scene, params).map(|(report, _)| report)
+    collision_with(scene, params, &Deadline::none()).map(|(report, _)| report)
 }
 
 /// [`collision`] and the work it did (candidate pairs and point queries), for tests and
@@ -225,6 +225,16 @@ pub fn collision(scene: &Scene, params: &CollisionParams) -> Result<CollisionRep
 pub fn collision_with_work(
     scene: &Scene,
     params: &CollisionParams,
+) -> Result<(CollisionReport, CollisionWork), PlausibilityError> {
+    collision_with(scene, params, &Deadline::none())
+}
+
+/// [`collision_with_work`], giving up once `deadline` has passed (checked before each
+/// candidate pair).
+pub(crate) fn collision_with(
+    scene: &Scene,
+    params: &CollisionParams,
+    deadline: &Deadline,
 ) -> Result<(CollisionReport, CollisionWork), PlausibilityError> {
     params.validate()?;
     let objects = scene.objects();
@@ -238,11 +248,15 @@ pub fn collision_with_work(
     let query = params.query();
     let found: Vec<(usize, usize, Option<PairContact>, u64)> = candidates
         .par_iter()
-        .map(|&(i, j)| {
+        .filter_map(|&(i, j)| {
+            if deadline.expired() {
+                return None;
+            }
             let (contact, queries) = narrow_phase(&objects[i], &objects[j], &query);
-            (i, j, contact, queries)
+            Some((i, j, contact, queries))
         })
         .collect();
+    deadline.check("collision")?;
     let work = CollisionWork {
         candidate_pairs: candidates.len(),
         point_queries: found.iter().map(|f| f.3).sum(),
@@ -399,6 +413,7 @@ fn narrow_phase(a: &SceneObject, b: &SceneObject, query: &PenetrationQuery) -> (
 mod tests {
     use super::*;
     use proptest::prelude::*;
+    use sceneeval_geom::conventions::pose_from_yaw;
     use sceneeval_geom::{Point3, Vector3};
 
     proptest! {
@@ -410,7 +425,7 @@ mod tests {
                 .iter()
                 .enumerate()
                 .map(|(k, &(x, y, z, w, d, h))| {
-                    SceneObject::new_box(format!("o{k}"), Point3::new(x, y, z), Vector3::new(w, d, h), 0.3 * k as f64)
+                    SceneObject::new_box(format!("o{k}"), Vector3::new(w, d, h) * 0.5, pose_from_yaw(Point3::new(x, y, z), 0.3 * k as f64))
                         .unwrap()
                 })
                 .collect();

@@ -98,6 +98,7 @@ pub fn write_diagnostics(
         sources.functional_sides.as_ref(),
         &infos,
         &pieces,
+        &crate::Deadline::none(),
     )?;
     let mut occupied = vec![false; grid.len()];
     let p = &params.accessibility;
@@ -126,7 +127,12 @@ pub fn write_diagnostics(
     let acc_img = image_from(&grid, |k| colours[k]);
     written.push(save(&acc_img, &dir.join("accessibility.png"))?);
 
-    let clearance = crate::clearance::opening_clearance_with(scene, &params.opening_clearance, &infos)?;
+    let clearance = crate::clearance::opening_clearance_with(
+        scene,
+        &params.opening_clearance,
+        &infos,
+        &crate::Deadline::none(),
+    )?;
     let candidates = crate::clearance::Candidates::new(scene, &infos, &params.opening_clearance);
     for (room, wall, opening) in scene.openings() {
         let Some(report) = clearance

@@ -34,6 +34,25 @@ pub enum PlausibilityError {
         /// The most pixels allowed per side.
         max: usize,
     },
+    /// The evaluation ran past its [`crate::Deadline`] (or was cancelled).
+    #[error("{stage} stopped: {}", match .budget_seconds {
+        Some(b) => format!("the scene's time budget of {b} s is used up"),
+        None => "the evaluation was cancelled".to_owned(),
+    })]
+    DeadlineExceeded {
+        /// The metric that was running or about to run.
+        stage: &'static str,
+        /// The budget in seconds, `None` when the deadline was cancelled without one.
+        budget_seconds: Option<f64>,
+    },
+    /// A metric name that is not one of [`crate::Metric::ALL`].
+    #[error(
+        "unknown metric {name:?}: expected one of collision, support, navigability, accessibility, out_of_bounds, opening_clearance"
+    )]
+    UnknownMetric {
+        /// The name given.
+        name: String,
+    },
     /// A diagnostic file or folder could not be written.
     #[error("cannot write {path}: {source}")]
     Io {

@@ -4,14 +4,19 @@
 //!
 //! Every metric is a function of a [`sceneeval_scene::Scene`] and its parameter struct (whose
 //! defaults are the reference's, documented with units and the reference's parameter name);
-//! [`evaluate`] runs them all. Support types and functional sides, which the reference asks a
-//! VLM for, come from [`SupportTypeSource`] and [`FunctionalSidesSource`] implementations
-//! (caller-given maps, built-in category tables, or chains of both), never from the geometry
-//! being checked.
+//! [`evaluate`] runs them all and [`evaluate_metrics`] (the one dispatcher) any subset, under
+//! a [`Deadline`], into one [`PlausibilityReport`] type. Support types and functional sides,
+//! which the reference asks a VLM for, come from [`Source`] implementations (one generic trait
+//! per [`Question`]: caller-given maps, what the scene states, built-in category tables, or
+//! chains of these), never from the geometry being checked.
 //!
 //! Results are deterministic: no random sampling (the reference's random surface and face
 //! samples are replaced by exact clipping or fixed lattices), and work spread over rayon
 //! threads is collected in order, so a report is bit-identical for any thread count.
+//!
+//! For loops that move objects (layout optimisers), [`LayoutChecks`] prepares the rooms once
+//! and then answers a metric's per-object question for one object at a time, with the
+//! metric's own code and without allocating.
 //!
 //! The docs of each metric function state its exact semantics and where (and why) they differ
 //! from the reference implementation. The crate feature `images` (default) adds
@@ -38,10 +43,10 @@
 //! it.
 //!
 //! # Deliberate deviations, and the parameters that restore the reference
-//! - Floor coverings (rugs, carpets, mats, by the words of an object's category or
-//!   description) are walked over: `exclude_floor_coverings` (default `true`, with
-//!   `floor_covering_words`) in [`CollisionParams`], [`NavigabilityParams`],
-//!   [`AccessibilityParams`] and [`OpeningClearanceParams`].
+//! - Floor coverings can be left out of collision (`exclude_floor_coverings` with
+//!   `floor_covering_words` in [`CollisionParams`], default off as in the original reference)
+//!   and walked over by the 2-D metrics (`walkable_height` in [`NavigabilityParams`],
+//!   [`AccessibilityParams`] and [`OpeningClearanceParams`], default 0 as in the reference).
 //! - Footprints on the floor plan are convex hulls of the projected meshes, not the bounding
 //!   rectangles the reference draws (an oval bath leaves a corridor open beside its corners):
 //!   `footprint` ([`Footprint::BoundingBox`] for the reference) in [`NavigabilityParams`] and
@@ -61,38 +66,53 @@
 //!
 //! # Example
 //! ```
-//! use sceneeval_geom::{Point2, Point3, Vector3};
+//! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //! use sceneeval_plausibility::{evaluate, PlausibilityParams, Sources};
-//! use sceneeval_scene::{RoomBuilder, Scene};
+//! use sceneeval_scene::{Category, RoomBuilder, Scene};
 //!
 //! let scene = Scene::builder()
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 //!         .door(0, [1.0, 1.9], [0.0, 2.1]))
 //!     // A bed against the far wall, and a nightstand 1 cm into it.
-//!     .add_box("bed", "bed", Point3::new(2.0, 3.95, 0.3), Vector3::new(1.6, 2.0, 0.6), 0.0)
-//!     .add_box("nightstand", "nightstand", Point3::new(0.96, 4.7, 0.3),
-//!              Vector3::new(0.5, 0.4, 0.6), 0.0)
+//!     // (half extents: a 1.6 x 2.0 x 0.6 m bed, a 0.5 x 0.4 x 0.6 m nightstand)
+//!     .add_box("bed", Category::new("bed"), Vector3::new(0.8, 1.0, 0.3),
+//!              pose_from_yaw(Point3::new(2.0, 3.95, 0.3), 0.0))
+//!     .add_box("nightstand", Category::new("nightstand"), Vector3::new(0.25, 0.2, 0.3),
+//!              pose_from_yaw(Point3::new(0.96, 4.7, 0.3), 0.0))
 //!     .build()
 //!     .unwrap();
 //!
 //! let report = evaluate(&scene, &PlausibilityParams::default(), &Sources::default()).unwrap();
 //! let s = &report.summary;
-//! assert!(s.col_sc);                     // the nightstand overlaps the bed by 1 cm
+//! assert_eq!(s.col_sc, Some(true));      // the nightstand overlaps the bed by 1 cm
 //! assert_eq!(s.col_ob, Some(1.0));
 //! assert_eq!(s.sup, Some(1.0));          // both stand on the floor
 //! assert_eq!(s.oob, Some(0.0));          // both inside the room
-//! assert!(s.nav > 0.99);                 // one free region
-//! assert_eq!(s.doors_blocked, 0);
+//! assert!(s.nav.unwrap() > 0.99);        // one free region
+//! assert_eq!(s.doors_blocked, Some(0));
+//!
+//! // A subset of the metrics, under a time budget, with each metric's wall time.
+//! use sceneeval_plausibility::{evaluate_metrics, Deadline, Metric};
+//! let mut timings = Vec::new();
+//! let only = evaluate_metrics(&scene, &PlausibilityParams::default(), &Sources::default(),
+//!     &[Metric::OutOfBounds, Metric::Collision],
+//!     &Deadline::after(std::time::Duration::from_secs(60)), &mut timings).unwrap();
+//! assert_eq!(only.metrics, vec![Metric::Collision, Metric::OutOfBounds]);
+//! assert_eq!(only.collision, report.collision);
+//! assert!(only.support.is_none() && only.summary.sup.is_none());
+//! assert_eq!(timings.len(), 2);
 //! ```
 
 mod accessibility;
 mod category;
 mod clearance;
 mod collision;
+mod deadline;
 #[cfg(feature = "images")]
 mod diagnostics;
 mod error;
 mod index;
+mod layout;
 mod navigability;
 mod objects;
 mod oob;
@@ -104,7 +124,7 @@ mod support;
 use std::fmt;
 
 use sceneeval_geom::Real;
-use sceneeval_scene::Scene;
+use sceneeval_scene::{ObjectId, Scene};
 use serde::{Deserialize, Serialize};
 
 pub use accessibility::{
@@ -120,10 +140,12 @@ pub use collision::{
     CollisionParams, CollisionReport, CollisionWork, ContactKind, ObjectCollision, PairContact, collision,
     collision_with_work,
 };
+pub use deadline::Deadline;
 #[cfg(feature = "images")]
 pub use diagnostics::write_diagnostics;
 pub use error::PlausibilityError;
 pub use index::IndexWork;
+pub use layout::{LayoutChecks, LayoutScratch};
 pub use navigability::{
     NavigabilityParams, NavigabilityReport, OccupancyMap, RoomNavigability, navigability, occupancy_map,
 };
@@ -132,8 +154,9 @@ pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds}
 pub use raster::{Grid, Resolution};
 pub use sceneeval_geom::DepthSearch;
 pub use sources::{
-    Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesSource, GivenFunctionalSides,
-    GivenSupportTypes, SUPPORT_TYPE_TABLE, Stated, SupportType, SupportTypePriors, SupportTypeSource,
+    Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesOf, FunctionalSidesSource,
+    GivenFunctionalSides, GivenSupportTypes, Question, SUPPORT_TYPE_TABLE, Source, Stated, SupportType,
+    SupportTypeOf, SupportTypePriors, SupportTypeSource,
 };
 pub use support::{ObjectSupport, SupportParams, SupportReport, Supporter, support, support_with_work};
 
@@ -193,54 +216,191 @@ impl fmt::Debug for Sources {
     }
 }
 
-/// The scene-level numbers of every metric.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PlausibilitySummary {
-    /// Share of (tested) objects in collision; `None` without objects.
-    pub col_ob: Option<Real>,
-    /// Whether any pair of objects collides.
-    pub col_sc: bool,
-    /// Share of supported objects; `None` without objects.
-    pub sup: Option<Real>,
-    /// Largest connected free region over all free floor, in [0, 1].
-    pub nav: Real,
-    /// Whether every room with a door can be entered; `None` when no room has a door.
-    pub all_rooms_reachable: Option<bool>,
-    /// Mean best-side accessibility; `None` when no object has a functional side.
-    pub acc: Option<Real>,
-    /// Share of objects out of bounds; `None` without objects.
-    pub oob: Option<Real>,
-    /// Doors with an object in their clearance box.
-    pub doors_blocked: usize,
-    /// Windows with an object in their clearance box.
-    pub windows_blocked: usize,
+/// A plausibility metric.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Metric {
+    /// Object collision (COL_ob, COL_sc): [`collision`].
+    Collision,
+    /// Object support (SUP): [`support`].
+    Support,
+    /// Scene navigability (NAV): [`navigability`].
+    Navigability,
+    /// Accessibility of functional sides (ACC): [`accessibility`].
+    Accessibility,
+    /// Objects out of bounds (OOB): [`out_of_bounds`].
+    OutOfBounds,
+    /// Door and window clearance (reference v1.1): [`opening_clearance`].
+    OpeningClearance,
 }
 
-/// Every metric of one scene.
+impl Metric {
+    /// Every metric, in the order they run and are reported.
+    pub const ALL: [Metric; 6] = [
+        Metric::Collision,
+        Metric::Support,
+        Metric::Navigability,
+        Metric::Accessibility,
+        Metric::OutOfBounds,
+        Metric::OpeningClearance,
+    ];
+
+    /// The snake-case name used in plan files, reports and on the command line.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Metric::Collision => "collision",
+            Metric::Support => "support",
+            Metric::Navigability => "navigability",
+            Metric::Accessibility => "accessibility",
+            Metric::OutOfBounds => "out_of_bounds",
+            Metric::OpeningClearance => "opening_clearance",
+        }
+    }
+}
+
+impl fmt::Display for Metric {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Metric {
+    type Err = PlausibilityError;
+
+    /// Parses a metric name, ignoring ASCII case and surrounding spaces.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let t = s.trim();
+        Metric::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(t))
+            .ok_or_else(|| PlausibilityError::UnknownMetric { name: s.to_owned() })
+    }
+}
+
+impl PlausibilityParams {
+    /// Checks every parameter of every metric, including what can be known without a scene
+    /// about raster sizes (a square raster of more than 8192 pixels per side is refused), so
+    /// that a bad value is reported before any scene is read.
+    ///
+    /// # Errors
+    /// [`PlausibilityError::InvalidParameter`] or [`PlausibilityError::RasterTooLarge`] naming
+    /// the metric and the parameter.
+    pub fn validate(&self) -> Result<(), PlausibilityError> {
+        self.collision.validate()?;
+        self.support.validate()?;
+        navigability::validate(&self.navigability)?;
+        accessibility::validate(&self.accessibility)?;
+        self.out_of_bounds.validate()?;
+        self.opening_clearance.validate()?;
+        match self.navigability.resolution {
+            Resolution::Pixels(0) => Err(PlausibilityError::InvalidParameter {
+                metric: "navigability",
+                name: "resolution",
+                value: 0.0,
+                reason: "a raster needs at least one pixel",
+            }),
+            Resolution::Pixels(n) if n as usize > raster::MAX_SIDE => {
+                Err(PlausibilityError::RasterTooLarge {
+                    metric: "navigability",
+                    width: n as usize,
+                    height: n as usize,
+                    max: raster::MAX_SIDE,
+                })
+            }
+            Resolution::Pixels(_) => Ok(()),
+            Resolution::MetresPerPixel(p) => error::check_non_negative("navigability", "resolution", p, true),
+        }
+    }
+}
+
+/// The scene-level numbers of the metrics that ran; a field is `None` when its metric did not
+/// run or does not apply (no objects, no doors, no object with a functional side).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct PlausibilitySummary {
+    /// **COL_ob**: share of (tested) objects in collision, in [0, 1].
+    pub col_ob: Option<Real>,
+    /// **COL_sc**: whether any pair of objects collides.
+    pub col_sc: Option<bool>,
+    /// **SUP**: share of supported objects, in [0, 1].
+    pub sup: Option<Real>,
+    /// **NAV**: largest connected free region over all free floor, in [0, 1].
+    pub nav: Option<Real>,
+    /// Whether every room with a door can be entered (`None` also when no room has a door).
+    pub all_rooms_reachable: Option<bool>,
+    /// **ACC**: mean best-side accessibility over objects with functional sides, in [0, 1].
+    pub acc: Option<Real>,
+    /// **OOB**: share of objects out of bounds, in [0, 1].
+    pub oob: Option<Real>,
+    /// Number of doors checked.
+    pub num_doors: Option<usize>,
+    /// Doors with an object in their clearance box.
+    pub doors_blocked: Option<usize>,
+    /// Number of windows checked.
+    pub num_windows: Option<usize>,
+    /// Windows with an object in their clearance box.
+    pub windows_blocked: Option<usize>,
+}
+
+impl PlausibilitySummary {
+    /// The scene-level numbers of a report's metrics.
+    pub fn of(report: &PlausibilityReport) -> Self {
+        let c = report.collision.as_ref();
+        let nav = report.navigability.as_ref();
+        let oc = report.opening_clearance.as_ref();
+        PlausibilitySummary {
+            col_ob: c.and_then(|c| c.col_ob),
+            col_sc: c.map(|c| c.col_sc),
+            sup: report.support.as_ref().and_then(|s| s.sup),
+            nav: nav.map(|n| n.nav),
+            all_rooms_reachable: nav.and_then(|n| n.all_rooms_reachable),
+            acc: report.accessibility.as_ref().and_then(|a| a.acc),
+            oob: report.out_of_bounds.as_ref().and_then(|o| o.oob),
+            num_doors: oc.map(|o| o.num_doors),
+            doors_blocked: oc.map(|o| o.doors_blocked),
+            num_windows: oc.map(|o| o.num_windows),
+            windows_blocked: oc.map(|o| o.windows_blocked),
+        }
+    }
+}
+
+/// What the metrics found on one scene: the scene-level numbers and each metric's
+/// per-object evidence (`None` for a metric that did not run).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlausibilityReport {
     /// The scene's name, if it has one.
     pub scene_id: Option<String>,
-    /// Number of objects.
-    pub num_objects: usize,
+    /// The object ids, in scene order.
+    pub object_ids: Vec<ObjectId>,
+    /// The metrics that ran, in the order of [`Metric::ALL`].
+    pub metrics: Vec<Metric>,
     /// The scene-level numbers.
     pub summary: PlausibilitySummary,
     /// Collision.
-    pub collision: CollisionReport,
+    pub collision: Option<CollisionReport>,
     /// Support.
-    pub support: SupportReport,
+    pub support: Option<SupportReport>,
     /// Navigability.
-    pub navigability: NavigabilityReport,
+    pub navigability: Option<NavigabilityReport>,
     /// Accessibility.
-    pub accessibility: AccessibilityReport,
+    pub accessibility: Option<AccessibilityReport>,
     /// Out-of-bounds.
-    pub out_of_bounds: OutOfBoundsReport,
+    pub out_of_bounds: Option<OutOfBoundsReport>,
     /// Opening clearance.
-    pub opening_clearance: OpeningClearanceReport,
+    pub opening_clearance: Option<OpeningClearanceReport>,
+}
+
+/// How long one metric took on one scene (wall time, for performance logs; never part of a
+/// report, which stays identical from run to run).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MetricTiming {
+    /// The metric.
+    pub metric: Metric,
+    /// Wall time in seconds.
+    pub seconds: f64,
 }
 
 /// Runs every metric on `scene`, sharing the per-object footprints and the floor
-/// decomposition between them.
+/// decomposition between them; [`evaluate_metrics`] runs a subset under a deadline.
 ///
 /// # Errors
 /// The first [`PlausibilityError`] of any metric (all are parameter errors).
@@ -249,48 +409,110 @@ pub fn evaluate(
     params: &PlausibilityParams,
     sources: &Sources,
 ) -> Result<PlausibilityReport, PlausibilityError> {
-    let infos = objects::object_infos(scene);
-    let pieces = accessibility::scene_floor_pieces(scene);
-    let collision = collision(scene, &params.collision)?;
-    let support = support(scene, &params.support, sources.support_types.as_ref())?;
-    navigability_params_check(params)?;
-    let navigability = navigability::navigability_with(scene, &params.navigability, &infos)?;
-    let accessibility = accessibility::accessibility_with(
+    evaluate_metrics(
         scene,
-        &params.accessibility,
-        sources.functional_sides.as_ref(),
-        &infos,
-        &pieces,
-    )?;
-    let out_of_bounds = oob::out_of_bounds_with(scene, &params.out_of_bounds, &pieces)?;
-    let opening_clearance = clearance::opening_clearance_with(scene, &params.opening_clearance, &infos)?;
-    let summary = PlausibilitySummary {
-        col_ob: collision.col_ob,
-        col_sc: collision.col_sc,
-        sup: support.sup,
-        nav: navigability.nav,
-        all_rooms_reachable: navigability.all_rooms_reachable,
-        acc: accessibility.acc,
-        oob: out_of_bounds.oob,
-        doors_blocked: opening_clearance.doors_blocked,
-        windows_blocked: opening_clearance.windows_blocked,
-    };
-    tracing::debug!(scene = ?scene.id(), ?summary, "plausibility");
-    Ok(PlausibilityReport {
-        scene_id: scene.id().map(str::to_owned),
-        num_objects: scene.objects().len(),
-        summary,
-        collision,
-        support,
-        navigability,
-        accessibility,
-        out_of_bounds,
-        opening_clearance,
-    })
+        params,
+        sources,
+        &Metric::ALL,
+        &Deadline::none(),
+        &mut Vec::new(),
+    )
 }
 
-fn navigability_params_check(params: &PlausibilityParams) -> Result<(), PlausibilityError> {
-    // `navigability_with` and `accessibility_with` skip validation; run it once here.
-    navigability::validate(&params.navigability)?;
-    accessibility::validate(&params.accessibility)
+/// Runs the metrics in `metrics` (in the order of [`Metric::ALL`], each once) on `scene`,
+/// sharing per-scene precomputation between them, and appends each metric's wall time to
+/// `timings` as it finishes. The deadline is checked before each metric and inside the long
+/// loops (see [`Deadline`]).
+///
+/// This is the one place that dispatches metrics: the per-metric functions ([`collision`],
+/// [`support`], ...) give the same results.
+///
+/// # Errors
+/// [`PlausibilityError::InvalidParameter`] / [`PlausibilityError::RasterTooLarge`] for bad
+/// parameters (checked before any metric runs), [`PlausibilityError::DeadlineExceeded`] when
+/// the deadline passes.
+pub fn evaluate_metrics(
+    scene: &Scene,
+    params: &PlausibilityParams,
+    sources: &Sources,
+    metrics: &[Metric],
+    deadline: &Deadline,
+    timings: &mut Vec<MetricTiming>,
+) -> Result<PlausibilityReport, PlausibilityError> {
+    params.validate()?;
+    let selected: Vec<Metric> = Metric::ALL.into_iter().filter(|m| metrics.contains(m)).collect();
+    let mut report = PlausibilityReport {
+        scene_id: scene.id().map(str::to_owned),
+        object_ids: scene.objects().iter().map(|o| o.id().clone()).collect(),
+        metrics: selected.clone(),
+        summary: PlausibilitySummary::default(),
+        collision: None,
+        support: None,
+        navigability: None,
+        accessibility: None,
+        out_of_bounds: None,
+        opening_clearance: None,
+    };
+    let mut infos: Option<Vec<objects::ObjectInfo>> = None;
+    let mut pieces: Option<Vec<plane::FloorPiece>> = None;
+    for metric in selected {
+        deadline.check(metric.name())?;
+        let start = std::time::Instant::now();
+        match metric {
+            Metric::Collision => {
+                report.collision = Some(collision::collision_with(scene, &params.collision, deadline)?.0);
+            }
+            Metric::Support => {
+                report.support = Some(
+                    support::support_with(scene, &params.support, sources.support_types.as_ref(), deadline)?
+                        .0,
+                );
+            }
+            Metric::Navigability => {
+                let infos = infos.get_or_insert_with(|| objects::object_infos(scene));
+                report.navigability = Some(navigability::navigability_with(
+                    scene,
+                    &params.navigability,
+                    infos,
+                )?);
+            }
+            Metric::Accessibility => {
+                let infos = infos.get_or_insert_with(|| objects::object_infos(scene));
+                let pieces = pieces.get_or_insert_with(|| accessibility::scene_floor_pieces(scene));
+                report.accessibility = Some(accessibility::accessibility_with(
+                    scene,
+                    &params.accessibility,
+                    sources.functional_sides.as_ref(),
+                    infos,
+                    pieces,
+                    deadline,
+                )?);
+            }
+            Metric::OutOfBounds => {
+                let pieces = pieces.get_or_insert_with(|| accessibility::scene_floor_pieces(scene));
+                report.out_of_bounds = Some(oob::out_of_bounds_with(
+                    scene,
+                    &params.out_of_bounds,
+                    pieces,
+                    deadline,
+                )?);
+            }
+            Metric::OpeningClearance => {
+                let infos = infos.get_or_insert_with(|| objects::object_infos(scene));
+                report.opening_clearance = Some(clearance::opening_clearance_with(
+                    scene,
+                    &params.opening_clearance,
+                    infos,
+                    deadline,
+                )?);
+            }
+        }
+        timings.push(MetricTiming {
+            metric,
+            seconds: start.elapsed().as_secs_f64(),
+        });
+    }
+    report.summary = PlausibilitySummary::of(&report);
+    tracing::debug!(scene = ?scene.id(), summary = ?report.summary, "plausibility");
+    Ok(report)
 }

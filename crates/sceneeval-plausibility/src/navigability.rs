@@ -5,7 +5,6 @@ use sceneeval_scene::{ObjectId, OpeningKind, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
-use crate::collision::{default_floor_covering_words, floor_coverings};
 use crate::error::check_non_negative;
 use crate::objects::{Footprint, ObjectInfo, object_infos};
 use crate::plane::{ccw, exposed_boundary};
@@ -34,12 +33,6 @@ pub struct NavigabilityParams {
     /// Depth in metres of the strip in front of a door, on its room's side, from which a room
     /// counts as reachable (default 0.5).
     pub door_strip_depth: Real,
-    /// Floor coverings (rugs, carpets, mats) are walked over, not obstacles. Default `true`;
-    /// the reference draws them like any object (`false`).
-    pub exclude_floor_coverings: bool,
-    /// Whole words that mark a floor covering in an object's category (or, without a category,
-    /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
-    pub floor_covering_words: Vec<String>,
     /// Obstacle footprints: convex hulls of the projected meshes (default) or, as the
     /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
     pub footprint: Footprint,
@@ -55,8 +48,6 @@ impl Default for NavigabilityParams {
             walkable_height: 0.0,
             door_max_sill: 0.05,
             door_strip_depth: 0.5,
-            exclude_floor_coverings: true,
-            floor_covering_words: default_floor_covering_words(),
             footprint: Footprint::ConvexHull,
         }
     }
@@ -257,15 +248,9 @@ fn build_map(
             }
         }
     }
-    let coverings = floor_coverings(
-        scene.objects(),
-        params.exclude_floor_coverings,
-        &params.floor_covering_words,
-    );
     let flags: Vec<bool> = infos
         .iter()
-        .zip(&coverings)
-        .map(|(i, &covering)| i.obstructs(params.height_cutoff, params.walkable_height) && !covering)
+        .map(|i| i.obstructs(params.height_cutoff, params.walkable_height))
         .collect();
     for (info, _) in infos.iter().zip(&flags).filter(|(_, f)| **f) {
         blockers.push(Blocker::Footprint(info.footprint_of(params.footprint).0));

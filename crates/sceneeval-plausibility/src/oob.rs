@@ -5,11 +5,11 @@ use sceneeval_geom::{Point2, Point3, Real};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::accessibility::scene_floor_pieces;
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, WorkCounter, flat, grown};
-use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space};
+use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space_into};
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the out-of-bounds metric (reference yaml `OutOfBoundMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -36,6 +36,32 @@ impl Default for OutOfBoundsParams {
             below_floor_tolerance: 0.005,
             boundary_tolerance: 0.001,
         }
+    }
+}
+
+impl OutOfBoundsParams {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
+        check_non_negative(
+            "out_of_bounds",
+            "below_floor_tolerance",
+            self.below_floor_tolerance,
+            false,
+        )?;
+        check_non_negative(
+            "out_of_bounds",
+            "boundary_tolerance",
+            self.boundary_tolerance,
+            false,
+        )?;
+        if !(0.0..=1.0).contains(&self.threshold) {
+            return Err(PlausibilityError::InvalidParameter {
+                metric: "out_of_bounds",
+                name: "threshold",
+                value: self.threshold,
+                reason: "must lie in [0, 1]",
+            });
+        }
+        Ok(())
     }
 }
 
@@ -85,34 +111,16 @@ pub fn out_of_bounds(
     params: &OutOfBoundsParams,
 ) -> Result<OutOfBoundsReport, PlausibilityError> {
     let pieces = scene_floor_pieces(scene);
-    out_of_bounds_with(scene, params, &pieces)
+    out_of_bounds_with(scene, params, &pieces, &Deadline::none())
 }
 
 pub(crate) fn out_of_bounds_with(
     scene: &Scene,
     params: &OutOfBoundsParams,
     pieces: &[FloorPiece],
+    deadline: &Deadline,
 ) -> Result<OutOfBoundsReport, PlausibilityError> {
-    check_non_negative(
-        "out_of_bounds",
-        "below_floor_tolerance",
-        params.below_floor_tolerance,
-        false,
-    )?;
-    check_non_negative(
-        "out_of_bounds",
-        "boundary_tolerance",
-        params.boundary_tolerance,
-        false,
-    )?;
-    if !(0.0..=1.0).contains(&params.threshold) {
-        return Err(PlausibilityError::InvalidParameter {
-            metric: "out_of_bounds",
-            name: "threshold",
-            value: params.threshold,
-            reason: "must lie in [0, 1]",
-        });
-    }
+    params.validate()?;
     // The floor pieces near an object come from an index over their boxes (grown by the
     // boundary tolerance), so large, finely triangulated floors cost `log` per object.
     let margin = params.boundary_tolerance;
@@ -122,26 +130,29 @@ pub(crate) fn out_of_bounds_with(
             .map(|p| flat(&grown(&p.bounds, margin)))
             .collect::<Vec<_>>(),
     );
+    let work = WorkCounter::default();
     let objects: Vec<ObjectBounds> = scene
         .objects()
         .par_iter()
-        .map(|o| {
+        .map_init(ClipScratch::default, |scratch, o| {
+            deadline.check("out_of_bounds")?;
             let surface_area = o.mesh().surface_area();
-            let over = area_over_floor(o, pieces, &index, params.below_floor_tolerance, margin);
-            let ratio = if surface_area > 0.0 {
-                (over / surface_area).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            ObjectBounds {
+            let b = o.world_aabb();
+            let near = index.query_flat(
+                &(Point2::new(b.min.x, b.min.y), Point2::new(b.max.x, b.max.y)),
+                &work,
+            );
+            let over = area_over_floor(o, near.iter().map(|&k| &pieces[k]), params, scratch);
+            let ratio = in_bounds_ratio(surface_area, over);
+            Ok(ObjectBounds {
                 id: o.id().clone(),
                 surface_area,
                 area_over_floor: over,
                 ratio_in_bounds: ratio,
                 out_of_bounds: ratio < params.threshold,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, PlausibilityError>>()?;
     let num_out = objects.iter().filter(|o| o.out_of_bounds).count();
     Ok(OutOfBoundsReport {
         oob: (!objects.is_empty()).then(|| num_out as Real / objects.len() as Real),
@@ -150,26 +161,52 @@ pub(crate) fn out_of_bounds_with(
     })
 }
 
-fn area_over_floor(
+/// The share of a surface of area `surface_area` that `over` covers, in [0, 1] (0 for an
+/// object without surface).
+pub(crate) fn in_bounds_ratio(surface_area: Real, over: Real) -> Real {
+    if surface_area > 0.0 {
+        (over / surface_area).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Two polygon buffers reused across clips: after they have grown to the largest polygon met,
+/// [`area_over_floor`] allocates nothing.
+#[derive(Debug, Default)]
+pub(crate) struct ClipScratch {
+    a: Vec<Point3>,
+    b: Vec<Point3>,
+}
+
+impl ClipScratch {
+    /// Buffers that hold `n` points without growing.
+    pub(crate) fn with_capacity(n: usize) -> Self {
+        ClipScratch {
+            a: Vec::with_capacity(n),
+            b: Vec::with_capacity(n),
+        }
+    }
+}
+
+/// The surface area of `o`'s world mesh lying over a floor piece and above its floor (less
+/// `tol`), the pieces' outer edges moved out by `margin` (see [`out_of_bounds`]). `pieces`
+/// may be all floor pieces or only those an index found near the object.
+pub(crate) fn area_over_floor<'p>(
     o: &SceneObject,
-    pieces: &[FloorPiece],
-    index: &BoxIndex,
-    tol: Real,
-    margin: Real,
+    pieces: impl Iterator<Item = &'p FloorPiece> + Clone,
+    params: &OutOfBoundsParams,
+    scratch: &mut ClipScratch,
 ) -> Real {
+    let (tol, margin) = (params.below_floor_tolerance, params.boundary_tolerance);
     let aabb = o.world_aabb();
     let ob = (
         Point2::new(aabb.min.x, aabb.min.y),
         Point2::new(aabb.max.x, aabb.max.y),
     );
     let grow = |b: &(Point2, Point2)| grown(b, margin);
-    let near: Vec<&FloorPiece> = index
-        .query_flat(&ob, &WorkCounter::default())
-        .into_iter()
-        .map(|k| &pieces[k])
-        .filter(|p| boxes_overlap(&grow(&p.bounds), &ob))
-        .collect();
-    if near.is_empty() {
+    let near = || pieces.clone().filter(|p| boxes_overlap(&grow(&p.bounds), &ob));
+    if near().next().is_none() {
         return 0.0;
     }
     // Whole object over one piece and above its floor.
@@ -179,34 +216,34 @@ fn area_over_floor(
         ob.1,
         Point2::new(ob.0.x, ob.1.y),
     ];
-    if near
-        .iter()
-        .any(|p| aabb.min.z >= p.floor_z - tol && corners.iter().all(|c| p.contains(c, margin)))
-    {
+    if near().any(|p| aabb.min.z >= p.floor_z - tol && corners.iter().all(|c| p.contains(c, margin))) {
         return o.mesh().surface_area();
     }
-    let world: Vec<Point3> = o.mesh().vertices().iter().map(|v| o.pose() * v).collect();
+    let (mesh, pose) = (o.mesh(), o.pose());
+    let vertices = mesh.vertices();
     let mut total = 0.0;
-    for t in o.mesh().triangles() {
-        let tri = [world[t[0] as usize], world[t[1] as usize], world[t[2] as usize]];
+    for t in mesh.triangles() {
+        let tri = t.map(|i| pose * vertices[i as usize]);
         let full = area3(&tri);
         let xy = tri.map(|p| Point2::new(p.x, p.y));
         let tb = (xy[0].inf(&xy[1]).inf(&xy[2]), xy[0].sup(&xy[1]).sup(&xy[2]));
         let mut covered = 0.0;
-        for p in near.iter().filter(|p| boxes_overlap(&grow(&p.bounds), &tb)) {
+        for p in near().filter(|p| boxes_overlap(&grow(&p.bounds), &tb)) {
             let low = p.floor_z - tol;
             if tri.iter().all(|v| v.z >= low) && xy.iter().all(|c| p.contains(c, margin)) {
                 covered += full;
                 continue;
             }
-            let mut poly = clip_half_space(&tri, |v| v.z - low);
+            let ClipScratch { a, b } = scratch;
+            clip_half_space_into(&tri, |v| v.z - low, a);
             for k in 0..p.poly.len() {
-                if poly.len() < 3 {
+                if a.len() < 3 {
                     break;
                 }
-                poly = clip_half_space(&poly, |v| p.inside_edge(k, &Point2::new(v.x, v.y), margin));
+                clip_half_space_into(a, |v| p.inside_edge(k, &Point2::new(v.x, v.y), margin), b);
+                std::mem::swap(a, b);
             }
-            covered += area3(&poly);
+            covered += area3(a);
         }
         total += covered.min(full);
     }
@@ -216,7 +253,9 @@ fn area_over_floor(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::conventions::pose_from_yaw;
     use sceneeval_geom::{Vector3, na::Point2 as P2};
+    use sceneeval_scene::Category;
     use sceneeval_scene::RoomBuilder;
 
     fn ratio(scene: &Scene, params: &OutOfBoundsParams) -> Real {
@@ -235,10 +274,9 @@ mod tests {
             .room_builder(room())
             .add_box(
                 "w",
-                "wardrobe",
-                Point3::new(0.5 - 1e-8, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("wardrobe"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(0.5 - 1e-8, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();
@@ -261,10 +299,9 @@ mod tests {
             .room_builder(room())
             .add_box(
                 "w",
-                "wardrobe",
-                Point3::new(0.45, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("wardrobe"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(0.45, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();
@@ -285,10 +322,9 @@ mod tests {
         let straddling = two()
             .add_box(
                 "t",
-                "table",
-                Point3::new(4.0, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("table"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(4.0, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();
@@ -301,10 +337,9 @@ mod tests {
         let poking = two()
             .add_box(
                 "t",
-                "table",
-                Point3::new(7.0, 2.0, 0.5),
-                Vector3::repeat(1.0),
-                0.0,
+                Category::new("table"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(7.0, 2.0, 0.5), 0.0),
             )
             .build()
             .unwrap();

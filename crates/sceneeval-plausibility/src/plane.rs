@@ -5,12 +5,22 @@ pub(crate) use sceneeval_geom::planar::{
     area, bounds, boxes_overlap, ccw, clip_convex, convex_contains, convex_hull, convex_hull_fast, is_convex,
     orient, subtract_convex,
 };
+use std::collections::HashMap;
+
 use sceneeval_geom::{Point2, Point3, Polygon2, Real, Vector2};
 
 /// Keeps the part of a 3-D polygon where `f(p) >= 0`.
 pub(crate) fn clip_half_space(poly: &[Point3], f: impl Fn(&Point3) -> Real) -> Vec<Point3> {
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    clip_half_space_into(poly, f, &mut out);
+    out
+}
+
+/// [`clip_half_space`] into `out` (cleared first), so that a caller clipping repeatedly can
+/// reuse its buffers and allocate nothing once they have grown.
+pub(crate) fn clip_half_space_into(poly: &[Point3], f: impl Fn(&Point3) -> Real, out: &mut Vec<Point3>) {
+    out.clear();
     let n = poly.len();
-    let mut out = Vec::with_capacity(n + 2);
     for i in 0..n {
         let (cur, next) = (poly[i], poly[(i + 1) % n]);
         let (fc, fn_) = (f(&cur), f(&next));
@@ -22,7 +32,6 @@ pub(crate) fn clip_half_space(poly: &[Point3], f: impl Fn(&Point3) -> Real) -> V
             out.push(cur + (next - cur) * t);
         }
     }
-    out
 }
 
 /// Area of a planar 3-D polygon.
@@ -78,6 +87,8 @@ impl FloorPiece {
 /// the overlap.
 pub(crate) fn floor_pieces(floors: &[(&Polygon2, Real)]) -> Vec<FloorPiece> {
     let mut out: Vec<FloorPiece> = Vec::new();
+    // Whether each piece was cut by an earlier room's floor.
+    let mut cut: Vec<bool> = Vec::new();
     for (room, (poly, z)) in floors.iter().enumerate() {
         let pts = ccw(poly.points().to_vec());
         let own: Vec<Vec<Point2>> = if is_convex(&pts) {
@@ -91,6 +102,7 @@ pub(crate) fn floor_pieces(floors: &[(&Polygon2, Real)]) -> Vec<FloorPiece> {
         let earlier = out.len();
         for piece in own {
             let mut parts = vec![piece];
+            let mut split = false;
             for prev in &out[..earlier] {
                 if prev.room == room {
                     continue;
@@ -99,6 +111,7 @@ pub(crate) fn floor_pieces(floors: &[(&Polygon2, Real)]) -> Vec<FloorPiece> {
                     .iter()
                     .flat_map(|p| {
                         if boxes_overlap(&bounds(p), &prev.bounds) {
+                            split = true;
                             subtract_convex(p, &prev.poly)
                         } else {
                             vec![p.clone()]
@@ -116,12 +129,69 @@ pub(crate) fn floor_pieces(floors: &[(&Polygon2, Real)]) -> Vec<FloorPiece> {
                         room,
                         bounds: b,
                     });
+                    cut.push(split);
                 }
             }
         }
     }
-    // An edge is internal when just beyond its midpoint lies another piece.
-    let outer: Vec<Vec<bool>> = out
+    mark_internal_edges(&mut out, &cut);
+    out
+}
+
+/// Marks each piece edge that borders another piece as internal (`outer[k] = false`): one
+/// whose outer side, probed 1e-6 m beyond its midpoint, lies in another piece.
+///
+/// Pieces of one room that come straight from its triangulation share their internal edges
+/// exactly (end points swapped), which a hash of the edges finds without a probe; the probe is
+/// tested only against the pieces that can contain it otherwise: those of other rooms and
+/// those cut by another room's floor, each after a bounding-box test. A single room of `n`
+/// vertices is thus marked in `O(n)`; the probes grow with the pieces of rooms that overlap
+/// or touch.
+fn mark_internal_edges(pieces: &mut [FloorPiece], cut: &[bool]) {
+    let key = |a: &Point2, b: &Point2| [a.x.to_bits(), a.y.to_bits(), b.x.to_bits(), b.y.to_bits()];
+    let mut edges: HashMap<[u64; 4], usize> = HashMap::new();
+    for (i, piece) in pieces.iter().enumerate() {
+        let n = piece.poly.len();
+        for k in 0..n {
+            edges.insert(key(&piece.poly[k], &piece.poly[(k + 1) % n]), i);
+        }
+    }
+    // Pieces are stored room by room: the range of each room's pieces, and the cut ones.
+    let mut rooms: Vec<(usize, std::ops::Range<usize>)> = Vec::new();
+    for (j, piece) in pieces.iter().enumerate() {
+        match rooms.last_mut() {
+            Some((room, range)) if *room == piece.room => range.end = j + 1,
+            _ => rooms.push((piece.room, j..j + 1)),
+        }
+    }
+    let cut_pieces: Vec<usize> = (0..pieces.len()).filter(|&j| cut[j]).collect();
+    let probe_candidates = |i: usize, probe: &Point2| {
+        let room = pieces[i].room;
+        let in_piece = |j: usize| {
+            let other = &pieces[j];
+            j != i
+                && probe.x >= other.bounds.0.x
+                && probe.x <= other.bounds.1.x
+                && probe.y >= other.bounds.0.y
+                && probe.y <= other.bounds.1.y
+                && convex_contains(&other.poly, probe, 0.0)
+        };
+        let others = rooms
+            .iter()
+            .filter(|(r, _)| *r != room)
+            .any(|(_, range)| range.clone().any(in_piece));
+        // A cut piece may meet any piece of its room; other pieces only the cut ones.
+        others
+            || match rooms.iter().find(|(r, _)| *r == room) {
+                Some((_, range)) if cut[i] => range.clone().any(in_piece),
+                _ => cut_pieces
+                    .iter()
+                    .copied()
+                    .filter(|&j| pieces[j].room == room)
+                    .any(in_piece),
+            }
+    };
+    let outer: Vec<Vec<bool>> = pieces
         .iter()
         .enumerate()
         .map(|(i, piece)| {
@@ -134,19 +204,24 @@ pub(crate) fn floor_pieces(floors: &[(&Polygon2, Real)]) -> Vec<FloorPiece> {
                     if len == 0.0 {
                         return true;
                     }
+                    if let Some(&j) = edges.get(&key(&b, &a))
+                        && j != i
+                        && pieces[j].room == piece.room
+                    {
+                        return false;
+                    }
                     // The piece is counter-clockwise: its outside is to the right of each edge.
                     let probe = a + d * 0.5 + Vector2::new(d.y, -d.x) * (1e-6 / len);
-                    !out.iter()
-                        .enumerate()
-                        .any(|(j, other)| j != i && convex_contains(&other.poly, &probe, 0.0))
+                    #[cfg(test)]
+                    tests::PROBES.with(|c| c.set(c.get() + 1));
+                    !probe_candidates(i, &probe)
                 })
                 .collect()
         })
         .collect();
-    for (piece, outer) in out.iter_mut().zip(outer) {
+    for (piece, outer) in pieces.iter_mut().zip(outer) {
         piece.outer = outer;
     }
-    out
 }
 
 /// The parts of the floors' outlines that border no other floor: pieces of edges whose outer
@@ -242,6 +317,28 @@ fn split_params(a: &Point2, b: &Point2, c: &Point2, e: &Point2) -> Vec<Real> {
 mod tests {
     use super::*;
     use sceneeval_geom::planar::signed_area;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Edge probes made by `mark_internal_edges` on this thread.
+        pub(super) static PROBES: Cell<usize> = const { Cell::new(0) };
+    }
+
+    #[test]
+    fn one_large_concave_floor_is_split_without_pairwise_probes() {
+        // A wobbly, concave 20,000-gon: 19,998 triangles. Internal edges are found by hashing;
+        // only the outline's edges are probed, each against no piece of another room.
+        let n = 20_000;
+        let floor = Polygon2::new(sceneeval_test_support::wobbly_outline(n)).unwrap();
+        PROBES.with(|c| c.set(0));
+        let pieces = floor_pieces(&[(&floor, 0.0)]);
+        assert_eq!(pieces.len(), n as usize - 2);
+        assert_eq!(PROBES.with(Cell::get), n as usize, "one probe per outline edge");
+        let outer = pieces.iter().flat_map(|p| &p.outer).filter(|&&o| o).count();
+        assert_eq!(outer, n as usize, "exactly the outline's edges are outer");
+        let total: Real = pieces.iter().map(|p| area(&p.poly)).sum();
+        assert!((total - floor.area()).abs() < 1e-6 * floor.area());
+    }
 
     fn p(x: f64, y: f64) -> Point2 {
         Point2::new(x, y)

@@ -23,8 +23,10 @@ pub enum Resolution {
     MetresPerPixel(Real),
 }
 
-/// Most pixels per side of a raster (2^20: a millimetre grid over a kilometre).
-pub(crate) const MAX_SIDE: usize = 1 << 20;
+/// Most pixels per side of a raster (2^16 = 65,536: a centimetre grid over 650 m). Memory
+/// grows with rows and runs, not pixels, so this bounds only the time of absurd requests
+/// (a 100,000-pixel side is refused before any scene is read).
+pub(crate) const MAX_SIDE: usize = 1 << 16;
 
 /// A pixel grid over the floor plan. Pixel `(i, j)` covers `[x0 + i p, x0 + (i+1) p] x
 /// [y0 + j p, y0 + (j+1) p]` and is sampled at its centre; row `j = 0` is the lowest y.

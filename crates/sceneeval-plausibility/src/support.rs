@@ -7,11 +7,11 @@ use sceneeval_geom::{Aabb, Isometry3, Mesh, Point2, Point3, Ray, Real, Vector3};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::plane::{area, convex_contains, convex_hull};
 use crate::sources::{SupportType, SupportTypeSource};
+use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the support metric (reference yaml `SupportMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -53,7 +53,7 @@ impl Default for SupportParams {
 }
 
 impl SupportParams {
-    fn validate(&self) -> Result<(), PlausibilityError> {
+    pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         check_non_negative("support", "lift", self.lift, false)?;
         check_non_negative("support", "contact_distance", self.contact_distance, true)?;
         check_non_negative("support", "extreme_band", self.extreme_band, false)?;
@@ -163,7 +163,7 @@ pub fn support(
     params: &SupportParams,
     types: &dyn SupportTypeSource,
 ) -> Result<SupportReport, PlausibilityError> {
-    support_with_work(scene, params, types).map(|(report, _)| report)
+    support_with(scene, params, types, &Deadline::none()).map(|(report, _)| report)
 }
 
 /// [`support`] and the work of its spatial-index queries (boxes tested, candidate targets),
@@ -175,6 +175,16 @@ pub fn support_with_work(
     scene: &Scene,
     params: &SupportParams,
     types: &dyn SupportTypeSource,
+) -> Result<(SupportReport, IndexWork), PlausibilityError> {
+    support_with(scene, params, types, &Deadline::none())
+}
+
+/// [`support_with_work`], giving up once `deadline` has passed (checked before each object).
+pub(crate) fn support_with(
+    scene: &Scene,
+    params: &SupportParams,
+    types: &dyn SupportTypeSource,
+    deadline: &Deadline,
 ) -> Result<(SupportReport, IndexWork), PlausibilityError> {
     params.validate()?;
     let mut targets: Vec<Target<'_>> = Vec::new();
@@ -190,8 +200,9 @@ pub fn support_with_work(
     for room in scene.rooms() {
         let rid = room.id().to_string();
         targets.push(arch_target(room.floor_mesh(), Supporter::Floor(rid.clone())));
-        for w in room.walls() {
-            targets.push(arch_target(w.mesh(), Supporter::Wall(w.id().to_owned())));
+        // A wall whose openings cover it whole has no solid to support anything.
+        for (w, mesh) in room.walls().iter().filter_map(|w| Some((w, w.mesh()?))) {
+            targets.push(arch_target(mesh, Supporter::Wall(w.id().to_owned())));
         }
         if let Some(c) = room.ceiling_mesh() {
             targets.push(arch_target(c, Supporter::Ceiling(rid)));
@@ -204,14 +215,24 @@ pub fn support_with_work(
         .par_iter()
         .enumerate()
         .map(|(k, o)| {
+            deadline.check("support")?;
             let answer = types.support_type(scene, o);
             let (support_type, type_source) = match answer {
                 Some(a) => (a.value, Some(a.source)),
                 None => (SupportType::Ground, None),
             };
-            check_object(k, o, support_type, type_source, &targets, &index, &work, params)
+            Ok(check_object(
+                k,
+                o,
+                support_type,
+                type_source,
+                &targets,
+                &index,
+                &work,
+                params,
+            ))
         })
-        .collect();
+        .collect::<Result<_, PlausibilityError>>()?;
     let num_supported = objects.iter().filter(|o| o.supported).count();
     let num_unknown_type = objects.iter().filter(|o| o.type_source.is_none()).count();
     if num_unknown_type > 0 {
@@ -381,29 +402,37 @@ fn ray_origins(o: &SceneObject, world: &[Point3], g: &Vector3, params: &SupportP
     // Faces holding at least one point at this density get a k x k lattice (k^2 close to
     // area x density); smaller faces share points: a running sum of area x density emits a
     // face's centroid each time it passes an integer, so tiny faces are sampled in proportion
-    // to their area too.
-    let lattice_at = |density: Real| -> Vec<Point3> {
-        let mut out = Vec::new();
+    // to their area too. Without `out` the points are only counted: the density is lowered
+    // to fit the budget *before* any point is stored (1.2 million coincident faces of half a
+    // square metre would otherwise materialise 173 million points, 4 GB, first).
+    let lattice_at = |density: Real, mut out: Option<&mut Vec<Point3>>| -> usize {
+        let mut count = 0usize;
         let mut carry = 0.0;
         for (tri, a) in &faces {
             let expected = a * density;
-            if expected >= 1.0 {
-                lattice(tri, (expected.sqrt().ceil() as usize).min(64), &mut out);
+            let k = if expected >= 1.0 {
+                (expected.sqrt().ceil() as usize).min(64)
             } else {
                 let before = carry;
                 carry += expected;
-                if carry.floor() > before.floor() {
-                    lattice(tri, 1, &mut out);
+                usize::from(carry.floor() > before.floor())
+            };
+            if k > 0 {
+                count += k * k;
+                if let Some(out) = out.as_deref_mut() {
+                    lattice(tri, k, out);
                 }
             }
         }
-        out
+        count
     };
-    let mut lattice_points = lattice_at(params.samples_per_square_metre);
-    if lattice_points.len() > params.max_face_samples {
-        let scale = params.max_face_samples as Real / lattice_points.len() as Real;
-        lattice_points = lattice_at(params.samples_per_square_metre * scale);
+    let mut density = params.samples_per_square_metre;
+    let full = lattice_at(density, None);
+    if full > params.max_face_samples {
+        density *= params.max_face_samples as Real / full as Real;
     }
+    let mut lattice_points = Vec::new();
+    lattice_at(density, Some(&mut lattice_points));
     // Many tiny faces can still exceed the budget at one point each: keep an even subset.
     let keep = params.max_face_samples.max(1);
     if lattice_points.len() > keep {

@@ -11,9 +11,10 @@ use std::sync::Arc;
 
 use common::{at, scene};
 use proptest::prelude::*;
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Isometry3, Mesh, Point3, Rotation3, Vector3};
 use sceneeval_plausibility::*;
-use sceneeval_scene::{Scene, SceneObject};
+use sceneeval_scene::{Category, Scene, SceneObject};
 
 /// Faces of an axis-aligned box: -x, +x, -y, +y, -z, +z.
 #[derive(Clone, Copy, PartialEq)]
@@ -158,8 +159,13 @@ fn laptop_sunk_into_an_open_desk_collides() {
     // through the 2 cm top. Screen points inside the top lie up to 2 cm below its top face
     // (its underside is missing, so only the top face and the desk's box bound their depth).
     let s = scene()
-        .add_mesh("desk", "desk", open_desk(), at(2.0, 2.5, 0.0, 0.0))
-        .add_mesh("laptop", "laptop", open_laptop(), at(2.0, 2.5, 0.70, 0.2))
+        .add_mesh("desk", Category::new("desk"), open_desk(), at(2.0, 2.5, 0.0, 0.0))
+        .add_mesh(
+            "laptop",
+            Category::new("laptop"),
+            open_laptop(),
+            at(2.0, 2.5, 0.70, 0.2),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -170,8 +176,13 @@ fn laptop_sunk_into_an_open_desk_collides() {
     assert!(r.col_sc);
     // Resting on the top (base bottom at 0.75): a contact, not a collision.
     let s = scene()
-        .add_mesh("desk", "desk", open_desk(), at(2.0, 2.5, 0.0, 0.0))
-        .add_mesh("laptop", "laptop", open_laptop(), at(2.0, 2.5, 0.75, 0.2))
+        .add_mesh("desk", Category::new("desk"), open_desk(), at(2.0, 2.5, 0.0, 0.0))
+        .add_mesh(
+            "laptop",
+            Category::new("laptop"),
+            open_laptop(),
+            at(2.0, 2.5, 0.75, 0.2),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -179,8 +190,13 @@ fn laptop_sunk_into_an_open_desk_collides() {
     assert!(r.contacts.iter().all(|c| !c.undecided));
     // Sunk 3 mm: within the tolerance.
     let s = scene()
-        .add_mesh("desk", "desk", open_desk(), at(2.0, 2.5, 0.0, 0.0))
-        .add_mesh("laptop", "laptop", open_laptop(), at(2.0, 2.5, 0.747, 0.2))
+        .add_mesh("desk", Category::new("desk"), open_desk(), at(2.0, 2.5, 0.0, 0.0))
+        .add_mesh(
+            "laptop",
+            Category::new("laptop"),
+            open_laptop(),
+            at(2.0, 2.5, 0.747, 0.2),
+        )
         .build()
         .unwrap();
     assert!(!col(&s).col_sc);
@@ -193,8 +209,18 @@ fn open_armchairs_overlapping_by_11_6_cm_collide() {
     // 11.6 cm; the overlapped arm points lie up to 15 - 11.6 = 3.4 cm inside the other arm.
     let chair = open_armchair();
     let s = scene()
-        .add_mesh("a", "armchair", chair.clone(), at(1.5, 2.5, 0.0, 0.0))
-        .add_mesh("b", "armchair", chair.clone(), at(1.5 + 0.684, 2.5, 0.0, 0.0))
+        .add_mesh(
+            "a",
+            Category::new("armchair"),
+            chair.clone(),
+            at(1.5, 2.5, 0.0, 0.0),
+        )
+        .add_mesh(
+            "b",
+            Category::new("armchair"),
+            chair.clone(),
+            at(1.5 + 0.684, 2.5, 0.0, 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -215,8 +241,13 @@ fn open_armchairs_overlapping_by_11_6_cm_collide() {
     assert!(deep.contacts[0].depth <= 0.116 + 1e-9, "{:?}", deep.contacts[0]);
     // Arms flush (0.8 m apart): touching, not colliding.
     let s = scene()
-        .add_mesh("a", "armchair", chair.clone(), at(1.5, 2.5, 0.0, 0.0))
-        .add_mesh("b", "armchair", chair, at(2.3, 2.5, 0.0, 0.0))
+        .add_mesh(
+            "a",
+            Category::new("armchair"),
+            chair.clone(),
+            at(1.5, 2.5, 0.0, 0.0),
+        )
+        .add_mesh("b", Category::new("armchair"), chair, at(2.3, 2.5, 0.0, 0.0))
         .build()
         .unwrap();
     assert!(!col(&s).col_sc);
@@ -234,17 +265,15 @@ fn small_box_inside_a_yawed_box_on_the_same_floor_collides() {
             let scene = scene()
                 .add_box(
                     "bed",
-                    "bed",
-                    Point3::new(2.0, 2.5, 0.3),
-                    Vector3::new(2.0, 1.6, 0.6),
-                    yaw,
+                    Category::new("bed"),
+                    Vector3::new(2.0, 1.6, 0.6) * 0.5,
+                    pose_from_yaw(Point3::new(2.0, 2.5, 0.3), yaw),
                 )
                 .add_box(
                     "box",
-                    "box",
-                    Point3::new(x, y, 0.15),
-                    Vector3::new(0.3, 0.3, 0.3),
-                    0.4,
+                    Category::new("box"),
+                    Vector3::new(0.3, 0.3, 0.3) * 0.5,
+                    pose_from_yaw(Point3::new(x, y, 0.15), 0.4),
                 )
                 .build()
                 .unwrap();
@@ -265,11 +294,10 @@ fn grid_with_pushed_objects_finds_every_nested_pair() {
         let (gx, gy) = ((k % 10) as f64 * 3.0, (k / 10) as f64 * 3.0);
         let yaw = (15.0 + 0.5 * k as f64).to_radians();
         b = b.add_box(
-            &format!("bed{k}"),
-            "bed",
-            Point3::new(gx, gy, 0.3),
-            Vector3::new(2.0, 1.6, 0.6),
-            yaw,
+            format!("bed{k}"),
+            Category::new("bed"),
+            Vector3::new(2.0, 1.6, 0.6) * 0.5,
+            pose_from_yaw(Point3::new(gx, gy, 0.3), yaw),
         );
         let (cx, cy) = if k % 10 == 3 {
             expected += 1;
@@ -278,11 +306,10 @@ fn grid_with_pushed_objects_finds_every_nested_pair() {
             (gx + 1.45, gy + 1.45)
         };
         b = b.add_box(
-            &format!("box{k}"),
-            "box",
-            Point3::new(cx, cy, 0.15),
-            Vector3::new(0.3, 0.3, 0.3),
-            0.0,
+            format!("box{k}"),
+            Category::new("box"),
+            Vector3::new(0.3, 0.3, 0.3) * 0.5,
+            pose_from_yaw(Point3::new(cx, cy, 0.15), 0.0),
         );
     }
     let r = col(&b.build().unwrap());
@@ -393,7 +420,12 @@ fn stacked_copies_cost_no_point_query_per_pair() {
     for n in [144usize, 288] {
         let mut b = Scene::builder();
         for k in 0..n {
-            b = b.add_mesh(&format!("c{k}"), "chair", m.clone(), at(1.0, 1.0, 0.0, 0.3));
+            b = b.add_mesh(
+                format!("c{k}"),
+                Category::new("chair"),
+                m.clone(),
+                at(1.0, 1.0, 0.0, 0.3),
+            );
         }
         let (r, work) = collision_with_work(&b.build().unwrap(), &CollisionParams::default()).unwrap();
         assert_eq!(work.candidate_pairs, n * (n - 1) / 2);
@@ -423,7 +455,12 @@ fn objects_sharing_poses_cost_a_bounded_number_of_queries_per_pair() {
         for p in 0..poses {
             let (x, y) = ((p % 25) as f64 * 0.5, (p / 25) as f64 * 0.5);
             for (k, m) in meshes.iter().enumerate() {
-                b = b.add_mesh(&format!("o{p}_{k}"), "thing", m.clone(), at(x, y, 0.3, 0.1));
+                b = b.add_mesh(
+                    format!("o{p}_{k}"),
+                    Category::new("thing"),
+                    m.clone(),
+                    at(x, y, 0.3, 0.1),
+                );
             }
         }
         let params = CollisionParams::default();

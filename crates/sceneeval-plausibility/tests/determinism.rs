@@ -6,8 +6,10 @@
 mod common;
 
 use common::{at, check_invariants, scene, sphere};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Point3, Vector3};
 use sceneeval_plausibility::{PlausibilityParams, PlausibilityReport, Sources, evaluate};
+use sceneeval_scene::Category;
 use sceneeval_scene::Scene;
 
 fn busy_scene() -> Scene {
@@ -17,17 +19,16 @@ fn busy_scene() -> Scene {
     for k in 0..12 {
         let (x, y) = (0.5 + 0.6 * (k % 6) as f64, 1.0 + 1.2 * (k / 6) as f64);
         b = b.add_mesh(
-            &format!("ball{k}"),
-            "ball",
+            format!("ball{k}"),
+            Category::new("ball"),
             ball.clone(),
             at(x, y, 0.25 + 0.01 * k as f64, 0.1 * k as f64),
         );
         b = b.add_box(
-            &format!("box{k}"),
-            if k % 2 == 0 { "table" } else { "chair" },
-            Point3::new(x + 0.2, y + 0.5, 0.3),
-            Vector3::new(0.4, 0.5, 0.6),
-            0.3 * k as f64,
+            format!("box{k}"),
+            Category::new(if k % 2 == 0 { "table" } else { "chair" }),
+            Vector3::new(0.2, 0.25, 0.3),
+            pose_from_yaw(Point3::new(x + 0.2, y + 0.5, 0.3), 0.3 * k as f64),
         );
     }
     b.build().unwrap()
@@ -46,7 +47,11 @@ fn identical_for_one_and_two_threads_and_across_runs() {
     let s = busy_scene();
     let one = run(1, &s);
     check_invariants(&one);
-    assert!(one.summary.col_sc, "the scene is meant to have collisions");
+    assert_eq!(
+        one.summary.col_sc,
+        Some(true),
+        "the scene is meant to have collisions"
+    );
     let json = serde_json::to_string(&one).unwrap();
     for threads in [2, 1, 2] {
         let again = run(threads, &s);
@@ -61,17 +66,15 @@ fn diagnostic_images_are_deterministic() {
     let s = scene()
         .add_box(
             "wardrobe",
-            "wardrobe",
-            Point3::new(1.45, 0.31, 1.0),
-            Vector3::new(1.0, 0.6, 2.0),
-            0.0,
+            Category::new("wardrobe"),
+            Vector3::new(0.5, 0.3, 1.0),
+            pose_from_yaw(Point3::new(1.45, 0.31, 1.0), 0.0),
         )
         .add_box(
             "bed",
-            "bed",
-            Point3::new(3.2, 4.0, 0.3),
-            Vector3::new(1.6, 2.0, 0.6),
-            0.0,
+            Category::new("bed"),
+            Vector3::new(0.8, 1.0, 0.3),
+            pose_from_yaw(Point3::new(3.2, 4.0, 0.3), 0.0),
         )
         .build()
         .unwrap();

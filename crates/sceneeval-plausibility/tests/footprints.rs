@@ -1,5 +1,5 @@
-//! Footprints (convex hull or the reference's bounding rectangle), floor coverings that do not
-//! obstruct, and the spatial index's work growing as `n log n`.
+//! Footprints (convex hull or the reference's bounding rectangle), floor coverings walked over
+//! (or not), and the spatial index's work growing as `n log n`.
 
 // Test helpers outside #[test] functions may unwrap too.
 #![allow(clippy::unwrap_used)]
@@ -9,9 +9,10 @@ mod common;
 use std::sync::Arc;
 
 use common::{at, scene};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Mesh, Point2, Point3, Side, Vector3};
 use sceneeval_plausibility::*;
-use sceneeval_scene::{RoomBuilder, Scene, SceneObject};
+use sceneeval_scene::{Category, RoomBuilder, Scene, SceneObject};
 
 /// A round bath: a closed cylinder of radius `r` and height `h` (64 sides), origin at the
 /// centre of its bottom.
@@ -44,19 +45,22 @@ fn bath_room() -> Scene {
     scene()
         .add_box(
             "shelf_w",
-            "shelf",
-            Point3::new(0.5, 2.5, 0.5),
-            Vector3::new(1.0, 0.4, 1.0),
-            0.0,
+            Category::new("shelf"),
+            Vector3::new(1.0, 0.4, 1.0) * 0.5,
+            pose_from_yaw(Point3::new(0.5, 2.5, 0.5), 0.0),
         )
         .add_box(
             "shelf_e",
-            "shelf",
-            Point3::new(3.5, 2.5, 0.5),
-            Vector3::new(1.0, 0.4, 1.0),
-            0.0,
+            Category::new("shelf"),
+            Vector3::new(1.0, 0.4, 1.0) * 0.5,
+            pose_from_yaw(Point3::new(3.5, 2.5, 0.5), 0.0),
         )
-        .add_mesh("bath", "bathtub", round_bath(1.0, 0.5), at(2.0, 3.7, 0.0, 0.0))
+        .add_mesh(
+            "bath",
+            Category::new("bathtub"),
+            round_bath(1.0, 0.5),
+            at(2.0, 3.7, 0.0, 0.0),
+        )
         .build()
         .unwrap()
 }
@@ -94,13 +98,17 @@ fn accessibility_uses_the_chosen_footprint() {
             Point2::new(0.0, 0.0),
             Point2::new(6.0, 6.0),
         ))
-        .add_mesh("bath", "bathtub", round_bath(1.0, 0.5), at(2.0, 3.7, 0.0, 0.0))
+        .add_mesh(
+            "bath",
+            Category::new("bathtub"),
+            round_bath(1.0, 0.5),
+            at(2.0, 3.7, 0.0, 0.0),
+        )
         .object(
             SceneObject::new_box(
                 "cabinet",
-                Point3::new(2.85, 2.5, 0.4),
-                Vector3::new(0.3, 0.3, 0.8),
-                std::f64::consts::PI,
+                Vector3::new(0.3, 0.3, 0.8) * 0.5,
+                pose_from_yaw(Point3::new(2.85, 2.5, 0.4), std::f64::consts::PI),
             )
             .unwrap()
             .with_category("cabinet")
@@ -121,78 +129,69 @@ fn accessibility_uses_the_chosen_footprint() {
 }
 
 #[test]
-fn floor_coverings_obstruct_nothing_by_default() {
+fn floor_coverings_obstruct_unless_walked_over() {
     // A 1 cm rug across the whole room at y in [2, 3], a doormat in front of the door
-    // (x in [1.0, 1.9] on y = 0), and a bed whose left side faces the rug.
+    // (x in [1.0, 1.9] on y = 0), and a bed whose front faces the rug. By default (as the
+    // reference) they obstruct; with a 2 cm walkable height they are walked over.
     let s = scene()
         .add_box(
             "rug",
-            "rug",
-            Point3::new(2.0, 2.5, 0.005),
-            Vector3::new(4.0, 1.0, 0.01),
-            0.0,
+            Category::new("rug"),
+            Vector3::new(2.0, 0.5, 0.005),
+            pose_from_yaw(Point3::new(2.0, 2.5, 0.005), 0.0),
         )
         .add_box(
             "mat",
-            "doormat",
-            Point3::new(1.45, 0.3, 0.005),
-            Vector3::new(0.8, 0.5, 0.01),
-            0.0,
-        )
-        .object(
-            SceneObject::new_box(
-                "bed",
-                Point3::new(1.0, 4.0, 0.3),
-                Vector3::new(1.6, 1.4, 0.6),
-                0.0,
-            )
-            .unwrap()
-            .with_category("bed")
-            .with_functional_sides([Side::Front]),
+            Category::new("doormat"),
+            Vector3::new(0.4, 0.25, 0.005),
+            pose_from_yaw(Point3::new(1.45, 0.3, 0.005), 0.0),
         )
         .build()
         .unwrap();
-    let nav = NavigabilityParams {
+    let walked = NavigabilityParams {
         resolution: Resolution::MetresPerPixel(0.05),
+        walkable_height: 0.02,
         ..NavigabilityParams::default()
     };
-    let r = navigability(&s, &nav).unwrap();
+    let r = navigability(&s, &walked).unwrap();
     assert_eq!(r.num_components, 1);
     assert_eq!(
         r.ignored.iter().map(|i| i.as_str()).collect::<Vec<_>>(),
         ["rug", "mat"]
     );
     let reference = NavigabilityParams {
-        exclude_floor_coverings: false,
-        ..nav
+        walkable_height: 0.0,
+        ..walked
     };
     // The rug then cuts the room in two (the reference draws it).
     assert_eq!(navigability(&s, &reference).unwrap().num_components, 2);
 
-    let c = opening_clearance(&s, &OpeningClearanceParams::default()).unwrap();
-    assert_eq!(c.doors_blocked, 0);
-    let reference = OpeningClearanceParams {
-        exclude_floor_coverings: false,
+    assert_eq!(
+        opening_clearance(&s, &OpeningClearanceParams::default())
+            .unwrap()
+            .doors_blocked,
+        1
+    );
+    let walked = OpeningClearanceParams {
+        walkable_height: 0.02,
         ..OpeningClearanceParams::default()
     };
-    assert_eq!(opening_clearance(&s, &reference).unwrap().doors_blocked, 1);
+    assert_eq!(opening_clearance(&s, &walked).unwrap().doors_blocked, 0);
 
     // The bed's front face is at y = 4.0 - 0.7 = 3.3, its front strip y in [3.05, 3.25]: over
     // a rug spanning y in [2.5, 3.5].
     let s = scene()
         .add_box(
             "rug",
-            "rug",
-            Point3::new(2.0, 3.0, 0.005),
-            Vector3::new(4.0, 1.0, 0.01),
-            0.0,
+            Category::new("rug"),
+            Vector3::new(2.0, 0.5, 0.005),
+            pose_from_yaw(Point3::new(2.0, 3.0, 0.005), 0.0),
         )
         .object(
             SceneObject::new_box(
                 "bed",
-                Point3::new(1.0, 4.0, 0.3),
-                Vector3::new(1.6, 1.4, 0.6),
-                0.0,
+                Vector3::new(0.8, 0.7, 0.3),
+                pose_from_yaw(Point3::new(1.0, 4.0, 0.3), 0.0),
             )
             .unwrap()
             .with_category("bed")
@@ -201,14 +200,14 @@ fn floor_coverings_obstruct_nothing_by_default() {
         .build()
         .unwrap();
     let a = accessibility(&s, &AccessibilityParams::default(), &Stated).unwrap();
-    assert_eq!(a.objects[1].score, Some(1.0));
-    let reference = AccessibilityParams {
-        exclude_floor_coverings: false,
+    assert_eq!(a.objects[1].score, Some(0.0));
+    let walked = AccessibilityParams {
+        walkable_height: 0.02,
         ..AccessibilityParams::default()
     };
     assert_eq!(
-        accessibility(&s, &reference, &Stated).unwrap().objects[1].score,
-        Some(0.0)
+        accessibility(&s, &walked, &Stated).unwrap().objects[1].score,
+        Some(1.0)
     );
 }
 
@@ -226,9 +225,8 @@ fn grid(n: usize) -> Scene {
         b = b.object(
             SceneObject::new_box(
                 format!("o{k}"),
-                Point3::new(x, y, 0.4),
-                Vector3::new(0.6, 0.5, 0.8),
-                0.3,
+                Vector3::new(0.6, 0.5, 0.8) * 0.5,
+                pose_from_yaw(Point3::new(x, y, 0.4), 0.3),
             )
             .unwrap()
             .with_category("cabinet")
@@ -276,11 +274,10 @@ fn a_two_centimetre_grid_over_a_large_scene_is_stored_as_runs() {
     for k in 0..n {
         let (x, y) = (1.5 + (k % cols) as f64 * 3.0, 1.5 + (k / cols) as f64 * 3.0);
         b = b.add_box(
-            &format!("o{k}"),
-            "cabinet",
-            Point3::new(x, y, 0.4),
-            Vector3::new(1.2, 0.6, 0.8),
-            0.4,
+            format!("o{k}"),
+            Category::new("cabinet"),
+            Vector3::new(1.2, 0.6, 0.8) * 0.5,
+            pose_from_yaw(Point3::new(x, y, 0.4), 0.4),
         );
     }
     let s = b.build().unwrap();

@@ -7,8 +7,10 @@ mod common;
 
 use common::scene;
 use proptest::prelude::*;
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Point3, Vector3};
 use sceneeval_plausibility::*;
+use sceneeval_scene::Category;
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
@@ -18,8 +20,8 @@ proptest! {
     #[test]
     fn oob_ratio_bounds(x in 0.5..3.5f64, y in 0.5..4.5f64, w in 0.1..0.7f64, yaw in 0.0..6.3f64, dx in 0.0..3.0f64) {
         let s = scene()
-            .add_box("in", "box", Point3::new(x, y, 0.5), Vector3::new(w, w, 1.0), yaw)
-            .add_box("moved", "box", Point3::new(x + dx, y, 0.5), Vector3::new(w, w, 1.0), yaw)
+            .add_box("in", Category::new("box"), Vector3::new(w, w, 1.0) * 0.5, pose_from_yaw(Point3::new(x, y, 0.5), yaw))
+            .add_box("moved", Category::new("box"), Vector3::new(w, w, 1.0) * 0.5, pose_from_yaw(Point3::new(x + dx, y, 0.5), yaw))
             .build()
             .unwrap();
         let r = out_of_bounds(&s, &OutOfBoundsParams::default()).unwrap();
@@ -46,7 +48,7 @@ proptest! {
             let order: Vec<usize> = if first { vec![0, 1] } else { vec![1, 0] };
             for i in order {
                 let (id, c, yw) = boxes[i];
-                b = b.add_box(id, "box", c, Vector3::new(0.8, 0.6, 0.6), yw);
+                b = b.add_box(id, Category::new("box"), Vector3::new(0.4, 0.3, 0.3), pose_from_yaw(c, yw));
             }
             b.build().unwrap()
         };
@@ -73,7 +75,7 @@ proptest! {
     #[test]
     fn scores_are_shares(x in 0.6..3.4f64, y in 0.6..4.4f64, yaw in 0.0..6.3f64) {
         let s = scene()
-            .add_box("bed", "bed", Point3::new(x, y, 0.3), Vector3::new(0.8, 0.9, 0.6), yaw)
+            .add_box("bed", Category::new("bed"), Vector3::new(0.4, 0.45, 0.3), pose_from_yaw(Point3::new(x, y, 0.3), yaw))
             .build()
             .unwrap();
         let nav = navigability(&s, &NavigabilityParams { resolution: Resolution::Pixels(64), ..NavigabilityParams::default() }).unwrap();

@@ -7,8 +7,10 @@ mod common;
 
 use approx::assert_abs_diff_eq;
 use common::{check_invariants, scene};
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Point2, Point3, Side, Vector3};
 use sceneeval_plausibility::*;
+use sceneeval_scene::Category;
 use sceneeval_scene::{RoomBuilder, Scene};
 
 fn b(x: f64, y: f64, z: f64) -> Point3 {
@@ -29,8 +31,18 @@ fn boxes_overlapping_by_one_centimetre_collide_with_depth_one_centimetre() {
     // B's -x face lies 1 cm inside A, everything else of the overlap is farther from A's
     // other faces: depth = 1.5 - 1.49 = 0.01.
     let s = scene()
-        .add_box("a", "cabinet", b(1.0, 1.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
-        .add_box("b", "cabinet", b(1.79, 1.0, 0.5), size(0.6, 0.6, 0.6), 0.0)
+        .add_box(
+            "a",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(1.0, 1.0, 0.5), 0.0),
+        )
+        .add_box(
+            "b",
+            Category::new("cabinet"),
+            size(0.3, 0.3, 0.3),
+            pose_from_yaw(b(1.79, 1.0, 0.5), 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -50,8 +62,18 @@ fn flush_boxes_overlapping_by_one_centimetre_collide() {
     // Same size, aligned faces: every corner lies on the other box's boundary, only face
     // points reveal the 1 cm overlap (x in [1.49, 1.5]).
     let s = scene()
-        .add_box("a", "cabinet", b(1.0, 1.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
-        .add_box("b", "cabinet", b(1.99, 1.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
+        .add_box(
+            "a",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(1.0, 1.0, 0.5), 0.0),
+        )
+        .add_box(
+            "b",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(1.99, 1.0, 0.5), 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -63,8 +85,18 @@ fn flush_boxes_overlapping_by_one_centimetre_collide() {
 fn touching_boxes_do_not_collide() {
     // B: x in [1.5, 2.1], touching A's +x face.
     let s = scene()
-        .add_box("a", "cabinet", b(1.0, 1.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
-        .add_box("b", "cabinet", b(1.8, 1.0, 0.5), size(0.6, 0.6, 0.6), 0.0)
+        .add_box(
+            "a",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(1.0, 1.0, 0.5), 0.0),
+        )
+        .add_box(
+            "b",
+            Category::new("cabinet"),
+            size(0.3, 0.3, 0.3),
+            pose_from_yaw(b(1.8, 1.0, 0.5), 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -78,8 +110,18 @@ fn resting_three_millimetres_deep_is_contact_not_collision() {
     // Table top at z = 0.75; lamp bottom at 0.75 + 0.2 - 0.2 - 0.003 = 0.747: depth 0.003,
     // under the 5 mm tolerance.
     let s = scene()
-        .add_box("table", "table", b(1.0, 1.0, 0.375), size(1.0, 1.0, 0.75), 0.0)
-        .add_box("lamp", "table_lamp", b(1.0, 1.0, 0.947), size(0.2, 0.2, 0.4), 0.0)
+        .add_box(
+            "table",
+            Category::new("table"),
+            size(0.5, 0.5, 0.375),
+            pose_from_yaw(b(1.0, 1.0, 0.375), 0.0),
+        )
+        .add_box(
+            "lamp",
+            Category::new("table_lamp"),
+            size(0.1, 0.1, 0.2),
+            pose_from_yaw(b(1.0, 1.0, 0.947), 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -108,8 +150,18 @@ fn object_inside_another_collides() {
     // A 0.2 m cube centred in a 1 m cube: surfaces never meet. Every point of the small cube's
     // surface is 0.5 - 0.1 = 0.4 from the big cube's nearest face.
     let s = scene()
-        .add_box("big", "cabinet", b(2.0, 2.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
-        .add_box("small", "box", b(2.0, 2.0, 0.5), size(0.2, 0.2, 0.2), 0.0)
+        .add_box(
+            "big",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(2.0, 2.0, 0.5), 0.0),
+        )
+        .add_box(
+            "small",
+            Category::new("box"),
+            size(0.1, 0.1, 0.1),
+            pose_from_yaw(b(2.0, 2.0, 0.5), 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -125,8 +177,18 @@ fn object_inside_another_collides() {
     assert_eq!(r.num_in_collision, 2);
     // Turned and off-centre, still nested; order in the scene does not matter.
     let s = scene()
-        .add_box("small", "box", b(2.2, 1.9, 0.4), size(0.2, 0.3, 0.2), 0.7)
-        .add_box("big", "cabinet", b(2.0, 2.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
+        .add_box(
+            "small",
+            Category::new("box"),
+            size(0.1, 0.15, 0.1),
+            pose_from_yaw(b(2.2, 1.9, 0.4), 0.7),
+        )
+        .add_box(
+            "big",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(2.0, 2.0, 0.5), 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);
@@ -140,12 +202,16 @@ fn floor_coverings_are_excluded_unless_asked() {
     let s = scene()
         .add_box(
             "rug",
-            "Persian Rug",
-            b(2.0, 2.5, 0.005),
-            size(2.0, 3.0, 0.01),
-            0.0,
+            Category::new("Persian Rug"),
+            size(1.0, 1.5, 0.005),
+            pose_from_yaw(b(2.0, 2.5, 0.005), 0.0),
         )
-        .add_box("bed", "bed", b(2.0, 2.5, 0.3), size(1.6, 2.0, 0.6), 0.0)
+        .add_box(
+            "bed",
+            Category::new("bed"),
+            size(0.8, 1.0, 0.3),
+            pose_from_yaw(b(2.0, 2.5, 0.3), 0.0),
+        )
         .build()
         .unwrap();
     // By default the rug is left out.
@@ -173,34 +239,62 @@ fn sup(scene: &Scene) -> SupportReport {
 fn support_cases() {
     let s = scene()
         // Resting on the floor.
-        .add_box("table", "table", b(1.0, 1.0, 0.375), size(1.0, 1.0, 0.75), 0.0)
+        .add_box(
+            "table",
+            Category::new("table"),
+            size(0.5, 0.5, 0.375),
+            pose_from_yaw(b(1.0, 1.0, 0.375), 0.0),
+        )
         // Floating 10 cm above the floor.
-        .add_box("cabinet", "cabinet", b(3.0, 1.0, 0.6), size(0.8, 0.5, 1.0), 0.0)
+        .add_box(
+            "cabinet",
+            Category::new("cabinet"),
+            size(0.4, 0.25, 0.5),
+            pose_from_yaw(b(3.0, 1.0, 0.6), 0.0),
+        )
         // On the table.
-        .add_box("lamp", "table_lamp", b(1.0, 1.0, 0.95), size(0.2, 0.2, 0.4), 0.0)
+        .add_box(
+            "lamp",
+            Category::new("table_lamp"),
+            size(0.1, 0.1, 0.2),
+            pose_from_yaw(b(1.0, 1.0, 0.95), 0.0),
+        )
         // On the far wall (y = 5), facing into the room (back = +y toward the wall), beside
         // the window (x in [1.5, 3.0]).
         .add_box(
             "painting",
-            "painting",
-            b(0.8, 4.98, 1.5),
-            size(0.8, 0.04, 0.6),
-            0.0,
+            Category::new("painting"),
+            size(0.4, 0.02, 0.3),
+            pose_from_yaw(b(0.8, 4.98, 1.5), 0.0),
         )
         // Over the window hole: nothing behind it.
-        .add_box("picture", "picture", b(2.2, 4.98, 1.5), size(0.4, 0.04, 0.4), 0.0)
+        .add_box(
+            "picture",
+            Category::new("picture"),
+            size(0.2, 0.02, 0.2),
+            pose_from_yaw(b(2.2, 4.98, 1.5), 0.0),
+        )
         // 5 cm off the far wall.
-        .add_box("poster", "poster", b(3.3, 4.93, 1.5), size(0.5, 0.04, 0.7), 0.0)
+        .add_box(
+            "poster",
+            Category::new("poster"),
+            size(0.25, 0.02, 0.35),
+            pose_from_yaw(b(3.3, 4.93, 1.5), 0.0),
+        )
         // Touching the ceiling at z = 2.8.
         .add_box(
             "chandelier",
-            "chandelier",
-            b(2.0, 2.5, 2.7),
-            size(0.3, 0.3, 0.2),
-            0.0,
+            Category::new("chandelier"),
+            size(0.15, 0.15, 0.1),
+            pose_from_yaw(b(2.0, 2.5, 2.7), 0.0),
         )
         // Overhanging the table edge (x = 1.5) with its centre at 1.6: tips over.
-        .add_box("book", "book", b(1.6, 0.8, 0.775), size(0.4, 0.3, 0.05), 0.0)
+        .add_box(
+            "book",
+            Category::new("book"),
+            size(0.2, 0.15, 0.025),
+            pose_from_yaw(b(1.6, 0.8, 0.775), 0.0),
+        )
         .build()
         .unwrap();
     let r = sup(&s);
@@ -237,7 +331,12 @@ fn support_cases() {
 #[test]
 fn unknown_support_type_is_checked_as_ground_and_given_types_win() {
     let s = scene()
-        .add_box("thing", "zorblax", b(2.0, 2.0, 0.25), size(0.5, 0.5, 0.5), 0.0)
+        .add_box(
+            "thing",
+            Category::new("zorblax"),
+            size(0.25, 0.25, 0.25),
+            pose_from_yaw(b(2.0, 2.0, 0.25), 0.0),
+        )
         .build()
         .unwrap();
     let r = sup(&s);
@@ -259,11 +358,26 @@ fn out_of_bounds_half_outside() {
     // bottom 0.5 each, the two faces along x 0.5 each, the -x face (x = 3.5) 1, the +x face
     // (x = 4.5) 0: 3 of 6 square metres.
     let s = scene()
-        .add_box("half", "cabinet", b(4.0, 2.5, 0.5), size(1.0, 1.0, 1.0), 0.0)
-        .add_box("inside", "cabinet", b(2.0, 2.5, 0.5), size(1.0, 1.0, 1.0), 0.7)
+        .add_box(
+            "half",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(4.0, 2.5, 0.5), 0.0),
+        )
+        .add_box(
+            "inside",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(2.0, 2.5, 0.5), 0.7),
+        )
         // Sunk 0.1 m: below z = -0.005 lie the bottom (1) and four side strips 0.095 high:
         // out area 1 + 4 * 0.095 = 1.38, ratio (6 - 1.38) / 6 = 0.77.
-        .add_box("sunk", "cabinet", b(2.0, 1.0, 0.4), size(1.0, 1.0, 1.0), 0.0)
+        .add_box(
+            "sunk",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(2.0, 1.0, 0.4), 0.0),
+        )
         .build()
         .unwrap();
     let exact = OutOfBoundsParams {
@@ -305,8 +419,18 @@ fn out_of_bounds_on_a_concave_floor() {
     );
     let s = Scene::builder()
         .room_builder(l)
-        .add_box("out", "cabinet", b(2.6, 2.6, 0.5), size(1.0, 1.0, 1.0), 0.0)
-        .add_box("corner", "cabinet", b(2.0, 2.0, 0.5), size(1.0, 1.0, 1.0), 0.0)
+        .add_box(
+            "out",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(2.6, 2.6, 0.5), 0.0),
+        )
+        .add_box(
+            "corner",
+            Category::new("cabinet"),
+            size(0.5, 0.5, 0.5),
+            pose_from_yaw(b(2.0, 2.0, 0.5), 0.0),
+        )
         .build()
         .unwrap();
     let exact = OutOfBoundsParams {
@@ -334,13 +458,17 @@ fn wardrobe_blocks_the_door() {
     let s = scene()
         .add_box(
             "wardrobe",
-            "wardrobe",
-            b(1.45, 0.31, 1.0),
-            size(1.0, 0.6, 2.0),
-            0.0,
+            Category::new("wardrobe"),
+            size(0.5, 0.3, 1.0),
+            pose_from_yaw(b(1.45, 0.31, 1.0), 0.0),
         )
         // A chair beside the door (x in [2.2, 2.7]): outside the box.
-        .add_box("chair", "chair", b(2.45, 0.4, 0.45), size(0.5, 0.5, 0.9), 0.0)
+        .add_box(
+            "chair",
+            Category::new("chair"),
+            size(0.25, 0.25, 0.45),
+            pose_from_yaw(b(2.45, 0.4, 0.45), 0.0),
+        )
         .build()
         .unwrap();
     let r = opening_clearance(&s, &OpeningClearanceParams::default()).unwrap();
@@ -360,10 +488,9 @@ fn wardrobe_blocks_the_door() {
     let clear = scene()
         .add_box(
             "wardrobe",
-            "wardrobe",
-            b(1.45, 1.31, 1.0),
-            size(1.0, 0.6, 2.0),
-            0.0,
+            Category::new("wardrobe"),
+            size(0.5, 0.3, 1.0),
+            pose_from_yaw(b(1.45, 1.31, 1.0), 0.0),
         )
         .build()
         .unwrap();
@@ -406,7 +533,12 @@ fn shelf_splits_the_room() {
     // above, y in [2.525, 4.875] (48); 76 columns each. NAV = 48 / 84 = 4/7. The door (y = 0)
     // opens into the lower part: 36 / 84 of the room's free space is reachable from it.
     let s = scene()
-        .add_box("shelf", "shelf", b(2.0, 2.2, 0.5), size(4.0, 0.4, 1.0), 0.0)
+        .add_box(
+            "shelf",
+            Category::new("shelf"),
+            size(2.0, 0.2, 0.5),
+            pose_from_yaw(b(2.0, 2.2, 0.5), 0.0),
+        )
         .build()
         .unwrap();
     let r = navigability(&s, &nav_params()).unwrap();
@@ -418,7 +550,12 @@ fn shelf_splits_the_room() {
     assert_abs_diff_eq!(r.rooms[0].reachable_fraction.unwrap(), 3.0 / 7.0, epsilon = 1e-12);
     // A shelf higher than 2 m above the floor is ignored.
     let high = scene()
-        .add_box("shelf", "shelf", b(2.0, 2.2, 2.3), size(4.0, 0.4, 0.4), 0.0)
+        .add_box(
+            "shelf",
+            Category::new("shelf"),
+            size(2.0, 0.2, 0.2),
+            pose_from_yaw(b(2.0, 2.2, 2.3), 0.0),
+        )
         .build()
         .unwrap();
     let r = navigability(&high, &nav_params()).unwrap();
@@ -431,10 +568,9 @@ fn wardrobe_in_front_of_the_door_makes_the_room_unreachable() {
     let s = scene()
         .add_box(
             "wardrobe",
-            "wardrobe",
-            b(1.45, 0.31, 1.0),
-            size(1.6, 0.6, 2.0),
-            0.0,
+            Category::new("wardrobe"),
+            size(0.8, 0.3, 1.0),
+            pose_from_yaw(b(1.45, 0.31, 1.0), 0.0),
         )
         .build()
         .unwrap();
@@ -482,20 +618,23 @@ fn accessibility_of_a_bed_in_a_corner() {
     // Best: left, 0.85. Nightstand (front) and wardrobe (front) are free: 1.0 each.
     // ACC = (0.85 + 1 + 1) / 3 = 0.95.
     let s = scene()
-        .add_box("bed", "bed", b(3.2, 4.0, 0.3), size(1.6, 2.0, 0.6), 0.0)
+        .add_box(
+            "bed",
+            Category::new("bed"),
+            size(0.8, 1.0, 0.3),
+            pose_from_yaw(b(3.2, 4.0, 0.3), 0.0),
+        )
         .add_box(
             "nightstand",
-            "nightstand",
-            b(2.05, 4.7, 0.3),
-            size(0.5, 0.4, 0.6),
-            0.0,
+            Category::new("nightstand"),
+            size(0.25, 0.2, 0.3),
+            pose_from_yaw(b(2.05, 4.7, 0.3), 0.0),
         )
         .add_box(
             "wardrobe",
-            "wardrobe",
-            b(3.0, 2.45, 1.0),
-            size(2.0, 0.9, 2.0),
-            0.0,
+            Category::new("wardrobe"),
+            size(1.0, 0.45, 1.0),
+            pose_from_yaw(b(3.0, 2.45, 1.0), 0.0),
         )
         .build()
         .unwrap();
@@ -531,25 +670,33 @@ fn accessibility_of_a_bed_in_a_corner() {
 fn evaluate_runs_everything_and_serialises() {
     let s = scene()
         .id("demo")
-        .add_box("bed", "bed", b(3.2, 4.0, 0.3), size(1.6, 2.0, 0.6), 0.0)
+        .add_box(
+            "bed",
+            Category::new("bed"),
+            size(0.8, 1.0, 0.3),
+            pose_from_yaw(b(3.2, 4.0, 0.3), 0.0),
+        )
         .add_box(
             "nightstand",
-            "nightstand",
-            b(2.05, 4.7, 0.3),
-            size(0.5, 0.4, 0.6),
-            0.0,
+            Category::new("nightstand"),
+            size(0.25, 0.2, 0.3),
+            pose_from_yaw(b(2.05, 4.7, 0.3), 0.0),
         )
         .add_box(
             "wardrobe",
-            "wardrobe",
-            b(1.45, 0.31, 1.0),
-            size(1.0, 0.6, 2.0),
-            0.0,
+            Category::new("wardrobe"),
+            size(0.5, 0.3, 1.0),
+            pose_from_yaw(b(1.45, 0.31, 1.0), 0.0),
         )
-        .add_box("lamp", "table_lamp", b(2.05, 4.7, 0.8), size(0.2, 0.2, 0.4), 0.0)
+        .add_box(
+            "lamp",
+            Category::new("table_lamp"),
+            size(0.1, 0.1, 0.2),
+            pose_from_yaw(b(2.05, 4.7, 0.8), 0.0),
+        )
         .add_mesh(
             "ball",
-            "zorblax",
+            Category::new("zorblax"),
             common::sphere(0.3, 12),
             common::at(1.0, 2.5, 1.0, 0.0),
         )
@@ -558,15 +705,16 @@ fn evaluate_runs_everything_and_serialises() {
     let r = evaluate(&s, &PlausibilityParams::default(), &Sources::default()).unwrap();
     check_invariants(&r);
     assert_eq!(r.scene_id.as_deref(), Some("demo"));
-    assert_eq!(r.summary.doors_blocked, 1);
-    assert_eq!(r.support.objects[4].type_source, None);
-    assert!(!r.support.objects[4].supported, "the ball floats");
+    assert_eq!(r.summary.doors_blocked, Some(1));
+    let support = r.support.as_ref().unwrap();
+    assert_eq!(support.objects[4].type_source, None);
+    assert!(!support.objects[4].supported, "the ball floats");
     let json = serde_json::to_string(&r).unwrap();
     let back: PlausibilityReport = serde_json::from_str(&json).unwrap();
     // serde_json parses floats to within one ulp, so compare structure and counts exactly.
     assert_eq!(back.summary.doors_blocked, r.summary.doors_blocked);
-    assert_eq!(back.support.objects.len(), 5);
-    assert_eq!(back.collision.contacts, r.collision.contacts);
+    assert_eq!(back.support.unwrap().objects.len(), 5);
+    assert_eq!(back.collision.unwrap().contacts, r.collision.unwrap().contacts);
     assert_abs_diff_eq!(back.summary.acc.unwrap(), r.summary.acc.unwrap(), epsilon = 1e-12);
     let params_json = serde_json::to_string(&PlausibilityParams::default()).unwrap();
     let params: PlausibilityParams = serde_json::from_str(&params_json).unwrap();
@@ -615,12 +763,21 @@ fn empty_scenes_give_undefined_shares_not_errors() {
     check_invariants(&r);
     let s = &r.summary;
     assert_eq!((s.col_ob, s.sup, s.acc, s.oob), (None, None, None, None));
-    assert!(!s.col_sc);
-    assert_eq!(s.nav, 0.0, "no floor, no free space (the reference's convention)");
+    assert_eq!(s.col_sc, Some(false));
+    assert_eq!(
+        s.nav,
+        Some(0.0),
+        "no floor, no free space (the reference's convention)"
+    );
     assert_eq!(s.all_rooms_reachable, None);
     // Objects without any room: nothing supports them, nothing is floor.
     let no_rooms = Scene::builder()
-        .add_box("table", "table", b(0.0, 0.0, 0.375), size(1.0, 1.0, 0.75), 0.0)
+        .add_box(
+            "table",
+            Category::new("table"),
+            size(0.5, 0.5, 0.375),
+            pose_from_yaw(b(0.0, 0.0, 0.375), 0.0),
+        )
         .build()
         .unwrap();
     let r = evaluate(&no_rooms, &PlausibilityParams::default(), &Sources::default()).unwrap();
@@ -644,7 +801,7 @@ fn tilted_objects_use_their_projected_hull() {
     );
     let s = scene()
         .object(
-            sceneeval_scene::SceneObject::new_box_with_pose("plank", Vector3::new(1.0, 0.2, 0.2), pose)
+            sceneeval_scene::SceneObject::new_box("plank", Vector3::new(1.0, 0.2, 0.2), pose)
                 .unwrap()
                 .with_category("bench"),
         )
@@ -652,11 +809,11 @@ fn tilted_objects_use_their_projected_hull() {
         .unwrap();
     let r = evaluate(&s, &PlausibilityParams::default(), &Sources::default()).unwrap();
     check_invariants(&r);
-    assert!(r.support.objects[0].supported);
+    assert!(r.support.as_ref().unwrap().objects[0].supported);
     // The bench's front (-y local) now points down (-z): its strip projects onto the footprint
     // line, a degenerate strip with zero area scores 0; its back points up likewise.
-    assert_eq!(r.accessibility.objects[0].score, Some(0.0));
-    assert_eq!(r.out_of_bounds.objects[0].ratio_in_bounds, 1.0);
+    assert_eq!(r.accessibility.as_ref().unwrap().objects[0].score, Some(0.0));
+    assert_eq!(r.out_of_bounds.as_ref().unwrap().objects[0].ratio_in_bounds, 1.0);
 }
 
 #[test]
@@ -668,10 +825,30 @@ fn open_meshes_use_the_winding_number() {
     assert!(!open.is_closed());
     let open = std::sync::Arc::new(open);
     let s = scene()
-        .add_mesh("shell", "cabinet", open.clone(), common::at(1.0, 1.0, 0.5, 0.0))
-        .add_box("b", "cabinet", b(1.78, 1.0, 0.5), size(0.6, 0.6, 0.6), 0.0)
-        .add_mesh("shell2", "cabinet", open, common::at(3.0, 3.0, 0.5, 0.0))
-        .add_box("inner", "box", b(3.0, 3.0, 0.6), size(0.2, 0.2, 0.2), 0.0)
+        .add_mesh(
+            "shell",
+            Category::new("cabinet"),
+            open.clone(),
+            common::at(1.0, 1.0, 0.5, 0.0),
+        )
+        .add_box(
+            "b",
+            Category::new("cabinet"),
+            size(0.3, 0.3, 0.3),
+            pose_from_yaw(b(1.78, 1.0, 0.5), 0.0),
+        )
+        .add_mesh(
+            "shell2",
+            Category::new("cabinet"),
+            open,
+            common::at(3.0, 3.0, 0.5, 0.0),
+        )
+        .add_box(
+            "inner",
+            Category::new("box"),
+            size(0.1, 0.1, 0.1),
+            pose_from_yaw(b(3.0, 3.0, 0.6), 0.0),
+        )
         .build()
         .unwrap();
     let r = col(&s);

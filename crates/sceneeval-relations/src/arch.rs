@@ -1,11 +1,12 @@
 //! The 10 object-architecture predicates as kernels on one prepared room.
 //!
-//! Each kernel scores one object against one [`RoomGeometry`]; over several rooms the
+//! Each kernel scores one object against one [`Room`]; over several rooms the
 //! reference's "max over elements" is the maximum over rooms ([`score_rooms`]).
 //!
 //! # Performance
-//! No kernel allocates: a room's walls, wall pieces (with their parry shapes), openings and
-//! floor triangles were prepared when the [`RoomGeometry`] was built. Volume fractions clip
+//! No kernel allocates (except `corner_of_room` in rooms of more than 32 walls, which sorts
+//! their bounds in two vectors): a room's walls, wall pieces, openings and floor triangles
+//! were prepared when the [`Room`] was built. Volume fractions clip
 //! the object's box by at most five planes per wall or floor triangle. Elements are visited in
 //! decreasing order of an upper bound on their score (from cheap lower and upper bounds on
 //! their distance), and the search stops when no remaining element can beat the best score:
@@ -18,8 +19,8 @@ use crate::clip::{HalfSpace, box_volume_inside};
 use crate::distance::{object_box, object_triangle};
 use crate::pairwise::{FrameBox, effective_half, fraction_in_frame_box};
 use crate::params::{CornerWalls, DistanceBand, DistanceFrom, RoomCentre};
-use crate::room::WallGeom;
-use crate::{ArchElement, ObjectGeom, Relation, RelationError, RelationParams, RoomGeometry};
+use crate::{ArchElement, ObjectGeom, Relation, RelationError, RelationParams};
+use sceneeval_scene::{Room, Wall};
 
 /// The object as the distance terms see it (its box in [`DistanceFrom::SmallerBox`] mode),
 /// and one point of it (for upper bounds on distances).
@@ -131,26 +132,26 @@ fn best_of(n: usize, upper: impl Fn(usize) -> Real, mut visit: impl FnMut(usize)
 
 /// Distance from an object to a wall's solid (its slab with doors and windows cut out),
 /// as the architecture relations measure it (the mesh when given).
-pub fn wall_distance(a: &ObjectGeom<'_>, room: &RoomGeometry, wall: &WallGeom) -> Real {
-    Probe::of(*a).distance_to_union(room.cells_of(wall))
+pub fn wall_distance(target: &ObjectGeom<'_>, wall: &Wall) -> Real {
+    Probe::of(*target).distance_to_union(wall.solid_boxes())
 }
 
 /// The best score of `band` over the elements of one kind (0 when the room has none).
 fn element_band(
-    a: &ObjectGeom<'_>,
-    room: &RoomGeometry,
+    target: &ObjectGeom<'_>,
+    room: &Room,
     element: ArchElement,
     band: &DistanceBand,
     params: &RelationParams,
 ) -> Real {
-    let probe = Probe::new(a, params);
+    let probe = Probe::new(target, params);
     match element {
         ArchElement::Wall => {
             let walls = room.walls();
             best_of(
                 walls.len(),
-                |i| band_upper(band, probe.bounds_union(room.cells_of(&walls[i]))),
-                |i| band.score(probe.distance_to_union(room.cells_of(&walls[i]))),
+                |i| band_upper(band, probe.bounds_union(walls[i].solid_boxes())),
+                |i| band.score(probe.distance_to_union(walls[i].solid_boxes())),
             )
         }
         ArchElement::Door | ArchElement::Window => {
@@ -159,51 +160,45 @@ fn element_band(
             } else {
                 OpeningKind::Window
             };
-            let boxes = room.opening_boxes();
-            let of_kind = |i: usize| room.openings().get(i).is_some_and(|o| o.kind == kind);
+            let openings = room.openings();
             best_of(
-                boxes.len(),
+                openings.len(),
                 |i| {
-                    if of_kind(i) {
-                        band_upper(band, probe.bounds(&boxes[i]))
+                    if openings[i].kind == kind {
+                        band_upper(band, probe.bounds(&openings[i].obb))
                     } else {
                         0.0
                     }
                 },
-                |i| band.score(probe.distance(&boxes[i])),
+                |i| band.score(probe.distance(&openings[i].obb)),
             )
         }
     }
 }
 
 /// `next_to(element)`: the best [0, 0.5] m band score over the room's walls, doors or windows.
-pub fn next_to(
-    a: &ObjectGeom<'_>,
-    room: &RoomGeometry,
-    element: ArchElement,
-    params: &RelationParams,
-) -> Real {
-    element_band(a, room, element, &params.arch_next_to, params)
+pub fn next_to(target: &ObjectGeom<'_>, room: &Room, element: ArchElement, params: &RelationParams) -> Real {
+    element_band(target, room, element, &params.arch_next_to, params)
 }
 
 /// `near(element)`: the best [0.5, 1.5] m band score.
-pub fn near(a: &ObjectGeom<'_>, room: &RoomGeometry, element: ArchElement, params: &RelationParams) -> Real {
-    element_band(a, room, element, &params.arch_near, params)
+pub fn near(target: &ObjectGeom<'_>, room: &Room, element: ArchElement, params: &RelationParams) -> Real {
+    element_band(target, room, element, &params.arch_near, params)
 }
 
 /// `across_from(element)`: the best [1.5, 4] m band score.
 pub fn across_from(
-    a: &ObjectGeom<'_>,
-    room: &RoomGeometry,
+    target: &ObjectGeom<'_>,
+    room: &Room,
     element: ArchElement,
     params: &RelationParams,
 ) -> Real {
-    element_band(a, room, element, &params.arch_across_from, params)
+    element_band(target, room, element, &params.arch_across_from, params)
 }
 
 /// `far(element)`: the best [4, inf) m band score.
-pub fn far(a: &ObjectGeom<'_>, room: &RoomGeometry, element: ArchElement, params: &RelationParams) -> Real {
-    element_band(a, room, element, &params.arch_far, params)
+pub fn far(target: &ObjectGeom<'_>, room: &Room, element: ArchElement, params: &RelationParams) -> Real {
+    element_band(target, room, element, &params.arch_far, params)
 }
 
 /// `inside_room`: the fraction of the object's box volume that lies over the floor polygon
@@ -215,18 +210,21 @@ pub fn far(a: &ObjectGeom<'_>, room: &RoomGeometry, element: ArchElement, params
 /// partition the floor, so the volumes add up. Exact for any rotation of the box.
 ///
 /// ```
-/// use sceneeval_relations::{arch, ObjectGeom, RelationParams, RoomGeometry};
+/// use sceneeval_relations::{arch, ObjectGeom, RelationParams};
+/// use sceneeval_scene::RoomBuilder;
 /// use sceneeval_geom::{Obb, Point2, na::{Point3, Vector3}};
-/// let room = RoomGeometry::from_outline("r",
-///     vec![Point2::new(0.0, 0.0), Point2::new(4.0, 0.0), Point2::new(4.0, 5.0), Point2::new(0.0, 5.0)],
-///     0.0, 2.8, 0.1, &[]).unwrap();
+/// let room = RoomBuilder::rectangle("r", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
+///     .wall_height(2.8)
+///     .wall_thickness(0.1)
+///     .build()
+///     .unwrap();
 /// // A 1 m cube whose centre is on the wall line x = 4: half of it is over the floor.
 /// let cube = Obb::from_yaw(Point3::new(4.0, 2.0, 0.5), Vector3::repeat(0.5), 0.0).unwrap();
 /// let s = arch::inside_room(&ObjectGeom::from_box(&cube), &room, &RelationParams::default());
 /// assert!((s - 0.5).abs() < 1e-12);
 /// ```
-pub fn inside_room(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &RelationParams) -> Real {
-    let obb = a.obb;
+pub fn inside_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
+    let obb = target.obb;
     let h = effective_half(obb, params);
     let full = 8.0 * h.x * h.y * h.z;
     let aabb = obb.aabb();
@@ -277,16 +275,16 @@ pub fn inside_room(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &RelationPar
 /// the score unchanged when a room is turned. The reference lets `1 - o/r` go negative, which
 /// shrinks sigma to zero or flips its sign for objects larger than the room's mean dimension;
 /// here that term stops at 0.
-pub fn middle_of_room(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &RelationParams) -> Real {
+pub fn middle_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
     let (rect_centre, dims) = room.floor_rectangle();
     let centre = match params.room_centre {
         RoomCentre::AreaCentroid => room.floor_centroid(),
         RoomCentre::BoundsCentre => rect_centre,
     };
-    let c = a.obb.center;
+    let c = target.obb.center;
     let (dx, dy) = (c.x - centre.x, c.y - centre.y);
     let r = 0.5 * (dims.x + dims.y);
-    let e = a.obb.extents();
+    let e = target.obb.extents();
     let o = e.x.max(e.y);
     let ratio = if r > 0.0 { (1.0 - o / r).max(0.0) } else { 0.0 };
     let sigma = params.middle_of_room_base_sigma
@@ -301,37 +299,32 @@ pub fn middle_of_room(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &Relation
 /// The region in front of a wall's inner face (on the room side), within its length and
 /// height (enlarged by `margin`), unbounded into the room; in the wall's frame centred on the
 /// inner face.
-fn in_front_fraction(obb: &Obb, wall: &WallGeom, params: &RelationParams) -> Real {
-    let origin = wall.point_on_inner_face(0.5 * wall.length, 0.5 * wall.height);
+fn in_front_fraction(obb: &Obb, wall: &Wall, params: &RelationParams) -> Real {
+    let origin = wall.point_on_inner_face(0.5 * wall.length(), 0.5 * wall.height());
     let m = 1.0 + params.region_margin;
-    let (hx, hz) = (0.5 * wall.length * m, 0.5 * wall.height * m);
+    let (hx, hz) = (0.5 * wall.length() * m, 0.5 * wall.height() * m);
     // The wall frame's local -y points into the room, so "in front" is y <= 0.
     let region = FrameBox {
         lo: [-hx, Real::NEG_INFINITY, -hz],
         hi: [hx, params.tolerance, hz],
     };
-    fraction_in_frame_box(obb, &wall.rotation, &origin, &region, params)
+    fraction_in_frame_box(obb, &wall.rotation(), &origin, &region, params)
 }
 
 /// `on_wall` and `against_wall`: the best over walls of (fraction of the box in front of the
 /// wall) x (band score of the distance to the wall's solid).
-fn wall_contact(
-    a: &ObjectGeom<'_>,
-    room: &RoomGeometry,
-    band: &DistanceBand,
-    params: &RelationParams,
-) -> Real {
-    let probe = Probe::new(a, params);
+fn wall_contact(target: &ObjectGeom<'_>, room: &Room, band: &DistanceBand, params: &RelationParams) -> Real {
+    let probe = Probe::new(target, params);
     let walls = room.walls();
     best_of(
         walls.len(),
-        |i| band_upper(band, probe.bounds_union(room.cells_of(&walls[i]))),
+        |i| band_upper(band, probe.bounds_union(walls[i].solid_boxes())),
         |i| {
-            let front = in_front_fraction(a.obb, &walls[i], params);
+            let front = in_front_fraction(target.obb, &walls[i], params);
             if front == 0.0 {
                 return 0.0;
             }
-            front * band.score(probe.distance_to_union(room.cells_of(&walls[i])))
+            front * band.score(probe.distance_to_union(walls[i].solid_boxes()))
         },
     )
 }
@@ -339,37 +332,40 @@ fn wall_contact(
 /// `on_wall`: in front of a wall and touching it: fraction in front x the [0, 0.01] m band
 /// (sigma 0.01 m) of the distance to the wall; best wall. Holds when fully in front and within
 /// about 2.2 cm.
-pub fn on_wall(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &RelationParams) -> Real {
-    wall_contact(a, room, &params.on_wall, params)
+pub fn on_wall(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
+    wall_contact(target, room, &params.on_wall, params)
 }
 
 /// `against_wall`: as [`on_wall`] with the [0, 0.3] m band (sigma 0.1 m): holds when fully
 /// in front and within about 0.418 m.
 ///
 /// ```
-/// use sceneeval_relations::{arch, ObjectGeom, RelationParams, RoomGeometry};
+/// use sceneeval_relations::{arch, ObjectGeom, RelationParams};
+/// use sceneeval_scene::RoomBuilder;
 /// use sceneeval_geom::{Obb, Point2, na::{Point3, Vector3}};
-/// let room = RoomGeometry::from_outline("r",
-///     vec![Point2::new(0.0, 0.0), Point2::new(4.0, 0.0), Point2::new(4.0, 5.0), Point2::new(0.0, 5.0)],
-///     0.0, 2.8, 0.1, &[]).unwrap();
+/// let room = RoomBuilder::rectangle("r", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
+///     .wall_height(2.8)
+///     .wall_thickness(0.1)
+///     .build()
+///     .unwrap();
 /// // A wardrobe 0.5 m from the far wall (y = 5): 0.2 m past the band, exp(-0.04 / 0.02).
 /// let w = Obb::from_yaw(Point3::new(2.0, 4.2, 1.0), Vector3::new(0.5, 0.3, 1.0), 0.0).unwrap();
 /// let s = arch::against_wall(&ObjectGeom::from_box(&w), &room, &RelationParams::default());
 /// assert!((s - (-2.0f64).exp()).abs() < 1e-9);
 /// ```
-pub fn against_wall(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &RelationParams) -> Real {
-    wall_contact(a, room, &params.against_wall, params)
+pub fn against_wall(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
+    wall_contact(target, room, &params.against_wall, params)
 }
 
 /// `hang_from_ceiling`: the [0, 0.01] m band (sigma 0.03 m) of the distance from the object to
 /// the room's ceiling surface (the explicit ceiling, else the floor outline at the top of the
 /// tallest wall); 0 for a room without a ceiling.
-pub fn hang_from_ceiling(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &RelationParams) -> Real {
+pub fn hang_from_ceiling(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
     let tris = room.ceiling_triangles();
     let (Some(ceiling_z), false) = (room.ceiling_z(), tris.is_empty()) else {
         return 0.0;
     };
-    let probe = Probe::new(a, params);
+    let probe = Probe::new(target, params);
     let obb = probe.geom.obb;
     // Exact shortcut for a box below the ceiling: its highest point (the centre of its top
     // vertex, edge or face) is nearest to the ceiling plane; if it lies under the ceiling
@@ -413,7 +409,8 @@ fn in_triangle(t: &[Point3; 3], x: Real, y: Real) -> bool {
     (d0 >= 0.0 && d1 >= 0.0 && d2 >= 0.0) || (d0 <= 0.0 && d1 <= 0.0 && d2 <= 0.0)
 }
 
-/// Walls whose per-wall score and direction are kept on the stack in `corner_of_room`.
+/// Walls whose per-wall bounds, scores and directions are kept on the stack in
+/// `corner_of_room` (larger rooms use two vectors: the kernel's only allocation).
 const CORNER_CACHE: usize = 32;
 
 /// `corner_of_room`: the best product of two per-wall scores over pairs of perpendicular walls
@@ -427,58 +424,66 @@ const CORNER_CACHE: usize = 32;
 /// `closest point on the wall - p` over a 4 x 4 x 4 midpoint grid `p` in the object's box
 /// ([`CornerWalls::MeanDirections`], the reference, which uses random samples). Without a
 /// perpendicular pair the score is 0 (the reference returns minus infinity).
-pub fn corner_of_room(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &RelationParams) -> Real {
+pub fn corner_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
     let walls = room.walls();
-    if walls.len() < 2 || inside_room(a, room, params) < params.corner_min_inside_room {
+    if walls.len() < 2 || inside_room(target, room, params) < params.corner_min_inside_room {
         return 0.0;
     }
-    let probe = Probe::new(a, params);
+    let probe = Probe::new(target, params);
     let band = &params.corner_wall;
-    let upper = |w: &WallGeom| band_upper(band, probe.bounds_union(room.cells_of(w)));
-    let exact = |w: &WallGeom| band.score(probe.distance_to_union(room.cells_of(w)));
-    let direction = |w: &WallGeom| match params.corner_walls {
-        CornerWalls::WallNormals => w.inward_3d(),
-        CornerWalls::MeanDirections => mean_direction_to_wall(a.obb, room, w),
+    let upper = |w: &Wall| band_upper(band, probe.bounds_union(w.solid_boxes()));
+    let exact = |w: &Wall| band.score(probe.distance_to_union(w.solid_boxes()));
+    let direction = |w: &Wall| match params.corner_walls {
+        CornerWalls::WallNormals => w.inward_normal_3d(),
+        CornerWalls::MeanDirections => mean_direction_to_wall(target.obb, w),
     };
-    // Per wall: (upper bound, exact score once computed, direction), on the stack for rooms of
-    // up to CORNER_CACHE walls; larger rooms recompute.
-    let mut cache = [(0.0, None::<Real>, Vector3::zeros()); CORNER_CACHE];
-    let cached = walls.len() <= CORNER_CACHE;
-    if cached {
-        for (slot, w) in cache.iter_mut().zip(walls) {
-            *slot = (upper(w), None, direction(w));
-        }
+    // Per wall: (upper bound, exact score once computed, direction once computed), and the
+    // walls in decreasing order of their upper bound; on the stack for rooms of up to
+    // CORNER_CACHE walls, in two vectors for larger ones.
+    let n = walls.len();
+    type Slot = (Real, Option<Real>, Option<Vector3>);
+    let (mut stack, mut stack_order) = ([(0.0, None, None); CORNER_CACHE], [0usize; CORNER_CACHE]);
+    let (mut heap, mut heap_order): (Vec<Slot>, Vec<usize>) = (Vec::new(), Vec::new());
+    let (cache, order): (&mut [Slot], &mut [usize]) = if n <= CORNER_CACHE {
+        (&mut stack[..n], &mut stack_order[..n])
+    } else {
+        heap.resize(n, (0.0, None, None));
+        heap_order.resize(n, 0);
+        (&mut heap, &mut heap_order)
+    };
+    for (i, (slot, at)) in cache.iter_mut().zip(order.iter_mut()).enumerate() {
+        *slot = (upper(&walls[i]), None, None);
+        *at = i;
     }
+    order.sort_unstable_by(|&x, &y| cache[y].0.total_cmp(&cache[x].0).then(x.cmp(&y)));
+    // Every unordered pair once (i before j in that order); a pair cannot beat `best` once the
+    // product of its upper bounds does not, and later pairs have smaller bounds: the result is
+    // the exact maximum over perpendicular pairs, whatever the order.
     let mut best: Real = 0.0;
-    for i in 0..walls.len() {
-        let (ub_i, dir_i) = if cached {
-            (cache[i].0, cache[i].2)
-        } else {
-            (upper(&walls[i]), direction(&walls[i]))
-        };
-        if ub_i <= best {
-            continue;
+    for p in 0..n {
+        let i = order[p];
+        let ub_i = cache[i].0;
+        if order.get(p + 1).is_none_or(|&j| ub_i * cache[j].0 <= best) {
+            break;
         }
-        for j in i + 1..walls.len() {
-            let (ub_j, dir_j) = if cached {
-                (cache[j].0, cache[j].2)
-            } else {
-                (upper(&walls[j]), direction(&walls[j]))
-            };
-            if ub_i * ub_j <= best || dir_i.dot(&dir_j).abs() >= params.corner_perpendicular_threshold {
+        for &j in &order[p + 1..] {
+            let ub_j = cache[j].0;
+            if ub_i * ub_j <= best {
+                break;
+            }
+            #[cfg(test)]
+            tests::CORNER_PAIRS.with(|c| c.set(c.get() + 1));
+            let dir_i = *cache[i].2.get_or_insert_with(|| direction(&walls[i]));
+            let dir_j = *cache[j].2.get_or_insert_with(|| direction(&walls[j]));
+            if dir_i.dot(&dir_j).abs() >= params.corner_perpendicular_threshold {
                 continue;
             }
-            let mut score = |k: usize| {
-                if !cached {
-                    return exact(&walls[k]);
-                }
-                *cache[k].1.get_or_insert_with(|| exact(&walls[k]))
-            };
-            let si = score(i);
+            let si = *cache[i].1.get_or_insert_with(|| exact(&walls[i]));
             if si * ub_j <= best {
                 continue;
             }
-            best = best.max(si * score(j));
+            let sj = *cache[j].1.get_or_insert_with(|| exact(&walls[j]));
+            best = best.max(si * sj);
         }
     }
     best
@@ -486,9 +491,9 @@ pub fn corner_of_room(a: &ObjectGeom<'_>, room: &RoomGeometry, params: &Relation
 
 /// The normalised mean of (closest point on the wall's solid - p) over a 4 x 4 x 4 midpoint
 /// grid of points p in the box.
-fn mean_direction_to_wall(obb: &Obb, room: &RoomGeometry, wall: &WallGeom) -> Vector3 {
+fn mean_direction_to_wall(obb: &Obb, wall: &Wall) -> Vector3 {
     const N: usize = 4;
-    let cells = room.cells_of(wall);
+    let cells = wall.solid_boxes();
     let mut acc = Vector3::zeros();
     for i in 0..N {
         for j in 0..N {
@@ -524,21 +529,21 @@ fn mean_direction_to_wall(obb: &Obb, room: &RoomGeometry, wall: &WallGeom) -> Ve
 /// [`RelationError::WrongKind`] for an object-object relation.
 pub fn score_rooms(
     relation: Relation,
-    a: &ObjectGeom<'_>,
-    rooms: &[RoomGeometry],
+    target: &ObjectGeom<'_>,
+    rooms: &[Room],
     params: &RelationParams,
 ) -> Result<Real, RelationError> {
-    let f: &dyn Fn(&RoomGeometry) -> Real = match relation {
-        Relation::NextToArch(e) => &move |r| next_to(a, r, e, params),
-        Relation::NearArch(e) => &move |r| near(a, r, e, params),
-        Relation::AcrossFromArch(e) => &move |r| across_from(a, r, e, params),
-        Relation::FarArch(e) => &move |r| far(a, r, e, params),
-        Relation::InsideRoom => &|r| inside_room(a, r, params),
-        Relation::MiddleOfRoom => &|r| middle_of_room(a, r, params),
-        Relation::CornerOfRoom => &|r| corner_of_room(a, r, params),
-        Relation::OnWall => &|r| on_wall(a, r, params),
-        Relation::AgainstWall => &|r| against_wall(a, r, params),
-        Relation::HangFromCeiling => &|r| hang_from_ceiling(a, r, params),
+    let f: &dyn Fn(&Room) -> Real = match relation {
+        Relation::NextToArch(e) => &move |r| next_to(target, r, e, params),
+        Relation::NearArch(e) => &move |r| near(target, r, e, params),
+        Relation::AcrossFromArch(e) => &move |r| across_from(target, r, e, params),
+        Relation::FarArch(e) => &move |r| far(target, r, e, params),
+        Relation::InsideRoom => &|r| inside_room(target, r, params),
+        Relation::MiddleOfRoom => &|r| middle_of_room(target, r, params),
+        Relation::CornerOfRoom => &|r| corner_of_room(target, r, params),
+        Relation::OnWall => &|r| on_wall(target, r, params),
+        Relation::AgainstWall => &|r| against_wall(target, r, params),
+        Relation::HangFromCeiling => &|r| hang_from_ceiling(target, r, params),
         other => {
             return Err(RelationError::WrongKind {
                 relation: other.to_string(),
@@ -553,8 +558,50 @@ pub fn score_rooms(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::room::tests::bedroom as room;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Wall pairs `corner_of_room` looked at on this thread.
+        pub(super) static CORNER_PAIRS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    #[test]
+    fn corner_of_room_in_a_room_of_many_walls_looks_at_few_pairs() {
+        // A 4 x 4 m room whose walls are each split into 2,500 pieces (10,000 walls): an object
+        // in a corner is near a few pieces only, so a handful of pairs decide, not 5e7.
+        let n = 2500;
+        let mut outline = Vec::new();
+        for (a, b) in [
+            ([0.0, 0.0], [4.0, 0.0]),
+            ([4.0, 0.0], [4.0, 4.0]),
+            ([4.0, 4.0], [0.0, 4.0]),
+            ([0.0, 4.0], [0.0, 0.0]),
+        ] {
+            for k in 0..n {
+                let t = f64::from(k) / f64::from(n);
+                outline.push(Point2::new(a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t));
+            }
+        }
+        let room = RoomBuilder::polygon("big", outline).build().unwrap();
+        assert_eq!(room.walls().len(), 4 * n as usize);
+        let plant = bx([0.3, 0.3, 0.4], [0.2, 0.2, 0.4], 0.0);
+        CORNER_PAIRS.with(|c| c.set(0));
+        let s = corner_of_room(&g(&plant), &room, &RelationParams::default());
+        // 0.1 m from both walls: inside the [0, 0.8] m band of each.
+        assert_eq!(s, 1.0);
+        let pairs = CORNER_PAIRS.with(Cell::get);
+        assert!(pairs < 10_000, "{pairs} pairs");
+    }
     use sceneeval_geom::Point2;
+    use sceneeval_scene::RoomBuilder;
+
+    /// The test bedroom with a window on wall 2 (y = 5), x in [1.0, 2.5], 0.9 to 2.0 m up.
+    fn room() -> Room {
+        sceneeval_test_support::bedroom("r")
+            .window(2, [1.0, 2.5], [0.9, 2.0])
+            .build()
+            .unwrap()
+    }
     use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 
     fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
@@ -592,7 +639,7 @@ mod tests {
     #[test]
     fn inside_an_l_shaped_room() {
         // L-shape: the 4 x 4 square minus the [2, 4] x [2, 4] quadrant.
-        let l = RoomGeometry::from_outline(
+        let l = RoomBuilder::polygon(
             "l",
             vec![
                 Point2::new(0.0, 0.0),
@@ -602,11 +649,10 @@ mod tests {
                 Point2::new(2.0, 4.0),
                 Point2::new(0.0, 4.0),
             ],
-            0.0,
-            2.8,
-            0.1,
-            &[],
         )
+        .wall_height(2.8)
+        .wall_thickness(0.1)
+        .build()
         .unwrap();
         let p = RelationParams::default();
         // A 2 x 2 box centred on the reflex corner (2, 2): three of its four quadrants are
@@ -673,20 +719,19 @@ mod tests {
         // x in [1.2, 1.7], in front of the door only) -> the pieces beside the door are
         // sqrt(0.2^2 + 0.2^2) away.
         let wall0 = &r.walls()[0];
-        assert!((wall_distance(&g(&chair), &r, wall0) - (0.08f64).sqrt()).abs() < 1e-9);
+        assert!((wall_distance(&g(&chair), wall0) - (0.08f64).sqrt()).abs() < 1e-9);
         // A room without windows: window relations score 0.
-        let plain = RoomGeometry::from_outline(
+        let plain = RoomBuilder::polygon(
             "p",
             vec![
                 Point2::new(0.0, 0.0),
                 Point2::new(3.0, 0.0),
                 Point2::new(3.0, 3.0),
             ],
-            0.0,
-            2.5,
-            0.0,
-            &[],
         )
+        .wall_height(2.5)
+        .wall_thickness(0.0)
+        .build()
         .unwrap();
         assert_eq!(near(&g(&chair), &plain, ArchElement::Window, &p), 0.0);
     }
@@ -727,7 +772,7 @@ mod tests {
     #[test]
     fn several_rooms_take_the_best() {
         let a = room();
-        let b = RoomGeometry::from_outline(
+        let b = RoomBuilder::polygon(
             "b",
             vec![
                 Point2::new(4.0, 0.0),
@@ -735,11 +780,10 @@ mod tests {
                 Point2::new(8.0, 5.0),
                 Point2::new(4.0, 5.0),
             ],
-            0.0,
-            2.8,
-            0.1,
-            &[],
         )
+        .wall_height(2.8)
+        .wall_thickness(0.1)
+        .build()
         .unwrap();
         let p = RelationParams::default();
         let obj = bx([6.0, 2.5, 0.5], [0.5, 0.5, 0.5], 0.0);

@@ -7,33 +7,33 @@
 
 use sceneeval_geom::Real;
 
-use crate::{
-    ObjectGeom, Relation, RelationError, RelationKind, RelationParams, RoomGeometry, arch, pairwise,
-};
+use sceneeval_scene::Room;
 
-/// The score of a two-object relation (target `a`, anchor `b`).
+use crate::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, arch, pairwise};
+
+/// The score of a two-object relation: `target` relative to `anchor`.
 ///
 /// # Errors
 /// [`RelationError::WrongKind`] for `surround` or an object-architecture relation.
 pub fn score_pair(
     relation: Relation,
-    a: &ObjectGeom<'_>,
-    b: &ObjectGeom<'_>,
+    target: &ObjectGeom<'_>,
+    anchor: &ObjectGeom<'_>,
     params: &RelationParams,
 ) -> Result<Real, RelationError> {
     Ok(match relation {
-        Relation::InsideOf => pairwise::inside_of(a, b, params),
-        Relation::OutsideOf => pairwise::outside_of(a, b, params),
-        Relation::FaceTo => crate::face_to(a, b, params),
-        Relation::SideOf(side) => pairwise::side_of(a, b, side, params),
-        Relation::SideRegion(side) => pairwise::side_region(a, b, side, params),
-        Relation::LongShortSideOf(which) => pairwise::long_short_side_of(a, b, which, params),
-        Relation::OnTop => pairwise::on_top(a, b, params),
-        Relation::MiddleOf => pairwise::middle_of(a, b, params),
-        Relation::NextTo => pairwise::next_to(a, b, params),
-        Relation::Near => pairwise::near(a, b, params),
-        Relation::AcrossFrom => pairwise::across_from(a, b, params),
-        Relation::Far => pairwise::far(a, b, params),
+        Relation::InsideOf => pairwise::inside_of(target, anchor, params),
+        Relation::OutsideOf => pairwise::outside_of(target, anchor, params),
+        Relation::FaceTo => crate::face_to(target, anchor, params),
+        Relation::SideOf(side) => pairwise::side_of(target, anchor, side, params),
+        Relation::SideRegion(side) => pairwise::side_region(target, anchor, side, params),
+        Relation::LongShortSideOf(which) => pairwise::long_short_side_of(target, anchor, which, params),
+        Relation::OnTop => pairwise::on_top(target, anchor, params),
+        Relation::MiddleOf => pairwise::middle_of(target, anchor, params),
+        Relation::NextTo => pairwise::next_to(target, anchor, params),
+        Relation::Near => pairwise::near(target, anchor, params),
+        Relation::AcrossFrom => pairwise::across_from(target, anchor, params),
+        Relation::Far => pairwise::far(target, anchor, params),
         other => return Err(wrong_kind(other, "a two-object relation")),
     })
 }
@@ -92,7 +92,7 @@ pub fn score_pairs(
 pub fn score_objects_in_rooms(
     relation: Relation,
     objects: &[ObjectGeom<'_>],
-    rooms: &[RoomGeometry],
+    rooms: &[Room],
     params: &RelationParams,
     out: &mut [Real],
 ) -> Result<(), RelationError> {

@@ -9,12 +9,13 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum RelationError {
     /// The name is none of the 23 relation names (or their aliases).
-    #[error("unknown relation {name:?}: expected one of {expected}")]
+    #[error(
+        "unknown relation {name:?}: expected one of {}",
+        crate::relation::expected_names()
+    )]
     UnknownRelation {
         /// The name given.
         name: String,
-        /// The accepted names, comma separated.
-        expected: &'static str,
     },
     /// The relationship mapping said "None": no predefined relation applies.
     #[error("relation {name:?} means that no predefined relation applies")]
@@ -98,12 +99,24 @@ pub enum RelationError {
         /// The length it should have.
         expected: usize,
     },
-    /// A room description is inconsistent (for example an opening on a wall that does not
-    /// exist).
-    #[error("room: {reason}")]
-    BadRoom {
-        /// What is wrong.
-        reason: String,
+    /// No object of the scene is at this index.
+    #[error("no object at index {index}: the scene has {count}")]
+    NoSuchObject {
+        /// The index asked for.
+        index: usize,
+        /// Number of objects in the scene.
+        count: usize,
+    },
+    /// A relation got more target objects than it accepts (its cost grows faster than the
+    /// number of targets).
+    #[error("relation {relation} accepts at most {limit} target objects, got {got}")]
+    TooManyTargets {
+        /// The relation in its printed form.
+        relation: String,
+        /// How many it got.
+        got: usize,
+        /// The most it accepts.
+        limit: usize,
     },
     /// A parameter is out of its domain (for example a negative standard deviation).
     #[error("parameter {name} = {value} is invalid: {reason}")]

@@ -46,16 +46,16 @@ use crate::{ObjectGeom, RelationParams};
 /// let away = Obb::from_yaw(Point3::new(0.0, 0.0, 0.4), Vector3::new(1.0, 0.45, 0.4), 0.0).unwrap();
 /// assert_eq!(face_to(&ObjectGeom::from_box(&away), &ObjectGeom::from_box(&tv), &p), 0.0);
 /// ```
-pub fn face_to(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    let mean_local = match b.mesh {
-        None => mean_hit_on_box(a.obb, b.obb, params),
-        Some((mesh, pose)) => mean_hit_on_mesh(a.obb, mesh, pose, b.obb, params),
+pub fn face_to(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    let mean_local = match anchor.mesh {
+        None => mean_hit_on_box(target.obb, anchor.obb, params),
+        Some((mesh, pose)) => mean_hit_on_mesh(target.obb, mesh, pose, anchor.obb, params),
     };
     let Some(hit) = mean_local else {
         return 0.0;
     };
-    let v = a.obb.rotation * hit;
-    let front = a.obb.rotation * Vector3::new(0.0, -1.0, 0.0);
+    let v = target.obb.rotation * hit;
+    let front = target.obb.rotation * Vector3::new(0.0, -1.0, 0.0);
     let (fx, fy, vx, vy) = (front.x, front.y, v.x, v.y);
     let (nf, nv) = ((fx * fx + fy * fy).sqrt(), (vx * vx + vy * vy).sqrt());
     if nf == 0.0 || nv == 0.0 {

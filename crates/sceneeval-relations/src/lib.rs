@@ -4,14 +4,18 @@
 //!
 //! # Two tiers
 //! - **Kernels on plain geometry**, callable without building a scene: objects are
-//!   [`ObjectGeom`] views (an oriented box, optionally a mesh), rooms are prepared once as a
-//!   [`RoomGeometry`] (from a `sceneeval_scene::Room` or from a plain outline). The
-//!   object-object kernels are at the crate root ([`side_of`], [`next_to`], [`surround`], ...),
-//!   the object-architecture kernels in [`arch`], dispatch by [`Relation`] and the batch forms
-//!   in [`batch`].
-//! - **Scene-level evaluation by object id**: [`SceneRelations`] with [`Query`] and
+//!   [`ObjectGeom`] views (an oriented box, optionally a mesh); rooms are
+//!   `sceneeval_scene::Room`s, which prepare once, when built, everything the kernels read
+//!   (walls' solids as boxes, floor and ceiling triangles, openings' boxes, the floor's
+//!   centroid and rectangle), so the kernels only borrow them (build one from an outline with
+//!   `sceneeval_scene::RoomBuilder`). The object-object kernels are at the crate root
+//!   ([`side_of`], [`next_to`], [`surround`], ...), the object-architecture kernels in
+//!   [`arch`], dispatch by [`Relation`] and the batch forms in [`batch`]. Every kernel takes
+//!   the **target** (the object being located) before the **anchor** (or the room).
+//! - **Scene-level evaluation** by object index or id: [`SceneRelations`] with [`Query`] and
 //!   [`Evaluation`]; unknown ids, missing anchors and relations of the wrong kind are
-//!   [`RelationError`]s.
+//!   [`RelationError`]s. It borrows the scene per call, so a loop can move objects
+//!   (`Scene::set_pose`) and ask again without preparing anything.
 //!
 //! The vocabulary ([`Relation`]) parses and prints the snake_case names of the paper and the
 //! reference's relationship-mapping prompts; every parameter, with its unit, is a field of
@@ -95,8 +99,10 @@
 //! # Performance
 //! Kernels allocate nothing per call: clipping runs on fixed-size stack buffers, mesh distance
 //! searches recurse over trees built with the mesh, ray casts use parry's stack-allocated
-//! traversal, rooms are prepared once ([`RoomGeometry`]), and the batch forms write into
-//! caller-owned slices. A test with a counting global allocator checks every relation on
+//! traversal, rooms are prepared once (when the `sceneeval_scene::Room` is built), `surround`
+//! sorts up to 64 targets on the stack, `corner_of_room` keeps up to 32 walls' bounds on the stack
+//! (beyond those sizes each allocates one or two vectors, which keeps their cost `n log n`), and
+//! the batch forms write into caller-owned slices. A test with a counting global allocator checks every relation on
 //! boxes and on meshes, and the batch forms (package `sceneeval-alloc-check`). Box-only
 //! predicates take 0.01-0.8 µs, distance predicates on boxes about 0.15 µs, architecture
 //! predicates with a box in a four-wall room up to 2 µs, and every predicate on 5k-triangle
@@ -105,13 +111,16 @@
 //!
 //! # Example
 //! ```
-//! use sceneeval_relations::{self as rel, arch, ObjectGeom, RelationParams, RoomGeometry};
+//! use sceneeval_relations::{self as rel, arch, ObjectGeom, RelationParams};
+//! use sceneeval_scene::RoomBuilder;
 //! use sceneeval_geom::{Obb, Point2, Side, na::{Point3, Vector3}};
 //!
 //! let params = RelationParams::default();
-//! let room = RoomGeometry::from_outline("bedroom",
-//!     vec![Point2::new(0.0, 0.0), Point2::new(4.0, 0.0), Point2::new(4.0, 5.0), Point2::new(0.0, 5.0)],
-//!     0.0, 2.8, 0.1, &[]).unwrap();
+//! let room = RoomBuilder::rectangle("bedroom", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
+//!     .wall_height(2.8)
+//!     .wall_thickness(0.1)
+//!     .build()
+//!     .unwrap();
 //! // A 1.6 x 2 m bed with its head against the far wall (y = 5), facing -y.
 //! let bed = Obb::from_yaw(Point3::new(2.0, 4.0, 0.3), Vector3::new(0.8, 1.0, 0.3), 0.0).unwrap();
 //! // A nightstand 5 cm from the bed's -x side (its "left", seen from the foot of the bed).
@@ -134,7 +143,6 @@ mod object;
 mod pairwise;
 mod params;
 mod relation;
-mod room;
 mod scene_eval;
 
 pub use distance::object_distance;
@@ -149,5 +157,4 @@ pub use params::{
     CornerWalls, DistanceBand, DistanceFrom, OnTopPlane, RelationParams, RoomCentre, SurroundVariant,
 };
 pub use relation::{ArchElement, LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES, Relation, RelationKind};
-pub use room::{OpeningGeom, OpeningSpec, RoomGeometry, WallGeom};
-pub use scene_eval::{Evaluation, Query, SceneRelations};
+pub use scene_eval::{Evaluation, Query, SURROUND_REFERENCE_MAX_TARGETS, SceneRelations};

@@ -91,19 +91,25 @@ pub(crate) fn fraction_in_frame_box(
 /// let s = inside_of(&ObjectGeom::from_box(&cup), &ObjectGeom::from_box(&cabinet), &RelationParams::default());
 /// assert!((s - 0.75).abs() < 1e-5);
 /// ```
-pub fn inside_of(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    let h = b.obb.half_extents;
+pub fn inside_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    let h = anchor.obb.half_extents;
     let tol = params.tolerance;
     let region = FrameBox {
         lo: [-h.x - tol, -h.y - tol, -h.z - tol],
         hi: [h.x + tol, h.y + tol, h.z + tol],
     };
-    fraction_in_frame_box(a.obb, &b.obb.rotation, &b.obb.center, &region, params)
+    fraction_in_frame_box(
+        target.obb,
+        &anchor.obb.rotation,
+        &anchor.obb.center,
+        &region,
+        params,
+    )
 }
 
 /// `outside_of`: `1 - inside_of`.
-pub fn outside_of(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    1.0 - inside_of(a, b, params)
+pub fn outside_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    1.0 - inside_of(target, anchor, params)
 }
 
 /// The region beyond the anchor's `side` face (or beyond its centre plane when
@@ -147,16 +153,32 @@ fn side_region_box(b: &Obb, side: Side, from_centre: bool, margin: Real, tol: Re
 /// assert_eq!(side_of(&a, &b, Side::Left, &p), 1.0);
 /// assert_eq!(side_of(&a, &b, Side::Right, &p), 0.0);
 /// ```
-pub fn side_of(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, side: Side, params: &RelationParams) -> Real {
-    let region = side_region_box(b.obb, side, false, params.side_of_margin, params.tolerance);
-    fraction_in_frame_box(a.obb, &b.obb.rotation, &b.obb.center, &region, params)
+pub fn side_of(
+    target: &ObjectGeom<'_>,
+    anchor: &ObjectGeom<'_>,
+    side: Side,
+    params: &RelationParams,
+) -> Real {
+    let region = side_region_box(anchor.obb, side, false, params.side_of_margin, params.tolerance);
+    fraction_in_frame_box(
+        target.obb,
+        &anchor.obb.rotation,
+        &anchor.obb.center,
+        &region,
+        params,
+    )
 }
 
 /// `side_region(side)`: the fraction of the target's box that is inside the anchor's box and
 /// on the `side` half of it (beyond the anchor's centre plane perpendicular to that side).
-pub fn side_region(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, side: Side, params: &RelationParams) -> Real {
+pub fn side_region(
+    target: &ObjectGeom<'_>,
+    anchor: &ObjectGeom<'_>,
+    side: Side,
+    params: &RelationParams,
+) -> Real {
     let (k, sign) = side.axis_and_sign();
-    let h = b.obb.half_extents;
+    let h = anchor.obb.half_extents;
     let tol = params.tolerance;
     let mut region = FrameBox::ALL;
     for j in 0..3 {
@@ -171,7 +193,13 @@ pub fn side_region(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, side: Side, params: &
         region.lo[k] = -h[k] - tol;
         region.hi[k] = tol;
     }
-    fraction_in_frame_box(a.obb, &b.obb.rotation, &b.obb.center, &region, params)
+    fraction_in_frame_box(
+        target.obb,
+        &anchor.obb.rotation,
+        &anchor.obb.center,
+        &region,
+        params,
+    )
 }
 
 /// `long_short_side_of(long|short)`: the larger of the fractions of the target's box on
@@ -182,12 +210,12 @@ pub fn side_region(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, side: Side, params: &
 /// width and depth are equal (numpy's `allclose`: within `1e-8 + 1e-5 * depth`) has no long or
 /// short side and scores 0, as in the reference.
 pub fn long_short_side_of(
-    a: &ObjectGeom<'_>,
-    b: &ObjectGeom<'_>,
+    target: &ObjectGeom<'_>,
+    anchor: &ObjectGeom<'_>,
     which: LongShort,
     params: &RelationParams,
 ) -> Real {
-    let full = b.obb.extents();
+    let full = anchor.obb.extents();
     if (full.x - full.y).abs() <= 1e-8 + 1e-5 * full.y.abs() {
         return 0.0;
     }
@@ -197,8 +225,14 @@ pub fn long_short_side_of(
         (LongShort::Long, false) | (LongShort::Short, true) => (Side::Back, Side::Front),
     };
     let score = |side: Side| {
-        let region = side_region_box(b.obb, side, true, params.region_margin, params.tolerance);
-        fraction_in_frame_box(a.obb, &b.obb.rotation, &b.obb.center, &region, params)
+        let region = side_region_box(anchor.obb, side, true, params.region_margin, params.tolerance);
+        fraction_in_frame_box(
+            target.obb,
+            &anchor.obb.rotation,
+            &anchor.obb.center,
+            &region,
+            params,
+        )
     };
     score(axis_side.0).max(score(axis_side.1))
 }
@@ -219,23 +253,29 @@ pub fn long_short_side_of(
 /// let centre = on_top(&a, &b, &RelationParams { on_top_plane: OnTopPlane::CentrePlane, ..Default::default() });
 /// assert_eq!(centre, 1.0);
 /// ```
-pub fn on_top(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+pub fn on_top(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
     let from_centre = params.on_top_plane == OnTopPlane::CentrePlane;
     let region = side_region_box(
-        b.obb,
+        anchor.obb,
         Side::Top,
         from_centre,
         params.region_margin,
         params.tolerance,
     );
-    fraction_in_frame_box(a.obb, &b.obb.rotation, &b.obb.center, &region, params)
+    fraction_in_frame_box(
+        target.obb,
+        &anchor.obb.rotation,
+        &anchor.obb.center,
+        &region,
+        params,
+    )
 }
 
 /// `middle_of`: a Gaussian of the plan-view (x, y) distance between the two boxes' centres,
 /// `exp(-d^2 / (2 sigma^2))` with [`RelationParams::middle_of_sigma`] (0.25 m; holds for
 /// `d < 0.294` m).
-pub fn middle_of(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    let d = a.obb.center - b.obb.center;
+pub fn middle_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    let d = target.obb.center - anchor.obb.center;
     let d2 = d.x * d.x + d.y * d.y;
     let s = params.middle_of_sigma;
     (-d2 / (2.0 * s * s)).exp()
@@ -245,40 +285,45 @@ pub fn middle_of(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams
 /// points as solids ([`DistanceFrom::Geometry`]), or from the box of the object with the
 /// smaller box volume to the other object ([`DistanceFrom::SmallerBox`], ties: from the
 /// anchor's box, as the reference).
-pub fn pair_distance(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    let (x, y) = distance_views(a, b, params);
+pub fn pair_distance(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    let (x, y) = distance_views(target, anchor, params);
     object_distance(&x, &y)
 }
 
 /// The band score of the pair's distance. With a mesh involved, cheap bounds on the distance
 /// come first: when both lie in the band's range the score is exactly 1 without the exact
 /// (branch-and-bound) distance.
-fn band(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, band: &DistanceBand, params: &RelationParams) -> Real {
-    if a.mesh.is_some() || b.mesh.is_some() {
-        let (x, y) = distance_views(a, b, params);
+fn band(
+    target: &ObjectGeom<'_>,
+    anchor: &ObjectGeom<'_>,
+    band: &DistanceBand,
+    params: &RelationParams,
+) -> Real {
+    if target.mesh.is_some() || anchor.mesh.is_some() {
+        let (x, y) = distance_views(target, anchor, params);
         let (lo, hi) = distance_bounds(&x, &y);
         if lo >= band.min && hi <= band.max {
             return 1.0;
         }
     }
-    band.score(pair_distance(a, b, params))
+    band.score(pair_distance(target, anchor, params))
 }
 
 /// The two views the distance relations measure between (see [`pair_distance`]).
 fn distance_views<'a>(
-    a: &ObjectGeom<'a>,
-    b: &ObjectGeom<'a>,
+    target: &ObjectGeom<'a>,
+    anchor: &ObjectGeom<'a>,
     params: &RelationParams,
 ) -> (ObjectGeom<'a>, ObjectGeom<'a>) {
     match params.distance_from {
-        DistanceFrom::Geometry => (*a, *b),
+        DistanceFrom::Geometry => (*target, *anchor),
         DistanceFrom::SmallerBox => {
             let m = params.min_half_extent;
             let vol = |o: &Obb| o.half_extents.map(|h| h.max(m)).product();
-            if vol(a.obb) < vol(b.obb) {
-                (a.as_box(), *b)
+            if vol(target.obb) < vol(anchor.obb) {
+                (target.as_box(), *anchor)
             } else {
-                (*a, b.as_box())
+                (*target, anchor.as_box())
             }
         }
     }
@@ -286,40 +331,38 @@ fn distance_views<'a>(
 
 /// `next_to`: the objects' distance ([`pair_distance`]) in [0, 0.5] m scores 1, with a
 /// Gaussian fall-off (sigma 0.25 m) outside; holds below about 0.794 m.
-pub fn next_to(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    band(a, b, &params.next_to, params)
+pub fn next_to(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    band(target, anchor, &params.next_to, params)
 }
 
 /// `near`: distance in [0.5, 1.5] m; holds between about 0.206 and 1.794 m.
-pub fn near(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    band(a, b, &params.near, params)
+pub fn near(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    band(target, anchor, &params.near, params)
 }
 
 /// `across_from`: distance in [1.5, 4] m; holds between about 1.206 and 4.294 m.
-pub fn across_from(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    band(a, b, &params.across_from, params)
+pub fn across_from(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    band(target, anchor, &params.across_from, params)
 }
 
 /// `far`: distance of at least 4 m; holds above about 3.706 m.
-pub fn far(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    band(a, b, &params.far, params)
+pub fn far(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    band(target, anchor, &params.far, params)
 }
 
-/// The `k`-th smallest (0-based) of `n` values, by counting (no allocation; `n` is small).
-fn kth_smallest(n: usize, value: impl Fn(usize) -> Real, k: usize) -> Real {
-    for i in 0..n {
-        let v = value(i);
-        let (mut less, mut less_eq) = (0, 0);
-        for j in 0..n {
-            let w = value(j);
-            less += usize::from(w < v);
-            less_eq += usize::from(w <= v);
-        }
-        if less <= k && k < less_eq {
-            return v;
-        }
+/// Targets handled in buffers on the stack by [`surround`]; beyond this many it sorts in a
+/// vector (its only allocation).
+const SURROUND_STACK: usize = 64;
+
+/// Runs `f` on a zeroed scratch slice of length `n`: on the stack up to [`SURROUND_STACK`],
+/// else in a vector.
+fn with_scratch<T: Copy + Default, R>(n: usize, f: impl FnOnce(&mut [T]) -> R) -> R {
+    if n <= SURROUND_STACK {
+        let mut buf = [T::default(); SURROUND_STACK];
+        f(&mut buf[..n])
+    } else {
+        f(&mut vec![T::default(); n])
     }
-    Real::NAN
 }
 
 /// `surround`: how evenly the targets are spread around the anchor, in `[0, 1]`; 0 with fewer
@@ -339,6 +382,12 @@ fn kth_smallest(n: usize, value: impl Fn(usize) -> Real, k: usize) -> Real {
 ///
 /// A target at the anchor's centroid (no direction) gets `a_i = 1`; `D = 0` gives `d_i = 1`.
 ///
+/// # Cost
+/// The paper variant sorts the targets' plan angles once: `O(N log N)`, on the stack for up
+/// to 64 targets (no allocation) and in one vector beyond. The reference variant compares
+/// every pair of directions, `O(N^2)`; `SceneRelations` refuses it beyond
+/// [`crate::SURROUND_REFERENCE_MAX_TARGETS`] targets.
+///
 /// ```
 /// use sceneeval_relations::{surround, ObjectGeom, RelationParams};
 /// use sceneeval_geom::{Obb, na::{Point3, Vector3}};
@@ -347,65 +396,118 @@ fn kth_smallest(n: usize, value: impl Fn(usize) -> Real, k: usize) -> Real {
 /// let chairs = [chair(1.0, 0.0), chair(0.0, 1.0), chair(-1.0, 0.0), chair(0.0, -1.0)];
 /// let targets: Vec<ObjectGeom> = chairs.iter().map(ObjectGeom::from_box).collect();
 /// // Four chairs 1 m away at 90-degree gaps: every deviation is 0, the score 1.
-/// assert_eq!(surround(&ObjectGeom::from_box(&table), &targets, &RelationParams::default()), 1.0);
+/// assert_eq!(surround(&targets, &ObjectGeom::from_box(&table), &RelationParams::default()), 1.0);
 /// ```
-pub fn surround(anchor: &ObjectGeom<'_>, targets: &[ObjectGeom<'_>], params: &RelationParams) -> Real {
-    let n = targets.len();
+pub fn surround(targets: &[ObjectGeom<'_>], anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    surround_centres(
+        targets.len(),
+        |i| targets[i].obb.center,
+        &anchor.obb.center,
+        params,
+    )
+}
+
+/// [`surround`] on the targets' box centres, given by index (`centre(i)` for `i < n`).
+pub(crate) fn surround_centres(
+    n: usize,
+    centre: impl Fn(usize) -> Point3,
+    anchor: &Point3,
+    params: &RelationParams,
+) -> Real {
     if n < 3 {
         return 0.0;
     }
-    let c = anchor.obb.center;
-    let offset = |i: usize| targets[i].obb.center - c;
+    let offset = |i: usize| centre(i) - anchor;
     let r = |i: usize| offset(i).norm();
     let ideal_d = match params.surround_variant {
         SurroundVariant::Paper => (0..n).map(r).sum::<Real>() / n as Real,
-        SurroundVariant::Reference => {
-            if n % 2 == 1 {
-                kth_smallest(n, r, n / 2)
-            } else {
-                0.5 * (kth_smallest(n, r, n / 2 - 1) + kth_smallest(n, r, n / 2))
+        SurroundVariant::Reference => with_scratch(n, |rs: &mut [Real]| {
+            for (i, slot) in rs.iter_mut().enumerate() {
+                *slot = r(i);
             }
-        }
+            rs.sort_unstable_by(Real::total_cmp);
+            if n % 2 == 1 {
+                rs[n / 2]
+            } else {
+                0.5 * (rs[n / 2 - 1] + rs[n / 2])
+            }
+        }),
     };
     let ideal_a = std::f64::consts::TAU / n as Real;
-    let mut total = 0.0;
-    for i in 0..n {
-        let d_i = if ideal_d > 0.0 {
-            ((r(i) - ideal_d).abs() / ideal_d).min(1.0)
-        } else {
-            1.0
-        };
-        let theta = match params.surround_variant {
-            SurroundVariant::Paper => plan_gap(&offset, n, i),
-            SurroundVariant::Reference => reference_neighbour_angle(&offset, n, i),
-        };
-        let a_i = match theta {
-            Some(t) => ((t - ideal_a).abs() / ideal_a).min(1.0),
-            None => 1.0,
-        };
-        total += params.surround_distance_weight * (1.0 - d_i).powi(2)
-            + params.surround_angle_weight * (1.0 - a_i).powi(2);
-    }
-    (total / n as Real).clamp(0.0, 1.0)
+    let score = |thetas: &[Option<Real>]| {
+        let mut total = 0.0;
+        for (i, theta) in thetas.iter().enumerate() {
+            let d_i = if ideal_d > 0.0 {
+                ((r(i) - ideal_d).abs() / ideal_d).min(1.0)
+            } else {
+                1.0
+            };
+            let a_i = match theta {
+                Some(t) => ((t - ideal_a).abs() / ideal_a).min(1.0),
+                None => 1.0,
+            };
+            total += params.surround_distance_weight * (1.0 - d_i).powi(2)
+                + params.surround_angle_weight * (1.0 - a_i).powi(2);
+        }
+        (total / n as Real).clamp(0.0, 1.0)
+    };
+    with_scratch(n, |thetas: &mut [Option<Real>]| {
+        match params.surround_variant {
+            SurroundVariant::Paper => with_scratch(n, |angles: &mut [(Real, usize)]| {
+                plan_gaps(&offset, angles, thetas);
+            }),
+            SurroundVariant::Reference => {
+                for (i, theta) in thetas.iter_mut().enumerate() {
+                    *theta = reference_neighbour_angle(&offset, n, i);
+                }
+            }
+        }
+        score(thetas)
+    })
 }
 
-/// Counter-clockwise plan-view gap from target `i` to the next target with a direction.
-fn plan_gap(offset: &impl Fn(usize) -> Vector3, n: usize, i: usize) -> Option<Real> {
-    let oi = offset(i);
-    if oi.x == 0.0 && oi.y == 0.0 {
-        return None;
-    }
-    let phi_i = oi.y.atan2(oi.x);
-    let mut best: Option<Real> = None;
-    for j in (0..n).filter(|&j| j != i) {
-        let oj = offset(j);
-        if oj.x == 0.0 && oj.y == 0.0 {
-            continue;
+/// For every target `i`, its counter-clockwise plan-view gap to the next target with a
+/// direction (`None` without a direction or without another target with one), into
+/// `gaps[i]`; `angles` is scratch of the same length.
+///
+/// The gap from `i` to `j` is `(phi_j - phi_i) mod 2 pi` for plan angles `phi` (`atan2`). Over
+/// the `j` with `phi_j >= phi_i` it is smallest for the next angle in sorted order (or 0 for
+/// an equal one just before it), over the others for the smallest angle: both are monotone in
+/// `phi_j` in floating point too, so three candidates per target after one sort give exactly
+/// the minimum over all pairs.
+fn plan_gaps(offset: &impl Fn(usize) -> Vector3, angles: &mut [(Real, usize)], gaps: &mut [Option<Real>]) {
+    let mut m = 0;
+    for (i, gap) in gaps.iter_mut().enumerate() {
+        *gap = None;
+        let o = offset(i);
+        if !(o.x == 0.0 && o.y == 0.0) {
+            angles[m] = (o.y.atan2(o.x), i);
+            m += 1;
         }
-        let gap = (oj.y.atan2(oj.x) - phi_i).rem_euclid(std::f64::consts::TAU);
-        best = Some(best.map_or(gap, |b| b.min(gap)));
     }
-    best
+    let angles = &mut angles[..m];
+    angles.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let tau = std::f64::consts::TAU;
+    for p in 0..m {
+        let (phi, i) = angles[p];
+        let gap_to = |q: usize| {
+            #[cfg(test)]
+            tests::GAPS.with(|c| c.set(c.get() + 1));
+            (angles[q].0 - phi).rem_euclid(tau)
+        };
+        let mut best: Option<Real> = None;
+        let mut take = |g: Real| best = Some(best.map_or(g, |b: Real| b.min(g)));
+        if p + 1 < m {
+            take(gap_to(p + 1));
+        }
+        if p > 0 && angles[p - 1].0 == phi {
+            take(gap_to(p - 1));
+        }
+        if p > 0 && angles[0].0 < phi {
+            take(gap_to(0));
+        }
+        gaps[i] = best;
+    }
 }
 
 /// The reference's neighbour angle: signed 3-D angles, smallest positive, else largest.
@@ -432,6 +534,82 @@ fn reference_neighbour_angle(offset: &impl Fn(usize) -> Vector3, n: usize, i: us
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Angle gaps evaluated by `plan_gaps` on this thread.
+        pub(super) static GAPS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    /// The pairwise definition of the plan gaps: the minimum over every other target.
+    fn brute_gaps(offsets: &[Vector3]) -> Vec<Option<Real>> {
+        (0..offsets.len())
+            .map(|i| {
+                let oi = offsets[i];
+                if oi.x == 0.0 && oi.y == 0.0 {
+                    return None;
+                }
+                let phi = oi.y.atan2(oi.x);
+                let mut best: Option<Real> = None;
+                for (j, oj) in offsets.iter().enumerate() {
+                    if j == i || (oj.x == 0.0 && oj.y == 0.0) {
+                        continue;
+                    }
+                    let gap = (oj.y.atan2(oj.x) - phi).rem_euclid(std::f64::consts::TAU);
+                    best = Some(best.map_or(gap, |b| b.min(gap)));
+                }
+                best
+            })
+            .collect()
+    }
+
+    #[test]
+    fn sorted_plan_gaps_equal_the_pairwise_minimum_in_linear_work() {
+        // Scattered targets with repeated angles, one at the centre, angles of exactly +-pi,
+        // and more targets than fit on the stack.
+        let mut offsets: Vec<Vector3> = (0..8000)
+            .map(|k| {
+                let t = f64::from(k);
+                let r = 0.5 + (t * 0.37).sin().abs();
+                let a = (t * 2.399_963).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+                Vector3::new(r * a.cos(), r * a.sin(), 0.1 * (t * 0.11).cos())
+            })
+            .collect();
+        offsets[10] = offsets[3] * 2.0;
+        offsets[11] = Vector3::zeros();
+        offsets[12] = Vector3::new(-1.0, 0.0, 0.0);
+        offsets[13] = Vector3::new(-1.0, -0.0, 0.0);
+        let offset = |i: usize| offsets[i];
+        let n = offsets.len();
+        let mut angles = vec![(0.0, 0); n];
+        let mut gaps = vec![None; n];
+        GAPS.with(|c| c.set(0));
+        plan_gaps(&offset, &mut angles, &mut gaps);
+        // At most three candidates per target, not n - 1.
+        assert!(GAPS.with(Cell::get) <= 3 * n, "{}", GAPS.with(Cell::get));
+        assert_eq!(gaps, brute_gaps(&offsets));
+        // Small cases, including ties, a single directed target and all at the centre.
+        for offs in [
+            vec![
+                Vector3::new(1.0, 0.0, 0.0),
+                Vector3::new(2.0, 0.0, 0.0),
+                Vector3::new(0.0, 1.0, 0.0),
+            ],
+            vec![Vector3::new(1.0, 0.0, 0.0), Vector3::zeros(), Vector3::zeros()],
+            vec![Vector3::zeros(); 3],
+            vec![
+                Vector3::new(0.0, -1.0, 0.0),
+                Vector3::new(0.0, 1.0, 0.0),
+                Vector3::new(-1.0, 0.0, 0.0),
+                Vector3::new(-1.0, 0.0, 0.0),
+            ],
+        ] {
+            let mut angles = vec![(0.0, 0); offs.len()];
+            let mut gaps = vec![None; offs.len()];
+            plan_gaps(&|i| offs[i], &mut angles, &mut gaps);
+            assert_eq!(gaps, brute_gaps(&offs), "{offs:?}");
+        }
+    }
     use std::f64::consts::{FRAC_PI_2, PI};
 
     fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
@@ -651,7 +829,7 @@ mod tests {
         };
         let score = |objs: &[Obb], p: &RelationParams| {
             let v: Vec<ObjectGeom<'_>> = objs.iter().map(ObjectGeom::from_box).collect();
-            surround(&g(&t), &v, p)
+            surround(&v, &g(&t), p)
         };
         // Three at 120-degree gaps, same radius: 1.
         let even = [at(0.0, 1.0), at(120.0, 1.0), at(240.0, 1.0)];

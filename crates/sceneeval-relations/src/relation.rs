@@ -161,45 +161,240 @@ pub enum Relation {
     HangFromCeiling,
 }
 
+/// How a base name builds its relation from its argument.
+#[derive(Clone, Copy)]
+enum Build {
+    /// No argument.
+    Plain(Relation),
+    /// A side (`side_of`, `side_region`).
+    Side(fn(Side) -> Relation),
+    /// `long` or `short`.
+    LongShort,
+    /// An optional element type: absent = the object-object form, present = the
+    /// object-architecture form.
+    Distance(Relation, fn(ArchElement) -> Relation),
+}
+
+/// One base name: the printed name, the other spellings parsing accepts, how it takes its
+/// argument, and whether the paper lists it among the object-object and/or the
+/// object-architecture relations.
+struct BaseSpec {
+    base: Base,
+    name: &'static str,
+    aliases: &'static [&'static str],
+    build: Build,
+    object: bool,
+    arch: bool,
+}
+
+/// Every base name, in the paper's order (the 13 object-object names, then the
+/// object-architecture ones not already listed), indexed by [`Base`]: the one place relation
+/// names are spelled. Parsing, printing, the name lists and the error messages all read it.
+const BASES: [BaseSpec; 19] = {
+    use Relation as R;
+    const fn spec(
+        base: Base,
+        name: &'static str,
+        aliases: &'static [&'static str],
+        build: Build,
+        object: bool,
+        arch: bool,
+    ) -> BaseSpec {
+        BaseSpec {
+            base,
+            name,
+            aliases,
+            build,
+            object,
+            arch,
+        }
+    }
+    [
+        spec(
+            Base::InsideOf,
+            "inside_of",
+            &["inside"],
+            Build::Plain(R::InsideOf),
+            true,
+            false,
+        ),
+        spec(
+            Base::OutsideOf,
+            "outside_of",
+            &["outside"],
+            Build::Plain(R::OutsideOf),
+            true,
+            false,
+        ),
+        spec(
+            Base::FaceTo,
+            "face_to",
+            &["face", "facing"],
+            Build::Plain(R::FaceTo),
+            true,
+            false,
+        ),
+        spec(Base::SideOf, "side_of", &[], Build::Side(R::SideOf), true, false),
+        spec(
+            Base::SideRegion,
+            "side_region",
+            &[],
+            Build::Side(R::SideRegion),
+            true,
+            false,
+        ),
+        spec(
+            Base::LongShortSideOf,
+            "long_short_side_of",
+            &["long_short_side"],
+            Build::LongShort,
+            true,
+            false,
+        ),
+        spec(
+            Base::OnTop,
+            "on_top",
+            &["on_top_of"],
+            Build::Plain(R::OnTop),
+            true,
+            false,
+        ),
+        spec(
+            Base::MiddleOf,
+            "middle_of",
+            &[],
+            Build::Plain(R::MiddleOf),
+            true,
+            false,
+        ),
+        spec(
+            Base::Surround,
+            "surround",
+            &["surrounding"],
+            Build::Plain(R::Surround),
+            true,
+            false,
+        ),
+        spec(
+            Base::NextTo,
+            "next_to",
+            &[],
+            Build::Distance(R::NextTo, R::NextToArch),
+            true,
+            true,
+        ),
+        spec(
+            Base::Near,
+            "near",
+            &[],
+            Build::Distance(R::Near, R::NearArch),
+            true,
+            true,
+        ),
+        spec(
+            Base::AcrossFrom,
+            "across_from",
+            &["across"],
+            Build::Distance(R::AcrossFrom, R::AcrossFromArch),
+            true,
+            true,
+        ),
+        spec(
+            Base::Far,
+            "far",
+            &["far_from"],
+            Build::Distance(R::Far, R::FarArch),
+            true,
+            true,
+        ),
+        spec(
+            Base::InsideRoom,
+            "inside_room",
+            &[],
+            Build::Plain(R::InsideRoom),
+            false,
+            true,
+        ),
+        spec(
+            Base::MiddleOfRoom,
+            "middle_of_room",
+            &["middle_room"],
+            Build::Plain(R::MiddleOfRoom),
+            false,
+            true,
+        ),
+        spec(
+            Base::CornerOfRoom,
+            "corner_of_room",
+            &["corner_room"],
+            Build::Plain(R::CornerOfRoom),
+            false,
+            true,
+        ),
+        spec(Base::OnWall, "on_wall", &[], Build::Plain(R::OnWall), false, true),
+        spec(
+            Base::AgainstWall,
+            "against_wall",
+            &[],
+            Build::Plain(R::AgainstWall),
+            false,
+            true,
+        ),
+        spec(
+            Base::HangFromCeiling,
+            "hang_from_ceiling",
+            &["hang_ceiling"],
+            Build::Plain(R::HangFromCeiling),
+            false,
+            true,
+        ),
+    ]
+};
+
+/// The names of [`BASES`] that are object-object (`object`) or object-architecture relations,
+/// in table order; the length must be the count (checked when compiling).
+const fn names<const N: usize>(object: bool) -> [&'static str; N] {
+    let mut out = [""; N];
+    let (mut i, mut k) = (0, 0);
+    while i < BASES.len() {
+        if (object && BASES[i].object) || (!object && BASES[i].arch) {
+            out[k] = BASES[i].name;
+            k += 1;
+        }
+        i += 1;
+    }
+    assert!(k == N, "name count");
+    out
+}
+
 /// The 13 object-object base names, in the paper's order.
-pub const OBJECT_OBJECT_NAMES: [&str; 13] = [
-    "inside_of",
-    "outside_of",
-    "face_to",
-    "side_of",
-    "side_region",
-    "long_short_side_of",
-    "on_top",
-    "middle_of",
-    "surround",
-    "next_to",
-    "near",
-    "across_from",
-    "far",
-];
+pub const OBJECT_OBJECT_NAMES: [&str; 13] = names(true);
 
 /// The 10 object-architecture base names, in the paper's order.
-pub const OBJECT_ARCH_NAMES: [&str; 10] = [
-    "next_to",
-    "near",
-    "across_from",
-    "far",
-    "inside_room",
-    "middle_of_room",
-    "corner_of_room",
-    "on_wall",
-    "against_wall",
-    "hang_from_ceiling",
-];
+pub const OBJECT_ARCH_NAMES: [&str; 10] = names(false);
 
-const EXPECTED_NAMES: &str = "inside_of, outside_of, face_to, side_of, side_region, long_short_side_of, \
-on_top, middle_of, surround, next_to, near, across_from, far, inside_room, middle_of_room, \
-corner_of_room, on_wall, against_wall, hang_from_ceiling";
+/// Every base name, comma separated, for error messages.
+pub(crate) fn expected_names() -> impl fmt::Display {
+    struct Names;
+    impl fmt::Display for Names {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            for (i, spec) in BASES.iter().enumerate() {
+                if i > 0 {
+                    f.write_str(", ")?;
+                }
+                f.write_str(spec.name)?;
+            }
+            Ok(())
+        }
+    }
+    Names
+}
+
 const EXPECT_SIDE: &str = "a side (left, right, front, back, top, bottom)";
 const EXPECT_LONG_SHORT: &str = "long or short";
 const EXPECT_ELEMENT: &str = "an element type (wall, door, window)";
 
-/// Base names with their aliases, before the argument is looked at.
+/// The base names (a relation without its argument); the discriminant indexes [`BASES`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Base {
     InsideOf,
@@ -224,146 +419,100 @@ enum Base {
 }
 
 impl Base {
+    const fn spec(self) -> &'static BaseSpec {
+        &BASES[self as usize]
+    }
+
     fn parse(name: &str) -> Result<Base, RelationError> {
         let n = name.trim().to_ascii_lowercase();
-        Ok(match n.as_str() {
-            "inside_of" | "inside" => Base::InsideOf,
-            "outside_of" | "outside" => Base::OutsideOf,
-            "face_to" | "face" | "facing" => Base::FaceTo,
-            "side_of" => Base::SideOf,
-            "side_region" => Base::SideRegion,
-            "long_short_side_of" | "long_short_side" => Base::LongShortSideOf,
-            "on_top" | "on_top_of" => Base::OnTop,
-            "middle_of" => Base::MiddleOf,
-            "surround" | "surrounding" => Base::Surround,
-            "next_to" => Base::NextTo,
-            "near" => Base::Near,
-            "across_from" | "across" => Base::AcrossFrom,
-            "far" | "far_from" => Base::Far,
-            "inside_room" => Base::InsideRoom,
-            "middle_of_room" | "middle_room" => Base::MiddleOfRoom,
-            "corner_of_room" | "corner_room" => Base::CornerOfRoom,
-            "on_wall" => Base::OnWall,
-            "against_wall" => Base::AgainstWall,
-            "hang_from_ceiling" | "hang_ceiling" => Base::HangFromCeiling,
-            "none" => {
-                return Err(RelationError::NoRelation {
-                    name: name.to_owned(),
-                });
+        if let Some(spec) = BASES
+            .iter()
+            .find(|b| b.name == n || b.aliases.contains(&n.as_str()))
+        {
+            return Ok(spec.base);
+        }
+        Err(if n == "none" {
+            RelationError::NoRelation {
+                name: name.to_owned(),
             }
-            _ => {
-                return Err(RelationError::UnknownRelation {
-                    name: name.to_owned(),
-                    expected: EXPECTED_NAMES,
-                });
+        } else {
+            RelationError::UnknownRelation {
+                name: name.to_owned(),
             }
         })
     }
 
     const fn name(self) -> &'static str {
-        match self {
-            Base::InsideOf => "inside_of",
-            Base::OutsideOf => "outside_of",
-            Base::FaceTo => "face_to",
-            Base::SideOf => "side_of",
-            Base::SideRegion => "side_region",
-            Base::LongShortSideOf => "long_short_side_of",
-            Base::OnTop => "on_top",
-            Base::MiddleOf => "middle_of",
-            Base::Surround => "surround",
-            Base::NextTo => "next_to",
-            Base::Near => "near",
-            Base::AcrossFrom => "across_from",
-            Base::Far => "far",
-            Base::InsideRoom => "inside_room",
-            Base::MiddleOfRoom => "middle_of_room",
-            Base::CornerOfRoom => "corner_of_room",
-            Base::OnWall => "on_wall",
-            Base::AgainstWall => "against_wall",
-            Base::HangFromCeiling => "hang_from_ceiling",
-        }
+        self.spec().name
+    }
+
+    /// Whether the base name takes an element type to become architectural.
+    const fn is_distance(self) -> bool {
+        matches!(self.spec().build, Build::Distance(..))
     }
 
     /// The relation for a base name and an optional argument; `strict` rejects an argument
     /// for a relation that takes none.
     fn with_argument(self, arg: Option<&str>, strict: bool) -> Result<Relation, RelationError> {
         let name = self.name();
-        let side = |arg: Option<&str>| -> Result<Side, RelationError> {
-            let a = arg.ok_or(RelationError::MissingArgument {
-                relation: name,
-                expected: EXPECT_SIDE,
-            })?;
-            a.parse::<Side>().map_err(|_| RelationError::BadArgument {
-                relation: name,
-                value: a.to_owned(),
-                expected: EXPECT_SIDE,
-            })
-        };
-        let no_arg = |rel: Relation| -> Result<Relation, RelationError> {
-            match arg {
+        match self.spec().build {
+            Build::Plain(rel) => match arg {
                 Some(v) if strict => Err(RelationError::UnexpectedArgument {
                     relation: name,
                     value: v.to_owned(),
                 }),
                 _ => Ok(rel),
+            },
+            Build::Side(make) => {
+                let a = arg.ok_or(RelationError::MissingArgument {
+                    relation: name,
+                    expected: EXPECT_SIDE,
+                })?;
+                a.parse::<Side>()
+                    .map(make)
+                    .map_err(|_| RelationError::BadArgument {
+                        relation: name,
+                        value: a.to_owned(),
+                        expected: EXPECT_SIDE,
+                    })
             }
-        };
-        // The distance relations take an optional element type: present = architectural form.
-        let distance = |oo: Relation, arch: fn(ArchElement) -> Relation| -> Result<Relation, RelationError> {
-            match arg {
-                None => Ok(oo),
-                Some(a) => parse_element(name, a).map(arch),
-            }
-        };
-        match self {
-            Base::InsideOf => no_arg(Relation::InsideOf),
-            Base::OutsideOf => no_arg(Relation::OutsideOf),
-            Base::FaceTo => no_arg(Relation::FaceTo),
-            Base::SideOf => side(arg).map(Relation::SideOf),
-            Base::SideRegion => side(arg).map(Relation::SideRegion),
-            Base::LongShortSideOf => {
+            Build::LongShort => {
                 let a = arg.ok_or(RelationError::MissingArgument {
                     relation: name,
                     expected: EXPECT_LONG_SHORT,
                 })?;
-                match a.trim().to_ascii_lowercase().as_str() {
-                    "long" => Ok(Relation::LongShortSideOf(LongShort::Long)),
-                    "short" => Ok(Relation::LongShortSideOf(LongShort::Short)),
-                    _ => Err(RelationError::BadArgument {
+                let wanted = a.trim().to_ascii_lowercase();
+                [LongShort::Long, LongShort::Short]
+                    .into_iter()
+                    .find(|l| l.name() == wanted)
+                    .map(Relation::LongShortSideOf)
+                    .ok_or_else(|| RelationError::BadArgument {
                         relation: name,
                         value: a.to_owned(),
                         expected: EXPECT_LONG_SHORT,
-                    }),
-                }
+                    })
             }
-            Base::OnTop => no_arg(Relation::OnTop),
-            Base::MiddleOf => no_arg(Relation::MiddleOf),
-            Base::Surround => no_arg(Relation::Surround),
-            Base::NextTo => distance(Relation::NextTo, Relation::NextToArch),
-            Base::Near => distance(Relation::Near, Relation::NearArch),
-            Base::AcrossFrom => distance(Relation::AcrossFrom, Relation::AcrossFromArch),
-            Base::Far => distance(Relation::Far, Relation::FarArch),
-            Base::InsideRoom => no_arg(Relation::InsideRoom),
-            Base::MiddleOfRoom => no_arg(Relation::MiddleOfRoom),
-            Base::CornerOfRoom => no_arg(Relation::CornerOfRoom),
-            Base::OnWall => no_arg(Relation::OnWall),
-            Base::AgainstWall => no_arg(Relation::AgainstWall),
-            Base::HangFromCeiling => no_arg(Relation::HangFromCeiling),
+            // Present = architectural form.
+            Build::Distance(oo, arch) => match arg {
+                None => Ok(oo),
+                Some(a) => parse_element(name, a).map(arch),
+            },
         }
     }
 }
 
+/// An element type (`wall`, `door`, `window`, or their plurals).
 fn parse_element(relation: &'static str, a: &str) -> Result<ArchElement, RelationError> {
-    match a.trim().to_ascii_lowercase().as_str() {
-        "wall" | "walls" => Ok(ArchElement::Wall),
-        "door" | "doors" => Ok(ArchElement::Door),
-        "window" | "windows" => Ok(ArchElement::Window),
-        _ => Err(RelationError::BadArgument {
+    let wanted = a.trim().to_ascii_lowercase();
+    let singular = wanted.strip_suffix('s').unwrap_or(&wanted);
+    ArchElement::ALL
+        .into_iter()
+        .find(|e| e.name() == wanted || e.name() == singular)
+        .ok_or_else(|| RelationError::BadArgument {
             relation,
             value: a.to_owned(),
             expected: EXPECT_ELEMENT,
-        }),
-    }
+        })
 }
 
 /// `None`, `"None"`, `"null"` and blank strings mean "no argument" in the mapping answers.
@@ -377,26 +526,31 @@ fn present(arg: Option<&str>) -> Option<&str> {
 impl Relation {
     /// The snake_case base name (without the argument), e.g. `side_of`.
     pub const fn name(&self) -> &'static str {
+        self.base().name()
+    }
+
+    /// The base name's entry in the name table.
+    const fn base(&self) -> Base {
         match self {
-            Relation::InsideOf => "inside_of",
-            Relation::OutsideOf => "outside_of",
-            Relation::FaceTo => "face_to",
-            Relation::SideOf(_) => "side_of",
-            Relation::SideRegion(_) => "side_region",
-            Relation::LongShortSideOf(_) => "long_short_side_of",
-            Relation::OnTop => "on_top",
-            Relation::MiddleOf => "middle_of",
-            Relation::Surround => "surround",
-            Relation::NextTo | Relation::NextToArch(_) => "next_to",
-            Relation::Near | Relation::NearArch(_) => "near",
-            Relation::AcrossFrom | Relation::AcrossFromArch(_) => "across_from",
-            Relation::Far | Relation::FarArch(_) => "far",
-            Relation::InsideRoom => "inside_room",
-            Relation::MiddleOfRoom => "middle_of_room",
-            Relation::CornerOfRoom => "corner_of_room",
-            Relation::OnWall => "on_wall",
-            Relation::AgainstWall => "against_wall",
-            Relation::HangFromCeiling => "hang_from_ceiling",
+            Relation::InsideOf => Base::InsideOf,
+            Relation::OutsideOf => Base::OutsideOf,
+            Relation::FaceTo => Base::FaceTo,
+            Relation::SideOf(_) => Base::SideOf,
+            Relation::SideRegion(_) => Base::SideRegion,
+            Relation::LongShortSideOf(_) => Base::LongShortSideOf,
+            Relation::OnTop => Base::OnTop,
+            Relation::MiddleOf => Base::MiddleOf,
+            Relation::Surround => Base::Surround,
+            Relation::NextTo | Relation::NextToArch(_) => Base::NextTo,
+            Relation::Near | Relation::NearArch(_) => Base::Near,
+            Relation::AcrossFrom | Relation::AcrossFromArch(_) => Base::AcrossFrom,
+            Relation::Far | Relation::FarArch(_) => Base::Far,
+            Relation::InsideRoom => Base::InsideRoom,
+            Relation::MiddleOfRoom => Base::MiddleOfRoom,
+            Relation::CornerOfRoom => Base::CornerOfRoom,
+            Relation::OnWall => Base::OnWall,
+            Relation::AgainstWall => Base::AgainstWall,
+            Relation::HangFromCeiling => Base::HangFromCeiling,
         }
     }
 
@@ -508,9 +662,10 @@ impl Relation {
     ) -> Result<Relation, RelationError> {
         let base = Base::parse(relationship_type)?;
         let side = present(side);
-        let r = match base {
-            Base::NextTo | Base::Near | Base::AcrossFrom | Base::Far => base.with_argument(None, false)?,
-            _ => base.with_argument(side, false)?,
+        let r = if base.is_distance() {
+            base.with_argument(None, false)?
+        } else {
+            base.with_argument(side, false)?
         };
         if r.is_architectural() {
             return Err(RelationError::WrongKind {
@@ -539,15 +694,14 @@ impl Relation {
     ) -> Result<Relation, RelationError> {
         let base = Base::parse(relationship_type)?;
         let element = present(element_type);
-        let r = match base {
-            Base::NextTo | Base::Near | Base::AcrossFrom | Base::Far => {
-                let e = element.ok_or(RelationError::MissingArgument {
-                    relation: base.name(),
-                    expected: EXPECT_ELEMENT,
-                })?;
-                base.with_argument(Some(e), true)?
-            }
-            _ => base.with_argument(None, false)?,
+        let r = if base.is_distance() {
+            let e = element.ok_or(RelationError::MissingArgument {
+                relation: base.name(),
+                expected: EXPECT_ELEMENT,
+            })?;
+            base.with_argument(Some(e), true)?
+        } else {
+            base.with_argument(None, false)?
         };
         if !r.is_architectural() {
             return Err(RelationError::WrongKind {
@@ -578,10 +732,7 @@ impl FromStr for Relation {
         let (name, arg) = if let Some(open) = t.find('(') {
             let inner = t[open + 1..]
                 .strip_suffix(')')
-                .ok_or_else(|| RelationError::UnknownRelation {
-                    name: s.to_owned(),
-                    expected: EXPECTED_NAMES,
-                })?;
+                .ok_or_else(|| RelationError::UnknownRelation { name: s.to_owned() })?;
             (&t[..open], Some(inner))
         } else if let Some((name, arg)) = t.split_once(':') {
             (name, Some(arg))
@@ -638,6 +789,19 @@ mod tests {
         for r in &all {
             assert_eq!(r.to_string().parse::<Relation>().unwrap(), *r, "{r}");
         }
+    }
+
+    #[test]
+    fn the_name_table_is_indexed_by_base() {
+        for (i, spec) in BASES.iter().enumerate() {
+            assert_eq!(spec.base as usize, i, "{}", spec.name);
+        }
+        let msg = RelationError::UnknownRelation { name: "x".into() }.to_string();
+        assert!(msg.ends_with("on_wall, against_wall, hang_from_ceiling"), "{msg}");
+        assert!(
+            msg.contains("expected one of inside_of, outside_of, face_to,"),
+            "{msg}"
+        );
     }
 
     #[test]

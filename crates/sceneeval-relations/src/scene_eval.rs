@@ -4,9 +4,8 @@ use sceneeval_geom::Real;
 use sceneeval_scene::Scene;
 
 use crate::batch::{score_pair, wrong_kind};
-use crate::{
-    ObjectGeom, Relation, RelationError, RelationKind, RelationParams, RoomGeometry, arch, surround,
-};
+use crate::pairwise::surround_centres;
+use crate::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, SurroundVariant, arch};
 
 /// A relation's score and whether it holds (`score > threshold`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -18,8 +17,16 @@ pub struct Evaluation {
     pub holds: bool,
 }
 
-/// One question about a scene: a relation, its target object(s), its anchor, and for the
-/// floor-based architecture relations an optional choice of floors.
+/// One question about a scene by object ids: a relation, its target object(s), its anchor,
+/// and for the floor-based architecture relations an optional choice of floors. Build it with
+/// [`Query::new`] and the named setters, so that a target and an anchor cannot be swapped
+/// unnoticed:
+///
+/// ```
+/// use sceneeval_relations::{Query, Relation};
+/// let q = Query::new(Relation::NextTo).target("stand").anchor("bed");
+/// assert_eq!((q.targets[0].as_str(), q.anchor.as_deref()), ("stand", Some("bed")));
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
@@ -41,74 +48,89 @@ pub struct Query {
 }
 
 impl Query {
-    /// A two-object (or `surround`, with one target) query.
-    pub fn objects(relation: Relation, target: &str, anchor: &str) -> Self {
+    /// A query of `relation` with no objects yet.
+    pub fn new(relation: Relation) -> Self {
         Query {
             relation,
-            targets: vec![target.to_owned()],
-            anchor: Some(anchor.to_owned()),
-            floors: Vec::new(),
-        }
-    }
-
-    /// An object-architecture query over every room.
-    pub fn architecture(relation: Relation, target: &str) -> Self {
-        Query {
-            relation,
-            targets: vec![target.to_owned()],
+            targets: Vec::new(),
             anchor: None,
             floors: Vec::new(),
         }
     }
+
+    /// Adds a target object (call once per target for `surround`).
+    pub fn target(mut self, id: impl Into<String>) -> Self {
+        self.targets.push(id.into());
+        self
+    }
+
+    /// Sets the anchor object.
+    pub fn anchor(mut self, id: impl Into<String>) -> Self {
+        self.anchor = Some(id.into());
+        self
+    }
+
+    /// Adds a floor (or room) id the floor-based architecture relations are restricted to.
+    pub fn floor(mut self, id: impl Into<String>) -> Self {
+        self.floors.push(id.into());
+        self
+    }
 }
 
-/// Evaluates relations between the objects of one scene, by object id.
+/// Targets above which `surround` with [`crate::SurroundVariant::Reference`] is refused by
+/// [`SceneRelations`]: that variant compares every pair of targets (`O(N^2)`; 2,048 targets are
+/// about four million comparisons). The paper variant sorts once (`O(N log N)`) and has no
+/// limit.
+pub const SURROUND_REFERENCE_MAX_TARGETS: usize = 2048;
+
+/// Evaluates relations between the objects of a scene, by object index or by id.
 ///
-/// Construction prepares every room once ([`RoomGeometry::from_room`]); each evaluation then
-/// looks objects up by id and calls the kernels. Unknown ids, a missing anchor or target, and
-/// relations of the wrong kind are errors naming the input.
+/// It holds only the validated parameters and borrows the scene per call: rooms were prepared
+/// when they were built (`sceneeval_scene::Room`), objects are read where they are, so a
+/// layout optimiser can move objects ([`Scene::set_pose`]) and ask again at once. The calls by
+/// index ([`SceneRelations::pair`], [`SceneRelations::surround`], [`SceneRelations::arch`])
+/// allocate nothing (`surround`: up to 64 targets); [`SceneRelations::evaluate`] looks ids up
+/// in the scene's hash index. Unknown ids or indices, a missing anchor or target, and relations
+/// of the wrong kind are errors naming the input.
 ///
 /// ```
-/// use sceneeval_relations::{Relation, RelationParams, SceneRelations};
-/// use sceneeval_scene::{RoomBuilder, Scene};
-/// use sceneeval_geom::{Point2, Point3, Side, Vector3};
+/// use sceneeval_relations::{Query, Relation, RelationParams, SceneRelations};
+/// use sceneeval_scene::{Category, RoomBuilder, Scene};
+/// use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Side, Vector3};
 ///
-/// let scene = Scene::builder()
+/// let mut scene = Scene::builder()
 ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0)))
-///     .add_box("bed", "bed", Point3::new(2.0, 4.0, 0.3), Vector3::new(1.6, 2.0, 0.6), 0.0)
-///     .add_box("stand", "nightstand", Point3::new(0.95, 4.7, 0.3), Vector3::new(0.5, 0.4, 0.6), 0.0)
+///     .add_box("bed", Category::new("bed"), Vector3::new(0.8, 1.0, 0.3), pose_from_yaw(Point3::new(2.0, 4.0, 0.3), 0.0))
+///     .add_box("stand", Category::new("nightstand"), Vector3::new(0.25, 0.2, 0.3),
+///              pose_from_yaw(Point3::new(0.95, 4.7, 0.3), 0.0))
 ///     .build()
 ///     .unwrap();
-/// let rel = SceneRelations::new(&scene, RelationParams::default()).unwrap();
+/// let rel = SceneRelations::new(RelationParams::default()).unwrap();
 /// // The bed spans x in [1.2, 2.8]; the stand (x in [0.7, 1.2]) touches its -x (left) side.
-/// let e = rel.pair(Relation::SideOf(Side::Left), "stand", "bed").unwrap();
+/// let q = Query::new(Relation::SideOf(Side::Left)).target("stand").anchor("bed");
+/// let e = rel.evaluate(&scene, &q).unwrap();
 /// assert!(e.holds && e.score == 1.0);
-/// assert!(rel.arch(Relation::AgainstWall, "bed", &[]).unwrap().holds);
-/// assert!(rel.pair(Relation::NextTo, "stand", "sofa").is_err());
+/// assert!(rel.evaluate(&scene, &Query::new(Relation::AgainstWall).target("bed")).unwrap().holds);
+/// assert!(rel.evaluate(&scene, &Query::new(Relation::NextTo).target("stand").anchor("sofa")).is_err());
+///
+/// // By index, in a loop: move the stand in front of the bed (y < 3) and ask again.
+/// let (stand, bed) = (scene.object_index("stand").unwrap(), scene.object_index("bed").unwrap());
+/// scene.set_pose(stand, pose_from_yaw(Point3::new(2.0, 2.5, 0.3), 0.0)).unwrap();
+/// assert!(!rel.pair(&scene, Relation::SideOf(Side::Left), stand, bed).unwrap().holds);
 /// ```
 #[derive(Debug, Clone)]
-pub struct SceneRelations<'s> {
-    scene: &'s Scene,
-    rooms: Vec<RoomGeometry>,
+pub struct SceneRelations {
     params: RelationParams,
 }
 
-impl<'s> SceneRelations<'s> {
-    /// Prepares the scene's rooms and checks the parameters.
+impl SceneRelations {
+    /// Checks the parameters.
     ///
     /// # Errors
     /// [`RelationError::BadParameter`] from [`RelationParams::validate`].
-    pub fn new(scene: &'s Scene, params: RelationParams) -> Result<Self, RelationError> {
+    pub fn new(params: RelationParams) -> Result<Self, RelationError> {
         params.validate()?;
-        let rooms: Vec<RoomGeometry> = scene.rooms().iter().map(RoomGeometry::from_room).collect();
-        tracing::debug!(
-            scene = scene.id().unwrap_or("<unnamed>"),
-            rooms = rooms.len(),
-            wall_pieces = rooms.iter().map(|r| r.wall_cells().len()).sum::<usize>(),
-            objects = scene.objects().len(),
-            "prepared the scene for relation queries"
-        );
-        Ok(SceneRelations { scene, rooms, params })
+        Ok(SceneRelations { params })
     }
 
     /// The parameters in use.
@@ -117,21 +139,28 @@ impl<'s> SceneRelations<'s> {
         &self.params
     }
 
-    /// The prepared rooms, in the scene's order.
-    #[inline]
-    pub fn rooms(&self) -> &[RoomGeometry] {
-        &self.rooms
-    }
-
-    /// The predicate view of an object.
+    /// The index of the object with this id (see [`Scene::object_index`]).
     ///
     /// # Errors
     /// [`RelationError::UnknownObject`].
-    pub fn object(&self, id: &str) -> Result<ObjectGeom<'s>, RelationError> {
-        self.scene
-            .object(id)
-            .map(ObjectGeom::from_object)
+    pub fn object_index(scene: &Scene, id: &str) -> Result<usize, RelationError> {
+        scene
+            .object_index(id)
             .ok_or_else(|| RelationError::UnknownObject { id: id.to_owned() })
+    }
+
+    /// The predicate view of the object at `index`.
+    ///
+    /// # Errors
+    /// [`RelationError::NoSuchObject`].
+    pub fn object(scene: &Scene, index: usize) -> Result<ObjectGeom<'_>, RelationError> {
+        scene
+            .object_at(index)
+            .map(ObjectGeom::from_object)
+            .ok_or(RelationError::NoSuchObject {
+                index,
+                count: scene.objects().len(),
+            })
     }
 
     fn evaluation(&self, score: Real) -> Evaluation {
@@ -141,52 +170,94 @@ impl<'s> SceneRelations<'s> {
         }
     }
 
-    /// A two-object relation: `target` relative to `anchor`.
+    /// A two-object relation: the object at `target` relative to the one at `anchor`.
     ///
     /// # Errors
-    /// [`RelationError::UnknownObject`], [`RelationError::WrongKind`] for `surround` or an
+    /// [`RelationError::NoSuchObject`], [`RelationError::WrongKind`] for `surround` or an
     /// architecture relation.
-    pub fn pair(&self, relation: Relation, target: &str, anchor: &str) -> Result<Evaluation, RelationError> {
+    pub fn pair(
+        &self,
+        scene: &Scene,
+        relation: Relation,
+        target: usize,
+        anchor: usize,
+    ) -> Result<Evaluation, RelationError> {
         if relation.kind() != RelationKind::ObjectObject {
             return Err(wrong_kind(relation, "a two-object relation"));
         }
-        let (a, b) = (self.object(target)?, self.object(anchor)?);
-        score_pair(relation, &a, &b, &self.params).map(|s| self.evaluation(s))
+        let (t, a) = (Self::object(scene, target)?, Self::object(scene, anchor)?);
+        score_pair(relation, &t, &a, &self.params).map(|s| self.evaluation(s))
     }
 
-    /// `surround`: the targets around the anchor.
+    /// `surround`: the objects at `targets` around the one at `anchor`.
     ///
     /// # Errors
-    /// [`RelationError::UnknownObject`].
-    pub fn surround(&self, anchor: &str, targets: &[&str]) -> Result<Evaluation, RelationError> {
-        let b = self.object(anchor)?;
-        let views = targets
-            .iter()
-            .map(|id| self.object(id))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(self.evaluation(surround(&b, &views, &self.params)))
+    /// [`RelationError::NoSuchObject`]; [`RelationError::TooManyTargets`] for the reference
+    /// variant beyond [`SURROUND_REFERENCE_MAX_TARGETS`] targets.
+    pub fn surround(
+        &self,
+        scene: &Scene,
+        targets: &[usize],
+        anchor: usize,
+    ) -> Result<Evaluation, RelationError> {
+        let anchor = Self::object(scene, anchor)?.obb.center;
+        for &t in targets {
+            Self::object(scene, t)?;
+        }
+        self.check_surround(targets.len())?;
+        let objects = scene.objects();
+        let score = surround_centres(
+            targets.len(),
+            |i| objects[targets[i]].obb().center,
+            &anchor,
+            &self.params,
+        );
+        Ok(self.evaluation(score))
     }
 
-    /// An object-architecture relation. `floors` (floor ids such as `floor_r0`, or room ids)
-    /// restricts the floor-based relations (`inside_room`, `middle_of_room`,
-    /// `corner_of_room`, `hang_from_ceiling`) to those rooms; empty means every room. The
-    /// wall, door and window relations always consider the whole scene.
+    fn check_surround(&self, n: usize) -> Result<(), RelationError> {
+        if self.params.surround_variant == SurroundVariant::Reference && n > SURROUND_REFERENCE_MAX_TARGETS {
+            return Err(RelationError::TooManyTargets {
+                relation: Relation::Surround.to_string(),
+                got: n,
+                limit: SURROUND_REFERENCE_MAX_TARGETS,
+            });
+        }
+        Ok(())
+    }
+
+    /// An object-architecture relation for the object at `target`. `floors` (floor ids such as
+    /// `floor_r0`, or room ids) restricts the floor-based relations (`inside_room`,
+    /// `middle_of_room`, `corner_of_room`, `hang_from_ceiling`) to those rooms; empty means
+    /// every room. The wall, door and window relations always consider the whole scene.
     ///
     /// # Errors
-    /// [`RelationError::UnknownObject`], [`RelationError::UnknownFloor`],
+    /// [`RelationError::NoSuchObject`], [`RelationError::UnknownFloor`],
     /// [`RelationError::WrongKind`] for an object-object relation,
     /// [`RelationError::NoArchitecture`] for a scene without rooms.
     pub fn arch(
         &self,
+        scene: &Scene,
         relation: Relation,
-        target: &str,
+        target: usize,
         floors: &[&str],
+    ) -> Result<Evaluation, RelationError> {
+        self.arch_in(scene, relation, target, floors.iter().copied())
+    }
+
+    fn arch_in<'f>(
+        &self,
+        scene: &Scene,
+        relation: Relation,
+        target: usize,
+        floors: impl Iterator<Item = &'f str> + Clone,
     ) -> Result<Evaluation, RelationError> {
         if !relation.is_architectural() {
             return Err(wrong_kind(relation, "an object-architecture relation"));
         }
-        let a = self.object(target)?;
-        if self.rooms.is_empty() {
+        let a = Self::object(scene, target)?;
+        let rooms = scene.rooms();
+        if rooms.is_empty() {
             return Err(RelationError::NoArchitecture {
                 relation: relation.to_string(),
             });
@@ -198,14 +269,13 @@ impl<'s> SceneRelations<'s> {
                 | Relation::CornerOfRoom
                 | Relation::HangFromCeiling
         );
-        let score = if floor_based && !floors.is_empty() {
+        let score = if floor_based && floors.clone().next().is_some() {
             let mut best: Real = 0.0;
             for id in floors {
-                let room = self
-                    .rooms
+                let room = rooms
                     .iter()
-                    .find(|r| r.floor_id() == *id || r.room_id() == *id)
-                    .ok_or_else(|| RelationError::UnknownFloor { id: (*id).to_owned() })?;
+                    .find(|r| r.floor_id() == id || r.id().as_str() == id)
+                    .ok_or_else(|| RelationError::UnknownFloor { id: id.to_owned() })?;
                 best = best.max(arch::score_rooms(
                     relation,
                     &a,
@@ -215,19 +285,19 @@ impl<'s> SceneRelations<'s> {
             }
             best
         } else {
-            arch::score_rooms(relation, &a, &self.rooms, &self.params)?
+            arch::score_rooms(relation, &a, rooms, &self.params)?
         };
         Ok(self.evaluation(score))
     }
 
-    /// Evaluates a [`Query`] of any kind.
+    /// Evaluates a [`Query`] of any kind, by object ids.
     ///
     /// # Errors
     /// As [`SceneRelations::pair`], [`SceneRelations::surround`] and
-    /// [`SceneRelations::arch`], plus [`RelationError::NotEnoughTargets`] for a query
-    /// without targets and [`RelationError::MissingArgument`] for an object-object query
-    /// without an anchor.
-    pub fn evaluate(&self, query: &Query) -> Result<Evaluation, RelationError> {
+    /// [`SceneRelations::arch`] (with [`RelationError::UnknownObject`] for an unknown id),
+    /// plus [`RelationError::NotEnoughTargets`] for a query without targets and
+    /// [`RelationError::MissingArgument`] for an object-object query without an anchor.
+    pub fn evaluate(&self, scene: &Scene, query: &Query) -> Result<Evaluation, RelationError> {
         let relation = query.relation;
         let first = query
             .targets
@@ -238,36 +308,47 @@ impl<'s> SceneRelations<'s> {
                 got: 0,
             })?;
         let anchor = || {
-            query.anchor.as_deref().ok_or(RelationError::MissingArgument {
+            let id = query.anchor.as_deref().ok_or(RelationError::MissingArgument {
                 relation: relation.name(),
                 expected: "an anchor object",
-            })
+            })?;
+            Self::object_index(scene, id)
         };
         match relation.kind() {
-            RelationKind::ObjectObject => self.pair(relation, first, anchor()?),
+            RelationKind::ObjectObject => {
+                let target = Self::object_index(scene, first)?;
+                self.pair(scene, relation, target, anchor()?)
+            }
             RelationKind::MultiTarget => {
-                let ids: Vec<&str> = query.targets.iter().map(String::as_str).collect();
-                self.surround(anchor()?, &ids)
+                let anchor = Self::object(scene, anchor()?)?.obb.center;
+                for id in &query.targets {
+                    Self::object_index(scene, id)?;
+                }
+                self.check_surround(query.targets.len())?;
+                let centre = |i: usize| scene.object(&query.targets[i]).map_or(anchor, |o| o.obb().center);
+                let score = surround_centres(query.targets.len(), centre, &anchor, &self.params);
+                Ok(self.evaluation(score))
             }
             RelationKind::ObjectArchitecture => {
-                let floors: Vec<&str> = query.floors.iter().map(String::as_str).collect();
-                self.arch(relation, first, &floors)
+                let target = Self::object_index(scene, first)?;
+                self.arch_in(scene, relation, target, query.floors.iter().map(String::as_str))
             }
         }
     }
 
     /// Evaluates many queries; each gets its own result, so one bad query does not stop the
     /// others. A plain loop: callers parallelise if they wish (results do not depend on it).
-    pub fn evaluate_batch(&self, queries: &[Query]) -> Vec<Result<Evaluation, RelationError>> {
-        queries.iter().map(|q| self.evaluate(q)).collect()
+    pub fn evaluate_batch(&self, scene: &Scene, queries: &[Query]) -> Vec<Result<Evaluation, RelationError>> {
+        queries.iter().map(|q| self.evaluate(scene, q)).collect()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::conventions::pose_from_yaw;
     use sceneeval_geom::{Point2, Point3, Side, Vector3};
-    use sceneeval_scene::RoomBuilder;
+    use sceneeval_scene::{Category, RoomBuilder};
 
     fn scene() -> Scene {
         Scene::builder()
@@ -283,45 +364,39 @@ mod tests {
             ))
             .add_box(
                 "table",
-                "table",
-                Point3::new(2.0, 2.5, 0.375),
-                Vector3::new(1.0, 1.0, 0.75),
-                0.0,
+                Category::new("table"),
+                Vector3::new(0.5, 0.5, 0.375),
+                pose_from_yaw(Point3::new(2.0, 2.5, 0.375), 0.0),
             )
             .add_box(
                 "c0",
-                "chair",
-                Point3::new(3.0, 2.5, 0.45),
-                Vector3::new(0.5, 0.5, 0.9),
-                0.0,
+                Category::new("chair"),
+                Vector3::new(0.25, 0.25, 0.45),
+                pose_from_yaw(Point3::new(3.0, 2.5, 0.45), 0.0),
             )
             .add_box(
                 "c1",
-                "chair",
-                Point3::new(2.0, 3.5, 0.45),
-                Vector3::new(0.5, 0.5, 0.9),
-                0.0,
+                Category::new("chair"),
+                Vector3::new(0.25, 0.25, 0.45),
+                pose_from_yaw(Point3::new(2.0, 3.5, 0.45), 0.0),
             )
             .add_box(
                 "c2",
-                "chair",
-                Point3::new(1.0, 2.5, 0.45),
-                Vector3::new(0.5, 0.5, 0.9),
-                0.0,
+                Category::new("chair"),
+                Vector3::new(0.25, 0.25, 0.45),
+                pose_from_yaw(Point3::new(1.0, 2.5, 0.45), 0.0),
             )
             .add_box(
                 "c3",
-                "chair",
-                Point3::new(2.0, 1.5, 0.45),
-                Vector3::new(0.5, 0.5, 0.9),
-                0.0,
+                Category::new("chair"),
+                Vector3::new(0.25, 0.25, 0.45),
+                pose_from_yaw(Point3::new(2.0, 1.5, 0.45), 0.0),
             )
             .add_box(
                 "sofa",
-                "sofa",
-                Point3::new(6.0, 4.5, 0.4),
-                Vector3::new(2.0, 0.9, 0.8),
-                0.0,
+                Category::new("sofa"),
+                Vector3::new(1.0, 0.45, 0.4),
+                pose_from_yaw(Point3::new(6.0, 4.5, 0.4), 0.0),
             )
             .build()
             .unwrap()
@@ -330,8 +405,10 @@ mod tests {
     #[test]
     fn queries_of_every_kind() {
         let s = scene();
-        let rel = SceneRelations::new(&s, RelationParams::default()).unwrap();
-        let e = rel.surround("table", &["c0", "c1", "c2", "c3"]).unwrap();
+        let rel = SceneRelations::new(RelationParams::default()).unwrap();
+        let idx = |id: &str| s.object_index(id).unwrap();
+        let chairs = ["c0", "c1", "c2", "c3"].map(idx);
+        let e = rel.surround(&s, &chairs, idx("table")).unwrap();
         assert!((e.score - 1.0).abs() < 1e-12 && e.holds);
         let q = Query {
             relation: Relation::Surround,
@@ -340,27 +417,36 @@ mod tests {
             floors: vec![],
         };
         // Three of four chairs: gaps 90, 90, 180 -> 0.5 + 0.5 (0.5625 * 2 + 0.25) / 3.
-        let e = rel.evaluate(&q).unwrap();
+        let e = rel.evaluate(&s, &q).unwrap();
         assert!((e.score - (0.5 + 0.5 * 1.375 / 3.0)).abs() < 1e-12);
         assert!(
-            rel.evaluate(&Query::objects(Relation::SideOf(Side::Right), "c0", "table"))
-                .unwrap()
-                .holds
+            rel.evaluate(
+                &s,
+                &Query::new(Relation::SideOf(Side::Right))
+                    .target("c0")
+                    .anchor("table")
+            )
+            .unwrap()
+            .holds
         );
         // The sofa is in room r1 only.
         assert!(
-            rel.evaluate(&Query::architecture(Relation::InsideRoom, "sofa"))
+            rel.evaluate(&s, &Query::new(Relation::InsideRoom).target("sofa"))
                 .unwrap()
                 .holds
         );
         assert!(
-            !rel.arch(Relation::InsideRoom, "sofa", &["floor_r0"])
+            !rel.arch(&s, Relation::InsideRoom, idx("sofa"), &["floor_r0"])
                 .unwrap()
                 .holds
         );
-        assert!(rel.arch(Relation::InsideRoom, "sofa", &["r1"]).unwrap().holds);
         assert!(
-            rel.arch(Relation::AgainstWall, "sofa", &["floor_r0"])
+            rel.arch(&s, Relation::InsideRoom, idx("sofa"), &["r1"])
+                .unwrap()
+                .holds
+        );
+        assert!(
+            rel.arch(&s, Relation::AgainstWall, idx("sofa"), &["floor_r0"])
                 .unwrap()
                 .holds
         );
@@ -369,17 +455,19 @@ mod tests {
     #[test]
     fn errors_name_the_input() {
         let s = scene();
-        let rel = SceneRelations::new(&s, RelationParams::default()).unwrap();
+        let rel = SceneRelations::new(RelationParams::default()).unwrap();
+        let idx = |id: &str| s.object_index(id).unwrap();
         assert_eq!(
-            rel.pair(Relation::Near, "c0", "bed").unwrap_err(),
+            rel.evaluate(&s, &Query::new(Relation::Near).target("c0").anchor("bed"))
+                .unwrap_err(),
             RelationError::UnknownObject { id: "bed".into() }
         );
         assert!(matches!(
-            rel.arch(Relation::InsideRoom, "c0", &["floor_x"]),
+            rel.arch(&s, Relation::InsideRoom, idx("c0"), &["floor_x"]),
             Err(RelationError::UnknownFloor { .. })
         ));
         assert!(matches!(
-            rel.pair(Relation::OnWall, "c0", "table"),
+            rel.pair(&s, Relation::OnWall, idx("c0"), idx("table")),
             Err(RelationError::WrongKind { .. })
         ));
         let no_anchor = Query {
@@ -388,31 +476,43 @@ mod tests {
             anchor: None,
             floors: vec![],
         };
-        let results = rel.evaluate_batch(&[
-            no_anchor,
-            Query::objects(Relation::Near, "c0", "c2"),
-            Query {
-                targets: vec![],
-                ..Query::architecture(Relation::OnWall, "c0")
-            },
-        ]);
+        let results = rel.evaluate_batch(
+            &s,
+            &[
+                no_anchor,
+                Query::new(Relation::Near).target("c0").anchor("c2"),
+                Query {
+                    targets: vec![],
+                    ..Query::new(Relation::OnWall).target("c0")
+                },
+            ],
+        );
         assert!(matches!(results[0], Err(RelationError::MissingArgument { .. })));
         // c0 and c2 are 1.5 m apart (x 2.75 -> 1.25): near scores 1.
         assert_eq!(results[1].as_ref().unwrap().score, 1.0);
         assert!(matches!(results[2], Err(RelationError::NotEnoughTargets { .. })));
         let empty = Scene::builder()
-            .add_box("x", "box", Point3::origin(), Vector3::repeat(1.0), 0.0)
+            .add_box(
+                "x",
+                Category::new("box"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::origin(), 0.0),
+            )
             .build()
             .unwrap();
-        let rel = SceneRelations::new(&empty, RelationParams::default()).unwrap();
+        let rel = SceneRelations::new(RelationParams::default()).unwrap();
         assert!(matches!(
-            rel.arch(Relation::InsideRoom, "x", &[]),
+            rel.arch(&empty, Relation::InsideRoom, 0, &[]),
             Err(RelationError::NoArchitecture { .. })
         ));
         let bad = RelationParams {
             middle_of_sigma: -1.0,
             ..Default::default()
         };
-        assert!(SceneRelations::new(&empty, bad).is_err());
+        assert!(SceneRelations::new(bad).is_err());
+        assert_eq!(
+            rel.pair(&empty, Relation::Near, 0, 5).unwrap_err(),
+            RelationError::NoSuchObject { index: 5, count: 1 }
+        );
     }
 }

@@ -7,12 +7,11 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Rotation3, Side, Vector3};
+use sceneeval_geom::{Isometry3, Mesh, Obb, Point3, Real, Rotation3, Side, Vector3};
 use sceneeval_relations::{
-    self as rel, ArchElement, LongShort, ObjectGeom, OnTopPlane, OpeningSpec, Relation, RelationParams,
-    RoomGeometry, arch, batch,
+    self as rel, ArchElement, LongShort, ObjectGeom, OnTopPlane, Relation, RelationParams, arch, batch,
 };
-use sceneeval_scene::OpeningKind;
+use sceneeval_scene::Room;
 
 fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
     Obb::from_yaw(Point3::new(c[0], c[1], c[2]), Vector3::new(h[0], h[1], h[2]), yaw).unwrap()
@@ -460,7 +459,7 @@ fn surround_three_and_four() {
     };
     let run = |objs: &[Obb]| {
         let v: Vec<ObjectGeom<'_>> = objs.iter().map(ObjectGeom::from_box).collect();
-        rel::surround(&g(&t), &v, &RelationParams::default())
+        rel::surround(&v, &g(&t), &RelationParams::default())
     };
     close(
         run(&[chair(10.0, 1.2), chair(130.0, 1.2), chair(250.0, 1.2)]),
@@ -495,34 +494,12 @@ fn surround_three_and_four() {
     close(run(&[chair(0.0, 1.0), chair(90.0, 1.0)]), 0.0, 0.0, "two");
 }
 
-fn bedroom() -> RoomGeometry {
-    RoomGeometry::from_outline(
-        "bedroom",
-        vec![
-            Point2::new(0.0, 0.0),
-            Point2::new(4.0, 0.0),
-            Point2::new(4.0, 5.0),
-            Point2::new(0.0, 5.0),
-        ],
-        0.0,
-        2.8,
-        0.1,
-        &[
-            OpeningSpec {
-                kind: OpeningKind::Door,
-                wall: 0,
-                along: [1.0, 1.9],
-                height: [0.0, 2.1],
-            },
-            OpeningSpec {
-                kind: OpeningKind::Window,
-                wall: 1,
-                along: [1.5, 3.5],
-                height: [0.9, 2.0],
-            },
-        ],
-    )
-    .unwrap()
+/// The test bedroom with a window on wall 1 (x = 4) spanning y in [1.5, 3.5], 0.9 to 2.0 m up.
+fn bedroom() -> Room {
+    sceneeval_test_support::bedroom("bedroom")
+        .window(1, [1.5, 3.5], [0.9, 2.0])
+        .build()
+        .unwrap()
 }
 
 #[test]

@@ -7,10 +7,9 @@ use proptest::prelude::*;
 use sceneeval_geom::na::Matrix3;
 use sceneeval_geom::{Obb, Point2, Point3, Real, Rotation3, Side, Vector3};
 use sceneeval_relations::{
-    ArchElement, LongShort, ObjectGeom, OpeningSpec, Relation, RelationKind, RelationParams, RoomGeometry,
-    arch, batch, pair_distance,
+    ArchElement, LongShort, ObjectGeom, Relation, RelationKind, RelationParams, arch, batch, pair_distance,
 };
-use sceneeval_scene::OpeningKind;
+use sceneeval_scene::{OpeningKind, Room, RoomBuilder};
 
 /// A box with its centre in a 6 x 6 m area, half extents 5 cm to 1 m, any yaw, and (a third
 /// of the time) a tilt about x and y, so that general rotations are exercised too.
@@ -42,7 +41,7 @@ fn room_box() -> impl Strategy<Value = Obb> {
 
 const ROOM: [[Real; 2]; 4] = [[0.0, 0.0], [4.0, 0.0], [4.0, 5.0], [0.0, 5.0]];
 
-fn room_moved(yaw: Real, shift: Vector3) -> RoomGeometry {
+fn room_moved(yaw: Real, shift: Vector3) -> Room {
     let r = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw);
     let outline = ROOM
         .iter()
@@ -51,28 +50,14 @@ fn room_moved(yaw: Real, shift: Vector3) -> RoomGeometry {
             Point2::new(q.x, q.y)
         })
         .collect();
-    RoomGeometry::from_outline(
-        "r",
-        outline,
-        shift.z,
-        2.8,
-        0.1,
-        &[
-            OpeningSpec {
-                kind: OpeningKind::Door,
-                wall: 0,
-                along: [1.0, 1.9],
-                height: [0.0, 2.1],
-            },
-            OpeningSpec {
-                kind: OpeningKind::Window,
-                wall: 1,
-                along: [1.5, 3.5],
-                height: [0.9, 2.0],
-            },
-        ],
-    )
-    .unwrap()
+    RoomBuilder::polygon("r", outline)
+        .floor_z(shift.z)
+        .wall_height(2.8)
+        .wall_thickness(0.1)
+        .door(0, [1.0, 1.9], [0.0, 2.1])
+        .window(1, [1.5, 3.5], [0.9, 2.0])
+        .build()
+        .unwrap()
 }
 
 fn moved(o: &Obb, yaw: Real, shift: Vector3) -> Obb {
@@ -131,7 +116,7 @@ proptest! {
                 prop_assert!((0.0..=1.0).contains(&s), "{} = {}", r, s);
             }
             let targets = [ga, ObjectGeom::from_box(&c), ObjectGeom::from_box(&d)];
-            let s = sceneeval_relations::surround(&gb, &targets, params);
+            let s = sceneeval_relations::surround(&targets, &gb, params);
             prop_assert!((0.0..=1.0).contains(&s), "surround = {}", s);
             let room = room_moved(0.0, Vector3::zeros());
             for r in arch_relations() {
@@ -157,8 +142,8 @@ proptest! {
         }
         let t1 = [ObjectGeom::from_box(&a), ObjectGeom::from_box(&c), ObjectGeom::from_box(&d)];
         let t2 = [ObjectGeom::from_box(&a2), ObjectGeom::from_box(&c2), ObjectGeom::from_box(&d2)];
-        let s1 = sceneeval_relations::surround(&ObjectGeom::from_box(&b), &t1, &p);
-        let s2 = sceneeval_relations::surround(&ObjectGeom::from_box(&b2), &t2, &p);
+        let s1 = sceneeval_relations::surround(&t1, &ObjectGeom::from_box(&b), &p);
+        let s2 = sceneeval_relations::surround(&t2, &ObjectGeom::from_box(&b2), &p);
         prop_assert!((s1 - s2).abs() < 1e-9, "surround: {} vs {}", s1, s2);
         let (r1, r2) = (room_moved(0.0, Vector3::zeros()), room_moved(yaw, shift));
         // corner_of_room jumps where inside_room crosses its 0.5 gate: skip that boundary.
@@ -225,7 +210,7 @@ proptest! {
         // is 1 exactly when some wall's distance lies in the range.
         let room = room_moved(0.0, Vector3::zeros());
         let gd = ObjectGeom::from_box(&d);
-        let dists: Vec<Real> = room.walls().iter().map(|w| arch::wall_distance(&gd, &room, w)).collect();
+        let dists: Vec<Real> = room.walls().iter().map(|w| arch::wall_distance(&gd, w)).collect();
         let arch_rels = [arch::next_to, arch::near, arch::across_from, arch::far];
         for (f, (lo, hi)) in arch_rels.iter().zip(ranges) {
             let s = f(&gd, &room, ArchElement::Wall, &p);
@@ -277,17 +262,17 @@ proptest! {
         let room = room_moved(yaw, Vector3::new(0.3, -0.2, 0.0));
         let d = moved(&d, yaw, Vector3::new(0.3, -0.2, 0.0));
         let g = ObjectGeom::from_box(&d);
-        let brute_wall = |w: &sceneeval_relations::WallGeom| {
-            room.cells_of(w)
+        let brute_wall = |w: &sceneeval_scene::Wall| {
+            w.solid_boxes()
                 .iter()
                 .map(|c| sceneeval_relations::object_distance(&g, &ObjectGeom::from_box(c)))
                 .fold(Real::INFINITY, Real::min)
         };
         let wall_d: Vec<Real> = room.walls().iter().map(brute_wall).collect();
         for (w, bd) in room.walls().iter().zip(&wall_d) {
-            prop_assert!((arch::wall_distance(&g, &room, w) - bd).abs() < 1e-12);
+            prop_assert!((arch::wall_distance(&g, w) - bd).abs() < 1e-12);
         }
-        let bands = [(arch::next_to as fn(&ObjectGeom<'_>, &RoomGeometry, ArchElement, &RelationParams) -> Real, p.arch_next_to),
+        let bands = [(arch::next_to as fn(&ObjectGeom<'_>, &Room, ArchElement, &RelationParams) -> Real, p.arch_next_to),
             (arch::near, p.arch_near), (arch::across_from, p.arch_across_from), (arch::far, p.arch_far)];
         for (f, band) in bands {
             let walls = wall_d.iter().map(|&x| band.score(x)).fold(0.0, Real::max);
@@ -305,7 +290,7 @@ proptest! {
             let walls = room.walls();
             for i in 0..walls.len() {
                 for j in i + 1..walls.len() {
-                    if walls[i].inward_3d().dot(&walls[j].inward_3d()).abs() < p.corner_perpendicular_threshold {
+                    if walls[i].inward_normal_3d().dot(&walls[j].inward_normal_3d()).abs() < p.corner_perpendicular_threshold {
                         corner = corner.max(p.corner_wall.score(wall_d[i]) * p.corner_wall.score(wall_d[j]));
                     }
                 }

@@ -338,17 +338,17 @@ fn inside_room_is_the_reference_ray_estimator_expectation() {
         (2.0, 4.0),
         (0.0, 4.0),
     ];
-    let room = sceneeval_relations::RoomGeometry::from_outline(
+    let room = sceneeval_scene::RoomBuilder::polygon(
         "l",
         outline
             .iter()
             .map(|&(x, y)| sceneeval_geom::Point2::new(x, y))
             .collect(),
-        0.2,
-        2.8,
-        0.1,
-        &[],
     )
+    .floor_z(0.2)
+    .wall_height(2.8)
+    .wall_thickness(0.1)
+    .build()
     .unwrap();
     let params = RelationParams::default();
     let mut rng = Rng(99);
@@ -383,17 +383,16 @@ fn wall_distance_bounds_the_reference_sampled_minimum() {
     // the rectangle over the wall's segment, so our exact distance bounds every sample's from
     // below and the best of many samples comes close to it. A room with a diagonal wall.
     let outline = [(0.0, 0.0), (4.0, 0.0), (4.0, 3.0), (2.5, 4.5), (0.0, 4.5)];
-    let room = sceneeval_relations::RoomGeometry::from_outline(
+    let room = sceneeval_scene::RoomBuilder::polygon(
         "r",
         outline
             .iter()
             .map(|&(x, y)| sceneeval_geom::Point2::new(x, y))
             .collect(),
-        0.0,
-        2.8,
-        0.1,
-        &[],
     )
+    .wall_height(2.8)
+    .wall_thickness(0.1)
+    .build()
     .unwrap();
     let mut rng = Rng(5);
     let mut checked = 0;
@@ -407,7 +406,7 @@ fn wall_distance_bounds_the_reference_sampled_minimum() {
         let a = ObjectGeom::from_box(&o);
         for (i, wall) in room.walls().iter().enumerate() {
             let (p0, p1) = (outline[i], outline[(i + 1) % outline.len()]);
-            let ours = sceneeval_relations::arch::wall_distance(&a, &room, wall);
+            let ours = sceneeval_relations::arch::wall_distance(&a, wall);
             let sampled = (0..20_000)
                 .map(|_| point_wall_face_distance(&sample(&o, &mut rng), p0, p1, 0.0, 2.8))
                 .fold(Real::INFINITY, Real::min);

@@ -20,6 +20,12 @@ macro_rules! string_id {
             pub fn as_str(&self) -> &str {
                 &self.0
             }
+
+            /// The id as an owned string.
+            #[inline]
+            pub fn into_string(self) -> String {
+                self.0
+            }
         }
 
         impl fmt::Display for $name {
@@ -31,6 +37,12 @@ macro_rules! string_id {
         impl From<&str> for $name {
             fn from(s: &str) -> Self {
                 $name(s.to_owned())
+            }
+        }
+
+        impl From<&String> for $name {
+            fn from(s: &String) -> Self {
+                $name(s.clone())
             }
         }
 
@@ -63,6 +75,13 @@ string_id!(
 string_id!(
     /// A room's id (the sceneState `roomId`).
     RoomId
+);
+
+string_id!(
+    /// An object's category as the scene states it (e.g. `nightstand`, or a synset such as
+    /// `bed.n.01`): a type of its own, so that an object id and a category can never be
+    /// passed in each other's place.
+    Category
 );
 
 #[cfg(test)]

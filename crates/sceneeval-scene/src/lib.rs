@@ -15,15 +15,17 @@
 //!
 //! # Example
 //! ```
-//! use sceneeval_scene::{RoomBuilder, Scene};
-//! use sceneeval_geom::{Point2, Point3, Vector3, Side};
+//! use sceneeval_scene::{Category, RoomBuilder, Scene};
+//! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3, Side};
 //!
 //! let scene = Scene::builder()
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 //!         .wall_height(2.8)
 //!         .door(0, [1.0, 1.9], [0.0, 2.1]))
-//!     // A desk against the far wall (y = 5), facing into the room (yaw 0: front = -y).
-//!     .add_box("desk", "desk", Point3::new(2.0, 4.7, 0.375), Vector3::new(1.2, 0.6, 0.75), 0.0)
+//!     // A 1.2 x 0.6 x 0.75 m desk (half extents 0.6, 0.3, 0.375) against the far wall
+//!     // (y = 5), facing into the room (yaw 0: front = -y).
+//!     .add_box("desk", Category::new("desk"), Vector3::new(0.6, 0.3, 0.375),
+//!              pose_from_yaw(Point3::new(2.0, 4.7, 0.375), 0.0))
 //!     .build()
 //!     .unwrap();
 //!
@@ -36,17 +38,42 @@
 //! let (_, _, door) = scene.openings().next().unwrap();
 //! assert!((door.width() - 0.9).abs() < 1e-12);
 //! ```
+//!
+//! # Sizes, poses and ids
+//! Box sizes are **half extents** everywhere (as for `sceneeval_geom::Obb` and parry's
+//! cuboids); objects are created and moved with the same pose type, `world_from_object`
+//! (`sceneeval_geom::Isometry3`; `sceneeval_geom::conventions::pose_from_yaw` makes an
+//! upright one); an object id and a category have different types ([`ObjectId`],
+//! [`Category`]) so that they cannot be swapped.
+//!
+//! # Rooms are prepared once
+//! A [`Room`] is built once, with everything that queries about objects read: its walls'
+//! solids (as boxes and meshes, from one grid per wall), its floor and ceiling triangulations,
+//! its doors and windows as boxes, and the floor's centroid, bounds and enclosing rectangle.
+//! Relations (`sceneeval-relations`) and plausibility metrics (`sceneeval-plausibility`) borrow
+//! it, as they borrow objects. Moving an object ([`Scene::set_pose`]) changes only that
+//! object's pose and cached boxes: a layout optimiser can move objects and ask questions in a
+//! loop without preparing anything again and without allocating.
+//!
+//! # Errors
+//! A [`SceneError`] names the element at fault as an [`Element`] (object, room, floor,
+//! ceiling, wall or opening, with the wall's and opening's positions), so that a loader maps
+//! it to a position in its file without reading the message.
 
 pub mod arch;
+mod element;
 mod error;
 pub mod hints;
 mod ids;
 mod object;
 mod scene;
 
-pub use arch::{Ceiling, InwardEvidence, Opening, OpeningKind, Room, RoomBuilder, Wall, WallSpec};
+pub use arch::{
+    Ceiling, Floor, InwardEvidence, Opening, OpeningKind, PlacedOpening, Room, RoomBuilder, Wall, WallSpec,
+};
+pub use element::Element;
 pub use error::SceneError;
 pub use hints::{SupportType, UnknownSupportType};
-pub use ids::{ObjectId, RoomId};
+pub use ids::{Category, ObjectId, RoomId};
 pub use object::SceneObject;
 pub use scene::{Scene, SceneBuilder};

@@ -1,12 +1,11 @@
 use std::sync::Arc;
 
-use sceneeval_geom::conventions::rotation_from_yaw;
-use sceneeval_geom::na::{Translation3, UnitQuaternion};
-use sceneeval_geom::{Aabb, Isometry3, Mesh, Obb, Point3, Real, Vector3};
+use sceneeval_geom::na::UnitQuaternion;
+use sceneeval_geom::{Aabb, Isometry3, Mesh, Obb, Real, Vector3};
 
 use sceneeval_geom::Side;
 
-use crate::{ObjectId, SceneError, SupportType};
+use crate::{Category, Element, ObjectId, SceneError, SupportType};
 
 /// One object of a scene: a mesh in the object frame placed by a rigid pose, with the metadata
 /// evaluation needs.
@@ -59,38 +58,35 @@ impl SceneObject {
         })
     }
 
-    /// A solid box object of full size `size` (width x, depth y, height z in the object frame),
-    /// centred at `center` and turned by `yaw` radians about +z (yaw 0: front = world -y).
-    /// Its mesh is the closed 12-triangle box.
+    /// A solid box object with half extents `half_extents` (metres along the object frame's
+    /// x, y, z: half the width, depth and height, as for [`Obb`]), its centre at the object
+    /// origin, placed by `pose` (`world_from_object`, the same pose type [`SceneObject::set_pose`]
+    /// moves it with). Its mesh is the closed 12-triangle box. For an upright object turned by
+    /// a yaw, build the pose with [`sceneeval_geom::conventions::pose_from_yaw`].
+    ///
+    /// ```
+    /// use sceneeval_geom::{conventions::pose_from_yaw, Point3, Vector3};
+    /// use sceneeval_scene::SceneObject;
+    /// // A 1.6 x 2.0 x 0.6 m bed standing on the floor at (2, 3): its centre is 0.3 m up.
+    /// let bed = SceneObject::new_box("bed", Vector3::new(0.8, 1.0, 0.3), pose_from_yaw(Point3::new(2.0, 3.0, 0.3), 0.0))
+    ///     .unwrap();
+    /// assert_eq!(bed.obb().half_extents, Vector3::new(0.8, 1.0, 0.3));
+    /// assert_eq!(bed.world_aabb().min, Point3::new(1.2, 2.0, 0.0));
+    /// ```
+    ///
+    /// # Errors
+    /// [`SceneError::Geometry`] for negative or non-finite half extents,
+    /// [`SceneError::NonFinitePose`] for a non-finite pose.
     pub fn new_box(
-        id: impl Into<ObjectId>,
-        center: Point3,
-        size: Vector3,
-        yaw: Real,
-    ) -> Result<Self, SceneError> {
-        let id = id.into();
-        if !yaw.is_finite() {
-            return Err(SceneError::NonFinitePose {
-                object: id.to_string(),
-            });
-        }
-        let pose = Isometry3::from_parts(
-            Translation3::from(center.coords),
-            UnitQuaternion::from_rotation_matrix(&rotation_from_yaw(yaw)),
-        );
-        SceneObject::new_box_with_pose(id, size * 0.5, pose)
-    }
-
-    /// A solid box object with half extents `half_extents`, its centre at the object origin,
-    /// placed by `pose`.
-    pub fn new_box_with_pose(
         id: impl Into<ObjectId>,
         half_extents: Vector3,
         pose: Isometry3,
     ) -> Result<Self, SceneError> {
         let id = id.into();
-        let mesh = Mesh::cuboid(&half_extents)
-            .map_err(|e| SceneError::geometry(format!("object {:?}", id.as_str()), e))?;
+        let mesh = Mesh::cuboid(&half_extents).map_err(|source| SceneError::Geometry {
+            element: Box::new(Element::Object(id.clone())),
+            source,
+        })?;
         let mut obj = SceneObject::from_mesh(id, Arc::new(mesh), pose)?;
         obj.box_half_extents = Some(half_extents);
         Ok(obj)
@@ -109,8 +105,8 @@ impl SceneObject {
     }
 
     /// Sets the category (e.g. `nightstand`).
-    pub fn with_category(mut self, category: impl Into<String>) -> Self {
-        self.category = Some(category.into());
+    pub fn with_category(mut self, category: impl Into<Category>) -> Self {
+        self.category = Some(category.into().into_string());
         self
     }
 
@@ -150,7 +146,11 @@ impl SceneObject {
         self
     }
 
-    /// Moves the object, updating its OBB and world AABB.
+    /// Moves the object, updating its OBB and world AABB (no allocation; the mesh is shared and
+    /// unchanged).
+    ///
+    /// # Errors
+    /// [`SceneError::NonFinitePose`]; the object is then left where it was.
     pub fn set_pose(&mut self, pose: Isometry3) -> Result<(), SceneError> {
         let pose = checked_pose(&self.id, pose)?;
         self.pose = pose;
@@ -267,15 +267,16 @@ fn checked_pose(id: &ObjectId, pose: Isometry3) -> Result<Isometry3, SceneError>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::Point3;
+    use sceneeval_geom::conventions::pose_from_yaw;
     use std::f64::consts::FRAC_PI_2;
 
     #[test]
     fn box_object_has_expected_obb() {
         let obj = SceneObject::new_box(
             "bed",
-            Point3::new(2.0, 1.0, 0.3),
-            Vector3::new(1.6, 2.0, 0.6),
-            FRAC_PI_2,
+            Vector3::new(0.8, 1.0, 0.3),
+            pose_from_yaw(Point3::new(2.0, 1.0, 0.3), FRAC_PI_2),
         )
         .unwrap()
         .with_category("bed");
@@ -292,7 +293,8 @@ mod tests {
 
     #[test]
     fn placement_hints_are_kept_and_normalised() {
-        let obj = SceneObject::new_box("tv", Point3::origin(), Vector3::repeat(1.0), 0.0).unwrap();
+        let obj =
+            SceneObject::new_box("tv", Vector3::repeat(0.5), pose_from_yaw(Point3::origin(), 0.0)).unwrap();
         assert_eq!(obj.support_type(), None);
         assert_eq!(obj.functional_sides(), None);
         let obj = obj.with_support_type(SupportType::Wall).with_functional_sides([
@@ -310,7 +312,8 @@ mod tests {
 
     #[test]
     fn set_pose_moves_cached_boxes() {
-        let mut obj = SceneObject::new_box("a", Point3::origin(), Vector3::repeat(1.0), 0.0).unwrap();
+        let mut obj =
+            SceneObject::new_box("a", Vector3::repeat(0.5), pose_from_yaw(Point3::origin(), 0.0)).unwrap();
         obj.set_pose(Isometry3::translation(5.0, 0.0, 0.0)).unwrap();
         assert!((obj.obb().center - Point3::new(5.0, 0.0, 0.0)).norm() < 1e-12);
         assert!((obj.world_aabb().center() - Point3::new(5.0, 0.0, 0.0)).norm() < 1e-12);
@@ -321,14 +324,27 @@ mod tests {
 
     #[test]
     fn rejects_bad_boxes() {
-        assert!(SceneObject::new_box("a", Point3::origin(), Vector3::new(-1.0, 1.0, 1.0), 0.0).is_err());
-        assert!(SceneObject::new_box("a", Point3::origin(), Vector3::repeat(1.0), f64::NAN).is_err());
         assert!(
             SceneObject::new_box(
                 "a",
-                Point3::new(f64::INFINITY, 0.0, 0.0),
-                Vector3::repeat(1.0),
-                0.0
+                Vector3::new(-0.5, 0.5, 0.5),
+                pose_from_yaw(Point3::origin(), 0.0)
+            )
+            .is_err()
+        );
+        assert!(
+            SceneObject::new_box(
+                "a",
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::origin(), f64::NAN)
+            )
+            .is_err()
+        );
+        assert!(
+            SceneObject::new_box(
+                "a",
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::new(f64::INFINITY, 0.0, 0.0), 0.0)
             )
             .is_err()
         );

@@ -1,9 +1,9 @@
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
-use sceneeval_geom::{Aabb, Isometry3, Mesh, Point2, Point3, Real, Vector3};
+use sceneeval_geom::{Aabb, Isometry3, Mesh, Point2, Vector3};
 
-use crate::{ObjectId, Opening, Room, RoomBuilder, SceneError, SceneObject, Wall};
+use crate::{Category, ObjectId, Opening, Room, RoomBuilder, SceneError, SceneObject, Wall};
 
 /// A scene: objects and the rooms they stand in.
 ///
@@ -33,7 +33,7 @@ impl Scene {
             }
         }
         let mut room_ids = HashSet::new();
-        let mut wall_ids = HashSet::new();
+        let mut wall_ids: HashMap<&str, &Wall> = HashMap::new();
         for r in &rooms {
             if !room_ids.insert(r.id().as_str()) {
                 return Err(SceneError::DuplicateRoomId {
@@ -41,9 +41,11 @@ impl Scene {
                 });
             }
             for w in r.walls() {
-                if !wall_ids.insert(w.id()) {
+                if let Some(first) = wall_ids.insert(w.id(), w) {
                     return Err(SceneError::DuplicateWallId {
                         id: w.id().to_owned(),
+                        first: Box::new(first.element().clone()),
+                        second: Box::new(w.element().clone()),
                     });
                 }
             }
@@ -85,12 +87,49 @@ impl Scene {
         self.lookup.get(id).copied()
     }
 
-    /// Moves an object (for optimisers working on a scene).
+    /// The object at position `index` of [`Scene::objects`].
+    #[inline]
+    pub fn object_at(&self, index: usize) -> Option<&SceneObject> {
+        self.objects.get(index)
+    }
+
+    /// Moves an object, found by id (a hash lookup; no allocation).
+    ///
+    /// # Errors
+    /// [`SceneError::UnknownObject`], [`SceneError::NonFinitePose`].
     pub fn set_object_pose(&mut self, id: &str, pose: Isometry3) -> Result<(), SceneError> {
         let i = self
             .object_index(id)
             .ok_or_else(|| SceneError::UnknownObject { id: id.to_owned() })?;
         self.objects[i].set_pose(pose)
+    }
+
+    /// Moves the object at position `index` (see [`Scene::object_index`]): the loop of a layout
+    /// optimiser. Only the object's pose and cached boxes change; the rooms, prepared when they
+    /// were built, are untouched, and nothing is allocated.
+    ///
+    /// ```
+    /// use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
+    /// use sceneeval_scene::{Category, RoomBuilder, Scene};
+    ///
+    /// let mut scene = Scene::builder()
+    ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0)))
+    ///     .add_box("desk", Category::new("desk"), Vector3::new(0.6, 0.3, 0.375), pose_from_yaw(Point3::new(2.0, 4.7, 0.375), 0.0))
+    ///     .build()
+    ///     .unwrap();
+    /// let desk = scene.object_index("desk").unwrap();
+    /// scene.set_pose(desk, pose_from_yaw(Point3::new(1.0, 4.7, 0.375), 0.0)).unwrap();
+    /// assert_eq!(scene.object_at(desk).unwrap().obb().center, Point3::new(1.0, 4.7, 0.375));
+    /// ```
+    ///
+    /// # Errors
+    /// [`SceneError::NoSuchObject`], [`SceneError::NonFinitePose`].
+    pub fn set_pose(&mut self, index: usize, pose: Isometry3) -> Result<(), SceneError> {
+        let count = self.objects.len();
+        self.objects
+            .get_mut(index)
+            .ok_or(SceneError::NoSuchObject { index, count })?
+            .set_pose(pose)
     }
 
     /// The rooms, in order.
@@ -139,15 +178,18 @@ impl Scene {
 /// [`SceneBuilder::build`].
 ///
 /// ```
-/// use sceneeval_scene::{RoomBuilder, Scene};
-/// use sceneeval_geom::{Point2, Point3, Vector3};
+/// use sceneeval_scene::{Category, RoomBuilder, Scene};
+/// use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 ///
 /// let scene = Scene::builder()
 ///     .id("bedroom")
 ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 ///         .door(0, [1.0, 1.9], [0.0, 2.1]))
-///     .add_box("bed", "bed", Point3::new(2.0, 3.9, 0.3), Vector3::new(1.6, 2.0, 0.6), std::f64::consts::PI)
-///     .add_box("nightstand", "nightstand", Point3::new(0.6, 4.7, 0.3), Vector3::new(0.5, 0.4, 0.6), 0.0)
+///     // Half extents: a 1.6 x 2.0 x 0.6 m bed and a 0.5 x 0.4 x 0.6 m nightstand.
+///     .add_box("bed", Category::new("bed"), Vector3::new(0.8, 1.0, 0.3),
+///              pose_from_yaw(Point3::new(2.0, 3.9, 0.3), std::f64::consts::PI))
+///     .add_box("nightstand", Category::new("nightstand"), Vector3::new(0.25, 0.2, 0.3),
+///              pose_from_yaw(Point3::new(0.6, 4.7, 0.3), 0.0))
 ///     .build()
 ///     .unwrap();
 /// assert_eq!(scene.objects().len(), 2);
@@ -186,14 +228,27 @@ impl SceneBuilder {
         self.push(r, SceneBuilder::room)
     }
 
-    /// Adds a solid box object with a category (see [`SceneObject::new_box`]).
-    pub fn add_box(self, id: &str, category: &str, center: Point3, size: Vector3, yaw: Real) -> Self {
-        let o = SceneObject::new_box(id, center, size, yaw).map(|o| o.with_category(category));
+    /// Adds a solid box object with a category: half extents and pose as for
+    /// [`SceneObject::new_box`].
+    pub fn add_box(
+        self,
+        id: impl Into<ObjectId>,
+        category: Category,
+        half_extents: Vector3,
+        pose: Isometry3,
+    ) -> Self {
+        let o = SceneObject::new_box(id, half_extents, pose).map(|o| o.with_category(category));
         self.push(o, SceneBuilder::object)
     }
 
     /// Adds a mesh object with a category (see [`SceneObject::from_mesh`]).
-    pub fn add_mesh(self, id: &str, category: &str, mesh: Arc<Mesh>, pose: Isometry3) -> Self {
+    pub fn add_mesh(
+        self,
+        id: impl Into<ObjectId>,
+        category: Category,
+        mesh: Arc<Mesh>,
+        pose: Isometry3,
+    ) -> Self {
         let o = SceneObject::from_mesh(id, mesh, pose).map(|o| o.with_category(category));
         self.push(o, SceneBuilder::object)
     }
@@ -220,6 +275,8 @@ impl SceneBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::Point3;
+    use sceneeval_geom::conventions::pose_from_yaw;
 
     fn two_rooms() -> SceneBuilder {
         Scene::builder()
@@ -251,8 +308,18 @@ mod tests {
     #[test]
     fn duplicate_ids_are_rejected() {
         let dup = two_rooms()
-            .add_box("x", "box", Point3::origin(), Vector3::repeat(1.0), 0.0)
-            .add_box("x", "box", Point3::origin(), Vector3::repeat(1.0), 0.0)
+            .add_box(
+                "x",
+                Category::new("box"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::origin(), 0.0),
+            )
+            .add_box(
+                "x",
+                Category::new("box"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::origin(), 0.0),
+            )
             .build();
         assert_eq!(dup.unwrap_err(), SceneError::DuplicateObjectId { id: "x".into() });
         let dup_room = two_rooms()
@@ -268,18 +335,27 @@ mod tests {
     #[test]
     fn builder_reports_first_error_and_lookups_work() {
         let err = Scene::builder()
-            .add_box("bad", "box", Point3::origin(), Vector3::new(1.0, -1.0, 1.0), 0.0)
-            .add_box("ok", "box", Point3::origin(), Vector3::repeat(1.0), f64::NAN)
+            .add_box(
+                "bad",
+                Category::new("box"),
+                Vector3::new(0.5, -0.5, 0.5),
+                pose_from_yaw(Point3::origin(), 0.0),
+            )
+            .add_box(
+                "ok",
+                Category::new("box"),
+                Vector3::repeat(0.5),
+                pose_from_yaw(Point3::origin(), f64::NAN),
+            )
             .build()
             .unwrap_err();
         assert!(matches!(err, SceneError::Geometry { .. }), "{err}");
         let mut scene = two_rooms()
             .add_box(
                 "t",
-                "table",
-                Point3::new(1.0, 1.0, 0.4),
-                Vector3::new(1.0, 1.0, 0.8),
-                0.0,
+                Category::new("table"),
+                Vector3::new(0.5, 0.5, 0.4),
+                pose_from_yaw(Point3::new(1.0, 1.0, 0.4), 0.0),
             )
             .build()
             .unwrap();

@@ -4,6 +4,7 @@
 #![allow(clippy::expect_used)]
 
 use proptest::prelude::*;
+use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Point2, Point3, Side, Vector2, Vector3};
 use sceneeval_scene::{InwardEvidence, RoomBuilder, SceneObject};
 
@@ -77,7 +78,7 @@ proptest! {
         x in -5.0..5.0f64, y in -5.0..5.0f64, z in 0.0..2.0f64,
         sx in 0.1..2.0f64, sy in 0.1..2.0f64, sz in 0.1..2.0f64, yaw in -3.1..3.1f64,
     ) {
-        let o = SceneObject::new_box("o", Point3::new(x, y, z), Vector3::new(sx, sy, sz), yaw).expect("valid box");
+        let o = SceneObject::new_box("o", Vector3::new(sx, sy, sz) * 0.5, pose_from_yaw(Point3::new(x, y, z), yaw)).expect("valid box");
         prop_assert!((o.obb().center - Point3::new(x, y, z)).norm() < 1e-12);
         let front = o.obb().side_direction(Side::Front);
         let expected = Vector2::new(yaw.sin(), -yaw.cos());

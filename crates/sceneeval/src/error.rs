@@ -2,38 +2,28 @@ use std::path::PathBuf;
 
 use thiserror::Error;
 
-use crate::Metric;
 use crate::plausibility::PlausibilityError;
 
 /// What went wrong while planning, evaluating or summarising.
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum EvalError {
-    /// A metric name that is not one of [`Metric::GEOMETRY_ONLY`].
-    #[error(
-        "unknown metric {0:?}: expected one of collision, support, navigability, accessibility, out_of_bounds, opening_clearance"
-    )]
-    UnknownMetric(String),
     /// An evaluation plan could not be read or is inconsistent.
-    #[error("evaluation plan{}: {message}", path.as_ref().map(|p| format!(" {}", p.display())).unwrap_or_default())]
+    #[error("evaluation plan{}{}: {message}",
+        path.as_ref().map(|p| format!(" {}", p.display())).unwrap_or_default(),
+        field.as_ref().map(|f| format!(": {f}")).unwrap_or_default())]
     Plan {
         /// The plan file, if it came from one.
         path: Option<PathBuf>,
+        /// The path of the field at fault (`params.collision.contact_tolerance`), if one.
+        field: Option<String>,
         /// What is wrong.
         message: String,
     },
-    /// One metric failed (its parameters are invalid).
-    #[error("metric {metric} failed")]
-    Metric {
-        /// The metric.
-        metric: Metric,
-        /// Why.
-        #[source]
-        source: PlausibilityError,
-    },
-    /// The combined plausibility evaluation failed (its parameters are invalid).
-    #[error("plausibility evaluation failed")]
-    Plausibility(#[source] PlausibilityError),
+    /// A metric failed: its parameters are invalid or the scene's time budget ran out. The
+    /// message is the metric's own.
+    #[error(transparent)]
+    Plausibility(#[from] PlausibilityError),
     /// Reading or writing a result file failed.
     #[error("{}: {source}", path.display())]
     File {
@@ -42,6 +32,26 @@ pub enum EvalError {
         /// The underlying error.
         #[source]
         source: std::io::Error,
+    },
+    /// The output folder cannot be written (checked before any scene is evaluated).
+    #[error("output folder {} is not writable", path.display())]
+    OutputNotWritable {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Two scene files have the same benchmark id (`scene_1.json` and `scene_01.json`): their
+    /// results would be confused.
+    #[error("scene files {} and {} have the same id {id}", first.display(), second.display())]
+    DuplicateSceneId {
+        /// The id.
+        id: u64,
+        /// The first file.
+        first: PathBuf,
+        /// The second file.
+        second: PathBuf,
     },
     /// A result file is not valid JSON of the expected schema.
     #[error("{}: not a valid result file: {message}", path.display())]
@@ -54,4 +64,13 @@ pub enum EvalError {
     /// Writing the CSV summary failed.
     #[error("writing the CSV summary: {0}")]
     Csv(#[from] csv::Error),
+}
+
+impl EvalError {
+    pub(crate) fn file(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        EvalError::File {
+            path: path.into(),
+            source,
+        }
+    }
 }

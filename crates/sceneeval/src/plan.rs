@@ -3,93 +3,110 @@ use std::path::Path;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
 
 use crate::EvalError;
-use crate::plausibility::PlausibilityParams;
+use crate::io::{Limits, ReadOptions};
+use crate::plausibility::{Metric, PlausibilityError, PlausibilityParams};
+use crate::relations::RelationParams;
 
-/// A metric an evaluation plan can run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+/// The default time budget per scene, in seconds (loading and every metric together).
+pub const DEFAULT_TIME_BUDGET_SECONDS: f64 = 600.0;
+
+/// A named starting point for an [`EvaluationPlan`]'s parameters; a plan file's explicit
+/// values are applied on top of it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Metric {
-    /// Object collision (COL_ob, COL_sc).
-    Collision,
-    /// Object support (SUP).
-    Support,
-    /// Scene navigability (NAV).
-    Navigability,
-    /// Accessibility of functional sides (ACC).
-    Accessibility,
-    /// Objects out of bounds (OOB).
-    OutOfBounds,
-    /// Door and window clearance (reference v1.1).
-    OpeningClearance,
+pub enum Preset {
+    /// This implementation's defaults: the reference's parameters with its quirks fixed
+    /// (floor coverings are not obstacles, the paper's predicate definitions, ...).
+    #[default]
+    Default,
+    /// Every switch that reproduces the authors' reference implementation where it differs
+    /// (see [`EvaluationPlan::reference`]), for comparisons with published numbers.
+    Reference,
 }
 
-impl Metric {
-    /// Every geometry-only metric, in the order they run and are reported.
-    pub const GEOMETRY_ONLY: [Metric; 6] = [
-        Metric::Collision,
-        Metric::Support,
-        Metric::Navigability,
-        Metric::Accessibility,
-        Metric::OutOfBounds,
-        Metric::OpeningClearance,
-    ];
+impl Preset {
+    /// Every preset.
+    pub const ALL: [Preset; 2] = [Preset::Default, Preset::Reference];
 
-    /// The snake-case name used in plan files and on the command line.
+    /// The name used in plan files, on the command line and in `summary.md`.
     pub const fn name(self) -> &'static str {
         match self {
-            Metric::Collision => "collision",
-            Metric::Support => "support",
-            Metric::Navigability => "navigability",
-            Metric::Accessibility => "accessibility",
-            Metric::OutOfBounds => "out_of_bounds",
-            Metric::OpeningClearance => "opening_clearance",
+            Preset::Default => "default",
+            Preset::Reference => "reference",
         }
     }
 }
 
-impl fmt::Display for Metric {
+impl fmt::Display for Preset {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
 }
 
-impl FromStr for Metric {
+impl FromStr for Preset {
     type Err = EvalError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let t = s.trim();
-        Metric::GEOMETRY_ONLY
+        Preset::ALL
             .into_iter()
-            .find(|m| m.name().eq_ignore_ascii_case(t))
-            .ok_or_else(|| EvalError::UnknownMetric(s.to_owned()))
+            .find(|p| p.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or_else(|| EvalError::Plan {
+                path: None,
+                field: Some("preset".into()),
+                message: format!("unknown preset {s:?} (expected default or reference)"),
+            })
     }
 }
 
 /// What to evaluate and with which parameters.
 ///
-/// The default plan runs every geometry-only metric with the reference's parameters. A plan can be
-/// read from JSON; missing fields take their defaults, unknown fields are rejected:
+/// Read from JSON with [`EvaluationPlan::from_json_str`] or [`EvaluationPlan::read`]: the
+/// `preset` (default `default`) gives every parameter, then the file's values replace the
+/// preset's one by one. Unknown fields at any depth are errors, and so are impossible values
+/// ([`EvaluationPlan::validate`]), each named by its path (`params.collision.contact_tolerance`):
 ///
 /// ```
-/// use sceneeval::{EvaluationPlan, Metric};
+/// use sceneeval::{EvaluationPlan, Metric, Preset};
 ///
 /// let plan = EvaluationPlan::from_json_str(r#"{
+///     "preset": "reference",
 ///     "metrics": ["collision", "navigability"],
 ///     "params": { "collision": { "contact_tolerance": 0.01 } }
 /// }"#).unwrap();
+/// assert_eq!(plan.preset, Preset::Reference);
 /// assert_eq!(plan.metrics, vec![Metric::Collision, Metric::Navigability]);
 /// assert_eq!(plan.params.collision.contact_tolerance, 0.01);
+/// // The preset's other values stay.
+/// assert!(!plan.params.collision.exclude_floor_coverings);
+///
+/// let err = EvaluationPlan::from_json_str(
+///     r#"{"params": {"collision": {"exclude_floor_covering": true}}}"#).unwrap_err();
+/// assert!(err.to_string().contains("params.collision.exclude_floor_covering"));
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct EvaluationPlan {
+    /// The preset the parameters start from (recorded in `summary.md`).
+    pub preset: Preset,
     /// The metrics to run, without repeats. They always run and are reported in the order of
-    /// [`Metric::GEOMETRY_ONLY`].
+    /// [`Metric::ALL`].
     pub metrics: Vec<Metric>,
     /// Parameters of the plausibility metrics.
     pub params: PlausibilityParams,
+    /// Parameters of the spatial predicates, for the text-fidelity metrics (OOR, OAR; being
+    /// built) and recorded in every result's fingerprint.
+    pub relations: RelationParams,
+    /// How scene files are read (architecture, the simple architecture's walls and floor).
+    pub read: ReadOptions,
+    /// File-size, triangle and memory budgets per file and asset; an asset over them fails
+    /// its scene, not the run.
+    pub limits: Limits,
+    /// Wall-time budget per scene in seconds (loading and metrics together); a scene over it
+    /// is recorded as failed and the run goes on. `null` for no budget. Default 600.
+    pub time_budget_seconds: Option<f64>,
 }
 
 impl Default for EvaluationPlan {
@@ -99,54 +116,177 @@ impl Default for EvaluationPlan {
 }
 
 impl EvaluationPlan {
-    /// Every geometry-only metric with default parameters: the plan that needs no VLM.
+    /// Every geometry-only metric with this implementation's default parameters: the plan that
+    /// needs no VLM.
     pub fn geometry_only() -> Self {
         EvaluationPlan {
-            metrics: Metric::GEOMETRY_ONLY.to_vec(),
+            preset: Preset::Default,
+            metrics: Metric::ALL.to_vec(),
             params: PlausibilityParams::default(),
+            relations: RelationParams::default(),
+            read: ReadOptions::default(),
+            limits: Limits::default(),
+            time_budget_seconds: Some(DEFAULT_TIME_BUDGET_SECONDS),
         }
     }
 
-    /// A plan from JSON text.
+    /// Every geometry-only metric with every reference-parity switch on: floor coverings
+    /// (rugs, carpets, mats) are tested for collisions like any object
+    /// (`params.collision.exclude_floor_coverings = false`), no object is walked over by
+    /// navigability, accessibility or opening clearance (`walkable_height = 0`), and the
+    /// spatial predicates use [`RelationParams::reference`]. Scene reading already follows
+    /// the reference by default (simple architecture when a file has none, its floor at the
+    /// lowest object).
+    pub fn reference() -> Self {
+        let mut plan = EvaluationPlan::geometry_only();
+        plan.preset = Preset::Reference;
+        plan.params.collision.exclude_floor_coverings = false;
+        plan.params.navigability.walkable_height = 0.0;
+        plan.params.accessibility.walkable_height = 0.0;
+        plan.params.opening_clearance.walkable_height = 0.0;
+        plan.relations = RelationParams::reference();
+        plan.read = ReadOptions::default();
+        plan
+    }
+
+    /// The plan of a preset.
+    pub fn with_preset(preset: Preset) -> Self {
+        match preset {
+            Preset::Default => EvaluationPlan::geometry_only(),
+            Preset::Reference => EvaluationPlan::reference(),
+        }
+    }
+
+    /// A plan from JSON text (see the type docs).
+    ///
+    /// # Errors
+    /// [`EvalError::Plan`] naming the field: malformed JSON (with line and column), an unknown
+    /// field, a value of the wrong type, or an impossible value.
     pub fn from_json_str(text: &str) -> Result<Self, EvalError> {
-        let plan: EvaluationPlan = serde_json::from_str(text).map_err(|e| EvalError::Plan {
+        Self::from_json_str_with_preset(text, None)
+    }
+
+    /// A plan from JSON text; `preset`, when given, replaces the file's `preset` field (the
+    /// file's explicit values still apply on top of it).
+    ///
+    /// # Errors
+    /// As [`EvaluationPlan::from_json_str`].
+    pub fn from_json_str_with_preset(text: &str, preset: Option<Preset>) -> Result<Self, EvalError> {
+        let value: Value = serde_json::from_str(text).map_err(|e| EvalError::Plan {
             path: None,
-            message: e.to_string(),
+            field: None,
+            message: format!("malformed JSON at line {} column {}: {e}", e.line(), e.column()),
         })?;
+        Self::from_value(value, preset)
+    }
+
+    fn from_value(value: Value, preset: Option<Preset>) -> Result<Self, EvalError> {
+        let Value::Object(given) = value else {
+            return Err(plan_error(None, "a plan must be a JSON object".into()));
+        };
+        let preset = match (preset, given.get("preset")) {
+            (Some(p), _) => p,
+            (None, Some(v)) => Preset::deserialize(v).map_err(|_| {
+                plan_error(
+                    Some("preset"),
+                    format!("unknown preset {v} (expected \"default\" or \"reference\")"),
+                )
+            })?,
+            (None, None) => Preset::Default,
+        };
+        let base = EvaluationPlan::with_preset(preset);
+        let mut merged = serde_json::to_value(&base).map_err(|e| plan_error(None, e.to_string()))?;
+        merge(&mut merged, &Value::Object(given.clone()));
+        if let Value::Object(m) = &mut merged {
+            m.insert("preset".into(), Value::String(preset.name().into()));
+        }
+        let plan: EvaluationPlan = serde_path_to_error::deserialize(&merged).map_err(|e| {
+            let path = e.path().to_string();
+            plan_error(Some(&path), e.into_inner().to_string())
+        })?;
+        // Every key given must survive the round trip; one that does not is unknown.
+        let back = serde_json::to_value(&plan).map_err(|e| plan_error(None, e.to_string()))?;
+        if let Some(path) = unknown_key(&Value::Object(given), &back, "") {
+            return Err(plan_error(Some(&path), "unknown field".to_owned()));
+        }
         plan.validate()?;
         Ok(plan)
     }
 
     /// A plan from a JSON file.
+    ///
+    /// # Errors
+    /// As [`EvaluationPlan::from_json_str`], naming the file.
     pub fn read(path: &Path) -> Result<Self, EvalError> {
+        Self::read_with_preset(path, None)
+    }
+
+    /// A plan from a JSON file, with `preset` replacing the file's `preset` field when given.
+    ///
+    /// # Errors
+    /// As [`EvaluationPlan::from_json_str`], naming the file.
+    pub fn read_with_preset(path: &Path, preset: Option<Preset>) -> Result<Self, EvalError> {
         let text = std::fs::read_to_string(path).map_err(|e| EvalError::Plan {
             path: Some(path.to_owned()),
+            field: None,
             message: e.to_string(),
         })?;
-        Self::from_json_str(&text).map_err(|e| match e {
-            EvalError::Plan { message, .. } => EvalError::Plan {
+        Self::from_json_str_with_preset(&text, preset).map_err(|e| match e {
+            EvalError::Plan { field, message, .. } => EvalError::Plan {
                 path: Some(path.to_owned()),
+                field,
                 message,
             },
             other => other,
         })
     }
 
-    /// Checks that at least one metric is listed and none twice.
+    /// Checks everything that can be checked without a scene: at least one metric and none
+    /// twice, every metric parameter in its range (raster sizes included), the predicates'
+    /// parameters, positive limits, a positive finite time budget and wall height.
+    ///
+    /// # Errors
+    /// [`EvalError::Plan`] naming the field, e.g. `params.collision.contact_tolerance`.
     pub fn validate(&self) -> Result<(), EvalError> {
         if self.metrics.is_empty() {
-            return Err(EvalError::Plan {
-                path: None,
-                message: "the plan lists no metric".into(),
-            });
+            return Err(plan_error(Some("metrics"), "the plan lists no metric".into()));
         }
         for (i, m) in self.metrics.iter().enumerate() {
             if self.metrics[..i].contains(m) {
-                return Err(EvalError::Plan {
-                    path: None,
-                    message: format!("metric {m} is listed twice"),
-                });
+                return Err(plan_error(
+                    Some(&format!("metrics[{i}]")),
+                    format!("metric {m} is listed twice"),
+                ));
             }
+        }
+        self.params.validate().map_err(|e| {
+            let field = match &e {
+                PlausibilityError::InvalidParameter { metric, name, .. } => format!("params.{metric}.{name}"),
+                PlausibilityError::RasterTooLarge { metric, .. } => format!("params.{metric}.resolution"),
+                _ => "params".to_owned(),
+            };
+            plan_error(Some(&field), e.to_string())
+        })?;
+        self.relations
+            .validate()
+            .map_err(|e| plan_error(Some("relations"), e.to_string()))?;
+        self.limits
+            .validate()
+            .map_err(|m| plan_error(Some(&format!("limits.{}", m.split(' ').next().unwrap_or(""))), m))?;
+        if let Some(b) = self.time_budget_seconds
+            && !(b.is_finite() && b > 0.0)
+        {
+            return Err(plan_error(
+                Some("time_budget_seconds"),
+                format!("{b} must be a positive number of seconds (or null for no budget)"),
+            ));
+        }
+        let h = self.read.simple_wall_height;
+        if !(h.is_finite() && h > 0.0) {
+            return Err(plan_error(
+                Some("read.simple_wall_height"),
+                format!("{h} must be a positive number of metres"),
+            ));
         }
         Ok(())
     }
@@ -156,22 +296,111 @@ impl EvaluationPlan {
     pub fn runs(&self, metric: Metric) -> bool {
         self.metrics.contains(&metric)
     }
+
+    /// The metrics in the order they run and are reported.
+    pub fn ordered_metrics(&self) -> Vec<Metric> {
+        Metric::ALL.into_iter().filter(|m| self.runs(*m)).collect()
+    }
+
+    /// A digest of everything in the plan a result depends on: the metrics (as a set) and
+    /// every parameter, the predicates' and the reading options included. The preset's name,
+    /// the limits and the time budget are left out: they decide whether a scene is
+    /// evaluated, not what its result is. Hex-encoded BLAKE3 of the canonical JSON.
+    pub fn result_digest(&self) -> String {
+        #[derive(Serialize)]
+        struct Semantic<'a> {
+            metrics: Vec<Metric>,
+            params: &'a PlausibilityParams,
+            relations: &'a RelationParams,
+            read: &'a ReadOptions,
+        }
+        let s = Semantic {
+            metrics: self.ordered_metrics(),
+            params: &self.params,
+            relations: &self.relations,
+            read: &self.read,
+        };
+        // Serialising plain data structs to a string cannot fail.
+        let text = serde_json::to_string(&s).unwrap_or_default();
+        blake3::hash(text.as_bytes()).to_hex().to_string()
+    }
+}
+
+fn plan_error(field: Option<&str>, message: String) -> EvalError {
+    EvalError::Plan {
+        path: None,
+        field: field.filter(|f| !f.is_empty() && *f != ".").map(str::to_owned),
+        message,
+    }
+}
+
+/// Replaces values of `base` by those of `over`, recursing into an object of `over` whose
+/// keys all exist in `base`'s object (a struct given in part); any other object replaces the
+/// base's whole (an enum switching variant, `{"pixels": 256}` to `{"metres_per_pixel": 0.02}`).
+fn merge(base: &mut Value, over: &Value) {
+    match (base, over) {
+        (Value::Object(b), Value::Object(o)) => {
+            for (k, v) in o {
+                match (b.get_mut(k), v) {
+                    (Some(slot @ Value::Object(_)), Value::Object(vo))
+                        if vo.keys().all(|key| slot.get(key).is_some()) =>
+                    {
+                        merge(slot, v)
+                    }
+                    _ => {
+                        b.insert(k.clone(), v.clone());
+                    }
+                }
+            }
+        }
+        (b, o) => *b = o.clone(),
+    }
+}
+
+/// The path of the first key of `given` (in document order) that `back` lacks.
+fn unknown_key(given: &Value, back: &Value, prefix: &str) -> Option<String> {
+    let (Value::Object(g), Value::Object(b)) = (given, back) else {
+        return None;
+    };
+    unknown_in(g, b, prefix)
+}
+
+fn unknown_in(g: &Map<String, Value>, b: &Map<String, Value>, prefix: &str) -> Option<String> {
+    for (k, v) in g {
+        let path = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match b.get(k) {
+            None => return Some(path),
+            Some(w) => {
+                if let Some(p) = unknown_key(v, w, &path) {
+                    return Some(p);
+                }
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn field_of(text: &str) -> (Option<String>, String) {
+        match EvaluationPlan::from_json_str(text) {
+            Err(EvalError::Plan { field, message, .. }) => (field, message),
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+
     #[test]
     fn metric_names_round_trip() {
-        for m in Metric::GEOMETRY_ONLY {
+        for m in Metric::ALL {
             assert_eq!(m.name().parse::<Metric>().unwrap(), m);
             assert_eq!(serde_json::to_string(&m).unwrap(), format!("\"{}\"", m.name()));
         }
-        assert!(matches!(
-            "physics".parse::<Metric>(),
-            Err(EvalError::UnknownMetric(_))
-        ));
     }
 
     #[test]
@@ -186,5 +415,121 @@ mod tests {
         assert_eq!(all, EvaluationPlan::geometry_only());
         let back: EvaluationPlan = serde_json::from_str(&serde_json::to_string(&all).unwrap()).unwrap();
         assert_eq!(back, all);
+    }
+
+    #[test]
+    fn unknown_fields_are_named_at_every_depth() {
+        for (text, path) in [
+            (r#"{"metric": []}"#, "metric"),
+            (
+                r#"{"params": {"collision": {"exclude_floor_covering": true}}}"#,
+                "params.collision.exclude_floor_covering",
+            ),
+            (r#"{"params": {"colision": {}}}"#, "params.colision"),
+            (
+                r#"{"params": {"navigability": {"resolution": {"pixels": 64}, "robot_widht": 0.3}}}"#,
+                "params.navigability.robot_widht",
+            ),
+            (r#"{"limits": {"max_triangle": 5}}"#, "limits.max_triangle"),
+            (r#"{"read": {"architecture": "file_only", "x": 1}}"#, "read.x"),
+            (r#"{"relations": {"thresold": 0.4}}"#, "relations.thresold"),
+        ] {
+            let (field, message) = field_of(text);
+            assert_eq!(field.as_deref(), Some(path), "{text}: {message}");
+        }
+    }
+
+    #[test]
+    fn wrong_types_and_impossible_values_are_named() {
+        for (text, path, words) in [
+            (
+                r#"{"params": {"collision": {"contact_tolerance": "x"}}}"#,
+                "params.collision.contact_tolerance",
+                "invalid type",
+            ),
+            (
+                r#"{"params": {"collision": {"contact_tolerance": -0.1}}}"#,
+                "params.collision.contact_tolerance",
+                "non-negative",
+            ),
+            (
+                r#"{"params": {"navigability": {"resolution": {"pixels": 0}}}}"#,
+                "params.navigability.resolution",
+                "at least one pixel",
+            ),
+            (
+                r#"{"params": {"navigability": {"resolution": {"pixels": 100000}}}}"#,
+                "params.navigability.resolution",
+                "exceeds the limit",
+            ),
+            (
+                r#"{"params": {"navigability": {"resolution": {"metres_per_pixel": 0}}}}"#,
+                "params.navigability.resolution",
+                "positive",
+            ),
+            (r#"{"time_budget_seconds": 0}"#, "time_budget_seconds", "positive"),
+            (
+                r#"{"limits": {"max_triangles": 0}}"#,
+                "limits.max_triangles",
+                "at least 1",
+            ),
+            (r#"{"metrics": ["physics"]}"#, "metrics[0]", "unknown variant"),
+            (r#"{"preset": "paper"}"#, "preset", "unknown preset"),
+            (
+                r#"{"read": {"simple_wall_height": -3}}"#,
+                "read.simple_wall_height",
+                "positive",
+            ),
+        ] {
+            let (field, message) = field_of(text);
+            assert_eq!(field.as_deref(), Some(path), "{text}: {message}");
+            assert!(message.contains(words), "{text}: {message}");
+        }
+        let e = EvaluationPlan::from_json_str("{\n  \"metrics\": [\n}").unwrap_err();
+        assert!(e.to_string().contains("line 3"), "{e}");
+        assert!(EvaluationPlan::from_json_str("[1]").is_err());
+    }
+
+    #[test]
+    fn presets_start_the_parameters_and_the_file_overrides_them() {
+        let r = EvaluationPlan::from_json_str(r#"{"preset": "reference"}"#).unwrap();
+        assert_eq!(r, EvaluationPlan::reference());
+        assert_eq!(r.relations, RelationParams::reference());
+        assert!(!r.params.collision.exclude_floor_coverings);
+        let r = EvaluationPlan::from_json_str_with_preset(
+            r#"{"preset": "default", "params": {"collision": {"exclude_floor_coverings": true}}}"#,
+            Some(Preset::Reference),
+        )
+        .unwrap();
+        assert_eq!(r.preset, Preset::Reference, "the command line wins");
+        assert!(
+            r.params.collision.exclude_floor_coverings,
+            "the file's explicit value wins"
+        );
+        assert_eq!(r.relations, RelationParams::reference());
+        // The result digest ignores the preset's name, limits and budget, not parameters.
+        let mut a = EvaluationPlan::geometry_only();
+        let d = a.result_digest();
+        a.time_budget_seconds = None;
+        a.limits.max_triangles = 7;
+        a.preset = Preset::Reference;
+        assert_eq!(a.result_digest(), d);
+        a.params.support.lift = 0.004;
+        assert_ne!(a.result_digest(), d);
+        let m = EvaluationPlan::from_json_str(
+            r#"{"params": {"navigability": {"resolution": {"metres_per_pixel": 0.02}}}}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            m.params.navigability.resolution,
+            crate::plausibility::Resolution::MetresPerPixel(0.02)
+        );
+        assert_eq!(
+            m.params.navigability.robot_width, 0.2,
+            "the rest of the struct stays"
+        );
+        let mut b = EvaluationPlan::geometry_only();
+        b.metrics.reverse();
+        assert_eq!(b.result_digest(), d, "metrics are a set");
     }
 }

@@ -2,10 +2,11 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{EvalError, SceneReport};
+use crate::{EvalError, Fingerprint, SceneReport};
 
-/// The schema name and version of a scene's `eval.json`.
-pub const RECORD_SCHEMA: &str = "sceneeval.eval/1";
+/// The schema name and version of a scene's `eval.json`. Version 2 added the fingerprint;
+/// records of version 1 are evaluated again.
+pub const RECORD_SCHEMA: &str = "sceneeval.eval/2";
 
 /// The content of one scene's `eval.json`: either its report or why it could not be evaluated.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -16,6 +17,10 @@ pub struct SceneRecord {
     pub scene: String,
     /// The scene's benchmark id (the number after the last `_` of the name), if it has one.
     pub scene_id: Option<String>,
+    /// Everything the result depends on; a re-run reuses the record only when it still
+    /// matches. `None` for records made in code (never reused).
+    #[serde(default)]
+    pub fingerprint: Option<Fingerprint>,
     /// What happened.
     #[serde(flatten)]
     pub outcome: Outcome,
@@ -58,6 +63,7 @@ impl SceneRecord {
             schema: RECORD_SCHEMA.to_owned(),
             scene: scene.to_owned(),
             scene_id: benchmark_id(scene).map(str::to_owned),
+            fingerprint: None,
             outcome: Outcome::Ok {
                 report: Box::new(report),
             },
@@ -76,12 +82,19 @@ impl SceneRecord {
             schema: RECORD_SCHEMA.to_owned(),
             scene: scene.to_owned(),
             scene_id: benchmark_id(scene).map(str::to_owned),
+            fingerprint: None,
             outcome: Outcome::Failed {
                 stage,
                 error: error.to_string(),
                 causes,
             },
         }
+    }
+
+    /// The record with `fingerprint`.
+    pub fn with_fingerprint(mut self, fingerprint: Fingerprint) -> Self {
+        self.fingerprint = Some(fingerprint);
+        self
     }
 
     /// The report, if the scene was evaluated.
@@ -111,24 +124,19 @@ impl SceneRecord {
         Ok(record)
     }
 
-    /// Writes the record as pretty JSON, atomically (a temporary file renamed into place), so an
-    /// interrupted run never leaves a half-written file behind.
+    /// Writes the record as pretty JSON, atomically ([`crate::write_atomic`]: a synced
+    /// temporary file renamed into place), so an interrupted run never leaves a half-written
+    /// file behind.
+    ///
+    /// # Errors
+    /// [`EvalError::File`] when the file cannot be written.
     pub fn write(&self, path: &Path) -> Result<(), EvalError> {
-        let file_err = |source| EvalError::File {
-            path: path.to_owned(),
-            source,
-        };
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(file_err)?;
-        }
         let mut text = serde_json::to_string_pretty(self).map_err(|e| EvalError::BadRecord {
             path: path.to_owned(),
             message: e.to_string(),
         })?;
         text.push('\n');
-        let tmp = path.with_extension("json.partial");
-        std::fs::write(&tmp, text).map_err(file_err)?;
-        std::fs::rename(&tmp, path).map_err(file_err)
+        crate::write_atomic(path, text.as_bytes())
     }
 }
 

@@ -2,7 +2,8 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{EvalError, SceneRecord, SceneSummary};
+use crate::plausibility::PlausibilitySummary;
+use crate::{EvalError, EvaluationPlan, SceneRecord};
 
 /// The name of the group holding every scene.
 pub const ALL_SCENES: &str = "all";
@@ -30,6 +31,12 @@ pub struct Summary {
     /// The groups: [`ALL_SCENES`] first, then easy, medium, hard, other difficulties in name
     /// order, then [`UNANNOTATED`].
     pub groups: Vec<GroupSummary>,
+    /// The plan's preset, when known ([`Summary::with_plan`]).
+    #[serde(default)]
+    pub preset: Option<String>,
+    /// The plan's [`EvaluationPlan::result_digest`], when known.
+    #[serde(default)]
+    pub plan_digest: Option<String>,
 }
 
 /// One row of the [`Summary`].
@@ -60,6 +67,13 @@ pub struct GroupSummary {
     /// Mean share of windows blocked, percent.
     pub window_blocked: Option<f64>,
 }
+
+/// The legend printed below the Markdown table.
+pub const LEGEND: &str = "Values are percentages, macro-averaged over the group's evaluated scenes \
+(`-`: no scene of the group has a value). Lower is better for COL_ob (objects in collision), \
+COL_sc (scenes with a collision), OOB (objects out of bounds), DOOR_blk and WIN_blk (blocked \
+doors and windows); higher is better for SUP (supported objects), NAV (navigable floor) and ACC \
+(accessible functional sides). `failed` scenes are counted but not averaged.\n";
 
 const COLUMNS: [&str; 12] = [
     "group",
@@ -112,7 +126,18 @@ impl Summary {
                 .map(|(r, _)| *r);
             groups.push(GroupSummary::of(UNANNOTATED, members));
         }
-        Summary { groups }
+        Summary {
+            groups,
+            preset: None,
+            plan_digest: None,
+        }
+    }
+
+    /// The summary with the plan that produced it, shown below the Markdown table.
+    pub fn with_plan(mut self, plan: &EvaluationPlan) -> Self {
+        self.preset = Some(plan.preset.name().to_owned());
+        self.plan_digest = Some(plan.result_digest());
+        self
     }
 
     /// The table as CSV (header row, numbers with four decimals, empty cells for missing values).
@@ -128,7 +153,8 @@ impl Summary {
         Ok(String::from_utf8_lossy(&bytes).into_owned())
     }
 
-    /// The table as GitHub Markdown (numbers with two decimals, `-` for missing values).
+    /// The table as GitHub Markdown (numbers with two decimals, `-` for missing values),
+    /// followed by the preset and plan digest (when known) and a legend.
     pub fn to_markdown(&self) -> String {
         let mut out = String::new();
         let _ = writeln!(out, "| {} |", COLUMNS.join(" | "));
@@ -141,6 +167,16 @@ impl Summary {
                 .collect();
             let _ = writeln!(out, "| {} |", cells.join(" | "));
         }
+        out.push('\n');
+        if let Some(preset) = &self.preset {
+            let digest = self.plan_digest.as_deref().unwrap_or("-");
+            let _ = writeln!(
+                out,
+                "Preset: `{preset}`; plan digest `{}`.",
+                &digest[..digest.len().min(16)]
+            );
+        }
+        out.push_str(LEGEND);
         out
     }
 }
@@ -148,14 +184,14 @@ impl Summary {
 impl GroupSummary {
     fn of<'a>(group: &str, records: impl Iterator<Item = &'a SceneRecord>) -> Self {
         let mut scenes = 0;
-        let mut summaries: Vec<&SceneSummary> = Vec::new();
+        let mut summaries: Vec<&PlausibilitySummary> = Vec::new();
         for r in records {
             scenes += 1;
             if let Some(report) = r.report() {
-                summaries.push(&report.summary);
+                summaries.push(&report.plausibility.summary);
             }
         }
-        let mean = |f: &dyn Fn(&SceneSummary) -> Option<f64>| -> Option<f64> {
+        let mean = |f: &dyn Fn(&PlausibilitySummary) -> Option<f64>| -> Option<f64> {
             let values: Vec<f64> = summaries.iter().filter_map(|s| f(s)).collect();
             (!values.is_empty()).then(|| 100.0 * values.iter().sum::<f64>() / values.len() as f64)
         };
@@ -201,23 +237,28 @@ impl GroupSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::plausibility::PlausibilityReport;
     use crate::{Metric, SCENE_REPORT_SCHEMA, SceneReport, Stage};
+
+    type SceneSummary = PlausibilitySummary;
 
     fn record(name: &str, summary: SceneSummary) -> SceneRecord {
         SceneRecord::ok(
             name,
             SceneReport {
                 schema: SCENE_REPORT_SCHEMA.into(),
-                scene_id: name.into(),
-                object_ids: vec![],
-                metrics: Metric::GEOMETRY_ONLY.to_vec(),
-                summary,
-                collision: None,
-                support: None,
-                navigability: None,
-                accessibility: None,
-                out_of_bounds: None,
-                opening_clearance: None,
+                plausibility: PlausibilityReport {
+                    scene_id: Some(name.into()),
+                    object_ids: vec![],
+                    metrics: Metric::ALL.to_vec(),
+                    summary,
+                    collision: None,
+                    support: None,
+                    navigability: None,
+                    accessibility: None,
+                    out_of_bounds: None,
+                    opening_clearance: None,
+                },
             },
         )
     }
@@ -283,6 +324,10 @@ mod tests {
             md.contains("| all | 3 | 2 | 1 | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - |"),
             "{md}"
         );
+        assert!(md.contains("Lower is better for COL_ob"), "{md}");
+        assert!(!md.contains("Preset:"), "no plan given");
+        let md = s.with_plan(&EvaluationPlan::reference()).to_markdown();
+        assert!(md.contains("Preset: `reference`; plan digest `"), "{md}");
     }
 
     #[test]

@@ -7,13 +7,13 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use sceneeval_geom::conventions::object_from_asset;
 use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Vector3};
 use sceneeval_scene::{ObjectId, SceneObject};
 
-use super::{AssetInfo, AssetSource, AssetSpec, split_model_id};
-use crate::IoError;
-use crate::mesh_load::read_mesh_file;
+use super::{AssetInfo, AssetLocation, AssetSource, AssetSpec, split_model_id};
+use crate::appearance::{Appearance, load_appearance};
+use crate::mesh_load::read_mesh_file_with;
+use crate::{IoError, Limits};
 
 /// A loaded asset: its mesh in the **object frame** (z up, front -y; unscaled) and its
 /// metadata.
@@ -28,6 +28,9 @@ pub struct Asset {
     /// The mesh in the object frame: `object_from_asset() * p` for the file's vertices `p`
     /// (after the source's alignment, if any).
     pub mesh: Arc<Mesh>,
+    /// Every file the asset was built from: the mesh file, its external buffers, then the
+    /// metadata files the source consulted (some of which may not exist).
+    pub files: Vec<PathBuf>,
 }
 
 type Slot<V> = Arc<Mutex<Option<V>>>;
@@ -62,9 +65,11 @@ type Cache<K, V> = Mutex<HashMap<K, Slot<V>>>;
 #[derive(Default)]
 pub struct AssetLibrary {
     sources: BTreeMap<String, Box<dyn AssetSource>>,
+    limits: Limits,
     assets: Cache<String, Arc<Asset>>,
     scaled: Cache<(String, [u64; 3]), Arc<Mesh>>,
     files_read: AtomicUsize,
+    appearances: Cache<String, Arc<Appearance>>,
 }
 
 impl fmt::Debug for AssetLibrary {
@@ -84,6 +89,19 @@ impl AssetLibrary {
     /// A library with no sources (enough for scenes made only of box objects).
     pub fn new() -> Self {
         AssetLibrary::default()
+    }
+
+    /// Replaces the [`Limits`] applied to every scene file and asset read through this
+    /// library (default: [`Limits::default`]). Assets already loaded are kept.
+    pub fn with_limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// The limits applied to every file and asset read through this library.
+    #[inline]
+    pub fn limits(&self) -> &Limits {
+        &self.limits
     }
 
     /// Registers `source` for model ids `PREFIX.*`, replacing any source registered for that
@@ -228,7 +246,42 @@ impl AssetLibrary {
         Ok(object)
     }
 
-    fn load(&self, model_id: &str) -> Result<Asset, IoError> {
+    /// The look of asset `model_id` (materials, textures and a render mesh in the object
+    /// frame), loaded on first use and shared by every caller. Only renderers need this;
+    /// reading scenes never calls it, so geometry-only runs decode no texture. See
+    /// [`crate::appearance`].
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::asset`] for locating and parsing the file. Missing or broken
+    /// textures and material libraries are logged and fall back to the base colour.
+    pub fn appearance(&self, model_id: &str) -> Result<Arc<Appearance>, IoError> {
+        let slot = slot(&self.appearances, model_id.to_owned());
+        cached(&slot, || {
+            let location = self.locate(model_id)?;
+            load_appearance(
+                model_id,
+                &location.path,
+                location.alignment.as_ref(),
+                &self.limits,
+            )
+            .map(Arc::new)
+        })
+    }
+
+    /// How many appearances have been loaded so far (0 in a run that never rendered).
+    pub fn appearances_loaded(&self) -> usize {
+        let map = self.appearances.lock().unwrap_or_else(PoisonError::into_inner);
+        map.values()
+            .filter(|slot| slot.lock().unwrap_or_else(PoisonError::into_inner).is_some())
+            .count()
+    }
+
+    /// Where the asset `model_id` is (mesh file, metadata files, category), without loading
+    /// its mesh: what a result cache needs to tell whether an asset changed.
+    ///
+    /// # Errors
+    /// [`IoError::BadModelId`], [`IoError::UnknownPrefix`] and the source's errors.
+    pub fn locate(&self, model_id: &str) -> Result<AssetLocation, IoError> {
         let (prefix, asset_id) = split_model_id(model_id)?;
         let Some(source) = self.sources.get(prefix) else {
             return Err(IoError::UnknownPrefix {
@@ -237,13 +290,23 @@ impl AssetLibrary {
                 registered: self.sources.keys().cloned().collect(),
             });
         };
-        let location = source.locate(model_id, asset_id)?;
-        let raw = read_mesh_file(&location.path)?;
+        source.locate(model_id, asset_id)
+    }
+
+    /// The asset `model_id` if it has been loaded already; never loads it.
+    pub fn loaded(&self, model_id: &str) -> Option<Arc<Asset>> {
+        let map = self.assets.lock().unwrap_or_else(PoisonError::into_inner);
+        let slot = Arc::clone(map.get(model_id)?);
+        drop(map);
+        let guard = slot.lock().unwrap_or_else(PoisonError::into_inner);
+        guard.clone()
+    }
+
+    fn load(&self, model_id: &str) -> Result<Asset, IoError> {
+        let location = self.locate(model_id)?;
+        let raw = read_mesh_file_with(&location.path, &self.limits)?;
         self.files_read.fetch_add(1, Ordering::Relaxed);
-        let to_object = match &location.alignment {
-            Some(e) => object_from_asset().matrix() * e.matrix(),
-            None => *object_from_asset().matrix(),
-        };
+        let to_object = crate::frames::object_from_file(location.alignment.as_ref());
         let vertices = raw
             .positions
             .iter()
@@ -254,11 +317,14 @@ impl AssetLibrary {
             source,
         })?;
         tracing::debug!(model_id, file = %location.path.display(), "asset loaded");
+        let mut files = raw.files;
+        files.extend(location.metadata);
         Ok(Asset {
             model_id: model_id.to_owned(),
             path: location.path,
             info: location.info,
             mesh: Arc::new(mesh),
+            files,
         })
     }
 }

@@ -50,6 +50,9 @@ pub struct AssetLocation {
     /// conversion, for datasets whose assets are not stored in that convention (HSSD rows with
     /// `up` and `front`).
     pub alignment: Option<Rotation3>,
+    /// The metadata files consulted for `info` and `alignment`, whether or not they exist
+    /// (a metadata file appearing later changes the asset's category).
+    pub metadata: Vec<PathBuf>,
 }
 
 /// A place assets come from: maps an asset id (the part of a model id after the prefix) to

@@ -46,14 +46,27 @@ fn lazy_get<T>(
     cell.get_or_init(load).as_ref().map_err(MetadataError::to_io)
 }
 
-/// Reads a JSON metadata file; `Ok(None)` when it does not exist.
+/// Reads a JSON metadata file of at most [`crate::Limits::default`]'s `max_file_bytes`;
+/// `Ok(None)` when it does not exist.
 fn read_json(path: &Path) -> Result<Option<Value>, MetadataError> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+    let bytes = match crate::uri::read_file_limited(path, crate::Limits::default().max_file_bytes) {
+        Ok(b) => b,
+        Err(IoError::File { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
+            return Ok(None);
+        }
+        Err(IoError::File { source, .. }) => {
+            return Err(MetadataError::new(path, "file", source.to_string()));
+        }
+        Err(IoError::TooLarge { size, limit, .. }) => {
+            return Err(MetadataError::new(
+                path,
+                "file",
+                format!("the file holds {size} bytes, over the limit of {limit}"),
+            ));
+        }
         Err(e) => return Err(MetadataError::new(path, "file", e.to_string())),
     };
-    serde_json::from_str(&text).map(Some).map_err(|e| {
+    serde_json::from_slice::<Value>(&bytes).map(Some).map_err(|e| {
         MetadataError::new(
             path,
             format!("line {} column {}", e.line(), e.column()),
@@ -167,6 +180,7 @@ impl AssetSource for ThreeDFutureSource {
             path,
             info,
             alignment: None,
+            metadata: vec![self.root.join("model_info.json")],
         })
     }
 
@@ -238,6 +252,7 @@ impl AssetSource for ObjathorSource {
             path,
             info,
             alignment: None,
+            metadata: vec![self.root.join("annotations.json")],
         })
     }
 
@@ -394,6 +409,7 @@ impl AssetSource for HssdSource {
                 path,
                 info: AssetInfo::default(),
                 alignment: None,
+                metadata: vec![csv_path],
             });
         };
         let alignment = match (&row.up, &row.front) {
@@ -420,6 +436,7 @@ impl AssetSource for HssdSource {
             path,
             info: row.info.clone(),
             alignment,
+            metadata: vec![csv_path],
         })
     }
 
@@ -478,6 +495,7 @@ impl AssetSource for LayoutVlmSource {
             path,
             info,
             alignment: None,
+            metadata: vec![data_path],
         })
     }
 
@@ -544,6 +562,7 @@ impl AssetSource for PlainFolderSource {
             path,
             info,
             alignment: None,
+            metadata: vec![sidecar],
         })
     }
 

@@ -6,7 +6,8 @@ use std::path::Path;
 use sceneeval_geom::na::{Quaternion, Translation3, UnitQuaternion};
 use sceneeval_geom::{Isometry3, Point2, Polygon2, Real, Side, Vector3};
 use sceneeval_scene::{
-    Ceiling, Opening, OpeningKind, Room, Scene, SceneError, SceneObject, SupportType, WallSpec,
+    Ceiling, Element, Floor, Opening, OpeningKind, Room, Scene, SceneError, SceneObject, SupportType,
+    WallSpec,
 };
 use serde_json::{Map, Value};
 
@@ -47,6 +48,7 @@ pub enum SimpleFloorHeight {
 
 /// Options for [`read_scene_state`].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ReadOptions {
     /// What to do about architecture.
     pub architecture: ArchitectureMode,
@@ -71,10 +73,13 @@ impl Default for ReadOptions {
 ///
 /// # Errors
 /// Every problem is an [`IoError`] naming the file and the JSON pointer of the offending value
-/// (see the crate docs for the list); nothing panics.
+/// (see the crate docs for the list); nothing panics. A file larger than the library's
+/// [`crate::Limits::max_file_bytes`] is [`IoError::TooLarge`]; one that is not UTF-8 is
+/// [`IoError::InvalidUtf8`] with the byte offset, line and column of the first bad byte.
 pub fn read_scene_state(path: &Path, assets: &AssetLibrary, options: &ReadOptions) -> Result<Scene, IoError> {
-    let text = std::fs::read_to_string(path).map_err(|e| IoError::file(path, e))?;
-    read_scene_state_str(&text, path, assets, options)
+    let bytes = crate::uri::read_file_limited(path, assets.limits().max_file_bytes)?;
+    let text = IoError::utf8(path, &bytes)?;
+    read_scene_state_str(text, path, assets, options)
 }
 
 /// Reads sceneState JSON `text` (asset files are still read through `assets`); `path` only
@@ -265,7 +270,7 @@ fn read_object(
     let mut object = match box_size {
         Some(size) => {
             let half = (size * 0.5).component_mul(&applied_scale.abs());
-            let obj = SceneObject::new_box_with_pose(id, half, pose).map_err(scene_err)?;
+            let obj = SceneObject::new_box(id, half, pose).map_err(scene_err)?;
             if let Some(m) = model_id {
                 obj.with_model_id(m)
             } else {
@@ -576,7 +581,7 @@ fn read_wall(
         height,
         thickness,
     );
-    let mut hole_ptrs = Vec::new();
+    let mut hole_ptrs: Vec<String> = Vec::new();
     if let Some(holes) = optional(o, "holes") {
         let holes_ptr = ptr_key(&ptr, "holes");
         for (h, hole) in doc.array(holes, &holes_ptr)?.iter().enumerate() {
@@ -611,6 +616,14 @@ fn read_wall(
                     format!("{id}_{}_{k}", kind.name())
                 }
             };
+            if let Some(first) = spec.openings.iter().position(|o| o.id == opening_id) {
+                return Err(IoError::DuplicateElement {
+                    path: doc.path_buf(),
+                    pointer: hptr,
+                    first: hole_ptrs[first].clone(),
+                    what: format!("opening id {opening_id:?} is used twice in wall {id:?}"),
+                });
+            }
             spec.openings
                 .push(Opening::new(opening_id, kind, [min[0], max[0]], [min[1], max[1]]));
             hole_ptrs.push(hptr);
@@ -685,14 +698,22 @@ fn assemble_rooms(
     }
     let mut rooms = Vec::with_capacity(floors.len());
     for ((floor, walls), ceiling) in floors.into_iter().zip(room_walls).zip(room_ceilings) {
-        let mut wall_ptrs: HashMap<String, &str> = HashMap::new();
-        let mut hole_ptrs: HashMap<(String, String), &str> = HashMap::new();
-        for w in &walls {
-            wall_ptrs.insert(w.spec.id.clone(), &w.ptr);
-            for (o, p) in w.spec.openings.iter().zip(&w.hole_ptrs) {
-                hole_ptrs.insert((w.spec.id.clone(), o.id.clone()), p);
+        // The reference ignores Ceiling elements; one at or below its floor is dropped with a
+        // warning (the room's ceiling then comes from its walls) rather than failing the scene.
+        let ceiling = ceiling.filter(|c| {
+            let above = c.z > floor.z;
+            if !above {
+                tracing::warn!(
+                    file = %doc.path.display(),
+                    pointer = %c.ptr,
+                    ceiling_z = c.z,
+                    floor_z = floor.z,
+                    room = %floor.room,
+                    "the Ceiling is not above its room's Floor; ignored (the ceiling comes from the walls)"
+                );
             }
-        }
+            above
+        });
         let ceiling_ptr = ceiling.as_ref().map(|c| c.ptr.clone());
         let ceiling = ceiling.map(|c| Ceiling {
             id: c.id.unwrap_or_else(|| format!("ceiling_{}", floor.room)),
@@ -700,33 +721,23 @@ fn assemble_rooms(
             z: c.z,
         });
         let specs = walls.iter().map(|w| w.spec.clone()).collect();
-        let floor_id = floor
-            .id
-            .clone()
-            .unwrap_or_else(|| format!("floor_{}", floor.room));
-        let room = Room::new(
-            floor.room.clone(),
-            floor_id,
-            floor.polygon,
-            floor.z,
-            specs,
-            ceiling,
-        )
-        .map_err(|source| {
-            let pointer = match &source {
-                SceneError::ZeroLengthWall { wall }
-                | SceneError::BadWallHeight { wall, .. }
-                | SceneError::BadWallThickness { wall, .. }
-                | SceneError::NonFiniteWall { wall, .. } => wall_ptrs.get(wall).map(|p| p.to_string()),
-                SceneError::BadOpening { wall, opening, .. } => hole_ptrs
-                    .get(&(wall.clone(), opening.clone()))
-                    .or_else(|| wall_ptrs.get(wall))
-                    .map(|p| p.to_string()),
-                SceneError::Geometry { what, .. } if what.contains("ceiling") => ceiling_ptr.clone(),
-                SceneError::Geometry { what, .. } => wall_ptrs
-                    .iter()
-                    .find(|(id, _)| what.contains(&format!("{id:?}")))
-                    .map(|(_, p)| p.to_string()),
+        let room_floor = Floor {
+            id: floor
+                .id
+                .clone()
+                .unwrap_or_else(|| format!("floor_{}", floor.room)),
+            polygon: floor.polygon,
+            z: floor.z,
+        };
+        let room = Room::new(floor.room.clone(), room_floor, specs, ceiling).map_err(|source| {
+            // The element at fault, by its position in this room's lists, to its pointer.
+            let pointer = match source.element() {
+                Some(Element::Wall { wall, .. }) => walls.get(wall).map(|w| w.ptr.clone()),
+                Some(Element::Opening { wall, opening, .. }) => walls
+                    .get(wall)
+                    .and_then(|w| w.hole_ptrs.get(opening).or(Some(&w.ptr)))
+                    .cloned(),
+                Some(Element::Ceiling { .. }) => ceiling_ptr.clone(),
                 _ => None,
             }
             .unwrap_or_else(|| floor.ptr.clone());
@@ -794,10 +805,15 @@ fn simple_architecture(
     };
     let polygon = Polygon2::new(floor.to_vec()).map_err(|source| {
         scene_error(SceneError::Geometry {
-            what: "simple architecture floor".into(),
+            element: Box::new(Element::Floor { room: "room".into() }),
             source,
         })
     })?;
-    let room = Room::new("room", "floor", polygon, z, walls, None).map_err(scene_error)?;
+    let floor = Floor {
+        id: "floor".into(),
+        polygon,
+        z,
+    };
+    let room = Room::new("room", floor, walls, None).map_err(scene_error)?;
     Ok(vec![room])
 }

@@ -32,13 +32,15 @@ pub fn write_scene_state(scene: &Scene, path: &Path) -> Result<(), IoError> {
 /// described in `docs/formats.md`.
 ///
 /// ```
-/// use sceneeval_scene::{RoomBuilder, Scene};
-/// use sceneeval_geom::{Point2, Point3, Vector3};
+/// use sceneeval_scene::{Category, RoomBuilder, Scene};
+/// use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 /// use sceneeval_io::scene_state_to_string;
 ///
 /// let scene = Scene::builder()
 ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 3.0)))
-///     .add_box("desk", "desk", Point3::new(2.0, 2.7, 0.375), Vector3::new(1.2, 0.6, 0.75), 0.0)
+///     // A 1.2 x 0.6 x 0.75 m desk (half extents); the file states its full size.
+///     .add_box("desk", Category::new("desk"), Vector3::new(0.6, 0.3, 0.375),
+///              pose_from_yaw(Point3::new(2.0, 2.7, 0.375), 0.0))
 ///     .build()
 ///     .unwrap();
 /// let text = scene_state_to_string(&scene).unwrap();
@@ -230,7 +232,9 @@ fn object_entry(object: &SceneObject, position: usize) -> Result<Json, IoError> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::conventions::pose_from_yaw;
     use sceneeval_geom::{Isometry3, Mesh, Point2, Point3};
+    use sceneeval_scene::Category;
     use sceneeval_scene::RoomBuilder;
     use std::sync::Arc;
 
@@ -246,10 +250,9 @@ mod tests {
             )
             .add_box(
                 "desk",
-                "desk",
-                Point3::new(2.0, 2.7, 0.375),
-                Vector3::new(1.2, 0.6, 0.75),
-                0.0,
+                Category::new("desk"),
+                Vector3::new(0.6, 0.3, 0.375),
+                pose_from_yaw(Point3::new(2.0, 2.7, 0.375), 0.0),
             )
             .object(
                 SceneObject::from_mesh(
@@ -336,7 +339,7 @@ mod tests {
         let s = Scene::builder()
             .add_mesh(
                 "blob",
-                "thing",
+                Category::new("thing"),
                 Arc::new(Mesh::cuboid(&Vector3::repeat(0.5)).unwrap()),
                 Isometry3::identity(),
             )

@@ -9,32 +9,7 @@ use sceneeval_io::assets::PlainFolderSource;
 use sceneeval_io::{AssetLibrary, GlbMesh, write_glb};
 
 /// The 8 corners and 12 outward triangles of the box `[min, max]`, appended to a mesh.
-pub fn push_box(positions: &mut Vec<[f32; 3]>, indices: &mut Vec<u32>, min: [f32; 3], max: [f32; 3]) {
-    let base = positions.len() as u32;
-    for k in 0..8 {
-        positions.push([
-            if k & 1 == 0 { min[0] } else { max[0] },
-            if k & 2 == 0 { min[1] } else { max[1] },
-            if k & 4 == 0 { min[2] } else { max[2] },
-        ]);
-    }
-    for t in [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ] {
-        indices.extend(t.iter().map(|i| base + i));
-    }
-}
+pub use sceneeval_test_support::push_cuboid as push_box;
 
 /// A box mesh `[min, max]`.
 pub fn box_mesh(name: &str, min: [f32; 3], max: [f32; 3]) -> GlbMesh {

@@ -5,16 +5,14 @@
 
 use std::sync::Arc;
 
-use sceneeval_geom::{Isometry3, Mesh, Point2, Point3, Vector3};
-use sceneeval_plausibility::PlausibilityReport;
+use sceneeval_geom::{Isometry3, Mesh, Vector3};
+use sceneeval_plausibility::{Metric, PlausibilityReport};
 use sceneeval_scene::{RoomBuilder, SceneBuilder};
 
 /// A 4 m x 5 m room (x in [0, 4], y in [0, 5]), 2.8 m walls 0.1 m thick, a door in wall 0
 /// (y = 0) spanning x in [1.0, 1.9] and height [0, 2.1], a window in wall 2 (y = 5).
 pub fn room() -> RoomBuilder {
-    RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
-        .door(0, [1.0, 1.9], [0.0, 2.1])
-        .window(2, [1.0, 2.5], [0.9, 2.0])
+    sceneeval_test_support::bedroom("r0").window(2, [1.0, 2.5], [0.9, 2.0])
 }
 
 /// A scene builder with [`room`].
@@ -23,37 +21,8 @@ pub fn scene() -> SceneBuilder {
 }
 
 /// A closed UV sphere of radius `r` with `n` rings and `2n` segments (`4n^2 - 4n` triangles).
-pub fn sphere(r: f64, n: usize) -> Arc<Mesh> {
-    let mut v = vec![Point3::new(0.0, 0.0, r)];
-    for i in 1..n {
-        let th = std::f64::consts::PI * i as f64 / n as f64;
-        for j in 0..2 * n {
-            let ph = std::f64::consts::PI * j as f64 / n as f64;
-            v.push(Point3::new(
-                r * th.sin() * ph.cos(),
-                r * th.sin() * ph.sin(),
-                r * th.cos(),
-            ));
-        }
-    }
-    v.push(Point3::new(0.0, 0.0, -r));
-    let m = 2 * n as u32;
-    let ring = |i: u32, j: u32| 1 + i * m + (j % m);
-    let mut t = Vec::new();
-    for j in 0..m {
-        t.push([0, ring(0, j), ring(0, j + 1)]);
-    }
-    for i in 0..(n as u32 - 2) {
-        for j in 0..m {
-            t.push([ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)]);
-            t.push([ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)]);
-        }
-    }
-    let last = v.len() as u32 - 1;
-    for j in 0..m {
-        t.push([last, ring(n as u32 - 2, j + 1), ring(n as u32 - 2, j)]);
-    }
-    Arc::new(Mesh::new(v, t).unwrap())
+pub fn sphere(r: f64, n: u32) -> Arc<Mesh> {
+    Arc::new(Mesh::uv_ellipsoid(&Vector3::repeat(r), 2 * n, n).unwrap())
 }
 
 /// Placement of a mesh at a point, upright, turned by `yaw`.
@@ -65,42 +34,53 @@ pub fn at(x: f64, y: f64, z: f64, yaw: f64) -> Isometry3 {
 /// scene order, counts consistent with flags.
 pub fn check_invariants(r: &PlausibilityReport) {
     let unit = |x: f64| (0.0..=1.0).contains(&x);
-    let n = r.num_objects;
-    assert_eq!(r.collision.objects.len(), n);
-    assert_eq!(r.support.objects.len(), n);
-    assert_eq!(r.accessibility.objects.len(), n);
-    assert_eq!(r.out_of_bounds.objects.len(), n);
+    let n = r.object_ids.len();
+    assert_eq!(r.metrics, Metric::ALL.to_vec(), "every metric ran");
+    let (collision, support, accessibility, out_of_bounds, nav, clearance) = (
+        r.collision.as_ref().unwrap(),
+        r.support.as_ref().unwrap(),
+        r.accessibility.as_ref().unwrap(),
+        r.out_of_bounds.as_ref().unwrap(),
+        r.navigability.as_ref().unwrap(),
+        r.opening_clearance.as_ref().unwrap(),
+    );
+    assert_eq!(collision.objects.len(), n);
+    assert_eq!(support.objects.len(), n);
+    assert_eq!(accessibility.objects.len(), n);
+    assert_eq!(out_of_bounds.objects.len(), n);
     for share in [r.summary.col_ob, r.summary.sup, r.summary.acc, r.summary.oob]
         .into_iter()
         .flatten()
     {
         assert!(unit(share), "{share}");
     }
-    assert!(unit(r.summary.nav));
+    assert!(unit(r.summary.nav.unwrap()));
     assert_eq!(
-        r.collision.num_in_collision,
-        r.collision.objects.iter().filter(|o| o.in_collision).count()
+        collision.num_in_collision,
+        collision.objects.iter().filter(|o| o.in_collision).count()
     );
-    assert_eq!(r.summary.col_sc, r.collision.contacts.iter().any(|c| c.colliding));
-    for c in &r.collision.contacts {
+    assert_eq!(
+        r.summary.col_sc,
+        Some(collision.contacts.iter().any(|c| c.colliding))
+    );
+    for c in &collision.contacts {
         assert!(c.depth >= 0.0 && c.depth.is_finite());
     }
-    for o in &r.support.objects {
+    for o in &support.objects {
         assert!((o.gravity.norm() - 1.0).abs() < 1e-12);
         assert!(o.num_contacts <= o.num_ray_origins);
     }
-    for o in &r.accessibility.objects {
+    for o in &accessibility.objects {
         for s in &o.sides {
             assert!(unit(s.score));
             assert!(s.free_area <= s.on_floor_area + 1e-9 && s.on_floor_area <= s.strip_area + 1e-9);
         }
     }
-    for o in &r.out_of_bounds.objects {
+    for o in &out_of_bounds.objects {
         assert!(unit(o.ratio_in_bounds));
     }
-    let nav = &r.navigability;
     assert!(nav.largest_component_pixels <= nav.free_pixels && nav.free_pixels <= nav.floor_pixels);
-    for o in &r.opening_clearance.openings {
+    for o in &clearance.openings {
         for s in &o.sides {
             assert!(unit(s.occluded_fraction));
             assert_eq!(s.blocked, !s.blocking.is_empty());

@@ -1,4 +1,4 @@
-//! Procedural scenes for the plausibility benchmarks: rooms furnished with `n` objects whose
+//! Procedural scenes for the plausibility benchmarks (`benches/benches/plausibility.rs`): rooms furnished with `n` objects whose
 //! meshes have about 5,000 triangles each (tables, cabinets, lamps, paintings), placed on a
 //! deterministic jittered grid with a few deliberate collisions, lamps on tables, paintings on
 //! walls and lamps on the ceiling, so that every metric does real work.
@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point2, Point3, Vector3};
 
-use crate::meshes::{subdivided_box, uv_ellipsoid};
-use sceneeval_scene::{RoomBuilder, Scene, SceneObject};
+use sceneeval_geom::conventions::pose_from_yaw;
+use sceneeval_scene::{Category, RoomBuilder, Scene, SceneObject};
 
 /// The four meshes the benchmark scenes are made of.
 #[derive(Debug, Clone)]
@@ -26,8 +26,7 @@ pub struct BenchMeshes {
     pub painting: Arc<Mesh>,
 }
 
-/// Builds the meshes (a few milliseconds) from the shared procedural meshes of
-/// [`crate::meshes`].
+/// Builds the meshes (a few milliseconds) from `sceneeval_geom`'s procedural meshes.
 ///
 /// # Panics
 /// Never for these fixed shapes (the constructors only reject degenerate input).
@@ -42,17 +41,17 @@ pub fn meshes() -> BenchMeshes {
     ];
     let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
     for (h, c) in table_parts {
-        let part = subdivided_box(&h, 9).expect("table part");
+        let part = Mesh::subdivided_box(&h, 9).expect("table part");
         let base = tv.len() as u32;
         tv.extend(part.vertices().iter().map(|p| p + c));
         tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
     }
     let table = Mesh::new(tv, tt).expect("table mesh");
-    let cabinet = subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 20)
+    let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 20)
         .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
         .expect("cabinet mesh");
-    let painting = subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 20).expect("painting mesh");
-    let lamp = uv_ellipsoid(&Vector3::repeat(0.15), 72, 36).expect("lamp mesh");
+    let painting = Mesh::subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 20).expect("painting mesh");
+    let lamp = Mesh::uv_ellipsoid(&Vector3::repeat(0.15), 72, 36).expect("lamp mesh");
     BenchMeshes {
         table: Arc::new(table),
         cabinet: Arc::new(cabinet),
@@ -113,7 +112,12 @@ pub fn scene(n: usize, meshes: &BenchMeshes) -> Scene {
                         (x, y, WALL_HEIGHT - 0.15, "ceiling_lamp")
                     }
                 };
-                b = b.add_mesh(&id, cat, meshes.lamp.clone(), Isometry3::translation(x, y, z));
+                b = b.add_mesh(
+                    &id,
+                    Category::new(cat),
+                    meshes.lamp.clone(),
+                    Isometry3::translation(x, y, z),
+                );
             }
             5 => {
                 // Paintings along the far wall (y = side), then the west wall (x = 0).
@@ -129,7 +133,7 @@ pub fn scene(n: usize, meshes: &BenchMeshes) -> Scene {
                     )
                 };
                 paintings += 1;
-                b = b.add_mesh(&id, "painting", meshes.painting.clone(), pose);
+                b = b.add_mesh(&id, Category::new("painting"), meshes.painting.clone(), pose);
             }
             _ => {
                 let (mut x, y) = cell_centre(cell, cols);
@@ -152,7 +156,7 @@ pub fn scene(n: usize, meshes: &BenchMeshes) -> Scene {
                 };
                 let yaw = if matches!(kind, 0 | 4 | 7) { 0.0 } else { yaw };
                 let pose = Isometry3::new(Vector3::new(x, y, 0.0), Vector3::z() * yaw);
-                b = b.add_mesh(&id, cat, mesh, pose);
+                b = b.add_mesh(&id, Category::new(cat), mesh, pose);
             }
         }
     }
@@ -177,49 +181,55 @@ pub fn fixture_scene() -> Scene {
     let s = Vector3::new;
     Scene::builder()
         .id("fixture_size")
-        .room_builder(
-            RoomBuilder::rectangle("bedroom", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
-                .door(0, [1.0, 1.9], [0.0, 2.1])
-                .window(2, [1.0, 2.5], [0.9, 2.0]),
+        .room_builder(crate::bedroom("bedroom").window(2, [1.0, 2.5], [0.9, 2.0]))
+        .add_box(
+            "bed",
+            Category::new("bed"),
+            s(0.8, 1.0, 0.3),
+            pose_from_yaw(p(2.0, 3.95, 0.3), 0.0),
         )
-        .add_box("bed", "bed", p(2.0, 3.95, 0.3), s(1.6, 2.0, 0.6), 0.0)
         .add_box(
             "nightstand_l",
-            "nightstand",
-            p(0.9, 4.75, 0.3),
-            s(0.5, 0.4, 0.6),
-            0.0,
+            Category::new("nightstand"),
+            s(0.25, 0.2, 0.3),
+            pose_from_yaw(p(0.9, 4.75, 0.3), 0.0),
         )
         .add_box(
             "nightstand_r",
-            "nightstand",
-            p(3.1, 4.75, 0.3),
-            s(0.5, 0.4, 0.6),
-            0.0,
+            Category::new("nightstand"),
+            s(0.25, 0.2, 0.3),
+            pose_from_yaw(p(3.1, 4.75, 0.3), 0.0),
         )
-        .add_box("lamp", "table_lamp", p(0.9, 4.75, 0.8), s(0.2, 0.2, 0.4), 0.0)
+        .add_box(
+            "lamp",
+            Category::new("table_lamp"),
+            s(0.1, 0.1, 0.2),
+            pose_from_yaw(p(0.9, 4.75, 0.8), 0.0),
+        )
         .add_box(
             "wardrobe",
-            "wardrobe",
-            p(3.7, 1.5, 1.0),
-            s(0.6, 1.2, 2.0),
-            std::f64::consts::FRAC_PI_2,
+            Category::new("wardrobe"),
+            s(0.3, 0.6, 1.0),
+            pose_from_yaw(p(3.7, 1.5, 1.0), std::f64::consts::FRAC_PI_2),
         )
         .add_box(
             "desk",
-            "desk",
-            p(0.4, 1.5, 0.375),
-            s(1.2, 0.6, 0.75),
-            -std::f64::consts::FRAC_PI_2,
+            Category::new("desk"),
+            s(0.6, 0.3, 0.375),
+            pose_from_yaw(p(0.4, 1.5, 0.375), -std::f64::consts::FRAC_PI_2),
         )
         .add_box(
             "chair",
-            "chair",
-            p(0.95, 1.5, 0.45),
-            s(0.45, 0.45, 0.9),
-            std::f64::consts::FRAC_PI_2,
+            Category::new("chair"),
+            s(0.225, 0.225, 0.45),
+            pose_from_yaw(p(0.95, 1.5, 0.45), std::f64::consts::FRAC_PI_2),
         )
-        .add_box("painting", "painting", p(0.6, 4.98, 1.6), s(0.6, 0.04, 0.5), 0.0)
+        .add_box(
+            "painting",
+            Category::new("painting"),
+            s(0.3, 0.02, 0.25),
+            pose_from_yaw(p(0.6, 4.98, 1.6), 0.0),
+        )
         .build()
         .expect("fixture-size scene")
 }
@@ -260,17 +270,17 @@ pub fn mesh8k_set() -> AssetSet {
     ];
     let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
     for (h, c) in table_parts {
-        let part = subdivided_box(&h, 11).expect("table part");
+        let part = Mesh::subdivided_box(&h, 11).expect("table part");
         let base = tv.len() as u32;
         tv.extend(part.vertices().iter().map(|p| p + c));
         tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
     }
     let table = Mesh::new(tv, tt).expect("table mesh");
-    let cabinet = subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 26)
+    let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 26)
         .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
         .expect("cabinet mesh");
-    let painting = subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 26).expect("painting mesh");
-    let lamp = uv_ellipsoid(&Vector3::repeat(0.15), 90, 46).expect("lamp mesh");
+    let painting = Mesh::subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 26).expect("painting mesh");
+    let lamp = Mesh::uv_ellipsoid(&Vector3::repeat(0.15), 90, 46).expect("lamp mesh");
     AssetSet {
         kind: "mesh8k".into(),
         prefix: "bench".into(),
@@ -418,12 +428,12 @@ mod tests {
             // can end up unsupported (if it leaves the floor), so most are.
             assert!(r.summary.sup.unwrap() > 0.8, "{:?}", r.summary);
             if n >= 20 {
-                assert!(r.summary.col_sc, "pushed objects collide");
+                assert_eq!(r.summary.col_sc, Some(true), "pushed objects collide");
             }
         }
         let f = fixture_scene();
         let r = evaluate(&f, &PlausibilityParams::default(), &Sources::default()).unwrap();
         assert_eq!(r.summary.sup, Some(1.0));
-        assert!(!r.summary.col_sc);
+        assert_eq!(r.summary.col_sc, Some(false));
     }
 }

@@ -1,0 +1,259 @@
+//! Criterion benchmarks of offscreen rendering (`sceneeval-render`) and of loading asset
+//! appearances (`sceneeval-io`), on whatever adapter `Gpu::shared` opens (lavapipe on a
+//! machine without a GPU).
+//!
+//! - `render/prepare_50_objects`: upload a 50-object scene of the fixture furniture (18
+//!   coloured GLB assets, 2,700 triangles in all, one textured) plus floors and walls.
+//! - `render/top_512_50_objects`: one 512 x 512 top view of it (render and read back).
+//! - `render/front_size_surroundings_512_50_objects`: the three per-object views of every
+//!   object, 150 images.
+//! - `render/top_512_100k_triangles`: one 512 x 512 top view of 50 objects of 2,000 triangles.
+//! - the same three renders with one sample per pixel instead of four (`..._1x`).
+//! - `appearance/read_scene_geometry_only` and `appearance/read_scene_and_appearances`: read a
+//!   40-object scene over 8 textured assets (1024 x 1024 PNGs) with a fresh asset library,
+//!   without and with loading the assets' appearances.
+//!
+//! Run with `cargo bench -p sceneeval-benches --bench render -- --warm-up-time 1 --measurement-time 5`.
+
+// A benchmark binary may stop on a set-up failure, and reports which adapter it measured.
+#![allow(clippy::expect_used, clippy::print_stderr)]
+
+mod common;
+
+use std::hint::black_box;
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use sceneeval_geom::na::{Translation3, UnitQuaternion};
+use sceneeval_geom::{Isometry3, Point2, Vector3};
+use sceneeval_io::assets::PlainFolderSource;
+use sceneeval_io::{
+    AssetLibrary, GlbImage, GlbMaterial, GlbMesh, ReadOptions, read_scene_state, write_glb, write_scene_state,
+};
+use sceneeval_render::{RenderSettings, Renderer, View, ViewKind};
+use sceneeval_scene::{RoomBuilder, Scene};
+
+fn fixture_assets() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/assets")
+}
+
+fn pose(x: f64, y: f64, yaw: f64) -> Isometry3 {
+    Isometry3::from_parts(
+        Translation3::new(x, y, 0.0),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw),
+    )
+}
+
+/// 50 objects on a 10 x 5 grid in a 15 x 10 m room with a door and a window, cycling through
+/// `ids` of `library`'s source `prefix`.
+fn grid_scene(library: &AssetLibrary, prefix: &str, ids: &[&str]) -> Scene {
+    let mut builder = Scene::builder().room_builder(
+        RoomBuilder::rectangle("r", Point2::new(0.0, 0.0), Point2::new(15.0, 10.0))
+            .door(0, [1.0, 2.0], [0.0, 2.1])
+            .window(2, [4.0, 6.0], [0.9, 2.0]),
+    );
+    for i in 0..50usize {
+        let (x, y) = (0.75 + 1.5 * (i % 10) as f64, 1.0 + 2.0 * (i / 10) as f64);
+        let id = ids[i % ids.len()];
+        let object = library
+            .object(
+                format!("o{i}"),
+                &format!("{prefix}.{id}"),
+                pose(x, y, 0.4 * i as f64),
+                Vector3::repeat(1.0),
+            )
+            .expect("object");
+        builder = builder.object(object);
+    }
+    builder.build().expect("scene")
+}
+
+const FIXTURE_IDS: [&str; 18] = [
+    "bed",
+    "nightstand",
+    "desk",
+    "chair",
+    "dining_table",
+    "sofa",
+    "coffee_table",
+    "wardrobe",
+    "bookshelf",
+    "table_lamp",
+    "floor_lamp",
+    "rug",
+    "painting",
+    "ceiling_lamp",
+    "tv",
+    "plant",
+    "tv_stand",
+    "storage_box",
+];
+
+/// A cylinder asset (see [`common::cylinder`]) in a matte colour.
+fn cylinder(name: &str, radius: f32, height: f32, segments: u32, bands: u32, rgb: [f32; 3]) -> GlbMesh {
+    common::cylinder(name, radius, height, segments, bands).with_material(GlbMaterial::color(rgb))
+}
+
+/// A PNG of `size x size` texels of deterministic noise (so that it does not compress away).
+fn noise_png(size: u32, seed: u32) -> Vec<u8> {
+    let mut state = seed.wrapping_mul(2_654_435_761).wrapping_add(1);
+    let img = image::RgbaImage::from_fn(size, size, |_, _| {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        let [a, b, c, _] = state.to_le_bytes();
+        image::Rgba([a, b, c, 255])
+    });
+    let mut out = Vec::new();
+    img.write_to(&mut Cursor::new(&mut out), image::ImageFormat::Png)
+        .expect("png");
+    out
+}
+
+fn rendering(c: &mut Criterion) {
+    let renderer = Renderer::new().expect("a renderer (install mesa-vulkan-drivers libvulkan1)");
+    eprintln!("adapter: {:?}", renderer.gpu().adapter());
+    let settings = RenderSettings::square(512);
+
+    let fixtures = AssetLibrary::new().with_source("fixture", PlainFolderSource::new(fixture_assets()));
+    let scene = grid_scene(&fixtures, "fixture", &FIXTURE_IDS);
+    let prepared = renderer.prepare(&scene, &fixtures).expect("prepared");
+    let ids: Vec<&str> = prepared.object_ids().collect();
+    let per_object = View::standard(&[ViewKind::Front, ViewKind::Size, ViewKind::Surroundings], ids);
+    assert_eq!(per_object.len(), 150);
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let colours = [
+        [0.6, 0.2, 0.1],
+        [0.1, 0.4, 0.6],
+        [0.5, 0.5, 0.1],
+        [0.3, 0.3, 0.3],
+        [0.7, 0.6, 0.5],
+    ];
+    let mut heavy_ids = Vec::new();
+    for (k, rgb) in colours.iter().enumerate() {
+        // 2 * 40 * 24 + 2 * 40 = 2,000 triangles.
+        let mesh = cylinder(
+            &format!("c{k}"),
+            0.3 + 0.05 * k as f32,
+            0.6 + 0.2 * k as f32,
+            40,
+            24,
+            *rgb,
+        );
+        write_glb(&dir.path().join(format!("c{k}.glb")), &[mesh]).expect("asset");
+        heavy_ids.push(format!("c{k}"));
+    }
+    let heavy_lib = AssetLibrary::new().with_source("bench", PlainFolderSource::new(dir.path()));
+    let heavy_refs: Vec<&str> = heavy_ids.iter().map(String::as_str).collect();
+    let heavy = renderer
+        .prepare(&grid_scene(&heavy_lib, "bench", &heavy_refs), &heavy_lib)
+        .expect("prepared");
+
+    let mut g = c.benchmark_group("render");
+    g.sample_size(10);
+    g.bench_function("prepare_50_objects", |b| {
+        b.iter(|| black_box(renderer.prepare(black_box(&scene), &fixtures).expect("prepared")))
+    });
+    g.bench_function("top_512_50_objects", |b| {
+        b.iter(|| black_box(prepared.render(&View::Top, &settings).expect("rendered")))
+    });
+    g.bench_function("front_size_surroundings_512_50_objects", |b| {
+        b.iter(|| {
+            for view in &per_object {
+                black_box(prepared.render(view, &settings).expect("rendered"));
+            }
+        })
+    });
+    g.bench_function("top_512_100k_triangles", |b| {
+        b.iter(|| black_box(heavy.render(&View::Top, &settings).expect("rendered")))
+    });
+    // The same without multisampling.
+    let single = RenderSettings {
+        samples: 1,
+        ..settings
+    };
+    g.bench_function("top_512_50_objects_1x", |b| {
+        b.iter(|| black_box(prepared.render(&View::Top, &single).expect("rendered")))
+    });
+    g.bench_function("front_size_surroundings_512_50_objects_1x", |b| {
+        b.iter(|| {
+            for view in &per_object {
+                black_box(prepared.render(view, &single).expect("rendered"));
+            }
+        })
+    });
+    g.bench_function("top_512_100k_triangles_1x", |b| {
+        b.iter(|| black_box(heavy.render(&View::Top, &single).expect("rendered")))
+    });
+    g.finish();
+}
+
+/// Writes 8 textured assets and a 40-object scene over them into `dir`; returns the scene.
+fn textured_scene(dir: &Path) -> PathBuf {
+    for k in 0..8u32 {
+        let mut mesh = cylinder(&format!("t{k}"), 0.3, 0.8, 40, 11, [1.0; 3]);
+        let uvs = mesh
+            .positions
+            .iter()
+            .map(|p| [0.5 + p[0], 1.0 - p[1] / 0.8])
+            .collect();
+        let material = GlbMaterial::color([1.0; 3]).with_texture(GlbImage::EmbeddedPng(noise_png(1024, k)));
+        mesh = mesh.with_uvs(uvs).with_material(material);
+        write_glb(&dir.join(format!("t{k}.glb")), &[mesh]).expect("asset");
+    }
+    let library = AssetLibrary::new().with_source("bench", PlainFolderSource::new(dir));
+    let mut builder = Scene::builder().room_builder(RoomBuilder::rectangle(
+        "r",
+        Point2::new(0.0, 0.0),
+        Point2::new(10.0, 8.0),
+    ));
+    for i in 0..40usize {
+        let object = library
+            .object(
+                format!("o{i}"),
+                &format!("bench.t{}", i % 8),
+                pose(0.8 + 1.2 * (i % 8) as f64, 1.0 + 1.5 * (i / 8) as f64, 0.0),
+                Vector3::repeat(1.0),
+            )
+            .expect("object");
+        builder = builder.object(object);
+    }
+    let path = dir.join("scene_0.json");
+    write_scene_state(&builder.build().expect("scene"), &path).expect("scene written");
+    path
+}
+
+fn appearance(c: &mut Criterion) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = textured_scene(dir.path());
+    let options = ReadOptions::default();
+    let library = || AssetLibrary::new().with_source("bench", PlainFolderSource::new(dir.path()));
+    let mut g = c.benchmark_group("appearance");
+    g.sample_size(10);
+    g.bench_function("read_scene_geometry_only", |b| {
+        b.iter(|| {
+            let lib = library();
+            let scene = read_scene_state(&path, &lib, &options).expect("reads");
+            assert_eq!(lib.appearances_loaded(), 0);
+            black_box(scene)
+        })
+    });
+    g.bench_function("read_scene_and_appearances", |b| {
+        b.iter(|| {
+            let lib = library();
+            let scene = read_scene_state(&path, &lib, &options).expect("reads");
+            for object in scene.objects() {
+                if let Some(id) = object.model_id() {
+                    black_box(lib.appearance(id).expect("appearance"));
+                }
+            }
+            black_box(scene)
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, rendering, appearance);
+criterion_main!(benches);

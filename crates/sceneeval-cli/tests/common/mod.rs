@@ -1,0 +1,32 @@
+//! Helpers shared by the command-line tests: the fixture folder, running `sceneeval evaluate`
+//! and reading a scene's record.
+
+#![allow(dead_code, clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+/// The bundled `fixtures/` folder.
+pub fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+/// `sceneeval evaluate SCENES --assets fixture=ASSETS --no-progress --out OUT EXTRA...`.
+pub fn evaluate(scenes: &Path, assets: &Path, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
+    let spec = format!("fixture={}", assets.display());
+    Command::cargo_bin("sceneeval")
+        .unwrap()
+        .arg("evaluate")
+        .arg(scenes)
+        .args(["--assets", &spec, "--no-progress", "--out"])
+        .arg(out)
+        .args(extra)
+        .assert()
+}
+
+/// The `eval.json` of `scene` under `out`.
+pub fn record(out: &Path, scene: &str) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join(scene).join("eval.json")).unwrap()).unwrap()
+}

@@ -1,0 +1,126 @@
+//! `sceneeval render` on a fixture scene: file names, sizes, options and errors. Needs a
+//! Vulkan driver (Mesa's lavapipe on CI).
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::PathBuf;
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+fn fixtures() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+fn render() -> Command {
+    let mut cmd = Command::cargo_bin("sceneeval").unwrap();
+    cmd.arg("render")
+        .arg(fixtures().join("scenes/scene_0.json"))
+        .arg("--assets")
+        .arg(format!("fixture={}", fixtures().join("assets").display()));
+    cmd
+}
+
+#[test]
+fn writes_the_requested_views_with_inspect_ids_as_file_names() {
+    let out = tempfile::tempdir().unwrap();
+    let assert = render()
+        .args(["--out"])
+        .arg(out.path())
+        .args([
+            "--views",
+            "front,size,top",
+            "--objects",
+            "idx0_fixture.bed,idx3_fixture.table_lamp",
+        ])
+        .args(["--size", "65"])
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let mut names: Vec<String> = std::fs::read_dir(out.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "front_idx0_fixture.bed.png",
+            "front_idx3_fixture.table_lamp.png",
+            "size_idx0_fixture.bed.png",
+            "size_idx3_fixture.table_lamp.png",
+            "top.png",
+        ]
+    );
+    for name in &names {
+        let path = out.path().join(name);
+        assert!(stdout.contains(&path.display().to_string()), "{name} not printed");
+        let img = image::open(&path).unwrap();
+        assert_eq!((img.width(), img.height()), (65, 65), "{name}");
+        assert_eq!(img.color(), image::ColorType::Rgba8, "{name}");
+    }
+}
+
+#[test]
+fn every_object_by_default() {
+    let out = tempfile::tempdir().unwrap();
+    render()
+        .arg("--out")
+        .arg(out.path())
+        .args(["--views", "surroundings", "--size", "16"])
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("9 images written"));
+    assert!(
+        out.path()
+            .join("surroundings_idx8_fixture.ceiling_lamp.png")
+            .is_file()
+    );
+}
+
+#[test]
+fn bad_arguments_are_clear_errors() {
+    let out = tempfile::tempdir().unwrap();
+    render()
+        .arg("--out")
+        .arg(out.path())
+        .args(["--objects", "idx0_fixture.bed,idx99_nothing"])
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("no object idx99_nothing")
+                .and(predicate::str::contains("idx0_fixture.bed")),
+        );
+    render()
+        .arg("--out")
+        .arg(out.path())
+        .args(["--views", "front,side"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("unknown view \"side\""));
+    render()
+        .arg("--out")
+        .arg(out.path())
+        .args(["--size", "0"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--size"));
+}
+
+#[test]
+fn a_missing_driver_names_the_packages_to_install() {
+    // DirectX 12 does not exist here: no adapter, as on a machine without a Vulkan driver.
+    let out = tempfile::tempdir().unwrap();
+    render()
+        .env("WGPU_BACKEND", "dx12")
+        .arg("--out")
+        .arg(out.path())
+        .args(["--views", "top", "--size", "8"])
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("mesa-vulkan-drivers libvulkan1")
+                .and(predicate::str::contains("WGPU_BACKEND"))
+                .and(predicate::str::contains("panicked").not()),
+        );
+}

@@ -1,0 +1,85 @@
+//! Alpha blending, and objects whose asset does not match their mesh.
+
+use std::sync::Arc;
+
+use sceneeval_geom::na::Translation3;
+use sceneeval_geom::{Isometry3, Mesh, Point3, Vector3};
+use sceneeval_io::GlbMaterial;
+use sceneeval_render::{Camera, RenderSettings, View};
+use sceneeval_scene::{Scene, SceneObject};
+
+use crate::common::*;
+
+fn at(x: f64, y: f64, z: f64) -> Isometry3 {
+    Isometry3::from_parts(Translation3::new(x, y, z), Default::default())
+}
+
+#[test]
+fn blended_surfaces_mix_with_what_lies_behind_them() {
+    // A half-transparent blue pane (alpha 0.5) in front of an opaque red box, seen head-on.
+    let dir = tempfile::tempdir().unwrap();
+    let red = color([0.8, 0.02, 0.02]);
+    write_asset(dir.path(), "box", &box_asset([0.4, 0.4, 0.4], red.clone(), red));
+    let glass = GlbMaterial {
+        base_color: [0.02, 0.05, 0.9, 0.5],
+        blend: true,
+        texture: None,
+    };
+    write_asset(
+        dir.path(),
+        "pane",
+        &box_asset([1.2, 1.2, 0.01], glass.clone(), glass),
+    );
+    let lib = library(dir.path());
+    let scene = Scene::builder()
+        .object(object(&lib, "box", "box", at(0.0, 1.0, 0.0)))
+        .object(object(&lib, "pane", "pane", at(0.0, 0.0, -0.4)))
+        .build()
+        .unwrap();
+    let prepared = renderer().prepare(&scene, &lib).unwrap();
+    let camera = Camera::looking_at(
+        Point3::new(0.0, -3.0, 0.2),
+        Point3::new(0.0, 0.0, 0.2),
+        Vector3::z(),
+    )
+    .unwrap();
+    let view = View::Custom {
+        camera,
+        objects: None,
+        architecture: false,
+    };
+    let img = prepared.render(&view, &RenderSettings::square(64)).unwrap();
+    // Through the pane: the red box tinted blue, fully opaque.
+    let centre = img.get_pixel(32, 32).0;
+    assert_eq!(centre[3], 255);
+    assert!(centre[0] > 80 && centre[2] > 80, "red and blue mixed: {centre:?}");
+    // Above the box (row 22: 0.6 m up on the pane, 0.72 m at the box's depth) the pane is
+    // alone over the transparent background. Its front and back faces each let half through:
+    // alpha 1 - 0.5 * 0.5 = 0.75, i.e. 191.
+    let edge = img.get_pixel(32, 22).0;
+    assert!(edge[3].abs_diff(191) <= 2, "two half-transparent faces: {edge:?}");
+    assert!(edge[2] > edge[0] + 60, "blue: {edge:?}");
+}
+
+#[test]
+fn an_object_whose_mesh_is_not_its_assets_is_drawn_in_grey() {
+    let dir = tempfile::tempdir().unwrap();
+    let red = color([0.8, 0.02, 0.02]);
+    write_asset(dir.path(), "box", &box_asset([0.4, 0.4, 0.4], red.clone(), red));
+    let lib = library(dir.path());
+    // A scene built in code: the model id says `test.box`, the mesh is a 1 m cube.
+    let cube = Arc::new(Mesh::cuboid(&Vector3::repeat(0.5)).unwrap());
+    let odd = SceneObject::from_mesh("odd", cube, at(0.0, 0.0, 0.5))
+        .unwrap()
+        .with_model_id("test.box");
+    let scene = Scene::builder().object(odd).build().unwrap();
+    let prepared = renderer().prepare(&scene, &lib).unwrap();
+    let img = prepared
+        .render(&View::Front("odd".into()), &RenderSettings::square(48))
+        .unwrap();
+    assert_eq!(count(&img, is_red), 0);
+    assert!(
+        count(&img, |p| p[3] == 255) > 48 * 48 / 2,
+        "the cube itself is drawn"
+    );
+}

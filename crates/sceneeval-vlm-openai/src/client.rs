@@ -1,0 +1,499 @@
+//! [`OpenAiVlm`]: the chat-completions client.
+
+use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+
+use reqwest::header::{AUTHORIZATION, CONTENT_TYPE, HeaderMap, HeaderValue};
+use serde::Serialize;
+use tokio::sync::Semaphore;
+
+use sceneeval_vlm::{Answer, Vlm, VlmError, VlmRequest};
+
+use crate::wire::{ChatResponse, ErrorBody, Sampling, request_body};
+use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy};
+
+/// A [`Vlm`] backed by an OpenAI-compatible `POST {base_url}/chat/completions` endpoint:
+/// OpenAI, vLLM, Ollama (`/v1`), LM Studio.
+///
+/// Each request is sent as a system message and one user message (text, then the images as
+/// `data:image/png;base64` URLs with the configured `detail`), with
+/// `response_format: {type: "json_schema", json_schema: {name, strict: true, schema}}`.
+/// Failed attempts are retried as [`RetryPolicy`] says; 401 and 403 are not retried and are
+/// reported as [`OpenAiError::KeyRefused`]. At most `max_concurrent_requests` attempts are in
+/// flight at once. A refusal (`message.refusal`) and a reply cut off at the token limit
+/// (`finish_reason: "length"`) are answers of their own kinds, not errors.
+///
+/// Must be polled inside a tokio runtime (with the time driver enabled).
+///
+/// The API key goes only into the `Authorization` header (marked sensitive). It never appears
+/// in `Debug` output, logs or errors; server error messages are shown with anything shaped
+/// like a key (`sk-...`) or equal to it removed, and not at all for 401 and 403 (OpenAI's
+/// message quotes part of the key).
+pub struct OpenAiVlm {
+    url: String,
+    base_url: String,
+    model: String,
+    key_source: Option<String>,
+    key: Option<ApiKey>,
+    sampling: Sampling,
+    timeout: Duration,
+    retry: RetryPolicy,
+    http: reqwest::Client,
+    permits: Semaphore,
+    stats: Counters,
+}
+
+#[derive(Debug, Default)]
+struct Counters {
+    attempts: AtomicU64,
+    retries: AtomicU64,
+    waited_us: AtomicU64,
+    in_flight: AtomicU64,
+    peak_in_flight: AtomicU64,
+    jitter: AtomicU64,
+}
+
+/// Counts a request in flight for as long as it lives (also when its future is dropped).
+struct InFlight<'a>(&'a Counters);
+
+impl<'a> InFlight<'a> {
+    fn enter(counters: &'a Counters) -> Self {
+        let now = counters.in_flight.fetch_add(1, Ordering::Relaxed) + 1;
+        counters.peak_in_flight.fetch_max(now, Ordering::Relaxed);
+        InFlight(counters)
+    }
+}
+
+impl Drop for InFlight<'_> {
+    fn drop(&mut self) {
+        self.0.in_flight.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
+/// What an [`OpenAiVlm`] did so far, for the run report.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct ClientStats {
+    /// HTTP requests sent (first attempts and retries).
+    pub attempts: u64,
+    /// Retries among them.
+    pub retries: u64,
+    /// Total wait before retries, as computed (backoff or `Retry-After`).
+    pub waited: Duration,
+    /// The most requests that were in flight at once.
+    pub peak_in_flight: u64,
+}
+
+impl fmt::Debug for OpenAiVlm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("OpenAiVlm")
+            .field("url", &self.url)
+            .field("model", &self.model)
+            .field(
+                "api_key",
+                &self.key_source.as_deref().map_or("none", |_| "[redacted]"),
+            )
+            .field("sampling", &self.sampling)
+            .field("timeout", &self.timeout)
+            .field("retry", &self.retry)
+            .finish_non_exhaustive()
+    }
+}
+
+enum Attempt {
+    Done(Answer),
+    Retry {
+        error: OpenAiError,
+        retry_after: Option<Duration>,
+    },
+    Fail(OpenAiError),
+}
+
+impl OpenAiVlm {
+    /// A client with `config`.
+    ///
+    /// # Errors
+    /// [`OpenAiError::InvalidBaseUrl`] for a base URL that is not `http(s)://...`,
+    /// [`OpenAiError::InvalidSetting`] for zero concurrency or timeouts,
+    /// [`OpenAiError::Client`] when the HTTP client cannot be built.
+    pub fn new(config: OpenAiConfig) -> Result<Self, OpenAiError> {
+        let base = config.base_url.trim().trim_end_matches('/').to_owned();
+        let parsed = reqwest::Url::parse(&base).map_err(|e| OpenAiError::InvalidBaseUrl {
+            url: config.base_url.clone(),
+            message: e.to_string(),
+        })?;
+        if !matches!(parsed.scheme(), "http" | "https") {
+            return Err(OpenAiError::InvalidBaseUrl {
+                url: config.base_url.clone(),
+                message: format!("scheme {:?}; expected http or https", parsed.scheme()),
+            });
+        }
+        if !parsed.username().is_empty() || parsed.password().is_some() {
+            return Err(OpenAiError::InvalidBaseUrl {
+                url: "(not shown: it contains credentials)".to_owned(),
+                message: "credentials in the URL would be logged; give the key through the environment"
+                    .to_owned(),
+            });
+        }
+        if config.max_concurrent_requests == 0 {
+            return Err(OpenAiError::InvalidSetting {
+                setting: "max_concurrent_requests",
+                message: "must be at least 1".to_owned(),
+            });
+        }
+        if config.timeout.is_zero() || config.connect_timeout.is_zero() {
+            return Err(OpenAiError::InvalidSetting {
+                setting: "timeout",
+                message: "must be longer than zero".to_owned(),
+            });
+        }
+        // reqwest is built without a default TLS crypto provider (rustls-no-provider) so that
+        // aws-lc-sys is not compiled; install ring's, unless the program installed one.
+        let _ = rustls::crypto::ring::default_provider().install_default();
+        let mut headers = HeaderMap::new();
+        headers.insert(CONTENT_TYPE, HeaderValue::from_static("application/json"));
+        let http = reqwest::Client::builder()
+            .default_headers(headers)
+            .connect_timeout(config.connect_timeout)
+            .user_agent(concat!("sceneeval-vlm-openai/", env!("CARGO_PKG_VERSION")))
+            .build()
+            .map_err(|source| OpenAiError::Client { source })?;
+        Ok(OpenAiVlm {
+            url: format!("{base}/chat/completions"),
+            base_url: base,
+            model: config.model,
+            key_source: config.api_key.as_ref().map(|k| k.source().to_owned()),
+            key: config.api_key,
+            sampling: Sampling {
+                detail: config.detail,
+                seed: config.seed,
+                temperature: config.temperature,
+                max_tokens: config.max_tokens,
+            },
+            timeout: config.timeout,
+            retry: config.retry,
+            http,
+            permits: Semaphore::new(config.max_concurrent_requests),
+            stats: Counters::default(),
+        })
+    }
+
+    /// The endpoint requests go to.
+    pub fn url(&self) -> &str {
+        &self.url
+    }
+
+    /// The base URL.
+    pub fn base_url(&self) -> &str {
+        &self.base_url
+    }
+
+    /// What the client did so far.
+    pub fn stats(&self) -> ClientStats {
+        let s = &self.stats;
+        ClientStats {
+            attempts: s.attempts.load(Ordering::Relaxed),
+            retries: s.retries.load(Ordering::Relaxed),
+            waited: Duration::from_micros(s.waited_us.load(Ordering::Relaxed)),
+            peak_in_flight: s.peak_in_flight.load(Ordering::Relaxed),
+        }
+    }
+
+    /// Sends one request, retrying as the policy says.
+    ///
+    /// # Errors
+    /// An [`OpenAiError`] when no answer could be obtained.
+    pub async fn send(&self, request: &VlmRequest) -> Result<Answer, OpenAiError> {
+        let body =
+            request_body(&self.model, request, self.sampling).map_err(|e| OpenAiError::InvalidSetting {
+                setting: "request",
+                message: format!("the request cannot be written as JSON: {e}"),
+            })?;
+        let mut retry = 0u32;
+        loop {
+            let attempt = self.attempt(&request.task, body.clone(), retry).await;
+            let (error, retry_after) = match attempt {
+                Attempt::Done(answer) => return Ok(answer),
+                Attempt::Fail(error) => return Err(error),
+                Attempt::Retry { error, retry_after } => (error, retry_after),
+            };
+            if retry >= self.retry.max_retries {
+                return Err(error.with_attempts(retry + 1));
+            }
+            let wait = match retry_after {
+                Some(asked) if asked > self.retry.max_retry_after => {
+                    return Err(OpenAiError::RetryAfterTooLong {
+                        url: self.url.clone(),
+                        retry_after: asked,
+                        max: self.retry.max_retry_after,
+                    });
+                }
+                Some(asked) => asked,
+                None => self.retry.backoff(retry, self.jitter()),
+            };
+            tracing::warn!(task = %request.task, error = %error, retry = retry + 1, wait_ms = wait.as_millis() as u64, "request failed; retrying");
+            self.stats.retries.fetch_add(1, Ordering::Relaxed);
+            self.stats
+                .waited_us
+                .fetch_add(wait.as_micros() as u64, Ordering::Relaxed);
+            tokio::time::sleep(wait).await;
+            retry += 1;
+        }
+    }
+
+    /// A jitter fraction in `[0, 1)` from a splitmix64 sequence seeded by the policy.
+    fn jitter(&self) -> f64 {
+        let n = self.stats.jitter.fetch_add(1, Ordering::Relaxed);
+        let mut z = self
+            .retry
+            .jitter_seed
+            .wrapping_add(n.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    async fn attempt(&self, task: &str, body: Vec<u8>, retry: u32) -> Attempt {
+        let Ok(_permit) = self.permits.acquire().await else {
+            return Attempt::Fail(OpenAiError::InvalidSetting {
+                setting: "max_concurrent_requests",
+                message: "the request limiter was closed".to_owned(),
+            });
+        };
+        let _in_flight = InFlight::enter(&self.stats);
+        self.stats.attempts.fetch_add(1, Ordering::Relaxed);
+        tracing::debug!(task, url = %self.url, model = %self.model, retry, "sending request");
+        self.exchange(body).await
+    }
+
+    async fn exchange(&self, body: Vec<u8>) -> Attempt {
+        let mut builder = self.http.post(&self.url).timeout(self.timeout).body(body);
+        if let Some(key) = &self.key {
+            match HeaderValue::from_str(&format!("Bearer {}", key.expose())) {
+                Ok(mut value) => {
+                    value.set_sensitive(true);
+                    builder = builder.header(AUTHORIZATION, value);
+                }
+                Err(_) => {
+                    return Attempt::Fail(OpenAiError::ApiKeyVariable {
+                        var: key.source().to_owned(),
+                        message: "the key contains characters not allowed in an HTTP header".to_owned(),
+                    });
+                }
+            }
+        }
+        let response = match builder.send().await {
+            Ok(r) => r,
+            Err(e) => return self.transport_error(e, 1),
+        };
+        let status = response.status();
+        let retry_after = retry_after(response.headers());
+        let text = match response.text().await {
+            Ok(t) => t,
+            Err(e) => return self.transport_error(e, 1),
+        };
+        tracing::debug!(status = status.as_u16(), bytes = text.len(), "reply received");
+        if status.is_success() {
+            return match serde_json::from_str::<ChatResponse>(&text).map_err(|e| e.to_string()) {
+                Ok(reply) => match reply.into_answer() {
+                    Ok((content, usage)) => Attempt::Done(Answer::new(content, usage)),
+                    Err(message) => Attempt::Fail(self.invalid_response(message)),
+                },
+                Err(message) => {
+                    Attempt::Fail(self.invalid_response(format!("not a chat completion ({message})")))
+                }
+            };
+        }
+        let code = status.as_u16();
+        if code == 401 || code == 403 {
+            return Attempt::Fail(OpenAiError::KeyRefused {
+                status: code,
+                url: self.url.clone(),
+                key: match &self.key_source {
+                    Some(source) => format!("the key came from {source}"),
+                    None => format!(
+                        "no API key was sent (set {} or name another variable that holds it)",
+                        crate::DEFAULT_API_KEY_VAR
+                    ),
+                },
+            });
+        }
+        let error = OpenAiError::Status {
+            status: code,
+            url: self.url.clone(),
+            attempts: 1,
+            message: self.server_message(&text, status.canonical_reason().unwrap_or("")),
+        };
+        if matches!(code, 408 | 409 | 429) || status.is_server_error() {
+            Attempt::Retry { error, retry_after }
+        } else {
+            Attempt::Fail(error)
+        }
+    }
+
+    fn transport_error(&self, e: reqwest::Error, attempts: u32) -> Attempt {
+        let e = e.without_url();
+        if e.is_timeout() {
+            Attempt::Retry {
+                error: OpenAiError::Timeout {
+                    url: self.url.clone(),
+                    timeout: self.timeout,
+                    attempts,
+                },
+                retry_after: None,
+            }
+        } else {
+            Attempt::Retry {
+                error: OpenAiError::Connection {
+                    url: self.url.clone(),
+                    attempts,
+                    source: e,
+                },
+                retry_after: None,
+            }
+        }
+    }
+
+    fn invalid_response(&self, message: String) -> OpenAiError {
+        OpenAiError::InvalidResponse {
+            url: self.url.clone(),
+            message: self.redact(&message),
+        }
+    }
+
+    /// The server's error message (or the status text), without anything key-shaped, at most
+    /// 500 characters.
+    fn server_message(&self, body: &str, fallback: &str) -> String {
+        let message = serde_json::from_str::<ErrorBody>(body)
+            .ok()
+            .and_then(|b| b.error.message)
+            .unwrap_or_else(|| {
+                if body.trim().is_empty() {
+                    fallback.to_owned()
+                } else {
+                    body.to_owned()
+                }
+            });
+        let redacted = self.redact(&message);
+        let mut short: String = redacted.chars().take(500).collect();
+        if short.len() < redacted.len() {
+            short.push_str("...");
+        }
+        short
+    }
+
+    /// Removes the key and words shaped like keys (`sk-...`, `Bearer ...`) from a text.
+    fn redact(&self, text: &str) -> String {
+        let text = match &self.key {
+            Some(k) if !k.expose().is_empty() => text.replace(k.expose(), "[redacted]"),
+            _ => text.to_owned(),
+        };
+        let mut out = Vec::new();
+        let mut after_bearer = false;
+        for word in text.split(' ') {
+            let bare = word.trim_matches(|c: char| !c.is_ascii_alphanumeric() && c != '-' && c != '*');
+            if after_bearer || bare.starts_with("sk-") || bare.starts_with("sk_") {
+                out.push("[redacted]");
+            } else {
+                out.push(word);
+            }
+            after_bearer = bare.eq_ignore_ascii_case("bearer");
+        }
+        out.join(" ")
+    }
+}
+
+/// How long the server asks to wait: `retry-after-ms` (milliseconds, OpenAI), else
+/// `Retry-After` in seconds. An HTTP-date `Retry-After` is ignored (backoff applies).
+fn retry_after(headers: &HeaderMap) -> Option<Duration> {
+    let number = |name: &str| {
+        headers
+            .get(name)
+            .and_then(|v| v.to_str().ok())
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|v| v.is_finite() && *v >= 0.0)
+    };
+    number("retry-after-ms")
+        .map(|ms| Duration::from_secs_f64(ms / 1000.0))
+        .or_else(|| number("retry-after").map(Duration::from_secs_f64))
+}
+
+impl Vlm for OpenAiVlm {
+    fn model(&self) -> &str {
+        &self.model
+    }
+
+    async fn answer(&self, request: &VlmRequest) -> Result<Answer, VlmError> {
+        self.send(request).await.map_err(|e| VlmError::Backend {
+            task: request.task.clone(),
+            model: self.model.clone(),
+            permanent: e.is_permanent(),
+            source: Box::new(e),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn client(key: Option<&str>) -> OpenAiVlm {
+        let config = OpenAiConfig::new("http://127.0.0.1:9/v1/", "m")
+            .with_api_key(key.map(|k| ApiKey::new(k, "a test")));
+        OpenAiVlm::new(config).unwrap()
+    }
+
+    #[test]
+    fn urls_and_settings() {
+        let c = client(None);
+        assert_eq!(c.url(), "http://127.0.0.1:9/v1/chat/completions");
+        assert!(OpenAiVlm::new(OpenAiConfig::new("ftp://x/v1", "m")).is_err());
+        assert!(OpenAiVlm::new(OpenAiConfig::new("not a url", "m")).is_err());
+        let err = OpenAiVlm::new(OpenAiConfig::new("https://user:pw@x/v1", "m"))
+            .unwrap_err()
+            .to_string();
+        assert!(!err.contains("pw"), "{err}");
+        let mut zero = OpenAiConfig::new("http://x/v1", "m");
+        zero.max_concurrent_requests = 0;
+        assert!(OpenAiVlm::new(zero).is_err());
+    }
+
+    #[test]
+    fn redaction() {
+        let c = client(Some("sk-proj-abcdef123456"));
+        let text = "Incorrect API key provided: sk-proj-****3456. Also sk-proj-abcdef123456 and Bearer xyz.";
+        let r = c.redact(text);
+        assert!(
+            !r.contains("sk-") && !r.contains("3456") && !r.contains("xyz"),
+            "{r}"
+        );
+        assert!(r.starts_with("Incorrect API key provided: [redacted]"), "{r}");
+        assert!(!format!("{c:?}").contains("abcdef"));
+    }
+
+    #[test]
+    fn jitter_is_deterministic_and_in_range() {
+        let (a, b) = (client(None), client(None));
+        let xs: Vec<f64> = (0..100).map(|_| a.jitter()).collect();
+        let ys: Vec<f64> = (0..100).map(|_| b.jitter()).collect();
+        assert_eq!(xs, ys);
+        assert!(xs.iter().all(|x| (0.0..1.0).contains(x)));
+        assert!(xs.windows(2).any(|w| w[0] != w[1]));
+    }
+
+    #[test]
+    fn retry_after_headers() {
+        let mut h = HeaderMap::new();
+        h.insert("retry-after", HeaderValue::from_static("2"));
+        assert_eq!(retry_after(&h), Some(Duration::from_secs(2)));
+        h.insert("retry-after-ms", HeaderValue::from_static("150"));
+        assert_eq!(retry_after(&h), Some(Duration::from_millis(150)));
+        let mut d = HeaderMap::new();
+        d.insert(
+            "retry-after",
+            HeaderValue::from_static("Wed, 21 Oct 2015 07:28:00 GMT"),
+        );
+        assert_eq!(retry_after(&d), None);
+    }
+}

@@ -1,0 +1,118 @@
+//! A run with an API key set, logging everything at TRACE level (including the `log` records of
+//! reqwest and hyper): neither the log, nor the errors (with their causes), nor `Debug` output,
+//! nor the cache files contain the key or a part of it. Its own test binary, because it
+//! installs the global log subscriber.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod support;
+
+use std::io::Write;
+use std::sync::{Arc, Mutex};
+
+use sceneeval_vlm::check::{EndpointCheck, test_image};
+use sceneeval_vlm::tasks::SupportTypeTask;
+use sceneeval_vlm::{Cached, Session};
+use sceneeval_vlm_openai::{ApiKey, OpenAiVlm};
+use serde_json::json;
+use support::{config, json_completion, mount_sequence};
+use wiremock::{MockServer, ResponseTemplate};
+
+const KEY: &str = "sk-proj-Zq8TESTSECRETxY41mN0pLw";
+
+#[derive(Clone, Default)]
+struct Buffer(Arc<Mutex<Vec<u8>>>);
+
+impl Write for Buffer {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.lock().unwrap().extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+fn assert_no_key(what: &str, text: &str) {
+    // The whole key, its distinctive middle, and OpenAI's masked form's tail.
+    for needle in [KEY, "TESTSECRET", "Zq8T", "pLw"] {
+        assert!(!text.contains(needle), "{what} contains {needle:?}:\n{text}");
+    }
+}
+
+#[tokio::test]
+async fn the_key_never_reaches_logs_errors_or_files() {
+    let buffer = Buffer::default();
+    let writer = buffer.clone();
+    tracing_subscriber::fmt()
+        .with_max_level(tracing::Level::TRACE)
+        .with_writer(move || writer.clone())
+        .with_ansi(false)
+        .try_init()
+        .unwrap();
+
+    // The server: success, a 500 whose body echoes the key, then a 401 quoting a masked key.
+    let server = MockServer::start().await;
+    mount_sequence(&server, |n, _| match n {
+        0 => json_completion(&json!({"support_type": "wall", "reason": "hangs"})),
+        1 => ResponseTemplate::new(500).set_body_string(format!("upstream rejected Bearer {KEY} from proxy")),
+        _ => ResponseTemplate::new(401).set_body_json(json!({"error": {
+            "message": "Incorrect API key provided: sk-proj-****pLw. You can find your API key at https://platform.openai.com/account/api-keys.",
+            "code": "invalid_api_key"}})),
+    })
+    .await;
+    let cache = tempfile::tempdir().unwrap();
+    let key = ApiKey::new(KEY, "environment variable SCENEEVAL_TEST_KEY");
+    let vlm = OpenAiVlm::new(config(&server).with_api_key(Some(key.clone()))).unwrap();
+    let session = Session::new(Cached::new(&vlm, cache.path()));
+
+    let ok = session
+        .ask(&SupportTypeTask::new(test_image(), test_image()))
+        .await
+        .unwrap();
+    let err = session.ask(&EndpointCheck::new()).await.unwrap_err();
+    assert!(err.is_permanent(), "ends with the 401: {err}");
+
+    // Errors with their whole cause chain, in Display and Debug form.
+    let mut chain = format!("{err}\n{err:?}\n");
+    let mut source = std::error::Error::source(&err);
+    while let Some(s) = source {
+        chain.push_str(&format!("{s}\n{s:?}\n"));
+        source = s.source();
+    }
+    assert!(chain.contains("API key refused"), "{chain}");
+    assert_no_key("the error chain", &chain);
+    assert_no_key(
+        "Debug output",
+        &format!("{vlm:?} {key:?} {ok:?} {:?}", session.usage()),
+    );
+
+    // Cache files.
+    for entry in walk(cache.path()) {
+        assert_no_key(
+            &entry.display().to_string(),
+            &std::fs::read_to_string(&entry).unwrap(),
+        );
+    }
+
+    // The log: it recorded the run (retries included) and nothing of the key.
+    let log = String::from_utf8(buffer.0.lock().unwrap().clone()).unwrap();
+    assert!(
+        log.contains("sending request") && log.contains("retrying"),
+        "{log}"
+    );
+    assert_no_key("the log", &log);
+}
+
+fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}

@@ -1,0 +1,369 @@
+//! The [`Task`] trait and the per-question outcome of asking one.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use schemars::JsonSchema;
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+use crate::PngImage;
+use crate::prompt::Template;
+
+/// The tasks of the reference (with their names in its `prompts.yaml`), plus the endpoint
+/// check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum TaskKind {
+    /// `obj_matching`: which annotated category an object belongs to (one call per object).
+    ObjMatching,
+    /// `obj_attribute`: which instances satisfy an attribute (one call per ObjAttr entry).
+    ObjAttribute,
+    /// `obj_support_type`: what an object rests on (one call per object).
+    ObjSupportType,
+    /// `obj_functional_sides`: which sides of each object must stay free (one call per scene).
+    ObjFunctionalSides,
+    /// `obj_relationship_mapping`: free-text object-object relations onto predicates (one call
+    /// per scene).
+    ObjRelationshipMapping,
+    /// `arch_relationship_mapping`: free-text object-architecture relations onto predicates
+    /// (one call per scene).
+    ArchRelationshipMapping,
+    /// `category_matching_for_semantic_color`: scene categories onto reference categories.
+    CategoryMatchingForSemanticColor,
+    /// `endpoint_check`: the colour of a test image, to check that an endpoint works.
+    EndpointCheck,
+}
+
+impl TaskKind {
+    /// The task's name: its name in the reference, used as the schema name and in logs.
+    pub const fn name(self) -> &'static str {
+        match self {
+            TaskKind::ObjMatching => "obj_matching",
+            TaskKind::ObjAttribute => "obj_attribute",
+            TaskKind::ObjSupportType => "obj_support_type",
+            TaskKind::ObjFunctionalSides => "obj_functional_sides",
+            TaskKind::ObjRelationshipMapping => "obj_relationship_mapping",
+            TaskKind::ArchRelationshipMapping => "arch_relationship_mapping",
+            TaskKind::CategoryMatchingForSemanticColor => "category_matching_for_semantic_color",
+            TaskKind::EndpointCheck => "endpoint_check",
+        }
+    }
+}
+
+impl fmt::Display for TaskKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A typed task: the questions it asks, how its prompt is filled, the wire type of the answer
+/// (whose strict JSON Schema is sent) and how an answer is validated and paired with the
+/// questions.
+///
+/// A task asks one or more *questions*, each identified by a key (an object id, a relation key,
+/// an (instance, attribute) pair; `()` for single-question tasks). Validation turns the wire
+/// answer into one validated item per key and reports problems per key; answers are paired with
+/// questions by key, never by position. [`crate::Session::ask`] runs the whole protocol (ask,
+/// validate, re-ask once, record the rest as unanswered).
+pub trait Task: Sync {
+    /// The answer as the model writes it (the reference's field names).
+    type Response: DeserializeOwned + JsonSchema;
+    /// What identifies one question.
+    type Key: Clone + Ord + fmt::Debug + fmt::Display + Send + Sync;
+    /// One validated answer.
+    type Item: Clone + fmt::Debug + Send;
+
+    /// Which task this is.
+    fn kind(&self) -> TaskKind;
+    /// The template of the user message.
+    fn template(&self) -> Template;
+    /// The placeholder values of the template (names without angle brackets).
+    fn placeholders(&self) -> Vec<(&'static str, String)>;
+    /// The images, in order.
+    fn images(&self) -> Vec<PngImage>;
+    /// The questions, in order.
+    fn keys(&self) -> Vec<Self::Key>;
+    /// Checks an answer and pairs its parts with the questions.
+    fn validate(&self, response: Self::Response, out: &mut Validation<Self::Key, Self::Item>);
+}
+
+/// What validating one answer found: the valid items by key, and the problems, by key or for
+/// the answer as a whole.
+#[derive(Debug, Clone)]
+pub struct Validation<K: Ord, I> {
+    items: BTreeMap<K, I>,
+    problems: BTreeMap<K, Vec<String>>,
+    general: Vec<String>,
+}
+
+impl<K: Ord + Clone + fmt::Display, I> Default for Validation<K, I> {
+    fn default() -> Self {
+        Validation::new()
+    }
+}
+
+impl<K: Ord + Clone + fmt::Display, I> Validation<K, I> {
+    /// Nothing found yet.
+    pub fn new() -> Self {
+        Validation {
+            items: BTreeMap::new(),
+            problems: BTreeMap::new(),
+            general: Vec::new(),
+        }
+    }
+
+    /// A valid answer to question `key`. A second answer to the same question makes both
+    /// invalid ("answered more than once").
+    pub fn answer(&mut self, key: K, item: I) {
+        // A question with an item or a problem already has an answer: this is the second.
+        if self.items.remove(&key).is_some() || self.problems.contains_key(&key) {
+            self.problem(
+                key,
+                "answered more than once; answer each question exactly once".to_owned(),
+            );
+        } else {
+            self.items.insert(key, item);
+        }
+    }
+
+    /// A problem with the answer to question `key`; the question counts as unanswered in this
+    /// attempt.
+    pub fn problem(&mut self, key: K, message: String) {
+        self.items.remove(&key);
+        let list = self.problems.entry(key).or_default();
+        if !list.contains(&message) {
+            list.push(message);
+        }
+    }
+
+    /// A problem with the answer as a whole (not JSON, not the schema, an answer to a question
+    /// that was not asked).
+    pub fn general_problem(&mut self, message: String) {
+        self.general.push(message);
+    }
+
+    /// The valid item for `key`, if any.
+    pub fn item(&self, key: &K) -> Option<&I> {
+        self.items.get(key)
+    }
+
+    /// The problems with the answer to `key`.
+    pub fn problems_for(&self, key: &K) -> &[String] {
+        self.problems.get(key).map(Vec::as_slice).unwrap_or(&[])
+    }
+
+    /// The problems with the answer as a whole.
+    pub fn general_problems(&self) -> &[String] {
+        &self.general
+    }
+
+    /// Marks every key of `keys` that has neither an item nor a problem as not answered.
+    pub(crate) fn finish(&mut self, keys: &[K]) {
+        for key in keys {
+            if !self.items.contains_key(key) && !self.problems.contains_key(key) {
+                self.problems
+                    .insert(key.clone(), vec![format!("no answer for {key}")]);
+            }
+        }
+    }
+
+    /// Whether every key of `keys` has a valid item.
+    pub(crate) fn complete(&self, keys: &[K]) -> bool {
+        keys.iter().all(|k| self.items.contains_key(k))
+    }
+
+    /// All problems as lines for the re-ask note: per question, then general.
+    pub(crate) fn problem_lines(&self) -> Vec<String> {
+        let mut lines: Vec<String> = self
+            .problems
+            .iter()
+            .flat_map(|(k, ps)| ps.iter().map(move |p| format!("{k}: {p}")))
+            .collect();
+        lines.extend(self.general.iter().cloned());
+        lines
+    }
+
+    /// The reason a question counts as unanswered after this attempt.
+    pub(crate) fn reason_for(&self, key: &K) -> String {
+        let mut parts: Vec<String> = self.problems_for(key).to_vec();
+        parts.extend(self.general.iter().cloned());
+        if parts.is_empty() {
+            parts.push(format!("no answer for {key}"));
+        }
+        parts.join("; ")
+    }
+
+    pub(crate) fn take_item(&mut self, key: &K) -> Option<I> {
+        self.items.remove(key)
+    }
+}
+
+/// Why a question has no usable answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UnansweredKind {
+    /// The answer was invalid, and so was the answer to the re-asked question.
+    Invalid,
+    /// The model refused to answer.
+    Refused,
+    /// The answer was cut off at the token limit.
+    Truncated,
+}
+
+/// A question without a usable answer, with the reason.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Unanswered {
+    /// Why.
+    pub kind: UnansweredKind,
+    /// What was wrong, in words (the validation problems, the refusal text, ...).
+    pub reason: String,
+}
+
+impl fmt::Display for Unanswered {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let what = match self.kind {
+            UnansweredKind::Invalid => "invalid answer",
+            UnansweredKind::Refused => "the model refused",
+            UnansweredKind::Truncated => "the answer was truncated",
+        };
+        write!(f, "{what}: {}", self.reason)
+    }
+}
+
+/// The outcome of one question: a validated answer or the reason there is none.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Outcome<I> {
+    /// A valid answer.
+    Answered {
+        /// The validated answer.
+        answer: I,
+        /// 1 when the first answer was valid, 2 when the re-asked one was.
+        attempt: u8,
+    },
+    /// No usable answer.
+    Unanswered(Unanswered),
+}
+
+impl<I> Outcome<I> {
+    /// The answer, if there is one.
+    pub fn answer(&self) -> Option<&I> {
+        match self {
+            Outcome::Answered { answer, .. } => Some(answer),
+            Outcome::Unanswered(_) => None,
+        }
+    }
+
+    /// The answer, or why there is none.
+    pub fn into_result(self) -> Result<I, Unanswered> {
+        match self {
+            Outcome::Answered { answer, .. } => Ok(answer),
+            Outcome::Unanswered(u) => Err(u),
+        }
+    }
+
+    /// Whether there is an answer.
+    pub fn is_answered(&self) -> bool {
+        matches!(self, Outcome::Answered { .. })
+    }
+}
+
+/// The outcomes of all questions of one task, in question order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Answers<K, I> {
+    /// The task.
+    pub task: TaskKind,
+    /// One outcome per question, in the task's question order.
+    pub outcomes: Vec<(K, Outcome<I>)>,
+    /// How many requests were sent: 1, or 2 when the task was asked again.
+    pub requests: u8,
+}
+
+impl<K: PartialEq, I> Answers<K, I> {
+    /// The outcome of question `key`.
+    pub fn get(&self, key: &K) -> Option<&Outcome<I>> {
+        self.outcomes.iter().find(|(k, _)| k == key).map(|(_, o)| o)
+    }
+
+    /// The answered questions and their answers.
+    pub fn answered(&self) -> impl Iterator<Item = (&K, &I)> {
+        self.outcomes
+            .iter()
+            .filter_map(|(k, o)| o.answer().map(|a| (k, a)))
+    }
+
+    /// The unanswered questions and why.
+    pub fn unanswered(&self) -> impl Iterator<Item = (&K, &Unanswered)> {
+        self.outcomes.iter().filter_map(|(k, o)| match o {
+            Outcome::Unanswered(u) => Some((k, u)),
+            Outcome::Answered { .. } => None,
+        })
+    }
+
+    /// The outcome of a single-question task (the first question's outcome).
+    pub fn into_single(self) -> Option<Outcome<I>> {
+        self.outcomes.into_iter().next().map(|(_, o)| o)
+    }
+}
+
+/// The key of the only question of a single-question task.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+pub struct Single;
+
+impl fmt::Display for Single {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("the answer")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outcomes_serialise_with_a_status_tag() {
+        let answered: Outcome<u32> = Outcome::Answered {
+            answer: 7,
+            attempt: 2,
+        };
+        assert_eq!(
+            serde_json::to_value(&answered).unwrap(),
+            serde_json::json!({"status": "answered", "answer": 7, "attempt": 2})
+        );
+        let refused: Outcome<u32> = Outcome::Unanswered(Unanswered {
+            kind: UnansweredKind::Refused,
+            reason: "no".into(),
+        });
+        assert_eq!(
+            serde_json::to_value(&refused).unwrap(),
+            serde_json::json!({"status": "unanswered", "kind": "refused", "reason": "no"})
+        );
+        assert_eq!(
+            refused.to_owned().into_result().unwrap_err().to_string(),
+            "the model refused: no"
+        );
+    }
+
+    #[test]
+    fn duplicates_invalidate_the_question() {
+        let mut v: Validation<String, u32> = Validation::new();
+        v.answer("a".into(), 1);
+        v.answer("b".into(), 2);
+        v.answer("a".into(), 3);
+        v.answer("a".into(), 4);
+        assert!(v.item(&"a".to_owned()).is_none());
+        assert_eq!(v.problems_for(&"a".to_owned()).len(), 1);
+        assert_eq!(v.item(&"b".to_owned()), Some(&2));
+        // A valid answer after an invalid one to the same question is a duplicate too.
+        v.problem("c".into(), "bad side".into());
+        v.answer("c".into(), 5);
+        assert!(v.item(&"c".to_owned()).is_none());
+        assert_eq!(v.problems_for(&"c".to_owned()).len(), 2);
+        v.finish(&["a".into(), "b".into(), "c".into(), "d".into()]);
+        assert_eq!(v.problems_for(&"d".to_owned()), ["no answer for d"]);
+        assert!(!v.complete(&["b".into(), "d".into()]));
+        assert!(v.complete(&["b".into()]));
+    }
+}

@@ -1,0 +1,56 @@
+//! The [`Vlm`] trait.
+
+use std::future::Future;
+use std::sync::Arc;
+
+use crate::{Answer, VlmError, VlmRequest};
+
+/// A vision-language model: answers one structured request.
+///
+/// The future is `Send` and tied to no runtime; an implementation that needs one (the HTTP
+/// client of `sceneeval-vlm-openai` needs tokio) says so. Implementations answer independent
+/// requests concurrently when polled concurrently.
+///
+/// Implemented here by [`crate::Cached`] (a disk cache in front of another model),
+/// [`crate::Replay`] (the cache alone) and [`crate::Scripted`] (answers given in advance, for
+/// tests); blanket implementations cover `&T`, `Arc<T>` and `Box<T>`.
+pub trait Vlm: Send + Sync {
+    /// The model name, part of every cache key.
+    fn model(&self) -> &str;
+
+    /// Answers one request.
+    ///
+    /// A reply that cannot be used (not JSON, refused, truncated) is an [`Answer`] with the
+    /// matching [`crate::AnswerContent`]; an error means no reply was obtained.
+    fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send;
+}
+
+impl<T: Vlm + ?Sized> Vlm for &T {
+    fn model(&self) -> &str {
+        (**self).model()
+    }
+
+    fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
+        (**self).answer(request)
+    }
+}
+
+impl<T: Vlm + ?Sized> Vlm for Arc<T> {
+    fn model(&self) -> &str {
+        (**self).model()
+    }
+
+    fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
+        (**self).answer(request)
+    }
+}
+
+impl<T: Vlm + ?Sized> Vlm for Box<T> {
+    fn model(&self) -> &str {
+        (**self).model()
+    }
+
+    fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
+        (**self).answer(request)
+    }
+}

@@ -1,0 +1,150 @@
+//! Writing result files so that a crash never leaves a truncated or empty file in place of a
+//! good one.
+
+use std::io::Write;
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::EvalError;
+
+/// Writes `bytes` to `path` atomically; see [`write_atomic_with`].
+///
+/// # Errors
+/// [`EvalError::File`] naming the file when the folder cannot be created or written.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), EvalError> {
+    write_atomic_with(path, |w| w.write_all(bytes))
+}
+
+/// Writes a file atomically: `write` fills a temporary file in the same folder
+/// (`.<name>.<pid>-<n>.tmp`), which is flushed to disk (`fsync`) and then renamed over
+/// `path`, and the folder is synced so that the rename itself survives a power cut. Readers
+/// see either the old file or the complete new one, never a part; if `write` fails or the
+/// process dies, the old file stays and the temporary file is removed (or left behind, named
+/// as above, when the process died). The folder is created if missing.
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// let path = dir.path().join("summary.md");
+/// sceneeval::write_atomic(&path, b"old").unwrap();
+/// // A write that fails half way leaves the old content.
+/// let r = sceneeval::write_atomic_with(&path, |w| {
+///     use std::io::Write;
+///     w.write_all(b"new, but")?;
+///     Err(std::io::Error::other("killed"))
+/// });
+/// assert!(r.is_err());
+/// assert_eq!(std::fs::read(&path).unwrap(), b"old");
+/// assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "no temporary file left");
+/// ```
+///
+/// # Errors
+/// [`EvalError::File`] naming the file.
+pub fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> Result<(), EvalError> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let err = |e| EvalError::file(path, e);
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    std::fs::create_dir_all(dir).map_err(err)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(
+        ".{name}.{}-{}.tmp",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let result = (|| {
+        let mut file = std::fs::File::create(&tmp)?;
+        write(&mut file)?;
+        file.flush()?;
+        file.sync_all()?;
+        drop(file);
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(err(e));
+    }
+    sync_dir(dir);
+    Ok(())
+}
+
+/// Makes a rename in `dir` durable (a no-op where folders cannot be opened for syncing).
+fn sync_dir(dir: &Path) {
+    #[cfg(unix)]
+    if let Ok(d) = std::fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    #[cfg(not(unix))]
+    let _ = dir;
+}
+
+/// Checks that results can be written to `dir` before any work is done: creates it if
+/// missing, then writes, syncs and removes a probe file in it.
+///
+/// # Errors
+/// [`EvalError::OutputNotWritable`] when the folder cannot be created or written (read-only,
+/// vanished, a file in its place, no space left).
+pub fn check_output_dir(dir: &Path) -> Result<(), EvalError> {
+    let not_writable = |source| EvalError::OutputNotWritable {
+        path: dir.to_owned(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(not_writable)?;
+    let probe = dir.join(format!(".sceneeval-write-check.{}", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&probe)?;
+        f.write_all(b"ok")?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::remove_file(&probe)
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&probe);
+        not_writable(e)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn atomic_writes_replace_whole_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sub").join("eval.json");
+        write_atomic(&path, b"first").unwrap();
+        write_atomic(&path, b"second").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"second");
+        let names: Vec<String> = std::fs::read_dir(path.parent().unwrap())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, vec!["eval.json"]);
+    }
+
+    #[test]
+    fn unwritable_output_folders_are_found_before_work() {
+        let dir = tempfile::tempdir().unwrap();
+        // A file where the folder should be.
+        let file = dir.path().join("out");
+        std::fs::write(&file, "x").unwrap();
+        let err = check_output_dir(&file).unwrap_err();
+        assert!(matches!(err, EvalError::OutputNotWritable { .. }), "{err}");
+        assert!(err.to_string().contains("out"), "{err}");
+        // A folder below a file cannot be created either (also for root, unlike permissions).
+        assert!(matches!(
+            check_output_dir(&file.join("sub")),
+            Err(EvalError::OutputNotWritable { .. })
+        ));
+        assert!(check_output_dir(&dir.path().join("new")).is_ok());
+        assert!(dir.path().join("new").is_dir());
+        assert_eq!(std::fs::read_dir(dir.path().join("new")).unwrap().count(), 0);
+    }
+}

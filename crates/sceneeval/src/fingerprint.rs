@@ -1,0 +1,191 @@
+//! Fingerprints of everything a scene's result depends on, so that a re-run reuses a result
+//! only when nothing it depends on changed.
+
+use std::collections::{BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
+
+use serde::{Deserialize, Serialize};
+
+use crate::RECORD_SCHEMA;
+use crate::io::AssetLibrary;
+use crate::scene::Scene;
+
+/// The tool and version written into every fingerprint (`sceneeval 0.1.0`): results of
+/// another version are never reused.
+pub const TOOL_VERSION: &str = concat!("sceneeval ", env!("CARGO_PKG_VERSION"));
+
+/// A file and the BLAKE3 hash of its bytes (`None`: the file did not exist).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FileDigest {
+    /// The path as it was read.
+    pub path: String,
+    /// Hex BLAKE3 of the content, `None` when the file was absent.
+    pub blake3: Option<String>,
+}
+
+/// The files one asset was built from: mesh, external buffers, metadata (present or not).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AssetDigest {
+    /// The model id `PREFIX.ID`.
+    pub model_id: String,
+    /// Its files, mesh first.
+    pub files: Vec<FileDigest>,
+}
+
+/// Everything a scene's record depends on. A record is reused only when every part still
+/// matches (see [`Fingerprints::why_stale`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Fingerprint {
+    /// [`TOOL_VERSION`] of the run that wrote the record.
+    pub tool: String,
+    /// The record schema ([`RECORD_SCHEMA`]).
+    pub schema: String,
+    /// The scene file.
+    pub scene: FileDigest,
+    /// [`crate::EvaluationPlan::result_digest`]: the metrics and every parameter.
+    pub plan: String,
+    /// Hex BLAKE3 of the scene's annotation row (as JSON), when annotations were given and
+    /// have a row for it. Compared only for metrics that read it (the text-fidelity metrics,
+    /// being built); the plausibility metrics do not.
+    pub annotation: Option<String>,
+    /// Every asset the scene's objects were loaded from, by model id.
+    pub assets: Vec<AssetDigest>,
+}
+
+/// Hashes files once per run (a metadata file shared by thousands of assets is read once).
+#[derive(Debug, Default)]
+pub struct Fingerprints {
+    cache: Mutex<HashMap<PathBuf, Option<String>>>,
+}
+
+impl Fingerprints {
+    /// An empty cache.
+    pub fn new() -> Self {
+        Fingerprints::default()
+    }
+
+    /// The digest of a file, `None` when it does not exist or cannot be read.
+    pub fn file(&self, path: &Path) -> FileDigest {
+        let cached = self
+            .cache
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get(path)
+            .cloned();
+        let hash = match cached {
+            Some(h) => h,
+            None => {
+                let h = hash_file(path);
+                self.cache
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .insert(path.to_owned(), h.clone());
+                h
+            }
+        };
+        FileDigest {
+            path: path.display().to_string(),
+            blake3: hash,
+        }
+    }
+
+    /// The fingerprint of a scene just loaded from `scene_file` through `assets`.
+    pub fn of_loaded(
+        &self,
+        scene_file: &Path,
+        scene: &Scene,
+        assets: &AssetLibrary,
+        plan_digest: &str,
+        annotation: Option<String>,
+    ) -> Fingerprint {
+        let model_ids: BTreeSet<&str> = scene.objects().iter().filter_map(|o| o.model_id()).collect();
+        let assets = model_ids
+            .into_iter()
+            // Box objects may name a model id that is never loaded.
+            .filter_map(|id| assets.loaded(id))
+            .map(|a| AssetDigest {
+                model_id: a.model_id.clone(),
+                files: a.files.iter().map(|f| self.file(f)).collect(),
+            })
+            .collect();
+        Fingerprint {
+            tool: TOOL_VERSION.to_owned(),
+            schema: RECORD_SCHEMA.to_owned(),
+            scene: self.file(scene_file),
+            plan: plan_digest.to_owned(),
+            annotation,
+            assets,
+        }
+    }
+
+    /// Why a record with fingerprint `old` cannot be reused for `scene_file` under the
+    /// current plan and assets, or `None` when it can: every file it lists has the same
+    /// content, each asset still resolves to the same files, and the tool, schema and plan
+    /// are the same. `compare_annotation` says whether the record's metrics read the
+    /// annotation row.
+    pub fn why_stale(
+        &self,
+        old: &Fingerprint,
+        scene_file: &Path,
+        assets: &AssetLibrary,
+        plan_digest: &str,
+        annotation: Option<&str>,
+        compare_annotation: bool,
+    ) -> Option<String> {
+        if old.tool != TOOL_VERSION {
+            return Some(format!("written by {}, this is {TOOL_VERSION}", old.tool));
+        }
+        if old.schema != RECORD_SCHEMA {
+            return Some(format!("record schema {}, expected {RECORD_SCHEMA}", old.schema));
+        }
+        if old.plan != plan_digest {
+            return Some("the metrics or their parameters changed".to_owned());
+        }
+        if compare_annotation && old.annotation.as_deref() != annotation {
+            return Some("the annotation row changed".to_owned());
+        }
+        let now = self.file(scene_file);
+        if now.blake3.is_none() || now.blake3 != old.scene.blake3 {
+            return Some("the scene file changed".to_owned());
+        }
+        for asset in &old.assets {
+            let location = match assets.locate(&asset.model_id) {
+                Ok(l) => l,
+                Err(e) => return Some(format!("asset {}: {e}", asset.model_id)),
+            };
+            let listed: Vec<&str> = asset.files.iter().map(|f| f.path.as_str()).collect();
+            for p in std::iter::once(&location.path).chain(&location.metadata) {
+                if !listed.contains(&p.display().to_string().as_str()) {
+                    return Some(format!(
+                        "asset {} now resolves to {}",
+                        asset.model_id,
+                        p.display()
+                    ));
+                }
+            }
+            for f in &asset.files {
+                if self.file(Path::new(&f.path)).blake3 != f.blake3 {
+                    return Some(format!("asset {} changed: {}", asset.model_id, f.path));
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Hex BLAKE3 of a file's bytes, `None` when it cannot be opened (absent).
+fn hash_file(path: &Path) -> Option<String> {
+    let mut file = std::fs::File::open(path).ok()?;
+    let mut hasher = blake3::Hasher::new();
+    std::io::copy(&mut file, &mut hasher).ok()?;
+    Some(hasher.finalize().to_hex().to_string())
+}
+
+/// The digest of an annotation row for [`Fingerprint::annotation`]: hex BLAKE3 of the row's
+/// JSON form, so that reformatting the CSV without changing the row keeps it.
+pub fn annotation_digest(row: &crate::annotation::AnnotationRow) -> String {
+    // Rows serialise to a JSON object of strings and lists of strings: this cannot fail.
+    let text = serde_json::to_string(row).unwrap_or_default();
+    blake3::hash(text.as_bytes()).to_hex().to_string()
+}

@@ -1,0 +1,52 @@
+//! The example plan files under `examples/plans/` read without error, and `default.json`
+//! spells out exactly the built-in defaults (so the file cannot drift from the code). After
+//! changing a default, rewrite it with
+//! `SCENEEVAL_BLESS=1 cargo test -p sceneeval --test plans`.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+
+use sceneeval::plausibility::Resolution;
+use sceneeval::{EvaluationPlan, Metric, Preset};
+
+fn plans() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/plans")
+}
+
+#[test]
+fn example_plans_read_and_mean_what_they_say() {
+    let written = serde_json::to_string_pretty(&EvaluationPlan::geometry_only()).unwrap() + "\n";
+    if std::env::var_os("SCENEEVAL_BLESS").is_some() {
+        std::fs::write(plans().join("default.json"), &written).unwrap();
+    }
+    assert_eq!(
+        std::fs::read_to_string(plans().join("default.json")).unwrap(),
+        written,
+        "examples/plans/default.json is the serialised default plan (see the module docs)"
+    );
+    let default = EvaluationPlan::read(&plans().join("default.json")).unwrap();
+    assert_eq!(default, EvaluationPlan::geometry_only());
+
+    let reference = EvaluationPlan::read(&plans().join("reference.json")).unwrap();
+    assert_eq!(reference, EvaluationPlan::reference());
+
+    let quick = EvaluationPlan::read(&plans().join("quick-check.json")).unwrap();
+    assert_eq!(quick.preset, Preset::Default);
+    assert_eq!(
+        quick.ordered_metrics(),
+        vec![Metric::Collision, Metric::Navigability, Metric::OutOfBounds]
+    );
+    assert!(quick.params.collision.exclude_floor_coverings);
+    assert_eq!(
+        quick.params.navigability.resolution,
+        Resolution::MetresPerPixel(0.02)
+    );
+    assert_eq!(quick.params.navigability.robot_width, 0.3);
+    assert_eq!(
+        quick.params.navigability.margin, 0.2,
+        "unspecified values keep the preset's"
+    );
+    assert_eq!(quick.limits.max_triangles, 1_000_000);
+    assert_eq!(quick.time_budget_seconds, Some(60.0));
+}
