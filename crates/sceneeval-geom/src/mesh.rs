@@ -1,6 +1,6 @@
 use std::collections::HashMap;
 use std::fmt;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use crate::distance::DistanceTree;
 use crate::parry::query::{PointQuery, RayCast};
@@ -43,7 +43,8 @@ pub struct Mesh {
     closed: bool,
     shape: TriMesh,
     tree: DistanceTree,
-    solid: OnceLock<SolidTables>,
+    /// Behind an `Arc` so that clones share the tables instead of copying them.
+    solid: Arc<OnceLock<SolidTables>>,
 }
 
 impl fmt::Debug for Mesh {
@@ -129,7 +130,7 @@ impl Mesh {
             closed,
             shape,
             tree,
-            solid: OnceLock::new(),
+            solid: Arc::new(OnceLock::new()),
         })
     }
 
@@ -504,6 +505,15 @@ fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn clones_share_the_solid_tables() {
+        // The tables are built once per mesh, not once per copy or per placed object.
+        let m = Mesh::cuboid(&Vector3::new(0.5, 0.4, 0.3)).unwrap();
+        let copy = m.clone();
+        assert!(m.contains_point(&Isometry3::identity(), &Point3::origin()));
+        assert!(std::ptr::eq(m.solid(), copy.solid()));
+    }
 
     fn unit_box() -> Mesh {
         Mesh::cuboid(&Vector3::repeat(0.5)).unwrap()

@@ -7,7 +7,7 @@ use sceneeval_scene::{ObjectId, OpeningKind, Room, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
 use crate::error::check_non_negative;
-use crate::index::{BoxIndex, WorkCounter};
+use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::objects::ObjectInfo;
 use crate::plane::{area3, clip_half_space};
 use crate::{Deadline, PlausibilityError};
@@ -175,6 +175,16 @@ pub(crate) fn opening_clearance_with(
     infos: &[ObjectInfo],
     deadline: &Deadline,
 ) -> Result<OpeningClearanceReport, PlausibilityError> {
+    opening_clearance_counted(scene, params, infos, deadline).map(|(report, _)| report)
+}
+
+/// [`opening_clearance_with`] and the work of its spatial-index queries.
+fn opening_clearance_counted(
+    scene: &Scene,
+    params: &OpeningClearanceParams,
+    infos: &[ObjectInfo],
+    deadline: &Deadline,
+) -> Result<(OpeningClearanceReport, IndexWork), PlausibilityError> {
     params.validate()?;
     let candidates = Candidates::new(scene, infos, params);
     let list: Vec<(&Room, &Wall, &sceneeval_scene::Opening)> = scene
@@ -226,13 +236,14 @@ pub(crate) fn opening_clearance_with(
             .filter(|o| o.kind == kind && (!blocked || o.blocked))
             .count()
     };
-    Ok(OpeningClearanceReport {
+    let report = OpeningClearanceReport {
         num_doors: count(OpeningKind::Door, false),
         doors_blocked: count(OpeningKind::Door, true),
         num_windows: count(OpeningKind::Window, false),
         windows_blocked: count(OpeningKind::Window, true),
         openings,
-    })
+    };
+    Ok((report, candidates.work.total()))
 }
 
 /// Coordinates of an opening's side: `u` along the wall from its start, `v` away from the
@@ -391,6 +402,8 @@ impl OcclusionMap {
 pub(crate) struct Candidates {
     members: Vec<usize>,
     index: BoxIndex,
+    /// The work of the queries made through it.
+    work: WorkCounter,
 }
 
 impl Candidates {
@@ -405,6 +418,7 @@ impl Candidates {
         Candidates {
             index: BoxIndex::new(&boxes),
             members,
+            work: WorkCounter::default(),
         }
     }
 }
@@ -417,7 +431,7 @@ pub(crate) fn intruding_parts(
 ) -> Vec<(usize, Vec<Vec<Point3>>)> {
     let box_aabb = frame.world_aabb();
     let mut out = Vec::new();
-    for m in candidates.index.query(&box_aabb, &WorkCounter::default()) {
+    for m in candidates.index.query(&box_aabb, &candidates.work) {
         let k = candidates.members[m];
         let o = &scene.objects()[k];
         if !o.world_aabb().intersects(&box_aabb) {
@@ -472,5 +486,61 @@ fn side_clearance(
         occluded_fraction: union.iter().filter(|&&u| u).count() as Real / total,
         blocked: !blocking.is_empty(),
         blocking,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sceneeval_geom::Vector3;
+    use sceneeval_geom::conventions::pose_from_yaw;
+    use sceneeval_scene::{Category, RoomBuilder};
+
+    /// A square hall with `n` cabinets on a 1.5 m grid and four doors along its south wall,
+    /// one cabinet standing in front of the first door.
+    fn hall(n: usize) -> Scene {
+        let cols = (n as f64).sqrt().ceil() as usize;
+        let side = cols as f64 * 1.5 + 3.0;
+        let mut room = RoomBuilder::rectangle("hall", Point2::new(0.0, 0.0), Point2::new(side, side));
+        for k in 0..4 {
+            let x = 1.0 + 2.0 * f64::from(k);
+            room = room.door(0, [x, x + 0.9], [0.0, 2.1]);
+        }
+        let mut b = Scene::builder().room_builder(room);
+        for k in 0..n {
+            let (x, y) = (2.0 + (k % cols) as f64 * 1.5, 3.0 + (k / cols) as f64 * 1.5);
+            b = b.add_box(
+                format!("o{k}"),
+                Category::new("cabinet"),
+                Vector3::new(0.3, 0.2, 0.4),
+                pose_from_yaw(Point3::new(x, y, 0.4), 0.3),
+            );
+        }
+        // In front of the first door (x in [1.0, 1.9]), 0.4 m into the room.
+        b = b.add_box(
+            "blocker",
+            Category::new("cabinet"),
+            Vector3::new(0.3, 0.2, 0.4),
+            pose_from_yaw(Point3::new(1.45, 0.4, 0.4), 0.0),
+        );
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn openings_find_their_blockers_through_the_index() {
+        // Sixteen times the objects: the four doors' clearance boxes cost about log n box
+        // tests each, where a scan would test every object (16 times as many).
+        let mut tests = Vec::new();
+        for n in [256usize, 4096] {
+            let s = hall(n);
+            let infos = crate::objects::object_infos(&s);
+            let (r, work) =
+                opening_clearance_counted(&s, &OpeningClearanceParams::default(), &infos, &Deadline::none())
+                    .unwrap();
+            assert_eq!((r.num_doors, r.doors_blocked), (4, 1));
+            assert!(work.box_tests < n as u64, "{work:?}");
+            tests.push(work.box_tests as f64);
+        }
+        assert!(tests[1] <= 2.0 * tests[0], "{tests:?}");
     }
 }

@@ -10,7 +10,7 @@ use crate::error::check_non_negative;
 use crate::{Deadline, PlausibilityError};
 
 /// The words that mark a floor covering by default: `rug`, `carpet`, `mat`, `doormat`.
-pub(crate) fn default_floor_covering_words() -> Vec<String> {
+fn default_floor_covering_words() -> Vec<String> {
     ["rug", "carpet", "mat", "doormat"].map(String::from).to_vec()
 }
 
@@ -24,8 +24,8 @@ pub struct CollisionParams {
     /// 5 mm push).
     pub contact_tolerance: Real,
     /// Leave floor coverings (rugs, carpets, mats) out of the metric: not tested, not counted.
-    /// Default `true`, as the reference's fork does; the original reference tests them, so a
-    /// bed standing on a 1 cm rug is in collision there (`false` restores that).
+    /// Default `false`, like the original reference (a bed standing on a 1 cm rug is in
+    /// collision there); its fork sets it.
     pub exclude_floor_coverings: bool,
     /// Whole words that mark a floor covering in an object's category (or, without a category,
     /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
@@ -51,7 +51,7 @@ impl Default for CollisionParams {
     fn default() -> Self {
         CollisionParams {
             contact_tolerance: 0.005,
-            exclude_floor_coverings: true,
+            exclude_floor_coverings: false,
             floor_covering_words: default_floor_covering_words(),
             depth_sample_spacing: 0.0025,
             depth_sample_budget: 8192,
@@ -209,7 +209,7 @@ pub struct CollisionWork {
 /// collides by containing or crossing the other object's solid. Penetration depths into an
 /// open mesh are measured to its surface or its bounding box, whichever is nearer.
 ///
-/// **Floor coverings** are left out by default ([`CollisionParams::exclude_floor_coverings`]).
+/// **Floor coverings** are left out with [`CollisionParams::exclude_floor_coverings`].
 ///
 /// # Errors
 /// [`PlausibilityError::InvalidParameter`] for a negative tolerance or a zero spacing/budget.

@@ -120,6 +120,18 @@ pub(crate) fn out_of_bounds_with(
     pieces: &[FloorPiece],
     deadline: &Deadline,
 ) -> Result<OutOfBoundsReport, PlausibilityError> {
+    let work = WorkCounter::default();
+    out_of_bounds_counted(scene, params, pieces, deadline, &work)
+}
+
+/// [`out_of_bounds_with`], counting the work of its spatial-index queries into `work`.
+fn out_of_bounds_counted(
+    scene: &Scene,
+    params: &OutOfBoundsParams,
+    pieces: &[FloorPiece],
+    deadline: &Deadline,
+    work: &WorkCounter,
+) -> Result<OutOfBoundsReport, PlausibilityError> {
     params.validate()?;
     // The floor pieces near an object come from an index over their boxes (grown by the
     // boundary tolerance), so large, finely triangulated floors cost `log` per object.
@@ -130,7 +142,6 @@ pub(crate) fn out_of_bounds_with(
             .map(|p| flat(&grown(&p.bounds, margin)))
             .collect::<Vec<_>>(),
     );
-    let work = WorkCounter::default();
     let objects: Vec<ObjectBounds> = scene
         .objects()
         .par_iter()
@@ -140,7 +151,7 @@ pub(crate) fn out_of_bounds_with(
             let b = o.world_aabb();
             let near = index.query_flat(
                 &(Point2::new(b.min.x, b.min.y), Point2::new(b.max.x, b.max.y)),
-                &work,
+                work,
             );
             let over = area_over_floor(o, near.iter().map(|&k| &pieces[k]), params, scratch);
             let ratio = in_bounds_ratio(surface_area, over);
@@ -264,6 +275,47 @@ mod tests {
 
     fn room() -> RoomBuilder {
         RoomBuilder::rectangle("r", P2::new(0.0, 0.0), P2::new(4.0, 4.0))
+    }
+
+    #[test]
+    fn floor_pieces_are_found_through_the_index() {
+        // A k x k grid of 3 m rooms, a box in the middle of each: sixteen times the rooms
+        // (and floor pieces) cost about log n box tests per object, where a scan would test
+        // every piece.
+        let mut per_object = Vec::new();
+        for k in [8u32, 32] {
+            let mut b = Scene::builder();
+            for r in 0..k * k {
+                let (x, y) = (3.0 * f64::from(r % k), 3.0 * f64::from(r / k));
+                b = b
+                    .room_builder(RoomBuilder::rectangle(
+                        format!("r{r}"),
+                        P2::new(x, y),
+                        P2::new(x + 3.0, y + 3.0),
+                    ))
+                    .add_box(
+                        format!("o{r}"),
+                        Category::new("cabinet"),
+                        Vector3::new(0.4, 0.3, 0.5),
+                        pose_from_yaw(Point3::new(x + 1.5, y + 1.5, 0.5), 0.2),
+                    );
+            }
+            let s = b.build().unwrap();
+            let pieces = scene_floor_pieces(&s);
+            let work = WorkCounter::default();
+            let params = OutOfBoundsParams::default();
+            let r = out_of_bounds_counted(&s, &params, &pieces, &Deadline::none(), &work).unwrap();
+            assert_eq!(r.num_out, 0);
+            let n = f64::from(k * k);
+            let tests = work.total().box_tests as f64 / n;
+            assert!(
+                tests < pieces.len() as f64,
+                "{tests} tests per object, {} pieces",
+                pieces.len()
+            );
+            per_object.push(tests);
+        }
+        assert!(per_object[1] <= 2.0 * per_object[0], "{per_object:?}");
     }
 
     #[test]

@@ -528,12 +528,37 @@ fn brute_distance(m: &Mesh, pose: &Isometry3, p: &Point3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Whether some triangle of one placed mesh meets some triangle of the other, by brute force
+/// over every pair (parry's GJK on single triangles, not the crate's own triangle test).
+fn brute_triangles_meet(a: &Mesh, pa: &Isometry3, b: &Mesh, pb: &Isometry3) -> bool {
+    use sceneeval_geom::parry::math::{Pose, Vector as PV};
+    use sceneeval_geom::parry::shape::Triangle;
+    let tri = |m: &Mesh, p: &Isometry3, k: usize| {
+        let v = |q: Point3| {
+            let w = p * q;
+            PV::new(w.x, w.y, w.z)
+        };
+        let [x, y, z] = m.triangle(k);
+        Triangle::new(v(x), v(y), v(z))
+    };
+    let id = Pose::IDENTITY;
+    (0..a.triangles().len()).any(|i| {
+        let ta = tri(a, pa, i);
+        (0..b.triangles().len()).any(|j| {
+            sceneeval_geom::parry::query::intersection_test(&id, &ta, &id, &tri(b, pb, j))
+                .is_ok_and(|r| r.intersecting)
+        })
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(128))]
 
-    /// Non-convex closed meshes at random poses: whenever a vertex of one lies strictly inside
-    /// the other (exact winding number) farther than the tolerance from its surface (distance
-    /// to every triangle), the pair collides.
+    /// Non-convex closed meshes at random poses against an independent check: whenever a
+    /// vertex of one lies strictly inside the other (exact winding number) farther than the
+    /// tolerance from its surface (distance to every triangle), the pair collides; and a pair
+    /// reported colliding has a vertex strictly inside the other or crossing triangles (brute
+    /// force over every triangle pair), so a pair with neither is never a collision.
     #[test]
     fn a_vertex_deep_inside_the_other_always_collides(
         sa in 0.3..1.2f64, sb in 0.3..1.2f64,
@@ -563,6 +588,20 @@ proptest! {
         };
         if deep_vertex(&a, &pa, &b, &pb) || deep_vertex(&b, &pb, &a, &pa) {
             prop_assert!(r.col_sc, "{:?}", r.contacts);
+        }
+        let inside_vertex = |x: &Mesh, px: &Isometry3, y: &Mesh, py: &Isometry3| {
+            x.vertices()
+                .iter()
+                .any(|v| y.winding_number(&py.inverse_transform_point(&(px * v))) > 0.5)
+        };
+        if r.col_sc {
+            prop_assert!(
+                inside_vertex(&a, &pa, &b, &pb)
+                    || inside_vertex(&b, &pb, &a, &pa)
+                    || brute_triangles_meet(&a, &pa, &b, &pb),
+                "colliding without any evidence: {:?}",
+                r.contacts
+            );
         }
     }
 }
