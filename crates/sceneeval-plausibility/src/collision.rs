@@ -1,12 +1,13 @@
 //! Collision (COL): which objects interpenetrate, and how deeply.
 
 use rayon::prelude::*;
-use sceneeval_geom::{DepthSearch, Overlap, PenetrationQuery, Real};
+use sceneeval_geom::{Aabb, DepthSearch, Overlap, PenetrationQuery, Real};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::category::{has_word, normalize_category};
 use crate::error::check_non_negative;
+use crate::index::{BoxIndex, WorkCounter};
 use crate::{Deadline, PlausibilityError};
 
 /// The words that mark a floor covering by default: `rug`, `carpet`, `mat`, `doormat`.
@@ -169,6 +170,8 @@ pub struct CollisionReport {
 /// The work [`collision_with_work`] did: what bounds its cost.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct CollisionWork {
+    /// Boxes tested by the broad phase's hierarchy (nodes and leaves, over all objects).
+    pub broad_phase_box_tests: u64,
     /// Pairs whose world boxes overlap (the broad phase's output, each tested by the narrow
     /// phase).
     pub candidate_pairs: usize,
@@ -180,8 +183,8 @@ pub struct CollisionWork {
 
 /// Computes the collision metric.
 ///
-/// **Broad phase**: sort-and-sweep of the world AABBs along the axis over which their centres
-/// spread most; only overlapping boxes reach the narrow phase, so the cost grows as
+/// **Broad phase**: every object's world AABB is looked up in a bounding-volume hierarchy over
+/// all of them; only overlapping boxes reach the narrow phase, so the cost grows as
 /// `n log n + k` for `k` overlapping pairs.
 ///
 /// **Narrow phase** ([`sceneeval_geom::Mesh::penetration`]): an exact surface intersection
@@ -244,7 +247,8 @@ pub(crate) fn collision_with(
         &params.floor_covering_words,
     );
     let tested: Vec<usize> = (0..objects.len()).filter(|&i| !excluded[i]).collect();
-    let candidates = sweep_and_prune(objects, &tested);
+    let broad = WorkCounter::default();
+    let candidates = broad_phase(objects, &tested, &broad);
     let query = params.query();
     let found: Vec<(usize, usize, Option<PairContact>, u64)> = candidates
         .par_iter()
@@ -258,6 +262,7 @@ pub(crate) fn collision_with(
         .collect();
     deadline.check("collision")?;
     let work = CollisionWork {
+        broad_phase_box_tests: broad.total().box_tests,
         candidate_pairs: candidates.len(),
         point_queries: found.iter().map(|f| f.3).sum(),
         max_pair_queries: found.iter().map(|f| f.3).max().unwrap_or(0),
@@ -343,48 +348,33 @@ pub(crate) fn floor_coverings(objects: &[SceneObject], exclude: bool, words: &[S
         .collect()
 }
 
-/// Candidate pairs `(i, j)`, `i < j`, whose world AABBs overlap, in lexicographic order.
-pub(crate) fn sweep_and_prune(objects: &[SceneObject], members: &[usize]) -> Vec<(usize, usize)> {
+/// The pairs of `members` whose world boxes overlap (closed boxes), as `(i, j)` with `i < j`,
+/// sorted. Each box is looked up in a bounding-volume hierarchy over all of them, so the cost
+/// is about `log n` box tests per object plus the pairs found, whatever the layout (a sweep
+/// along one axis would test every box within reach along that axis: `n^1.5` on a floor).
+pub(crate) fn broad_phase(
+    objects: &[SceneObject],
+    members: &[usize],
+    work: &WorkCounter,
+) -> Vec<(usize, usize)> {
     if members.len() < 2 {
         return Vec::new();
     }
-    let axis = (0..3)
-        .max_by(|&a, &b| {
-            spread(objects, members, a)
-                .total_cmp(&spread(objects, members, b))
-                .then(b.cmp(&a))
+    let boxes: Vec<Aabb> = members.iter().map(|&k| *objects[k].world_aabb()).collect();
+    let index = BoxIndex::new(&boxes);
+    let mut pairs: Vec<(usize, usize)> = members
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(m, &k)| {
+            index
+                .query(&boxes[m], work)
+                .into_iter()
+                .filter(move |&q| q > m)
+                .map(move |q| (k.min(members[q]), k.max(members[q])))
         })
-        .unwrap_or(0);
-    let mut order: Vec<usize> = members.to_vec();
-    order.sort_by(|&a, &b| {
-        objects[a].world_aabb().min[axis]
-            .total_cmp(&objects[b].world_aabb().min[axis])
-            .then(a.cmp(&b))
-    });
-    let mut active: Vec<usize> = Vec::new();
-    let mut pairs = Vec::new();
-    for &k in &order {
-        let bk = objects[k].world_aabb();
-        active.retain(|&a| objects[a].world_aabb().max[axis] >= bk.min[axis]);
-        for &a in &active {
-            if objects[a].world_aabb().intersects(bk) {
-                pairs.push((a.min(k), a.max(k)));
-            }
-        }
-        active.push(k);
-    }
+        .collect();
     pairs.sort_unstable();
     pairs
-}
-
-fn spread(objects: &[SceneObject], members: &[usize], axis: usize) -> Real {
-    let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
-    for &i in members {
-        let c = objects[i].world_aabb().center()[axis];
-        lo = lo.min(c);
-        hi = hi.max(c);
-    }
-    hi - lo
 }
 
 /// The contact of one candidate pair (`None` when apart) and the point queries it took.
@@ -417,9 +407,10 @@ mod tests {
     use sceneeval_geom::{Point3, Vector3};
 
     proptest! {
-        /// The sweep finds exactly the pairs whose boxes overlap (checked against all pairs).
+        /// The broad phase finds exactly the pairs whose boxes overlap (checked against all
+        /// pairs).
         #[test]
-        fn sweep_matches_brute_force(boxes in proptest::collection::vec(
+        fn broad_phase_matches_brute_force(boxes in proptest::collection::vec(
             (0.0..5.0f64, 0.0..5.0f64, 0.0..2.0f64, 0.05..1.5f64, 0.05..1.5f64, 0.05..1.0f64), 0..24)) {
             let objects: Vec<SceneObject> = boxes
                 .iter()
@@ -438,7 +429,7 @@ mod tests {
                     }
                 }
             }
-            prop_assert_eq!(sweep_and_prune(&objects, &all), brute);
+            prop_assert_eq!(broad_phase(&objects, &all, &WorkCounter::default()), brute);
         }
     }
 }

@@ -55,8 +55,8 @@
 //!   rather than by the reference's 5 mm push, and counts nested objects.
 //!
 //! # Cost
-//! Every metric grows as `n log n` in the number of objects: collision's broad phase is a
-//! sweep over boxes and its narrow phase a bounded search per overlapping pair
+//! Every metric grows as `n log n` in the number of objects: collision's broad phase looks
+//! every box up in a bounding-volume hierarchy and its narrow phase is a bounded search per overlapping pair
 //! ([`collision_with_work`] counts its point queries); support, accessibility, clearance and
 //! out-of-bounds find what a ray, strip or box can meet through a bounding-volume hierarchy
 //! ([`support_with_work`], [`accessibility_with_work`] count its box tests); navigability

@@ -435,6 +435,37 @@ fn stacked_copies_cost_no_point_query_per_pair() {
 }
 
 #[test]
+fn broad_phase_work_grows_as_n_log_n() {
+    // Square grids of yawed boxes 1.2 m apart, every eighth pushed into its neighbour:
+    // sixteen times the objects cost about log n more box tests per object (log2 4096 /
+    // log2 256 = 1.5), where a sweep along one axis would test sqrt(16) = 4 times as many
+    // boxes per object and a scan 16 times as many.
+    let mut per_object = Vec::new();
+    for n in [256usize, 4096] {
+        let cols = (n as f64).sqrt() as usize;
+        let mut b = Scene::builder();
+        for k in 0..n {
+            let (mut x, y) = ((k % cols) as f64 * 1.2, (k / cols) as f64 * 1.2);
+            if k % 8 == 7 {
+                x -= 0.9;
+            }
+            b = b.add_box(
+                format!("o{k}"),
+                Category::new("cabinet"),
+                Vector3::new(0.4, 0.3, 0.5),
+                pose_from_yaw(Point3::new(x, y, 0.5), 0.1 * (k % 7) as f64),
+            );
+        }
+        let (r, work) = collision_with_work(&b.build().unwrap(), &CollisionParams::default()).unwrap();
+        // Each pushed box overlaps its western neighbour (except in the first column).
+        assert!(r.num_colliding_pairs >= n / 8 - cols, "{}", r.num_colliding_pairs);
+        assert_eq!(work.candidate_pairs, r.contacts.len());
+        per_object.push(work.broad_phase_box_tests as f64 / n as f64);
+    }
+    assert!(per_object[1] <= 2.0 * per_object[0], "{per_object:?}");
+}
+
+#[test]
 fn objects_sharing_poses_cost_a_bounded_number_of_queries_per_pair() {
     // 500 objects at 125 poses: four different meshes (chair, sphere, two boxes) stacked at
     // each point of a 25 x 5 grid whose neighbours overlap. Every pair at one pose collides;
