@@ -292,7 +292,8 @@ fn run_metric(name: &str, s: &Scene, p: &PlausibilityParams) -> Result<(), Strin
             let (r, w) = collision_with_work(s, &p.collision).map_err(e)?;
             if std::env::var_os("SCALING_WORK").is_some() {
                 eprintln!(
-                    "collision: {} candidate pairs, {} contacts ({} colliding), {} point queries, at most {} per pair",
+                    "collision: {} broad-phase box tests, {} candidate pairs, {} contacts ({} colliding), {} point queries, at most {} per pair",
+                    w.broad_phase_box_tests,
                     w.candidate_pairs,
                     r.contacts.len(),
                     r.num_colliding_pairs,

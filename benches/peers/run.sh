@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Re-runs every measurement of the scaling and peer tables in docs/performance.md.
 #
-#   benches/peers/run.sh                       # everything (about an hour on 2 cores)
+#   benches/peers/run.sh                       # everything (about 15 minutes on 2 cores)
 #   SIZES="10 100 1000" KINDS=boxes benches/peers/run.sh    # a quick subset
+#   PEER_KINDS="" OUT=target/peers-rust benches/peers/run.sh # the Rust part only
 #
 # Writes under $OUT (default target/peers): the generated scenes, rust.jsonl (one line per
 # metric, kind and size, from `scaling run`), peers.jsonl (one line per task, peer and size,
@@ -13,10 +14,11 @@ cd "$(dirname "$0")/../.."
 OUT=${OUT:-target/peers}
 SIZES=${SIZES:-"10 50 100 1000 5000 20000"}
 KINDS=${KINDS:-"boxes fixtures mesh8k"}
-PEER_SIZES=${PEER_SIZES:-"50 1000 5000"}
-PEER_KINDS=${PEER_KINDS:-"boxes mesh8k"}
+PEER_SIZES=${PEER_SIZES-"50 1000 5000"}
+PEER_KINDS=${PEER_KINDS-"boxes mesh8k"}
 THREADS=${THREADS:-1}
 PEER_TIMEOUT=${PEER_TIMEOUT:-3600}
+REPEAT=${REPEAT:-3}
 mkdir -p "$OUT"
 
 if [ ! -x "$OUT/venv/bin/python" ]; then
@@ -36,9 +38,10 @@ assets_of() {
 for kind in $KINDS; do
     for n in $SIZES; do
         "$BIN" gen --kind "$kind" --n "$n" --out "$OUT/$kind" --fixtures fixtures/assets > /dev/null
-        # The minimum of three runs: the first builds the per-mesh tables (once per asset in a
-        # batch run, like the peers' BVHs, which they build before their timers start).
-        repeat=3
+        # The minimum of $REPEAT runs (the first also builds the per-mesh tables, once per asset
+        # in a batch run, like the peers' BVHs, which they build before their timers start;
+        # `scaling run` reports it separately).
+        repeat=$REPEAT
         # One process per metric, so that each peak memory is that metric's (plus loading).
         for metric in collision support navigability accessibility out_of_bounds opening_clearance evaluate; do
             "$BIN" run --scene "$OUT/$kind/scene_$n.json" --assets "$(assets_of "$kind")" \
@@ -47,7 +50,7 @@ for kind in $KINDS; do
         # Navigability on a 2 cm grid (the peers' resolution).
         "$BIN" run --scene "$OUT/$kind/scene_$n.json" --assets "$(assets_of "$kind")" \
             --metric navigability --repeat "$repeat" --threads "$THREADS" --resolution 0.02 \
-            | sed 's/"navigability"/"navigability_2cm"/' >> "$OUT/rust.jsonl"
+            | sed 's/"navigability"/"navigability_2cm"/g' >> "$OUT/rust.jsonl"
     done
 done
 
