@@ -307,7 +307,22 @@ fn run_metric(name: &str, s: &Scene, p: &PlausibilityParams) -> Result<(), Strin
         "accessibility" => {
             drop(accessibility(s, &p.accessibility, &FunctionalSidePriors::default()).map_err(e)?)
         }
-        "out_of_bounds" => drop(out_of_bounds(s, &p.out_of_bounds).map_err(e)?),
+        "out_of_bounds" => {
+            let r = out_of_bounds(s, &p.out_of_bounds).map_err(e)?;
+            if std::env::var_os("SCALING_WORK").is_some() {
+                let crossing: usize = r
+                    .objects
+                    .iter()
+                    .zip(s.objects())
+                    .filter(|(b, _)| b.ratio_in_bounds < 1.0)
+                    .map(|(_, o)| o.mesh().triangles().len())
+                    .sum();
+                eprintln!(
+                    "out_of_bounds: {} objects out, triangles of objects not wholly in bounds: {crossing}",
+                    r.num_out
+                );
+            }
+        }
         "opening_clearance" => drop(opening_clearance(s, &p.opening_clearance).map_err(e)?),
         "evaluate" => drop(evaluate(s, p, &Sources::default()).map_err(e)?),
         other => return Err(format!("unknown metric {other}")),

@@ -88,7 +88,9 @@ const WALL_HEIGHT: f64 = 2.8;
 /// Never: every placement is finite and the ids are unique.
 #[allow(clippy::expect_used)]
 pub fn scene(n: usize, meshes: &BenchMeshes) -> Scene {
-    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 5 | 8)).count();
+    // Cells for every object that may stand on the floor: paintings that find no wall slot
+    // become cabinets, so they get a cell too (the room then never runs out of cells).
+    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 8)).count();
     let cols = ((ground as f64).sqrt().ceil() as usize).max(2);
     let side = cols as f64 * CELL + 0.4;
     let room = RoomBuilder::rectangle("bench", Point2::new(0.0, 0.0), Point2::new(side, side))
@@ -327,7 +329,9 @@ pub fn box_set() -> AssetSet {
 /// Never: every placement is finite and the ids are unique.
 #[allow(clippy::expect_used)]
 pub fn scaling_scene(n: usize, set: &AssetSet) -> Scene {
-    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 5 | 8)).count();
+    // Cells for every object that may stand on the floor: paintings that find no wall slot
+    // become cabinets, so they get a cell too (the room then never runs out of cells).
+    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 8)).count();
     let cols = ((ground as f64).sqrt().ceil() as usize).max(2);
     let side = cols as f64 * CELL + 0.4;
     let room = RoomBuilder::rectangle("hall", Point2::new(0.0, 0.0), Point2::new(side, side))
@@ -410,6 +414,29 @@ pub fn scaling_scene(n: usize, set: &AssetSet) -> Scene {
 mod tests {
     use super::*;
     use sceneeval_plausibility::{PlausibilityParams, Sources, evaluate};
+
+    #[test]
+    fn scaling_scenes_keep_every_object_in_the_room() {
+        // Paintings without a wall slot become cabinets; they must still find a cell.
+        for n in [10usize, 700, 3000] {
+            let s = scaling_scene(n, &box_set());
+            assert_eq!(s.objects().len(), n);
+            let floor = s.rooms()[0].floor_mesh().aabb();
+            for o in s.objects() {
+                let b = o.world_aabb();
+                assert!(
+                    b.min.x >= floor.min.x - 1.0 && b.max.x <= floor.max.x + 1e-6,
+                    "{n}: {} at {b:?}",
+                    o.id()
+                );
+                assert!(
+                    b.min.y >= floor.min.y - 1e-6 && b.max.y <= floor.max.y + 1e-6,
+                    "{n}: {}",
+                    o.id()
+                );
+            }
+        }
+    }
 
     #[test]
     fn bench_scenes_have_the_advertised_shape() {
