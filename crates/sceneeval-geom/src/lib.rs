@@ -7,6 +7,12 @@
 //! callers never touch parry's glam-based math; [`parry`] re-exports the exact parry version for
 //! the rare caller that needs a raw shape.
 //!
+//! Meshes also bound solids: [`Mesh::contains_point`] and [`Mesh::signed_distance`] decide
+//! inside in time logarithmic in the triangle count (pseudo-normals for closed meshes, a
+//! hierarchical winding number for open ones), and [`Mesh::penetration`] tells whether two
+//! placed meshes interpenetrate beyond a tolerance, with a certified lower bound on the
+//! penetration depth.
+//!
 //! # Conventions
 //! World: right-handed, **z up**, metres. Object frame: **front = local -y**, right = +x,
 //! up = +z. An [`Obb`] is the axis-aligned box of an object's mesh in its own frame, placed by
@@ -36,16 +42,20 @@ mod error;
 mod mesh;
 mod obb;
 pub mod parry_adapter;
+mod penetration;
 pub mod planar;
 mod polygon;
 mod ray;
 mod shapes;
+mod solid;
+mod tritri;
 
 pub use aabb::Aabb;
 pub use conventions::Side;
 pub use error::GeomError;
 pub use mesh::{Mesh, RayHit};
 pub use obb::Obb;
+pub use penetration::{DepthSearch, Overlap, Penetration, PenetrationQuery};
 pub use polygon::{MAX_EDGE_PAIRS, Polygon2};
 pub use ray::{Plane, Ray};
 pub use shapes::{CUBOID_TRIANGLES, cuboid_corner, weld_vertices};

@@ -1,10 +1,13 @@
 use std::collections::HashMap;
 use std::fmt;
+use std::sync::{Arc, OnceLock};
 
 use crate::distance::DistanceTree;
 use crate::parry::query::{PointQuery, RayCast};
 use crate::parry::shape::TriMesh;
 use crate::parry_adapter::{point_from_parry, point_to_parry, to_parry_pose, to_parry_vec, vec_from_parry};
+use crate::penetration::{Penetration, PenetrationQuery};
+use crate::solid::SolidTables;
 use crate::{Aabb, GeomError, Isometry3, Matrix3, Obb, Point3, Ray, Real, Vector3, parry};
 
 /// A triangle mesh in its own frame (for a scene object: the object frame), with a parry
@@ -19,9 +22,18 @@ use crate::{Aabb, GeomError, Isometry3, Matrix3, Obb, Point3, Ray, Real, Vector3
 /// vertex order. Share one mesh between every object that uses the same asset by wrapping it
 /// in an `Arc`.
 ///
-/// A mesh is a surface. [`Mesh::contains_point`] nevertheless answers "is this point inside the
-/// object" with the generalized winding number, which is exact for closed meshes and degrades
-/// gracefully for meshes with small holes (the usual state of real furniture assets).
+/// A mesh is a surface, but it also bounds a solid: [`Mesh::contains_point`],
+/// [`Mesh::signed_distance`] and [`Mesh::penetration`] answer "is this point inside the object"
+/// and "do these objects interpenetrate". For a closed mesh of one connected component the
+/// solid is the ordinary one (pseudo-normal test); for an open mesh, or several components,
+/// a point is inside where the generalized winding number is at least 1/2 in magnitude, which
+/// is exact for closed parts and degrades gracefully for meshes with holes (the usual state of
+/// real furniture assets): a box missing a face still holds its inside, a cavity closed on
+/// five sides (a drawer, a shelf compartment) counts as solid, a single sheet encloses
+/// nothing. The tables behind these tests (a dipole hierarchy for the winding number,
+/// pseudo-normals, the boundary edges, interior balls, connected components; about 60 bytes
+/// per triangle) are built once, on first use, and shared by every clone and every object
+/// placing the mesh through an `Arc`.
 #[derive(Clone)]
 pub struct Mesh {
     vertices: Vec<Point3>,
@@ -31,6 +43,8 @@ pub struct Mesh {
     closed: bool,
     shape: TriMesh,
     tree: DistanceTree,
+    /// Behind an `Arc` so that clones share the tables instead of copying them.
+    solid: Arc<OnceLock<SolidTables>>,
 }
 
 impl fmt::Debug for Mesh {
@@ -58,7 +72,8 @@ pub struct RayHit {
     pub toi: Real,
     /// Hit point in world coordinates.
     pub point: Point3,
-    /// Unit normal of the hit triangle in world coordinates (its sign follows the winding).
+    /// Unit normal of the hit triangle in world coordinates, turned toward the ray's origin
+    /// (whichever side of the triangle the ray hits).
     pub normal: Vector3,
 }
 
@@ -115,6 +130,7 @@ impl Mesh {
             closed,
             shape,
             tree,
+            solid: Arc::new(OnceLock::new()),
         })
     }
 
@@ -311,16 +327,65 @@ impl Mesh {
         (self.closest_point(pose, p) - p).norm()
     }
 
-    /// Whether the world point `p` is inside the placed mesh: its generalized winding number
-    /// is at least 0.5 in magnitude. Exact for closed meshes; for open meshes it measures how
-    /// much of the surface surrounds the point.
+    /// Whether the world point `p` is inside the solid of the placed mesh (see the type's
+    /// docs): the pseudo-normal test for a closed, connected mesh, otherwise the generalized
+    /// winding number being at least 0.5 in magnitude, decided exactly (the dipole
+    /// approximation of far clusters is refined until its error bound cannot change the
+    /// answer). Points on the surface may go either way.
+    ///
+    /// # Performance
+    /// Logarithmic in the triangle count away from the winding number's 1/2 level set: one
+    /// closest-point query (about 1 µs on 5k triangles) plus, for other than closed connected
+    /// meshes, a hierarchical winding number. The first call on a mesh builds its tables.
     pub fn contains_point(&self, pose: &Isometry3, p: &Point3) -> bool {
         let local = pose.inverse_transform_point(p);
-        self.aabb.contains_point(&local) && self.winding_number(&local).abs() >= 0.5
+        self.aabb.contains_point(&local) && self.solid().classify(self, &local).inside
+    }
+
+    /// Distance from the world point `p` to the placed mesh's surface, negative when `p` is
+    /// inside its solid ([`Mesh::contains_point`]).
+    pub fn signed_distance(&self, pose: &Isometry3, p: &Point3) -> Real {
+        let local = pose.inverse_transform_point(p);
+        let c = self.solid().classify(self, &local);
+        if c.inside { -c.distance } else { c.distance }
+    }
+
+    /// Whether the solids of two placed meshes interpenetrate by more than
+    /// `query.tolerance`, with a certified lower bound on the penetration depth (the length of
+    /// the shortest translation that separates them); see [`Penetration`]. Surfaces that touch
+    /// or cross within the tolerance are a resting contact; a connected part of one mesh lying
+    /// inside the other with the surfaces apart is nested, which always collides; the same
+    /// mesh placed twice at one pose collides.
+    ///
+    /// Bounds come from points of one surface deep inside the other solid and from balls
+    /// inside both solids, found by a best-first search over the triangle hierarchy and its
+    /// subdivision (see [`Penetration`]). A pair reported colliding
+    /// always penetrates by more than the tolerance; one reported not colliding penetrates by
+    /// at most the tolerance plus the sample spacing, except edge-on-edge crossings, whose
+    /// deepest surface point may lie up to a factor `sqrt 2` less deep than the penetration.
+    ///
+    /// # Performance
+    /// Cost bounded per pair by `query.budget` point queries per direction plus one surface
+    /// intersection test; a deep collision is usually proven by its first few queries and a
+    /// resting contact on a flat face of the other's box by none.
+    pub fn penetration(
+        &self,
+        pose: &Isometry3,
+        other: &Mesh,
+        other_pose: &Isometry3,
+        query: &PenetrationQuery,
+    ) -> Penetration {
+        crate::penetration::penetration(self, pose, other, other_pose, query)
+    }
+
+    /// The inside-test tables, built on first use.
+    pub(crate) fn solid(&self) -> &SolidTables {
+        self.solid.get_or_init(|| SolidTables::new(self))
     }
 
     /// The generalized winding number of the mesh-frame point `p` (Jacobson et al. 2013):
-    /// 1 inside and 0 outside a closed outward mesh. Costs one solid angle per triangle.
+    /// 1 inside and 0 outside a closed outward mesh. Costs one solid angle per triangle (see
+    /// [`Mesh::contains_point`] for the hierarchical decision).
     pub fn winding_number(&self, p: &Point3) -> Real {
         let mut total = 0.0;
         for t in &self.triangles {
@@ -440,6 +505,15 @@ fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn clones_share_the_solid_tables() {
+        // The tables are built once per mesh, not once per copy or per placed object.
+        let m = Mesh::cuboid(&Vector3::new(0.5, 0.4, 0.3)).unwrap();
+        let copy = m.clone();
+        assert!(m.contains_point(&Isometry3::identity(), &Point3::origin()));
+        assert!(std::ptr::eq(m.solid(), copy.solid()));
+    }
 
     fn unit_box() -> Mesh {
         Mesh::cuboid(&Vector3::repeat(0.5)).unwrap()

@@ -6,7 +6,8 @@ use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::error::check_non_negative;
-use crate::objects::{ObjectInfo, object_infos};
+use crate::index::{BoxIndex, IndexWork, WorkCounter, flat};
+use crate::objects::{Footprint, ObjectInfo, object_infos};
 use crate::plane::{
     FloorPiece, area, bounds, boxes_overlap, ccw, clip_convex, floor_pieces, subtract_convex,
 };
@@ -29,6 +30,9 @@ pub struct AccessibilityParams {
     /// Objects whose top is at most this above their floor (rugs) do not block, metres.
     /// Default 0: every object blocks, as in the reference.
     pub walkable_height: Real,
+    /// The blocking footprints: convex hulls of the projected meshes (default) or, as the
+    /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
+    pub footprint: Footprint,
 }
 
 impl Default for AccessibilityParams {
@@ -38,6 +42,7 @@ impl Default for AccessibilityParams {
             strip_width: 0.2,
             height_cutoff: 2.0,
             walkable_height: 0.0,
+            footprint: Footprint::ConvexHull,
         }
     }
 }
@@ -107,9 +112,12 @@ pub struct AccessibilityReport {
 /// strip_offset`] to `strip_offset + strip_width` away from the face, as long as the face, in
 /// the object's frame at its centre height, projected on the floor plan (reference notes 7.4).
 /// Its free part is computed exactly by polygon clipping: the strip intersected with the
-/// floors, minus the footprints (convex hulls of the projected meshes) of the other objects
-/// that obstruct (as for navigability: some part below the height cut-off, top above the
-/// walkable height). Off-floor area counts as blocked, as in the reference.
+/// floors, minus the footprints of the other objects that obstruct (as for navigability: some
+/// part below the height cut-off, top above the walkable height). Footprints are the convex hulls
+/// of the projected meshes, a deliberate deviation from the reference's bounding rectangles
+/// ([`AccessibilityParams::footprint`] restores those). Off-floor area counts as blocked, as
+/// in the reference. The footprints and floor pieces a strip can meet are found with a
+/// bounding-volume hierarchy, so the metric grows as `n log n`.
 ///
 /// A side's score is its free area over its strip area; an object's score is its best side's;
 /// ACC is the mean over objects with at least one functional side.
@@ -121,10 +129,25 @@ pub fn accessibility(
     params: &AccessibilityParams,
     sides: &dyn FunctionalSidesSource,
 ) -> Result<AccessibilityReport, PlausibilityError> {
+    accessibility_with_work(scene, params, sides).map(|(report, _)| report)
+}
+
+/// [`accessibility`] and the work of its spatial-index queries (boxes tested, candidate
+/// footprints and floor pieces), for tests and profiling.
+///
+/// # Errors
+/// As [`accessibility`].
+pub fn accessibility_with_work(
+    scene: &Scene,
+    params: &AccessibilityParams,
+    sides: &dyn FunctionalSidesSource,
+) -> Result<(AccessibilityReport, IndexWork), PlausibilityError> {
     params.validate()?;
     let infos = object_infos(scene);
     let pieces = scene_floor_pieces(scene);
-    accessibility_with(scene, params, sides, &infos, &pieces, &Deadline::none())
+    let work = WorkCounter::default();
+    let report = accessibility_counted(scene, params, sides, &infos, &pieces, &work, &Deadline::none())?;
+    Ok((report, work.total()))
 }
 
 pub(crate) fn scene_floor_pieces(scene: &Scene) -> Vec<FloorPiece> {
@@ -140,11 +163,56 @@ pub(crate) fn accessibility_with(
     pieces: &[FloorPiece],
     deadline: &Deadline,
 ) -> Result<AccessibilityReport, PlausibilityError> {
-    let blockers: Vec<usize> = (0..infos.len())
+    accessibility_counted(
+        scene,
+        params,
+        source,
+        infos,
+        pieces,
+        &WorkCounter::default(),
+        deadline,
+    )
+}
+
+/// The footprints that block strips, their boxes indexed, and the floor pieces indexed.
+struct Blockers<'a> {
+    infos: &'a [ObjectInfo],
+    kind: Footprint,
+    /// Blocking objects (indices into `infos`), in scene order.
+    members: Vec<usize>,
+    index: BoxIndex,
+    pieces: &'a [FloorPiece],
+    piece_index: BoxIndex,
+}
+
+fn accessibility_counted(
+    scene: &Scene,
+    params: &AccessibilityParams,
+    source: &dyn FunctionalSidesSource,
+    infos: &[ObjectInfo],
+    pieces: &[FloorPiece],
+    work: &WorkCounter,
+    deadline: &Deadline,
+) -> Result<AccessibilityReport, PlausibilityError> {
+    let members: Vec<usize> = (0..infos.len())
         .filter(|&i| {
-            infos[i].obstructs(params.height_cutoff, params.walkable_height) && infos[i].footprint.len() >= 3
+            infos[i].obstructs(params.height_cutoff, params.walkable_height)
+                && infos[i].footprint_of(params.footprint).0.len() >= 3
         })
         .collect();
+    let blockers = Blockers {
+        infos,
+        kind: params.footprint,
+        index: BoxIndex::new(
+            &members
+                .iter()
+                .map(|&k| flat(infos[k].footprint_of(params.footprint).1))
+                .collect::<Vec<_>>(),
+        ),
+        members,
+        pieces,
+        piece_index: BoxIndex::new(&pieces.iter().map(|p| flat(&p.bounds)).collect::<Vec<_>>()),
+    };
     let objects: Vec<ObjectAccess> = scene
         .objects()
         .par_iter()
@@ -158,7 +226,7 @@ pub(crate) fn accessibility_with(
             wanted.dedup();
             let sides: Vec<SideAccess> = wanted
                 .iter()
-                .map(|&s| side_access(scene, k, o, s, params, infos, &blockers, pieces))
+                .map(|&s| side_access(scene, k, o, s, params, &blockers, work))
                 .collect();
             let best = sides.iter().fold(None::<&SideAccess>, |b, s| match b {
                 Some(b) if b.score >= s.score => Some(b),
@@ -205,37 +273,37 @@ pub(crate) fn access_strip(o: &SceneObject, side: Side, offset: Real, width: Rea
     ])
 }
 
-#[allow(clippy::too_many_arguments)]
 fn side_access(
     scene: &Scene,
-    index: usize,
+    own: usize,
     o: &SceneObject,
     side: Side,
     params: &AccessibilityParams,
-    infos: &[ObjectInfo],
-    blockers: &[usize],
-    pieces: &[FloorPiece],
+    blockers: &Blockers<'_>,
+    work: &WorkCounter,
 ) -> SideAccess {
     let strip = access_strip(o, side, params.strip_offset, params.strip_width);
     let strip_area = area(&strip);
     let sb = bounds(&strip);
-    let mut parts: Vec<Vec<Point2>> = pieces
-        .iter()
+    let mut parts: Vec<Vec<Point2>> = blockers
+        .piece_index
+        .query_flat(&sb, work)
+        .into_iter()
+        .map(|k| &blockers.pieces[k])
         .filter(|p| boxes_overlap(&p.bounds, &sb))
         .map(|p| clip_convex(&strip, &p.poly))
         .filter(|p| p.len() >= 3)
         .collect();
     let on_floor_area = total_area(&parts);
     let mut blocked_by = Vec::new();
-    for &k in blockers {
-        if k == index || !boxes_overlap(&infos[k].bounds, &sb) {
+    for m in blockers.index.query_flat(&sb, work) {
+        let k = blockers.members[m];
+        let (footprint, fb) = blockers.infos[k].footprint_of(blockers.kind);
+        if k == own || !boxes_overlap(fb, &sb) {
             continue;
         }
         let before = total_area(&parts);
-        parts = parts
-            .iter()
-            .flat_map(|p| subtract_convex(p, &infos[k].footprint))
-            .collect();
+        parts = parts.iter().flat_map(|p| subtract_convex(p, footprint)).collect();
         let after = total_area(&parts);
         if before - after > 1e-12 {
             blocked_by.push(scene.objects()[k].id().clone());

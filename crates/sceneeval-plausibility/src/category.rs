@@ -82,16 +82,14 @@ pub(crate) fn lookup_keys(raw: &str) -> Vec<String> {
     keys
 }
 
-/// Whether `raw` contains one of `words` as a whole word (after normalisation and making each
-/// word singular), e.g. `bath_mats` contains `mat` but `matte_lamp` does not.
+/// Whether `raw` contains one of `words` (already normalised with [`normalize_category`]) as a
+/// whole word (after normalisation and making each word singular), e.g. `bath_mats` contains
+/// `mat` but `matte_lamp` does not.
 pub(crate) fn has_word(raw: &str, words: &[String]) -> bool {
     let norm = normalize_category(raw);
     norm.split('_').any(|w| {
         let s = singular(w);
-        words.iter().any(|x| {
-            let x = normalize_category(x);
-            x == w || x == s
-        })
+        words.iter().any(|x| x == w || *x == s)
     })
 }
 

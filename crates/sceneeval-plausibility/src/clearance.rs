@@ -7,6 +7,7 @@ use sceneeval_scene::{ObjectId, OpeningKind, Room, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
 use crate::error::check_non_negative;
+use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::objects::ObjectInfo;
 use crate::plane::{area3, clip_half_space};
 use crate::{Deadline, PlausibilityError};
@@ -174,7 +175,18 @@ pub(crate) fn opening_clearance_with(
     infos: &[ObjectInfo],
     deadline: &Deadline,
 ) -> Result<OpeningClearanceReport, PlausibilityError> {
+    opening_clearance_counted(scene, params, infos, deadline).map(|(report, _)| report)
+}
+
+/// [`opening_clearance_with`] and the work of its spatial-index queries.
+fn opening_clearance_counted(
+    scene: &Scene,
+    params: &OpeningClearanceParams,
+    infos: &[ObjectInfo],
+    deadline: &Deadline,
+) -> Result<(OpeningClearanceReport, IndexWork), PlausibilityError> {
     params.validate()?;
+    let candidates = Candidates::new(scene, infos, params);
     let list: Vec<(&Room, &Wall, &sceneeval_scene::Opening)> = scene
         .openings()
         .filter(|(_, _, o)| match o.kind {
@@ -203,7 +215,7 @@ pub(crate) fn opening_clearance_with(
                 .into_iter()
                 .map(|side| {
                     let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance);
-                    side_clearance(scene, infos, &frame, side, depth, params)
+                    side_clearance(scene, &candidates, &frame, side, depth, params)
                 })
                 .collect();
             Ok(OpeningClearance {
@@ -224,13 +236,14 @@ pub(crate) fn opening_clearance_with(
             .filter(|o| o.kind == kind && (!blocked || o.blocked))
             .count()
     };
-    Ok(OpeningClearanceReport {
+    let report = OpeningClearanceReport {
         num_doors: count(OpeningKind::Door, false),
         doors_blocked: count(OpeningKind::Door, true),
         num_windows: count(OpeningKind::Window, false),
         windows_blocked: count(OpeningKind::Window, true),
         openings,
-    })
+    };
+    Ok((report, candidates.work.total()))
 }
 
 /// Coordinates of an opening's side: `u` along the wall from its start, `v` away from the
@@ -384,17 +397,44 @@ impl OcclusionMap {
     }
 }
 
+/// The objects an opening's clearance box can meet: their world boxes indexed, walkable
+/// objects left out as the parameters say.
+pub(crate) struct Candidates {
+    members: Vec<usize>,
+    index: BoxIndex,
+    /// The work of the queries made through it.
+    work: WorkCounter,
+}
+
+impl Candidates {
+    pub(crate) fn new(scene: &Scene, infos: &[ObjectInfo], params: &OpeningClearanceParams) -> Self {
+        let members: Vec<usize> = (0..scene.objects().len())
+            .filter(|&k| infos[k].max_z - infos[k].floor_z > params.walkable_height)
+            .collect();
+        let boxes: Vec<Aabb> = members
+            .iter()
+            .map(|&k| *scene.objects()[k].world_aabb())
+            .collect();
+        Candidates {
+            index: BoxIndex::new(&boxes),
+            members,
+            work: WorkCounter::default(),
+        }
+    }
+}
+
 /// Per object in the box: its clipped polygons; then rasterised.
 pub(crate) fn intruding_parts(
     scene: &Scene,
-    infos: &[ObjectInfo],
+    candidates: &Candidates,
     frame: &OpeningFrame,
-    walkable: Real,
 ) -> Vec<(usize, Vec<Vec<Point3>>)> {
     let box_aabb = frame.world_aabb();
     let mut out = Vec::new();
-    for (k, o) in scene.objects().iter().enumerate() {
-        if !o.world_aabb().intersects(&box_aabb) || infos[k].max_z - infos[k].floor_z <= walkable {
+    for m in candidates.index.query(&box_aabb, &candidates.work) {
+        let k = candidates.members[m];
+        let o = &scene.objects()[k];
+        if !o.world_aabb().intersects(&box_aabb) {
             continue;
         }
         let world: Vec<Point3> = o.mesh().vertices().iter().map(|v| o.pose() * v).collect();
@@ -416,7 +456,7 @@ pub(crate) fn intruding_parts(
 
 fn side_clearance(
     scene: &Scene,
-    infos: &[ObjectInfo],
+    candidates: &Candidates,
     frame: &OpeningFrame,
     side: OpeningSide,
     depth: Real,
@@ -426,7 +466,7 @@ fn side_clearance(
     let total = (map.nu * map.nw) as Real;
     let mut union = vec![false; map.nu * map.nw];
     let mut blocking = Vec::new();
-    for (k, parts) in intruding_parts(scene, infos, frame, params.walkable_height) {
+    for (k, parts) in intruding_parts(scene, candidates, frame) {
         let mut mine = vec![false; union.len()];
         for p in &parts {
             map.fill(p, |i| mine[i] = true);
@@ -446,5 +486,61 @@ fn side_clearance(
         occluded_fraction: union.iter().filter(|&&u| u).count() as Real / total,
         blocked: !blocking.is_empty(),
         blocking,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sceneeval_geom::Vector3;
+    use sceneeval_geom::conventions::pose_from_yaw;
+    use sceneeval_scene::{Category, RoomBuilder};
+
+    /// A square hall with `n` cabinets on a 1.5 m grid and four doors along its south wall,
+    /// one cabinet standing in front of the first door.
+    fn hall(n: usize) -> Scene {
+        let cols = (n as f64).sqrt().ceil() as usize;
+        let side = cols as f64 * 1.5 + 3.0;
+        let mut room = RoomBuilder::rectangle("hall", Point2::new(0.0, 0.0), Point2::new(side, side));
+        for k in 0..4 {
+            let x = 1.0 + 2.0 * f64::from(k);
+            room = room.door(0, [x, x + 0.9], [0.0, 2.1]);
+        }
+        let mut b = Scene::builder().room_builder(room);
+        for k in 0..n {
+            let (x, y) = (2.0 + (k % cols) as f64 * 1.5, 3.0 + (k / cols) as f64 * 1.5);
+            b = b.add_box(
+                format!("o{k}"),
+                Category::new("cabinet"),
+                Vector3::new(0.3, 0.2, 0.4),
+                pose_from_yaw(Point3::new(x, y, 0.4), 0.3),
+            );
+        }
+        // In front of the first door (x in [1.0, 1.9]), 0.4 m into the room.
+        b = b.add_box(
+            "blocker",
+            Category::new("cabinet"),
+            Vector3::new(0.3, 0.2, 0.4),
+            pose_from_yaw(Point3::new(1.45, 0.4, 0.4), 0.0),
+        );
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn openings_find_their_blockers_through_the_index() {
+        // Sixteen times the objects: the four doors' clearance boxes cost about log n box
+        // tests each, where a scan would test every object (16 times as many).
+        let mut tests = Vec::new();
+        for n in [256usize, 4096] {
+            let s = hall(n);
+            let infos = crate::objects::object_infos(&s);
+            let (r, work) =
+                opening_clearance_counted(&s, &OpeningClearanceParams::default(), &infos, &Deadline::none())
+                    .unwrap();
+            assert_eq!((r.num_doors, r.doors_blocked), (4, 1));
+            assert!(work.box_tests < n as u64, "{work:?}");
+            tests.push(work.box_tests as f64);
+        }
+        assert!(tests[1] <= 2.0 * tests[0], "{tests:?}");
     }
 }

@@ -10,6 +10,8 @@ use crate::clearance::{OcclusionMap, OpeningFrame, intruding_parts};
 use crate::raster::Grid;
 use crate::{PlausibilityError, PlausibilityParams, Sources};
 
+/// Largest diagnostic image side, pixels (the navigability raster's own limit is far larger).
+const MAX_IMAGE_SIDE: usize = 8192;
 const OFF_FLOOR: Rgb<u8> = Rgb([40, 40, 40]);
 const BLOCKED: Rgb<u8> = Rgb([200, 70, 60]);
 const FREE_OTHER: Rgb<u8> = Rgb([240, 200, 60]);
@@ -49,12 +51,36 @@ pub fn write_diagnostics(
     let mut written = Vec::new();
     let map = crate::occupancy_map(scene, &params.navigability)?;
     let grid = map.grid;
-    let (labels, sizes) = map.components();
+    if grid.width > MAX_IMAGE_SIDE || grid.height > MAX_IMAGE_SIDE {
+        return Err(PlausibilityError::RasterTooLarge {
+            metric: "diagnostics",
+            width: grid.width,
+            height: grid.height,
+            max: MAX_IMAGE_SIDE,
+        });
+    }
+    let (run_labels, sizes) = map.components();
     let largest = (0..sizes.len()).max_by(|&a, &b| sizes[a].cmp(&sizes[b]).then(b.cmp(&a)));
+    // Per pixel: on a floor, and the free region's label (u32::MAX where not free).
+    let mut on_floor = vec![false; grid.len()];
+    let mut labels = vec![u32::MAX; grid.len()];
+    for j in 0..grid.height {
+        for run in map.floor.row(j) {
+            for i in run[0]..run[1] {
+                on_floor[grid.index(i as usize, j)] = true;
+            }
+        }
+        let base = map.free.row_offset(j);
+        for (k, run) in map.free.row(j).iter().enumerate() {
+            for i in run[0]..run[1] {
+                labels[grid.index(i as usize, j)] = run_labels[base + k];
+            }
+        }
+    }
     let nav = image_from(&grid, |k| {
-        if !map.floor[k] {
+        if !on_floor[k] {
             OFF_FLOOR
-        } else if !map.free[k] {
+        } else if labels[k] == u32::MAX {
             BLOCKED
         } else if Some(labels[k] as usize) == largest {
             FREE_LARGEST
@@ -83,7 +109,7 @@ pub fn write_diagnostics(
         grid.for_convex_within(&info.footprint, 0.0, |k| occupied[k] = true);
     }
     let mut colours: Vec<Rgb<u8>> = (0..grid.len())
-        .map(|k| match (map.floor[k], occupied[k]) {
+        .map(|k| match (on_floor[k], occupied[k]) {
             (false, _) => OFF_FLOOR,
             (true, true) => FOOTPRINT,
             (true, false) => FLOOR,
@@ -91,7 +117,7 @@ pub fn write_diagnostics(
         .collect();
     for side in acc.objects.iter().flat_map(|o| &o.sides) {
         grid.for_convex_within(&side.strip, 0.0, |k| {
-            colours[k] = if map.floor[k] && !occupied[k] {
+            colours[k] = if on_floor[k] && !occupied[k] {
                 STRIP_FREE
             } else {
                 STRIP_BLOCKED
@@ -107,6 +133,7 @@ pub fn write_diagnostics(
         &infos,
         &crate::Deadline::none(),
     )?;
+    let candidates = crate::clearance::Candidates::new(scene, &infos, &params.opening_clearance);
     for (room, wall, opening) in scene.openings() {
         let Some(report) = clearance
             .openings
@@ -125,8 +152,7 @@ pub fn write_diagnostics(
             );
             let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre);
             let mut mask = vec![false; occ.nu * occ.nw];
-            for (_, parts) in intruding_parts(scene, &infos, &frame, params.opening_clearance.walkable_height)
-            {
+            for (_, parts) in intruding_parts(scene, &candidates, &frame) {
                 for part in &parts {
                     occ.fill(part, |i| mask[i] = true);
                 }

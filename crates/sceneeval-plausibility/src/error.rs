@@ -21,9 +21,9 @@ pub enum PlausibilityError {
         /// What the value must satisfy.
         reason: &'static str,
     },
-    /// A raster would have more pixels than the metric allows (a too fine metres-per-pixel
-    /// resolution for a large floor).
-    #[error("{metric} raster of {width} x {height} pixels exceeds the limit of {max} pixels")]
+    /// A raster would have more pixels per side than the metric allows (a too fine
+    /// metres-per-pixel resolution for a large floor).
+    #[error("{metric} raster of {width} x {height} pixels exceeds the limit of {max} pixels per side")]
     RasterTooLarge {
         /// The metric building the raster.
         metric: &'static str,
@@ -31,7 +31,7 @@ pub enum PlausibilityError {
         width: usize,
         /// Raster height in pixels.
         height: usize,
-        /// The largest pixel count allowed.
+        /// The most pixels allowed per side.
         max: usize,
     },
     /// The evaluation ran past its [`crate::Deadline`] (or was cancelled).

@@ -77,7 +77,7 @@ impl LayoutChecks {
     /// The out-of-bounds metric's in-bounds ratio of `object`: the share of its surface area
     /// over a floor and not below it, in [0, 1] (see [`crate::out_of_bounds`]).
     pub fn in_bounds_ratio(&self, object: &SceneObject, scratch: &mut LayoutScratch) -> Real {
-        let over = area_over_floor(object, &self.pieces, &self.out_of_bounds, &mut scratch.clip);
+        let over = area_over_floor(object, self.pieces.iter(), &self.out_of_bounds, &mut scratch.clip);
         in_bounds_ratio(object.mesh().surface_area(), over)
     }
 

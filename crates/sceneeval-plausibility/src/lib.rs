@@ -31,6 +31,39 @@
 //! | out-of-bounds | [`out_of_bounds`] | `oob` |
 //! | opening clearance | [`opening_clearance`] | `doors_blocked`, `windows_blocked` |
 //!
+//! # Open meshes
+//! Most real assets (3D-FUTURE, Objaverse, Sweet Home 3D) are not watertight. An object's
+//! solid is then where its surface's generalized winding number is at least 1/2
+//! ([`sceneeval_geom::Mesh::contains_point`]): a box missing a face (a desk top without an
+//! underside, an armchair without a bottom) keeps its inside, as if the hole were lidded; a
+//! cavity closed on five sides (a drawer, a shelf compartment) counts as solid; a single sheet
+//! encloses nothing. Closed meshes of several touching or overlapping parts are the union of
+//! their parts. Collision treats open and closed meshes alike on that basis (see
+//! [`collision`]); the 2-D metrics use only the projected surface, so they do not depend on
+//! it.
+//!
+//! # Deliberate deviations, and the parameters that restore the reference
+//! - Floor coverings can be left out of collision (`exclude_floor_coverings` with
+//!   `floor_covering_words` in [`CollisionParams`], default off as in the original reference)
+//!   and walked over by the 2-D metrics (`walkable_height` in [`NavigabilityParams`],
+//!   [`AccessibilityParams`] and [`OpeningClearanceParams`], default 0 as in the reference).
+//! - Footprints on the floor plan are convex hulls of the projected meshes, not the bounding
+//!   rectangles the reference draws (an oval bath leaves a corridor open beside its corners):
+//!   `footprint` ([`Footprint::BoundingBox`] for the reference) in [`NavigabilityParams`] and
+//!   [`AccessibilityParams`].
+//! - Collision forgives contacts within `contact_tolerance` by proven penetration depth
+//!   rather than by the reference's 5 mm push, and counts nested objects.
+//!
+//! # Cost
+//! Every metric grows as `n log n` in the number of objects: collision's broad phase looks
+//! every box up in a bounding-volume hierarchy and its narrow phase is a bounded search per overlapping pair
+//! ([`collision_with_work`] counts its point queries); support, accessibility, clearance and
+//! out-of-bounds find what a ray, strip or box can meet through a bounding-volume hierarchy
+//! ([`support_with_work`], [`accessibility_with_work`] count its box tests); navigability
+//! works on runs of free pixels per row, so its memory grows with rows, not pixels. Per-mesh
+//! tables (inside tests, hierarchies) are built once per mesh and shared by every object
+//! placing it.
+//!
 //! # Example
 //! ```
 //! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
@@ -78,13 +111,13 @@ mod deadline;
 #[cfg(feature = "images")]
 mod diagnostics;
 mod error;
+mod index;
 mod layout;
 mod navigability;
 mod objects;
 mod oob;
 mod plane;
 mod raster;
-mod solid;
 mod sources;
 mod support;
 
@@ -94,29 +127,38 @@ use sceneeval_geom::Real;
 use sceneeval_scene::{ObjectId, Scene};
 use serde::{Deserialize, Serialize};
 
-pub use accessibility::{AccessibilityParams, AccessibilityReport, ObjectAccess, SideAccess, accessibility};
+pub use accessibility::{
+    AccessibilityParams, AccessibilityReport, ObjectAccess, SideAccess, accessibility,
+    accessibility_with_work,
+};
 pub use category::normalize_category;
 pub use clearance::{
     BlockingObject, OpeningClearance, OpeningClearanceParams, OpeningClearanceReport, OpeningSide,
     SideClearance, opening_clearance,
 };
-pub use collision::{CollisionParams, CollisionReport, ContactKind, ObjectCollision, PairContact, collision};
+pub use collision::{
+    CollisionParams, CollisionReport, CollisionWork, ContactKind, ObjectCollision, PairContact, collision,
+    collision_with_work,
+};
 pub use deadline::Deadline;
 #[cfg(feature = "images")]
 pub use diagnostics::write_diagnostics;
 pub use error::PlausibilityError;
+pub use index::IndexWork;
 pub use layout::{LayoutChecks, LayoutScratch};
 pub use navigability::{
     NavigabilityParams, NavigabilityReport, OccupancyMap, RoomNavigability, navigability, occupancy_map,
 };
+pub use objects::Footprint;
 pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds};
 pub use raster::{Grid, Resolution};
+pub use sceneeval_geom::DepthSearch;
 pub use sources::{
     Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesOf, FunctionalSidesSource,
     GivenFunctionalSides, GivenSupportTypes, Question, SUPPORT_TYPE_TABLE, Source, Stated, SupportType,
     SupportTypeOf, SupportTypePriors, SupportTypeSource,
 };
-pub use support::{ObjectSupport, SupportParams, SupportReport, Supporter, support};
+pub use support::{ObjectSupport, SupportParams, SupportReport, Supporter, support, support_with_work};
 
 /// The parameters of every metric, each with the reference's defaults.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -257,12 +299,12 @@ impl PlausibilityParams {
                 value: 0.0,
                 reason: "a raster needs at least one pixel",
             }),
-            Resolution::Pixels(n) if (n as usize).saturating_mul(n as usize) > raster::MAX_PIXELS => {
+            Resolution::Pixels(n) if n as usize > raster::MAX_SIDE => {
                 Err(PlausibilityError::RasterTooLarge {
                     metric: "navigability",
                     width: n as usize,
                     height: n as usize,
-                    max: raster::MAX_PIXELS,
+                    max: raster::MAX_SIDE,
                 })
             }
             Resolution::Pixels(_) => Ok(()),
@@ -418,15 +460,13 @@ pub fn evaluate_metrics(
         let start = std::time::Instant::now();
         match metric {
             Metric::Collision => {
-                report.collision = Some(collision::collision_with(scene, &params.collision, deadline)?);
+                report.collision = Some(collision::collision_with(scene, &params.collision, deadline)?.0);
             }
             Metric::Support => {
-                report.support = Some(support::support_with(
-                    scene,
-                    &params.support,
-                    sources.support_types.as_ref(),
-                    deadline,
-                )?);
+                report.support = Some(
+                    support::support_with(scene, &params.support, sources.support_types.as_ref(), deadline)?
+                        .0,
+                );
             }
             Metric::Navigability => {
                 let infos = infos.get_or_insert_with(|| objects::object_infos(scene));

@@ -6,9 +6,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
 use crate::error::check_non_negative;
-use crate::objects::{ObjectInfo, object_infos};
+use crate::objects::{Footprint, ObjectInfo, object_infos};
 use crate::plane::{ccw, exposed_boundary};
-use crate::raster::{Grid, Resolution, components8};
+use crate::raster::{Grid, Resolution, RowRuns, merge, par_rows, subtract};
 
 /// Parameters of the navigability metric (reference yaml `NavigabilityMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -33,6 +33,9 @@ pub struct NavigabilityParams {
     /// Depth in metres of the strip in front of a door, on its room's side, from which a room
     /// counts as reachable (default 0.5).
     pub door_strip_depth: Real,
+    /// Obstacle footprints: convex hulls of the projected meshes (default) or, as the
+    /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
+    pub footprint: Footprint,
 }
 
 impl Default for NavigabilityParams {
@@ -45,6 +48,7 @@ impl Default for NavigabilityParams {
             walkable_height: 0.0,
             door_max_sill: 0.05,
             door_strip_depth: 0.5,
+            footprint: Footprint::ConvexHull,
         }
     }
 }
@@ -107,22 +111,23 @@ pub struct NavigabilityReport {
 }
 
 /// The floor-plan raster behind the navigability metric: which pixels are floor and which are
-/// free for the robot.
+/// free for the robot, as runs of pixels per row (memory grows with rows and runs, not
+/// pixels).
 #[derive(Debug, Clone, PartialEq)]
 pub struct OccupancyMap {
     /// The raster.
     pub grid: Grid,
-    /// Pixel centre on a floor, row-major from the lowest y.
-    pub floor: Vec<bool>,
-    /// Pixel free for the robot.
-    pub free: Vec<bool>,
+    /// Pixels whose centre lies on a floor, row by row from the lowest y.
+    pub floor: RowRuns,
+    /// Pixels free for the robot.
+    pub free: RowRuns,
 }
 
 impl OccupancyMap {
-    /// Labels of the 8-connected free regions (scan order; `u32::MAX` where not free) and their
-    /// sizes in pixels.
+    /// Labels of the 8-connected free regions, one per run of [`OccupancyMap::free`]
+    /// (numbered in scan order of each region's first pixel), and their sizes in pixels.
     pub fn components(&self) -> (Vec<u32>, Vec<usize>) {
-        components8(&self.grid, &self.free)
+        self.free.components8()
     }
 }
 
@@ -189,7 +194,7 @@ pub(crate) fn navigability_with(
     }
     Ok(NavigabilityReport {
         grid,
-        floor_pixels: map.floor.iter().filter(|&&f| f).count(),
+        floor_pixels: map.floor.count(),
         free_pixels,
         free_area: free_pixels as Real * grid.pixel_area(),
         num_components: sizes.len(),
@@ -206,7 +211,16 @@ pub(crate) fn navigability_with(
     })
 }
 
-/// The map and, per object, whether it was drawn as an obstacle.
+/// Something that blocks pixels within half the robot width of it, with the rows it reaches.
+enum Blocker<'a> {
+    Segment(Point2, Point2),
+    Convex(Vec<Point2>),
+    Footprint(&'a [Point2]),
+}
+
+/// The map and, per object, whether it was drawn as an obstacle. Row by row (in parallel):
+/// the floor's intervals minus the intervals within the robot's half width of a blocker,
+/// each computed in closed form; blockers are bucketed by their first row and swept.
 fn build_map(
     scene: &Scene,
     params: &NavigabilityParams,
@@ -219,22 +233,18 @@ fn build_map(
         .reduce(|a, b| (a.0.inf(&b.0), a.1.sup(&b.1)))
         .unwrap_or((Point2::origin(), Point2::new(1.0, 1.0)));
     let grid = Grid::covering("navigability", min, max, params.margin, params.resolution)?;
-    let mut floor = vec![false; grid.len()];
-    for f in &floors {
-        grid.for_polygon(f.points(), |k| floor[k] = true);
-    }
-    let mut blocked: Vec<bool> = floor.iter().map(|f| !f).collect();
     let r = 0.5 * params.robot_width;
+    let mut blockers: Vec<Blocker<'_>> = Vec::new();
     for (a, b) in exposed_boundary(&floors) {
-        grid.for_segment_within(&a, &b, r, |k| blocked[k] = true);
+        blockers.push(Blocker::Segment(a, b));
     }
     let doors = passable_doors(scene, params.door_max_sill);
     for (_, wall) in scene.walls() {
         for piece in wall_pieces(wall, &doors) {
             if piece.len() == 2 {
-                grid.for_segment_within(&piece[0], &piece[1], r, |k| blocked[k] = true);
+                blockers.push(Blocker::Segment(piece[0], piece[1]));
             } else {
-                grid.for_convex_within(&piece, r, |k| blocked[k] = true);
+                blockers.push(Blocker::Convex(piece));
             }
         }
     }
@@ -243,10 +253,87 @@ fn build_map(
         .map(|i| i.obstructs(params.height_cutoff, params.walkable_height))
         .collect();
     for (info, _) in infos.iter().zip(&flags).filter(|(_, f)| **f) {
-        grid.for_convex_within(&info.footprint, r, |k| blocked[k] = true);
+        blockers.push(Blocker::Footprint(info.footprint_of(params.footprint).0));
     }
-    let free = blocked.iter().map(|b| !b).collect();
-    Ok((OccupancyMap { grid, floor, free }, flags))
+    // The rows each blocker reaches, sorted by first row, and each floor's rows.
+    let mut spans: Vec<(usize, usize, usize)> = blockers
+        .iter()
+        .enumerate()
+        .filter_map(|(k, b)| {
+            let (lo, hi) = match b {
+                Blocker::Segment(a, b) => (a.y.min(b.y), a.y.max(b.y)),
+                Blocker::Convex(p) => y_range(p),
+                Blocker::Footprint(p) => y_range(p),
+            };
+            grid.rows(lo, hi, r).map(|(j0, j1)| (j0, j1, k))
+        })
+        .collect();
+    spans.sort_unstable();
+    let floor_rows: Vec<Option<(usize, usize)>> = floors
+        .iter()
+        .map(|f| {
+            let (a, b) = f.bounds();
+            grid.rows(a.y, b.y, 0.0)
+        })
+        .collect();
+    // Chunks of rows look up their blockers among those starting before the chunk ends.
+    const CHUNK: usize = 64;
+    let chunks = grid.height.div_ceil(CHUNK);
+    let per_chunk: Vec<(Vec<Intervals>, Vec<Intervals>)> = par_rows(chunks, |c| {
+        let (ja, jb) = (c * CHUNK, ((c + 1) * CHUNK).min(grid.height));
+        let started = spans.partition_point(|s| s.0 < jb);
+        let active: Vec<&(usize, usize, usize)> = spans[..started].iter().filter(|s| s.1 >= ja).collect();
+        let mut floor_out = Vec::with_capacity(jb - ja);
+        let mut free_out = Vec::with_capacity(jb - ja);
+        for j in ja..jb {
+            let y = grid.row_y(j);
+            let mut floor = Vec::new();
+            for (f, rows) in floors.iter().zip(&floor_rows) {
+                if rows.is_some_and(|(j0, j1)| j0 <= j && j <= j1) {
+                    grid.polygon_row(f.points(), y, &mut floor);
+                }
+            }
+            let floor = merge(floor);
+            let mut cut = Vec::new();
+            for &&(j0, j1, k) in &active {
+                if j < j0 || j > j1 {
+                    continue;
+                }
+                let span = match &blockers[k] {
+                    Blocker::Segment(a, b) => grid.segment_row(a, b, r, y),
+                    Blocker::Convex(p) => grid.convex_row(p, r, y),
+                    Blocker::Footprint(p) => grid.convex_row(p, r, y),
+                };
+                cut.extend(span);
+            }
+            let free = subtract(&floor, &merge(cut));
+            floor_out.push(floor);
+            free_out.push(free);
+        }
+        (floor_out, free_out)
+    });
+    let (mut floor_rows_all, mut free_rows_all) =
+        (Vec::with_capacity(grid.height), Vec::with_capacity(grid.height));
+    for (f, fr) in per_chunk {
+        floor_rows_all.extend(f);
+        free_rows_all.extend(fr);
+    }
+    let map = OccupancyMap {
+        grid,
+        floor: RowRuns::from_rows(floor_rows_all),
+        free: RowRuns::from_rows(free_rows_all),
+    };
+    Ok((map, flags))
+}
+
+/// Column intervals `[start, end)` of one row.
+type Intervals = Vec<(usize, usize)>;
+
+fn y_range(poly: &[Point2]) -> (Real, Real) {
+    poly.iter()
+        .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.y), hi.max(p.y))
+        })
 }
 
 /// A passable door: its wall's inner-face line and its interval along it.
@@ -326,16 +413,24 @@ fn room_reachability(
     num_labels: usize,
 ) -> Vec<RoomNavigability> {
     let grid = &map.grid;
+    // Free runs of row `j` meeting the columns `[a, b)`: (run index, overlap length).
+    let overlaps = |j: usize, a: usize, b: usize, f: &mut dyn FnMut(usize, usize)| {
+        let base = map.free.row_offset(j);
+        for (k, run) in map.free.row(j).iter().enumerate() {
+            let (s, e) = (run[0] as usize, run[1] as usize);
+            if e <= a {
+                continue;
+            }
+            if s >= b {
+                break;
+            }
+            f(base + k, e.min(b) - s.max(a));
+        }
+    };
     scene
         .rooms()
         .iter()
         .map(|room| {
-            let mut room_pixels: Vec<usize> = Vec::new();
-            grid.for_polygon(room.floor().points(), |k| {
-                if map.free[k] {
-                    room_pixels.push(k);
-                }
-            });
             let mut reached = vec![false; num_labels];
             let mut num_doors = 0;
             let mut strip_free = false;
@@ -349,26 +444,44 @@ fn room_reachability(
                     let (p, q) = (s + d * o.along[0], s + d * o.along[1]);
                     let depth = n * params.door_strip_depth;
                     let strip = ccw(vec![p, q, q + depth, p + depth]);
-                    grid.for_convex_within(&strip, 0.0, |k| {
-                        if map.free[k] {
-                            strip_free = true;
-                            reached[labels[k] as usize] = true;
+                    let (lo, hi) = y_range(&strip);
+                    if let Some((j0, j1)) = grid.rows(lo, hi, 0.0) {
+                        for j in j0..=j1 {
+                            if let Some((a, b)) = grid.convex_row(&strip, 0.0, grid.row_y(j)) {
+                                overlaps(j, a, b, &mut |run, _| {
+                                    strip_free = true;
+                                    reached[labels[run] as usize] = true;
+                                });
+                            }
                         }
-                    });
+                    }
                 }
             }
-            let connected = room_pixels
-                .iter()
-                .filter(|&&k| reached[labels[k] as usize])
-                .count();
+            let (mut free_pixels, mut connected) = (0usize, 0usize);
+            let (lo, hi) = room.floor().bounds();
+            if let Some((j0, j1)) = grid.rows(lo.y, hi.y, 0.0) {
+                let mut row = Vec::new();
+                for j in j0..=j1 {
+                    row.clear();
+                    grid.polygon_row(room.floor().points(), grid.row_y(j), &mut row);
+                    for &(a, b) in &row {
+                        overlaps(j, a, b, &mut |run, len| {
+                            free_pixels += len;
+                            if reached[labels[run] as usize] {
+                                connected += len;
+                            }
+                        });
+                    }
+                }
+            }
             let has_door = num_doors > 0;
             RoomNavigability {
                 room: room.id().to_string(),
-                free_pixels: room_pixels.len(),
+                free_pixels,
                 num_doors,
                 reachable: has_door.then_some(strip_free),
-                reachable_fraction: (has_door && !room_pixels.is_empty())
-                    .then(|| connected as Real / room_pixels.len() as Real),
+                reachable_fraction: (has_door && free_pixels > 0)
+                    .then(|| connected as Real / free_pixels as Real),
             }
         })
         .collect()

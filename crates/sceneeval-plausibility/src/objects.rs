@@ -4,10 +4,25 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use rayon::prelude::*;
-use sceneeval_geom::{Mesh, Point2, Real, Vector3};
+use sceneeval_geom::{Mesh, Point2, Point3, Real, Vector3};
 use sceneeval_scene::{Scene, SceneObject};
+use serde::{Deserialize, Serialize};
 
 use crate::plane::{bounds, convex_hull_fast};
+
+/// How an object's footprint on the floor plan is taken by navigability and accessibility.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Footprint {
+    /// The convex hull of the object's mesh projected on the floor (default): a round or
+    /// oval object (a bath, a round table) leaves its box's corners free. A deliberate
+    /// deviation from the reference.
+    #[default]
+    ConvexHull,
+    /// The projection of the object's bounding box (its OBB), as the reference draws it:
+    /// round and L-shaped furniture block their whole rectangle.
+    BoundingBox,
+}
 
 /// What the 2-D metrics need to know about one object.
 #[derive(Debug, Clone)]
@@ -16,6 +31,11 @@ pub(crate) struct ObjectInfo {
     pub footprint: Vec<Point2>,
     /// Bounding rectangle of the footprint.
     pub bounds: (Point2, Point2),
+    /// The projection of the object's OBB (convex hull of its eight projected corners),
+    /// counter-clockwise.
+    pub rectangle: Vec<Point2>,
+    /// Bounding rectangle of `rectangle`.
+    pub rectangle_bounds: (Point2, Point2),
     /// Floor height under the object: the floor of the room containing the centre of its world
     /// bounds, else the lowest floor of the scene, else 0.
     pub floor_z: Real,
@@ -26,6 +46,14 @@ pub(crate) struct ObjectInfo {
 }
 
 impl ObjectInfo {
+    /// The footprint of the given kind and its bounding rectangle.
+    pub fn footprint_of(&self, kind: Footprint) -> (&[Point2], &(Point2, Point2)) {
+        match kind {
+            Footprint::ConvexHull => (&self.footprint, &self.bounds),
+            Footprint::BoundingBox => (&self.rectangle, &self.rectangle_bounds),
+        }
+    }
+
     /// Whether the object obstructs the floor plan: some part of it is lower than `cutoff`
     /// above its floor (it would hit a person that tall), and its top is higher than
     /// `walkable` above the floor (so it is not a rug one walks over).
@@ -83,6 +111,23 @@ pub(crate) fn footprint(object: &SceneObject, local: Option<&[Point2]>) -> Vec<P
     }
 }
 
+/// The projection of an object's OBB on the floor plan (see [`Footprint::BoundingBox`]).
+pub(crate) fn rectangle(object: &SceneObject) -> Vec<Point2> {
+    let b = object.mesh().aabb();
+    let corners: Vec<Point2> = (0..8)
+        .map(|k| {
+            let p = Point3::new(
+                if k & 1 == 0 { b.min.x } else { b.max.x },
+                if k & 2 == 0 { b.min.y } else { b.max.y },
+                if k & 4 == 0 { b.min.z } else { b.max.z },
+            );
+            let w = object.pose() * p;
+            Point2::new(w.x, w.y)
+        })
+        .collect();
+    convex_hull_fast(&corners)
+}
+
 /// [`ObjectInfo`] for every object, in scene order.
 pub(crate) fn object_infos(scene: &Scene) -> Vec<ObjectInfo> {
     let lowest = lowest_floor(scene);
@@ -113,14 +158,19 @@ pub(crate) fn object_infos(scene: &Scene) -> Vec<ObjectInfo> {
             let floor_z = scene
                 .room_at(&Point2::new(c.x, c.y))
                 .map_or(lowest, |r| r.floor_z());
-            let b = if fp.is_empty() {
-                (Point2::new(c.x, c.y), Point2::new(c.x, c.y))
-            } else {
-                bounds(&fp)
+            let bounds_of = |poly: &[Point2]| {
+                if poly.is_empty() {
+                    (Point2::new(c.x, c.y), Point2::new(c.x, c.y))
+                } else {
+                    bounds(poly)
+                }
             };
+            let rect = rectangle(o);
             ObjectInfo {
+                bounds: bounds_of(&fp),
                 footprint: fp,
-                bounds: b,
+                rectangle_bounds: bounds_of(&rect),
+                rectangle: rect,
                 floor_z,
                 min_z: aabb.min.z,
                 max_z: aabb.max.z,

@@ -1,12 +1,13 @@
 //! Out-of-bounds (OOB): how much of each object lies over a floor.
 
 use rayon::prelude::*;
-use sceneeval_geom::{Point2, Point3, Real, Vector2};
+use sceneeval_geom::{Point2, Point3, Real};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::accessibility::scene_floor_pieces;
 use crate::error::check_non_negative;
+use crate::index::{BoxIndex, WorkCounter, flat, grown};
 use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space_into};
 use crate::{Deadline, PlausibilityError};
 
@@ -119,14 +120,40 @@ pub(crate) fn out_of_bounds_with(
     pieces: &[FloorPiece],
     deadline: &Deadline,
 ) -> Result<OutOfBoundsReport, PlausibilityError> {
+    let work = WorkCounter::default();
+    out_of_bounds_counted(scene, params, pieces, deadline, &work)
+}
+
+/// [`out_of_bounds_with`], counting the work of its spatial-index queries into `work`.
+fn out_of_bounds_counted(
+    scene: &Scene,
+    params: &OutOfBoundsParams,
+    pieces: &[FloorPiece],
+    deadline: &Deadline,
+    work: &WorkCounter,
+) -> Result<OutOfBoundsReport, PlausibilityError> {
     params.validate()?;
+    // The floor pieces near an object come from an index over their boxes (grown by the
+    // boundary tolerance), so large, finely triangulated floors cost `log` per object.
+    let margin = params.boundary_tolerance;
+    let index = BoxIndex::new(
+        &pieces
+            .iter()
+            .map(|p| flat(&grown(&p.bounds, margin)))
+            .collect::<Vec<_>>(),
+    );
     let objects: Vec<ObjectBounds> = scene
         .objects()
         .par_iter()
         .map_init(ClipScratch::default, |scratch, o| {
             deadline.check("out_of_bounds")?;
             let surface_area = o.mesh().surface_area();
-            let over = area_over_floor(o, pieces, params, scratch);
+            let b = o.world_aabb();
+            let near = index.query_flat(
+                &(Point2::new(b.min.x, b.min.y), Point2::new(b.max.x, b.max.y)),
+                work,
+            );
+            let over = area_over_floor(o, near.iter().map(|&k| &pieces[k]), params, scratch);
             let ratio = in_bounds_ratio(surface_area, over);
             Ok(ObjectBounds {
                 id: o.id().clone(),
@@ -174,10 +201,11 @@ impl ClipScratch {
 }
 
 /// The surface area of `o`'s world mesh lying over a floor piece and above its floor (less
-/// `tol`), the pieces' outer edges moved out by `margin` (see [`out_of_bounds`]).
-pub(crate) fn area_over_floor(
+/// `tol`), the pieces' outer edges moved out by `margin` (see [`out_of_bounds`]). `pieces`
+/// may be all floor pieces or only those an index found near the object.
+pub(crate) fn area_over_floor<'p>(
     o: &SceneObject,
-    pieces: &[FloorPiece],
+    pieces: impl Iterator<Item = &'p FloorPiece> + Clone,
     params: &OutOfBoundsParams,
     scratch: &mut ClipScratch,
 ) -> Real {
@@ -187,8 +215,8 @@ pub(crate) fn area_over_floor(
         Point2::new(aabb.min.x, aabb.min.y),
         Point2::new(aabb.max.x, aabb.max.y),
     );
-    let grow = |b: &(Point2, Point2)| (b.0 - Vector2::repeat(margin), b.1 + Vector2::repeat(margin));
-    let near = || pieces.iter().filter(|p| boxes_overlap(&grow(&p.bounds), &ob));
+    let grow = |b: &(Point2, Point2)| grown(b, margin);
+    let near = || pieces.clone().filter(|p| boxes_overlap(&grow(&p.bounds), &ob));
     if near().next().is_none() {
         return 0.0;
     }
@@ -247,6 +275,47 @@ mod tests {
 
     fn room() -> RoomBuilder {
         RoomBuilder::rectangle("r", P2::new(0.0, 0.0), P2::new(4.0, 4.0))
+    }
+
+    #[test]
+    fn floor_pieces_are_found_through_the_index() {
+        // A k x k grid of 3 m rooms, a box in the middle of each: sixteen times the rooms
+        // (and floor pieces) cost about log n box tests per object, where a scan would test
+        // every piece.
+        let mut per_object = Vec::new();
+        for k in [8u32, 32] {
+            let mut b = Scene::builder();
+            for r in 0..k * k {
+                let (x, y) = (3.0 * f64::from(r % k), 3.0 * f64::from(r / k));
+                b = b
+                    .room_builder(RoomBuilder::rectangle(
+                        format!("r{r}"),
+                        P2::new(x, y),
+                        P2::new(x + 3.0, y + 3.0),
+                    ))
+                    .add_box(
+                        format!("o{r}"),
+                        Category::new("cabinet"),
+                        Vector3::new(0.4, 0.3, 0.5),
+                        pose_from_yaw(Point3::new(x + 1.5, y + 1.5, 0.5), 0.2),
+                    );
+            }
+            let s = b.build().unwrap();
+            let pieces = scene_floor_pieces(&s);
+            let work = WorkCounter::default();
+            let params = OutOfBoundsParams::default();
+            let r = out_of_bounds_counted(&s, &params, &pieces, &Deadline::none(), &work).unwrap();
+            assert_eq!(r.num_out, 0);
+            let n = f64::from(k * k);
+            let tests = work.total().box_tests as f64 / n;
+            assert!(
+                tests < pieces.len() as f64,
+                "{tests} tests per object, {} pieces",
+                pieces.len()
+            );
+            per_object.push(tests);
+        }
+        assert!(per_object[1] <= 2.0 * per_object[0], "{per_object:?}");
     }
 
     #[test]

@@ -2,8 +2,8 @@
 //! 2-D loop helpers come from `sceneeval_geom::planar`.
 
 pub(crate) use sceneeval_geom::planar::{
-    area, bounds, boxes_overlap, ccw, clip_convex, convex_contains, convex_distance, convex_hull,
-    convex_hull_fast, is_convex, orient, point_segment_distance, subtract_convex,
+    area, bounds, boxes_overlap, ccw, clip_convex, convex_contains, convex_hull, convex_hull_fast, is_convex,
+    orient, subtract_convex,
 };
 use std::collections::HashMap;
 

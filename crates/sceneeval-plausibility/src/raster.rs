@@ -1,11 +1,16 @@
-//! Rasters over the floor plan: the pixel grid, polygon filling, distance marking and
-//! connected components.
+//! Rasters over the floor plan: the pixel grid, free space as runs of pixels per row, exact
+//! distance marking row by row, and connected components by a two-pass labelling of runs.
+//!
+//! Nothing here stores a value per pixel: a row's floor, obstacles and free space are
+//! intervals of pixel columns computed in closed form (the set of pixel centres within a
+//! distance of a convex polygon meets a row in one interval), so memory grows with the number
+//! of rows and runs, not pixels, and any resolution up to [`MAX_SIDE`] pixels per side works.
 
+use rayon::prelude::*;
 use sceneeval_geom::{Point2, Real};
 use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
-use crate::plane::{convex_distance, point_segment_distance};
 
 /// How finely a floor-plan raster samples the floor.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -18,8 +23,10 @@ pub enum Resolution {
     MetresPerPixel(Real),
 }
 
-/// Largest raster the metrics build (64 M pixels, 64 MB per mask).
-pub(crate) const MAX_PIXELS: usize = 1 << 26;
+/// Most pixels per side of a raster (2^16 = 65,536: a centimetre grid over 650 m). Memory
+/// grows with rows and runs, not pixels, so this bounds only the time of absurd requests
+/// (a 100,000-pixel side is refused before any scene is read).
+pub(crate) const MAX_SIDE: usize = 1 << 16;
 
 /// A pixel grid over the floor plan. Pixel `(i, j)` covers `[x0 + i p, x0 + (i+1) p] x
 /// [y0 + j p, y0 + (j+1) p]` and is sampled at its centre; row `j = 0` is the lowest y.
@@ -57,6 +64,14 @@ impl Grid {
                         reason: "a raster needs at least one pixel",
                     });
                 }
+                if n as usize > MAX_SIDE {
+                    return Err(PlausibilityError::RasterTooLarge {
+                        metric,
+                        width: n as usize,
+                        height: n as usize,
+                        max: MAX_SIDE,
+                    });
+                }
                 let side = w.max(h).max(1e-6);
                 let c = Point2::new(0.5 * (min.x + max.x), 0.5 * (min.y + max.y));
                 Grid {
@@ -69,6 +84,7 @@ impl Grid {
             }
             Resolution::MetresPerPixel(p) => {
                 crate::error::check_non_negative(metric, "resolution", p, true)?;
+                // Float-to-int casts saturate, so an absurd ratio stays above the limit.
                 Grid {
                     x0: min.x - margin,
                     y0: min.y - margin,
@@ -78,12 +94,12 @@ impl Grid {
                 }
             }
         };
-        if grid.width.saturating_mul(grid.height) > MAX_PIXELS {
+        if grid.width > MAX_SIDE || grid.height > MAX_SIDE {
             return Err(PlausibilityError::RasterTooLarge {
                 metric,
                 width: grid.width,
                 height: grid.height,
-                max: MAX_PIXELS,
+                max: MAX_SIDE,
             });
         }
         Ok(grid)
@@ -122,131 +138,387 @@ impl Grid {
         j * self.width + i
     }
 
-    /// The pixel index ranges whose centres can lie in `min..max` grown by `pad`.
-    pub(crate) fn span(&self, min: Point2, max: Point2, pad: Real) -> Option<(usize, usize, usize, usize)> {
-        let lo = |v: Real, o: Real| ((v - pad - o) / self.pixel - 0.5).ceil();
-        let hi = |v: Real, o: Real| ((v + pad - o) / self.pixel - 0.5).floor();
-        let (i0, i1) = (lo(min.x, self.x0).max(0.0), hi(max.x, self.x0));
-        let (j0, j1) = (lo(min.y, self.y0).max(0.0), hi(max.y, self.y0));
-        if !(i0.is_finite() && i1.is_finite() && j0.is_finite() && j1.is_finite()) || i1 < i0 || j1 < j0 {
+    /// The rows whose pixel centres can lie within `pad` of `min.y..max.y`, as `j0..=j1`.
+    pub(crate) fn rows(&self, min_y: Real, max_y: Real, pad: Real) -> Option<(usize, usize)> {
+        let lo = ((min_y - pad - self.y0) / self.pixel - 0.5).ceil().max(0.0);
+        let hi = ((max_y + pad - self.y0) / self.pixel - 0.5).floor();
+        if !(lo.is_finite() && hi.is_finite()) || hi < lo {
             return None;
         }
-        let i1 = (i1 as usize).min(self.width.checked_sub(1)?);
-        let j1 = (j1 as usize).min(self.height.checked_sub(1)?);
-        let (i0, j0) = (i0 as usize, j0 as usize);
-        (i0 <= i1 && j0 <= j1).then_some((i0, i1, j0, j1))
+        let j1 = (hi as usize).min(self.height.checked_sub(1)?);
+        let j0 = lo as usize;
+        (j0 <= j1).then_some((j0, j1))
+    }
+
+    /// World y of row `j`'s pixel centres.
+    #[inline]
+    pub(crate) fn row_y(&self, j: usize) -> Real {
+        self.y0 + (j as Real + 0.5) * self.pixel
+    }
+
+    /// World x of column `i`'s pixel centres.
+    #[inline]
+    fn col_x(&self, i: usize) -> Real {
+        self.x0 + (i as Real + 0.5) * self.pixel
+    }
+
+    /// The first column whose centre satisfies `after(x)`, for a predicate that is false then
+    /// true along the row; starts from the closed-form guess `guess` and corrects rounding.
+    fn first_column(&self, guess: Real, after: impl Fn(Real) -> bool) -> usize {
+        let mut i = if guess.is_nan() {
+            0
+        } else {
+            guess.clamp(0.0, self.width as Real) as usize
+        };
+        while i > 0 && after(self.col_x(i - 1)) {
+            i -= 1;
+        }
+        while i < self.width && !after(self.col_x(i)) {
+            i += 1;
+        }
+        i
+    }
+
+    /// The columns `[i0, i1)` whose centres lie in `lo < x < hi` (open) or, when `closed`,
+    /// `lo <= x <= hi`.
+    pub(crate) fn columns(&self, lo: Real, hi: Real, closed: bool) -> Option<(usize, usize)> {
+        if lo
+            .partial_cmp(&hi)
+            .is_none_or(|o| o == std::cmp::Ordering::Greater)
+        {
+            return None;
+        }
+        let g = |x: Real| (x - self.x0) / self.pixel - 0.5;
+        let i0 = if closed {
+            self.first_column(g(lo).ceil(), |x| x >= lo)
+        } else {
+            self.first_column(g(lo).floor() + 1.0, |x| x > lo)
+        };
+        let i1 = if closed {
+            self.first_column(g(hi).floor() + 1.0, |x| x > hi)
+        } else {
+            self.first_column(g(hi).ceil(), |x| x >= hi)
+        };
+        (i0 < i1).then_some((i0, i1))
+    }
+
+    /// The columns of row `y` whose centres lie within distance `< r` of the convex
+    /// counter-clockwise polygon `poly` (one or two points: a point or a segment), or inside
+    /// or on it when `r` is 0. One interval: that set is convex.
+    pub(crate) fn convex_row(&self, poly: &[Point2], r: Real, y: Real) -> Option<(usize, usize)> {
+        let n = poly.len();
+        let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
+        let mut take = |a: Real, b: Real| {
+            lo = lo.min(a);
+            hi = hi.max(b);
+        };
+        if n >= 3
+            && let Some((a, b)) = chord(poly, y)
+        {
+            take(a, b);
+        }
+        if r > 0.0 {
+            match n {
+                0 => return None,
+                1 => {
+                    if let Some((a, b)) = capsule_row(&poly[0], &poly[0], r, y) {
+                        take(a, b);
+                    }
+                }
+                _ => {
+                    for k in 0..n {
+                        if let Some((a, b)) = capsule_row(&poly[k], &poly[(k + 1) % n], r, y) {
+                            take(a, b);
+                        }
+                    }
+                }
+            }
+            self.columns(lo, hi, false)
+        } else {
+            self.columns(lo, hi, true)
+        }
+    }
+
+    /// The columns of row `y` whose centres lie within distance `< r` of the segment `a b`.
+    pub(crate) fn segment_row(&self, a: &Point2, b: &Point2, r: Real, y: Real) -> Option<(usize, usize)> {
+        let (lo, hi) = capsule_row(a, b, r, y)?;
+        self.columns(lo, hi, false)
+    }
+
+    /// The column intervals of row `y` whose centres lie inside the simple polygon (even-odd
+    /// rule; a centre exactly on a left edge counts, on a right edge does not), appended to
+    /// `out`.
+    pub(crate) fn polygon_row(&self, poly: &[Point2], y: Real, out: &mut Vec<(usize, usize)>) {
+        let n = poly.len();
+        if n < 3 {
+            return;
+        }
+        let mut xs: Vec<Real> = Vec::with_capacity(8);
+        for k in 0..n {
+            let (a, b) = (poly[k], poly[(k + 1) % n]);
+            if (a.y > y) != (b.y > y) {
+                xs.push(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
+            }
+        }
+        xs.sort_by(|p, q| p.total_cmp(q));
+        for pair in xs.chunks_exact(2) {
+            let g = |x: Real| (x - self.x0) / self.pixel - 0.5;
+            let i0 = self.first_column(g(pair[0]).ceil(), |x| x >= pair[0]);
+            let i1 = self.first_column(g(pair[1]).ceil(), |x| x >= pair[1]);
+            if i0 < i1 {
+                out.push((i0, i1));
+            }
+        }
     }
 
     /// Calls `f(index)` for every pixel whose centre lies within distance `< r` of the convex
-    /// counter-clockwise polygon `poly` (inside when `r` is 0: distance 0 counts).
+    /// counter-clockwise polygon `poly` (inside or on it when `r` is 0).
+    #[cfg_attr(not(feature = "images"), allow(dead_code))]
     pub(crate) fn for_convex_within(&self, poly: &[Point2], r: Real, mut f: impl FnMut(usize)) {
         if poly.is_empty() {
             return;
         }
         let (min, max) = crate::plane::bounds(poly);
-        let Some((i0, i1, j0, j1)) = self.span(min, max, r) else {
+        let Some((j0, j1)) = self.rows(min.y, max.y, r) else {
             return;
         };
         for j in j0..=j1 {
-            for i in i0..=i1 {
-                let d = convex_distance(poly, &self.center(i, j));
-                if d < r || (r == 0.0 && d == 0.0) {
+            if let Some((i0, i1)) = self.convex_row(poly, r, self.row_y(j)) {
+                for i in i0..i1 {
                     f(self.index(i, j));
-                }
-            }
-        }
-    }
-
-    /// Calls `f(index)` for every pixel whose centre lies within distance `< r` of the segment.
-    pub(crate) fn for_segment_within(&self, a: &Point2, b: &Point2, r: Real, mut f: impl FnMut(usize)) {
-        let (min, max) = (a.inf(b), a.sup(b));
-        let Some((i0, i1, j0, j1)) = self.span(min, max, r) else {
-            return;
-        };
-        for j in j0..=j1 {
-            for i in i0..=i1 {
-                if point_segment_distance(&self.center(i, j), a, b) < r {
-                    f(self.index(i, j));
-                }
-            }
-        }
-    }
-
-    /// Calls `f(index)` for every pixel whose centre lies inside the simple polygon (even-odd
-    /// scanline fill; centres on an edge may fall either way).
-    pub(crate) fn for_polygon(&self, poly: &[Point2], mut f: impl FnMut(usize)) {
-        let n = poly.len();
-        if n < 3 {
-            return;
-        }
-        let (min, max) = crate::plane::bounds(poly);
-        let Some((i0, i1, j0, j1)) = self.span(min, max, 0.0) else {
-            return;
-        };
-        let mut xs: Vec<Real> = Vec::with_capacity(8);
-        for j in j0..=j1 {
-            let y = self.y0 + (j as Real + 0.5) * self.pixel;
-            xs.clear();
-            for k in 0..n {
-                let (a, b) = (poly[k], poly[(k + 1) % n]);
-                if (a.y > y) != (b.y > y) {
-                    xs.push(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
-                }
-            }
-            xs.sort_by(|p, q| p.total_cmp(q));
-            for pair in xs.chunks_exact(2) {
-                for i in i0..=i1 {
-                    let x = self.x0 + (i as Real + 0.5) * self.pixel;
-                    if x >= pair[0] && x < pair[1] {
-                        f(self.index(i, j));
-                    }
                 }
             }
         }
     }
 }
 
-/// Labels the 8-connected components of the `true` pixels in scan order (row by row from the
-/// lowest y). Returns the label of every pixel (`u32::MAX` for `false` pixels) and the size of
-/// every component.
-pub(crate) fn components8(grid: &Grid, mask: &[bool]) -> (Vec<u32>, Vec<usize>) {
-    let (w, h) = (grid.width, grid.height);
-    let mut labels = vec![u32::MAX; mask.len()];
-    let mut sizes = Vec::new();
-    let mut stack = Vec::new();
-    for start in 0..mask.len() {
-        if !mask[start] || labels[start] != u32::MAX {
+/// Where the horizontal line at `y` crosses the closed convex polygon: `[x0, x1]`.
+fn chord(poly: &[Point2], y: Real) -> Option<(Real, Real)> {
+    let n = poly.len();
+    let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
+    for k in 0..n {
+        let (a, b) = (poly[k], poly[(k + 1) % n]);
+        if (a.y - y) * (b.y - y) > 0.0 {
             continue;
         }
-        let label = sizes.len() as u32;
-        labels[start] = label;
-        stack.push(start);
-        let mut size = 0;
-        while let Some(p) = stack.pop() {
-            size += 1;
-            let (i, j) = ((p % w) as isize, (p / w) as isize);
-            for dj in -1..=1isize {
-                for di in -1..=1isize {
-                    let (ni, nj) = (i + di, j + dj);
-                    if ni < 0 || nj < 0 || ni >= w as isize || nj >= h as isize {
-                        continue;
+        if a.y == b.y {
+            lo = lo.min(a.x.min(b.x));
+            hi = hi.max(a.x.max(b.x));
+        } else {
+            let x = a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x);
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// The open interval of x where the horizontal line at `y` lies within distance `< r` of the
+/// segment `a b` (a capsule: two discs and a strip).
+fn capsule_row(a: &Point2, b: &Point2, r: Real, y: Real) -> Option<(Real, Real)> {
+    if r <= 0.0 {
+        return None;
+    }
+    let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
+    for c in [a, b] {
+        let dy = y - c.y;
+        if dy.abs() < r {
+            let half = (r * r - dy * dy).sqrt();
+            lo = lo.min(c.x - half);
+            hi = hi.max(c.x + half);
+        }
+    }
+    let d = b - a;
+    let len = d.norm();
+    if len > 0.0 {
+        let u = d / len;
+        let n = sceneeval_geom::Vector2::new(-u.y, u.x);
+        // Along the segment: u.x (x - a.x) + u.y (y - a.y) in [0, len]; across it:
+        // |n.x (x - a.x) + n.y (y - a.y)| < r.
+        let along = affine_range(u.x, u.y * (y - a.y) - u.x * a.x, 0.0, len);
+        let across = affine_range(n.x, n.y * (y - a.y) - n.x * a.x, -r, r);
+        if let (Some((a0, a1)), Some((c0, c1))) = (along, across) {
+            let (s0, s1) = (a0.max(c0), a1.min(c1));
+            if s0 <= s1 {
+                lo = lo.min(s0);
+                hi = hi.max(s1);
+            }
+        }
+    }
+    (lo < hi).then_some((lo, hi))
+}
+
+/// The x with `lo <= k x + c <= hi` (all x when `k` is 0 and `c` fits).
+fn affine_range(k: Real, c: Real, lo: Real, hi: Real) -> Option<(Real, Real)> {
+    if k == 0.0 {
+        return (lo <= c && c <= hi).then_some((Real::NEG_INFINITY, Real::INFINITY));
+    }
+    let (p, q) = ((lo - c) / k, (hi - c) / k);
+    Some((p.min(q), p.max(q)))
+}
+
+/// Sorted, disjoint, non-adjacent column intervals `[start, end)` per row: the free space (or
+/// the floor) of an [`crate::OccupancyMap`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RowRuns {
+    /// Row `j`'s runs are `runs[row_start[j]..row_start[j + 1]]`.
+    row_start: Vec<usize>,
+    runs: Vec<[u32; 2]>,
+}
+
+impl RowRuns {
+    /// Runs from one sorted, merged interval list per row.
+    pub(crate) fn from_rows(rows: Vec<Vec<(usize, usize)>>) -> Self {
+        let mut row_start = Vec::with_capacity(rows.len() + 1);
+        let mut runs = Vec::with_capacity(rows.iter().map(Vec::len).sum());
+        row_start.push(0);
+        for row in rows {
+            runs.extend(row.into_iter().map(|(a, b)| [a as u32, b as u32]));
+            row_start.push(runs.len());
+        }
+        RowRuns { row_start, runs }
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> usize {
+        self.row_start.len().saturating_sub(1)
+    }
+
+    /// The runs of row `j`, each `[start, end)` in pixel columns, left to right.
+    pub fn row(&self, j: usize) -> &[[u32; 2]] {
+        match (self.row_start.get(j), self.row_start.get(j + 1)) {
+            (Some(&a), Some(&b)) => &self.runs[a..b],
+            _ => &[],
+        }
+    }
+
+    /// All runs, row by row (index them with [`RowRuns::run_at`] or the labels of
+    /// [`crate::OccupancyMap::components`]).
+    pub fn runs(&self) -> &[[u32; 2]] {
+        &self.runs
+    }
+
+    /// Index (into [`RowRuns::runs`]) of the first run of row `j`.
+    pub fn row_offset(&self, j: usize) -> usize {
+        self.row_start.get(j).copied().unwrap_or(self.runs.len())
+    }
+
+    /// The index of the run holding pixel `(i, j)`, if any.
+    pub fn run_at(&self, i: usize, j: usize) -> Option<usize> {
+        let row = self.row(j);
+        let k = row.partition_point(|r| (r[1] as usize) <= i);
+        row.get(k)
+            .filter(|r| r[0] as usize <= i)
+            .map(|_| self.row_offset(j) + k)
+    }
+
+    /// Whether pixel `(i, j)` is in a run.
+    pub fn contains(&self, i: usize, j: usize) -> bool {
+        self.run_at(i, j).is_some()
+    }
+
+    /// Number of pixels in runs.
+    pub fn count(&self) -> usize {
+        self.runs.iter().map(|r| (r[1] - r[0]) as usize).sum()
+    }
+
+    /// Labels of the 8-connected components of the runs (two passes: union-find over runs
+    /// of adjacent rows that touch, then numbering in scan order of each component's first
+    /// pixel) and the size of every component in pixels.
+    pub(crate) fn components8(&self) -> (Vec<u32>, Vec<usize>) {
+        let n = self.runs.len();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn find(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                let up = parent[parent[x as usize] as usize];
+                parent[x as usize] = up;
+                x = up;
+            }
+            x
+        }
+        for j in 1..self.height() {
+            let (prev, cur) = (self.row_offset(j - 1), self.row_offset(j));
+            let (prow, crow) = (self.row(j - 1), self.row(j));
+            let mut p = 0;
+            for (c, run) in crow.iter().enumerate() {
+                // 8-connected: runs touch when they overlap after growing one by a pixel.
+                while p < prow.len() && prow[p][1] < run[0] {
+                    p += 1;
+                }
+                let mut q = p;
+                while q < prow.len() && prow[q][0] <= run[1] {
+                    let (x, y) = (
+                        find(&mut parent, (prev + q) as u32),
+                        find(&mut parent, (cur + c) as u32),
+                    );
+                    if x != y {
+                        parent[x.max(y) as usize] = x.min(y);
                     }
-                    let q = nj as usize * w + ni as usize;
-                    if mask[q] && labels[q] == u32::MAX {
-                        labels[q] = label;
-                        stack.push(q);
-                    }
+                    q += 1;
                 }
             }
         }
-        sizes.push(size);
+        let mut label_of_root: Vec<u32> = vec![u32::MAX; n];
+        let mut labels = vec![0u32; n];
+        let mut sizes: Vec<usize> = Vec::new();
+        for (k, (label, run)) in labels.iter_mut().zip(&self.runs).enumerate() {
+            let root = find(&mut parent, k as u32) as usize;
+            if label_of_root[root] == u32::MAX {
+                label_of_root[root] = sizes.len() as u32;
+                sizes.push(0);
+            }
+            *label = label_of_root[root];
+            sizes[*label as usize] += (run[1] - run[0]) as usize;
+        }
+        (labels, sizes)
     }
-    (labels, sizes)
+}
+
+/// Merges sorted-by-start intervals `[a, b)` that overlap or touch.
+pub(crate) fn merge(mut v: Vec<(usize, usize)>) -> Vec<(usize, usize)> {
+    v.sort_unstable();
+    let mut out: Vec<(usize, usize)> = Vec::with_capacity(v.len());
+    for (a, b) in v {
+        match out.last_mut() {
+            Some(last) if a <= last.1 => last.1 = last.1.max(b),
+            _ => out.push((a, b)),
+        }
+    }
+    out
+}
+
+/// `keep` minus `cut`, both merged.
+pub(crate) fn subtract(keep: &[(usize, usize)], cut: &[(usize, usize)]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut c = 0;
+    for &(mut a, b) in keep {
+        while c < cut.len() && cut[c].1 <= a {
+            c += 1;
+        }
+        let mut k = c;
+        while k < cut.len() && cut[k].0 < b {
+            if cut[k].0 > a {
+                out.push((a, cut[k].0));
+            }
+            a = a.max(cut[k].1);
+            k += 1;
+        }
+        if a < b {
+            out.push((a, b));
+        }
+    }
+    out
+}
+
+/// `f(0..count)` computed in parallel, collected in order.
+pub(crate) fn par_rows<T: Send>(height: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+    (0..height).into_par_iter().map(f).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::planar::{convex_distance, point_segment_distance};
 
     fn grid10() -> Grid {
         Grid::covering(
@@ -275,6 +547,7 @@ mod tests {
         // Side = max(4.4, 2.4) = 4.4 m over 256 pixels, centred on (2, 1).
         assert!((p.pixel - 4.4 / 256.0).abs() < 1e-15);
         assert!((p.x0 + 0.2).abs() < 1e-12 && (p.y0 - (1.0 - 2.2)).abs() < 1e-12);
+        // 1e4 m at 1 mm: 10 million pixels per side, over the limit of 2^20.
         assert!(matches!(
             Grid::covering(
                 "t",
@@ -300,7 +573,6 @@ mod tests {
     #[test]
     fn fills_count_pixel_centres() {
         let g = grid10();
-        let mut n = 0;
         // [0.2, 0.6] x [0.0, 0.3]: centres 0.25..0.55 (4) x 0.05..0.25 (3).
         let rect = [
             Point2::new(0.2, 0.0),
@@ -308,29 +580,168 @@ mod tests {
             Point2::new(0.6, 0.3),
             Point2::new(0.2, 0.3),
         ];
-        g.for_polygon(&rect, |_| n += 1);
+        let mut n = 0;
+        for j in 0..g.height {
+            let mut row = Vec::new();
+            g.polygon_row(&rect, g.row_y(j), &mut row);
+            n += row.iter().map(|(a, b)| b - a).sum::<usize>();
+        }
         assert_eq!(n, 12);
         let mut m = 0;
         g.for_convex_within(&rect, 0.0, |_| m += 1);
         assert_eq!(m, 12);
-        let mut s = 0;
         // Centres within 0.1 of the segment x = 0.5 (strictly): x = 0.45, 0.55 -> 2 columns.
-        g.for_segment_within(&Point2::new(0.5, -1.0), &Point2::new(0.5, 2.0), 0.1, |_| s += 1);
+        let s = (0..g.height)
+            .filter_map(|j| g.segment_row(&Point2::new(0.5, -1.0), &Point2::new(0.5, 2.0), 0.1, g.row_y(j)))
+            .map(|(a, b)| b - a)
+            .sum::<usize>();
         assert_eq!(s, 20);
     }
 
     #[test]
+    fn row_intervals_match_pixel_by_pixel_distances() {
+        // A fine grid and a few convex shapes at odd angles: the closed-form row intervals
+        // mark exactly the centres whose exact distance is below r.
+        let g = Grid::covering(
+            "t",
+            Point2::new(0.0, 0.0),
+            Point2::new(3.0, 2.0),
+            0.3,
+            Resolution::MetresPerPixel(0.013),
+        )
+        .unwrap();
+        let shapes: Vec<Vec<Point2>> = vec![
+            crate::plane::ccw(vec![
+                Point2::new(0.3, 0.2),
+                Point2::new(1.7, 0.5),
+                Point2::new(1.2, 1.6),
+                Point2::new(0.4, 1.1),
+            ]),
+            vec![Point2::new(2.0, 0.4)],
+            vec![Point2::new(2.1, 0.3), Point2::new(2.9, 1.8)],
+            crate::plane::ccw(vec![
+                Point2::new(2.2, 1.0),
+                Point2::new(2.6, 1.0),
+                Point2::new(2.6, 1.0001),
+            ]),
+        ];
+        for poly in &shapes {
+            for r in [0.0, 0.07, 0.25] {
+                let mut by_rows = vec![false; g.len()];
+                for j in 0..g.height {
+                    if let Some((a, b)) = g.convex_row(poly, r, g.row_y(j)) {
+                        for i in a..b {
+                            by_rows[g.index(i, j)] = true;
+                        }
+                    }
+                }
+                for j in 0..g.height {
+                    for i in 0..g.width {
+                        let c = g.center(i, j);
+                        let d = if poly.len() == 2 {
+                            point_segment_distance(&c, &poly[0], &poly[1])
+                        } else {
+                            convex_distance(poly, &c)
+                        };
+                        // Centres within 1e-9 of the boundary may fall either way.
+                        if (d - r).abs() > 1e-9 && !(r == 0.0 && d < 1e-9) {
+                            let want = if r > 0.0 { d < r } else { d == 0.0 };
+                            assert_eq!(by_rows[g.index(i, j)], want, "{poly:?} r {r} at {c}: d {d}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn components_are_eight_connected() {
-        let g = grid10();
-        let mut mask = vec![false; g.len()];
-        // Two diagonal neighbours (connected) and one separate pixel.
-        mask[g.index(0, 0)] = true;
-        mask[g.index(1, 1)] = true;
-        mask[g.index(5, 5)] = true;
-        let (labels, sizes) = components8(&g, &mask);
+        // Row 0: pixel 0; row 1: pixel 1 (diagonal neighbour); row 5: pixel 5.
+        let mut rows = vec![Vec::new(); 10];
+        rows[0] = vec![(0, 1)];
+        rows[1] = vec![(1, 2)];
+        rows[5] = vec![(5, 6)];
+        let runs = RowRuns::from_rows(rows);
+        let (labels, sizes) = runs.components8();
         assert_eq!(sizes, vec![2, 1]);
-        assert_eq!(labels[g.index(1, 1)], 0);
-        assert_eq!(labels[g.index(5, 5)], 1);
-        assert_eq!(labels[g.index(3, 3)], u32::MAX);
+        assert_eq!(labels, vec![0, 0, 1]);
+        assert_eq!(runs.run_at(1, 1), Some(1));
+        assert_eq!(runs.run_at(3, 3), None);
+        assert_eq!(runs.count(), 3);
+    }
+
+    proptest::proptest! {
+        /// Labelling runs gives the same components as a flood fill over pixels.
+        #[test]
+        fn run_labels_match_a_pixel_flood_fill(bits in proptest::collection::vec(proptest::bool::weighted(0.6), 12 * 9)) {
+            let (w, h) = (12usize, 9usize);
+            let rows: Vec<Vec<(usize, usize)>> = (0..h)
+                .map(|j| {
+                    let mut row = Vec::new();
+                    let mut i = 0;
+                    while i < w {
+                        if bits[j * w + i] {
+                            let s = i;
+                            while i < w && bits[j * w + i] {
+                                i += 1;
+                            }
+                            row.push((s, i));
+                        } else {
+                            i += 1;
+                        }
+                    }
+                    row
+                })
+                .collect();
+            let runs = RowRuns::from_rows(rows);
+            let (labels, sizes) = runs.components8();
+            // Flood fill, components numbered in scan order.
+            let mut flood = vec![u32::MAX; w * h];
+            let mut flood_sizes = Vec::new();
+            for start in 0..w * h {
+                if !bits[start] || flood[start] != u32::MAX {
+                    continue;
+                }
+                let label = flood_sizes.len() as u32;
+                let mut stack = vec![start];
+                flood[start] = label;
+                let mut size = 0;
+                while let Some(p) = stack.pop() {
+                    size += 1;
+                    let (i, j) = ((p % w) as isize, (p / w) as isize);
+                    for dj in -1..=1isize {
+                        for di in -1..=1isize {
+                            let (ni, nj) = (i + di, j + dj);
+                            if ni < 0 || nj < 0 || ni >= w as isize || nj >= h as isize {
+                                continue;
+                            }
+                            let q = nj as usize * w + ni as usize;
+                            if bits[q] && flood[q] == u32::MAX {
+                                flood[q] = label;
+                                stack.push(q);
+                            }
+                        }
+                    }
+                }
+                flood_sizes.push(size);
+            }
+            proptest::prop_assert_eq!(&sizes, &flood_sizes);
+            for j in 0..h {
+                for i in 0..w {
+                    let by_runs = runs.run_at(i, j).map_or(u32::MAX, |k| labels[k]);
+                    proptest::prop_assert_eq!(by_runs, flood[j * w + i]);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn interval_algebra() {
+        assert_eq!(merge(vec![(5, 7), (0, 2), (2, 3), (6, 9)]), vec![(0, 3), (5, 9)]);
+        assert_eq!(
+            subtract(&[(0, 10), (20, 30)], &[(2, 4), (8, 22), (25, 26)]),
+            vec![(0, 2), (4, 8), (22, 25), (26, 30)]
+        );
+        assert_eq!(subtract(&[(0, 10)], &[]), vec![(0, 10)]);
     }
 }

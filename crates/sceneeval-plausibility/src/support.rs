@@ -7,8 +7,8 @@ use sceneeval_geom::{Aabb, Isometry3, Mesh, Point2, Point3, Ray, Real, Vector3};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::collision::lattice;
 use crate::error::check_non_negative;
+use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::plane::{area, convex_contains, convex_hull};
 use crate::sources::{SupportType, SupportTypeSource};
 use crate::{Deadline, PlausibilityError};
@@ -153,6 +153,9 @@ struct Target<'a> {
 /// have positive area (three non-collinear contacts at least). Many rays form the hull, so a
 /// single ray slipping through a shared edge cannot decide the outcome.
 ///
+/// The targets rays may hit are found with a bounding-volume hierarchy over their boxes, so
+/// the metric grows as `n log n` in the number of objects.
+///
 /// # Errors
 /// [`PlausibilityError::InvalidParameter`] for negative or non-finite parameters.
 pub fn support(
@@ -160,16 +163,29 @@ pub fn support(
     params: &SupportParams,
     types: &dyn SupportTypeSource,
 ) -> Result<SupportReport, PlausibilityError> {
+    support_with(scene, params, types, &Deadline::none()).map(|(report, _)| report)
+}
+
+/// [`support`] and the work of its spatial-index queries (boxes tested, candidate targets),
+/// for tests and profiling.
+///
+/// # Errors
+/// As [`support`].
+pub fn support_with_work(
+    scene: &Scene,
+    params: &SupportParams,
+    types: &dyn SupportTypeSource,
+) -> Result<(SupportReport, IndexWork), PlausibilityError> {
     support_with(scene, params, types, &Deadline::none())
 }
 
-/// [`support`], giving up once `deadline` has passed (checked before each object).
+/// [`support_with_work`], giving up once `deadline` has passed (checked before each object).
 pub(crate) fn support_with(
     scene: &Scene,
     params: &SupportParams,
     types: &dyn SupportTypeSource,
     deadline: &Deadline,
-) -> Result<SupportReport, PlausibilityError> {
+) -> Result<(SupportReport, IndexWork), PlausibilityError> {
     params.validate()?;
     let mut targets: Vec<Target<'_>> = Vec::new();
     for (k, o) in scene.objects().iter().enumerate() {
@@ -192,6 +208,8 @@ pub(crate) fn support_with(
             targets.push(arch_target(c, Supporter::Ceiling(rid)));
         }
     }
+    let index = BoxIndex::new(&targets.iter().map(|t| t.aabb).collect::<Vec<_>>());
+    let work = WorkCounter::default();
     let objects: Vec<ObjectSupport> = scene
         .objects()
         .par_iter()
@@ -203,7 +221,16 @@ pub(crate) fn support_with(
                 Some(a) => (a.value, Some(a.source)),
                 None => (SupportType::Ground, None),
             };
-            Ok(check_object(k, o, support_type, type_source, &targets, params))
+            Ok(check_object(
+                k,
+                o,
+                support_type,
+                type_source,
+                &targets,
+                &index,
+                &work,
+                params,
+            ))
         })
         .collect::<Result<_, PlausibilityError>>()?;
     let num_supported = objects.iter().filter(|o| o.supported).count();
@@ -211,12 +238,13 @@ pub(crate) fn support_with(
     if num_unknown_type > 0 {
         tracing::debug!(num_unknown_type, "support types unknown, checked as ground");
     }
-    Ok(SupportReport {
+    let report = SupportReport {
         sup: (!objects.is_empty()).then(|| num_supported as Real / objects.len() as Real),
         objects,
         num_supported,
         num_unknown_type,
-    })
+    };
+    Ok((report, work.total()))
 }
 
 fn arch_target(mesh: &Mesh, what: Supporter) -> Target<'_> {
@@ -239,12 +267,15 @@ pub(crate) fn gravity(support_type: SupportType, object: &SceneObject) -> Vector
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn check_object(
-    index: usize,
+    own: usize,
     o: &SceneObject,
     support_type: SupportType,
     type_source: Option<String>,
     targets: &[Target<'_>],
+    index: &BoxIndex,
+    work: &WorkCounter,
     params: &SupportParams,
 ) -> ObjectSupport {
     let g = gravity(support_type, o);
@@ -259,9 +290,11 @@ fn check_object(
             .loosened(1e-9)
     });
     let candidates: Vec<&Target<'_>> = match corridor {
-        Some(c) => targets
-            .iter()
-            .filter(|t| t.object != Some(index) && t.aabb.intersects(&c))
+        Some(c) => index
+            .query(&c, work)
+            .into_iter()
+            .map(|k| &targets[k])
+            .filter(|t| t.object != Some(own))
             .collect(),
         None => Vec::new(),
     };
@@ -408,4 +441,42 @@ fn ray_origins(o: &SceneObject, world: &[Point3], g: &Vector3, params: &SupportP
     }
     origins.extend(lattice_points);
     origins
+}
+
+/// Appends the centroids of the `k^2` sub-triangles of the `k`-subdivision of `t`.
+pub(crate) fn lattice(t: &[Point3; 3], k: usize, out: &mut Vec<Point3>) {
+    let (a, e1, e2) = (t[0], t[1] - t[0], t[2] - t[0]);
+    let kf = k as Real;
+    for i in 0..k {
+        for j in 0..k - i {
+            let (fi, fj) = (i as Real, j as Real);
+            out.push(a + e1 * ((fi + 1.0 / 3.0) / kf) + e2 * ((fj + 1.0 / 3.0) / kf));
+            if j + 1 < k - i {
+                out.push(a + e1 * ((fi + 2.0 / 3.0) / kf) + e2 * ((fj + 2.0 / 3.0) / kf));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_has_k_squared_points_inside() {
+        let t = [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
+        for k in 1..6 {
+            let mut pts = Vec::new();
+            lattice(&t, k, &mut pts);
+            assert_eq!(pts.len(), k * k);
+            assert!(pts.iter().all(|p| p.x > 0.0 && p.y > 0.0 && p.x + p.y < 1.0));
+            // The centroids average to the triangle's centroid.
+            let mean = pts.iter().fold(Vector3::zeros(), |acc, p| acc + p.coords) / (k * k) as f64;
+            assert!((mean - Vector3::new(1.0 / 3.0, 1.0 / 3.0, 0.0)).norm() < 1e-12);
+        }
+    }
 }

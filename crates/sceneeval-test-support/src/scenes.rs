@@ -8,8 +8,7 @@ use std::sync::Arc;
 use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point2, Point3, Vector3};
 
 use sceneeval_geom::conventions::pose_from_yaw;
-use sceneeval_scene::Category;
-use sceneeval_scene::{RoomBuilder, Scene};
+use sceneeval_scene::{Category, RoomBuilder, Scene, SceneObject};
 
 /// The four meshes the benchmark scenes are made of.
 #[derive(Debug, Clone)]
@@ -89,7 +88,9 @@ const WALL_HEIGHT: f64 = 2.8;
 /// Never: every placement is finite and the ids are unique.
 #[allow(clippy::expect_used)]
 pub fn scene(n: usize, meshes: &BenchMeshes) -> Scene {
-    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 5 | 8)).count();
+    // Cells for every object that may stand on the floor: paintings that find no wall slot
+    // become cabinets, so they get a cell too (the room then never runs out of cells).
+    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 8)).count();
     let cols = ((ground as f64).sqrt().ceil() as usize).max(2);
     let side = cols as f64 * CELL + 0.4;
     let room = RoomBuilder::rectangle("bench", Point2::new(0.0, 0.0), Point2::new(side, side))
@@ -235,10 +236,207 @@ pub fn fixture_scene() -> Scene {
         .expect("fixture-size scene")
 }
 
+/// The four kinds of object of a scaling scene, each a named mesh (the name is the asset id
+/// in a sceneState file).
+#[derive(Debug, Clone)]
+pub struct AssetSet {
+    /// What the set is made of (`boxes`, `fixtures`, `mesh8k`).
+    pub kind: String,
+    /// The model-id prefix scene files use for the set (`bench` or `fixture`).
+    pub prefix: String,
+    /// A table (ground object whose top carries lamps).
+    pub table: (String, Arc<Mesh>),
+    /// A cabinet (ground object).
+    pub cabinet: (String, Arc<Mesh>),
+    /// A lamp (stands on tables or hangs at the ceiling).
+    pub lamp: (String, Arc<Mesh>),
+    /// A painting (hangs on a wall, its back at the mesh's `+y` bound).
+    pub painting: (String, Arc<Mesh>),
+}
+
+/// Closed meshes of about 8,000 triangles: a table (five boxes split 11 x 11 per face, 7,260
+/// triangles), a cabinet (a box split 26 x 26 per face, 8,112), a lamp (a UV sphere of 90
+/// segments and 46 rings, 8,100) and a painting (a box split 26 x 26, 8,112); origins at the
+/// bottom centre (the lamp and painting at their centre).
+///
+/// # Panics
+/// Never for these fixed shapes.
+#[allow(clippy::expect_used)]
+pub fn mesh8k_set() -> AssetSet {
+    let table_parts = [
+        (Vector3::new(0.6, 0.4, 0.025), Vector3::new(0.0, 0.0, 0.725)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, -0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, -0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, 0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, 0.35, 0.35)),
+    ];
+    let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
+    for (h, c) in table_parts {
+        let part = Mesh::subdivided_box(&h, 11).expect("table part");
+        let base = tv.len() as u32;
+        tv.extend(part.vertices().iter().map(|p| p + c));
+        tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
+    }
+    let table = Mesh::new(tv, tt).expect("table mesh");
+    let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 26)
+        .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
+        .expect("cabinet mesh");
+    let painting = Mesh::subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 26).expect("painting mesh");
+    let lamp = Mesh::uv_ellipsoid(&Vector3::repeat(0.15), 90, 46).expect("lamp mesh");
+    AssetSet {
+        kind: "mesh8k".into(),
+        prefix: "bench".into(),
+        table: ("table8k".into(), Arc::new(table)),
+        cabinet: ("cabinet8k".into(), Arc::new(cabinet)),
+        lamp: ("lamp8k".into(), Arc::new(lamp)),
+        painting: ("painting8k".into(), Arc::new(painting)),
+    }
+}
+
+/// The bounding boxes of [`mesh8k_set`] as 12-triangle box meshes.
+///
+/// # Panics
+/// Never for these fixed shapes.
+#[allow(clippy::expect_used)]
+pub fn box_set() -> AssetSet {
+    let m = mesh8k_set();
+    let boxed = |name: &str, mesh: &Mesh| {
+        let b = mesh.aabb();
+        let cube = Mesh::cuboid(&b.half_extents())
+            .and_then(|c| c.transformed(&Matrix3::identity(), &b.center().coords))
+            .expect("box mesh");
+        (name.to_owned(), Arc::new(cube))
+    };
+    AssetSet {
+        kind: "boxes".into(),
+        prefix: "bench".into(),
+        table: boxed("table_box", &m.table.1),
+        cabinet: boxed("cabinet_box", &m.cabinet.1),
+        lamp: boxed("lamp_box", &m.lamp.1),
+        painting: boxed("painting_box", &m.painting.1),
+    }
+}
+
+/// A square room furnished with exactly `n` objects of `set`, laid out like [`scene`]: ground
+/// objects on a grid of 1.6 m cells with up to 0.2 m of jitter and random yaw (tables
+/// unturned), every sixth pushed 0.9 m into its neighbour's cell (a collision), a lamp on
+/// every third table, lamps under the ceiling, paintings on the two far walls while they have
+/// room (then cabinets instead, so no two paintings share a spot), and objects carrying model
+/// ids `<prefix>.<name>` so that the scene can be written as a sceneState file. Every object
+/// stands on its mesh's lowest point (or hangs by its highest / its back).
+///
+/// # Panics
+/// Never: every placement is finite and the ids are unique.
+#[allow(clippy::expect_used)]
+pub fn scaling_scene(n: usize, set: &AssetSet) -> Scene {
+    // Cells for every object that may stand on the floor: paintings that find no wall slot
+    // become cabinets, so they get a cell too (the room then never runs out of cells).
+    let ground = (0..n).filter(|i| !matches!(i % 10, 2 | 8)).count();
+    let cols = ((ground as f64).sqrt().ceil() as usize).max(2);
+    let side = cols as f64 * CELL + 0.4;
+    let room = RoomBuilder::rectangle("hall", Point2::new(0.0, 0.0), Point2::new(side, side))
+        .wall_height(WALL_HEIGHT)
+        .door(0, [0.4, 1.3], [0.0, 2.1])
+        .window(1, [1.0, 2.2], [0.9, 2.0]);
+    let mut b = Scene::builder()
+        .id(format!("{}_{n}", set.kind))
+        .room_builder(room);
+    let mut rng = Lcg(0x5eed ^ n as u64);
+    let (mut cell, mut paintings) = (0usize, 0usize);
+    let slots = ((side - 1.2) / 1.0).floor().max(0.0) as usize + 1;
+    let mut last_table: Option<(f64, f64)> = None;
+    let object = |id: &str, (name, mesh): &(String, Arc<Mesh>), pose: Isometry3, category: &str| {
+        SceneObject::from_mesh(id, mesh.clone(), pose)
+            .expect("finite pose")
+            .with_model_id(format!("{}.{name}", set.prefix))
+            .with_category(category)
+    };
+    for i in 0..n {
+        let id = format!("obj{i}");
+        let kind = i % 10;
+        let painting_slot = kind == 5 && paintings < 2 * slots;
+        if matches!(kind, 2 | 8) {
+            let lamp = &set.lamp.1;
+            let (x, y, z, cat) = match (kind, last_table) {
+                (2, Some((x, y))) => (x, y, set.table.1.aabb().max.z - lamp.aabb().min.z, "table_lamp"),
+                _ => {
+                    let (x, y) = cell_centre(cell % (cols * cols), cols);
+                    (x, y, WALL_HEIGHT - lamp.aabb().max.z, "ceiling_lamp")
+                }
+            };
+            b = b.object(object(&id, &set.lamp, Isometry3::translation(x, y, z), cat));
+        } else if painting_slot {
+            let p = &set.painting.1;
+            let back = p.aabb().max.y;
+            let (k, wall) = (paintings % slots, paintings / slots);
+            let along = 0.6 + k as f64;
+            let pose = if wall == 0 {
+                // The far wall (y = side), facing -y.
+                Isometry3::translation(along, side - back, 1.5)
+            } else {
+                // The west wall (x = 0), facing +x: yaw 90 degrees maps +y (back) to -x.
+                Isometry3::new(
+                    Vector3::new(back, along, 1.5),
+                    Vector3::z() * std::f64::consts::FRAC_PI_2,
+                )
+            };
+            paintings += 1;
+            b = b.object(object(&id, &set.painting, pose, "painting"));
+        } else {
+            let (mut x, y) = cell_centre(cell, cols);
+            let (jx, jy, yaw) = (
+                rng.next() - 0.5,
+                rng.next() - 0.5,
+                rng.next() * std::f64::consts::TAU,
+            );
+            x += 0.4 * jx;
+            let y = y + 0.4 * jy;
+            if cell % 6 == 5 {
+                x -= 0.9;
+            }
+            cell += 1;
+            let table = matches!(kind, 0 | 4 | 7);
+            let (entry, cat, yaw) = if table {
+                last_table = (cell % 3 == 1).then_some((x, y));
+                (&set.table, "table", 0.0)
+            } else {
+                (&set.cabinet, "cabinet", yaw)
+            };
+            let z = -entry.1.aabb().min.z;
+            let pose = Isometry3::new(Vector3::new(x, y, z), Vector3::z() * yaw);
+            b = b.object(object(&id, entry, pose, cat));
+        }
+    }
+    b.build().expect("scaling scene")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use sceneeval_plausibility::{PlausibilityParams, Sources, evaluate};
+
+    #[test]
+    fn scaling_scenes_keep_every_object_in_the_room() {
+        // Paintings without a wall slot become cabinets; they must still find a cell.
+        for n in [10usize, 700, 3000] {
+            let s = scaling_scene(n, &box_set());
+            assert_eq!(s.objects().len(), n);
+            let floor = s.rooms()[0].floor_mesh().aabb();
+            for o in s.objects() {
+                let b = o.world_aabb();
+                assert!(
+                    b.min.x >= floor.min.x - 1.0 && b.max.x <= floor.max.x + 1e-6,
+                    "{n}: {} at {b:?}",
+                    o.id()
+                );
+                assert!(
+                    b.min.y >= floor.min.y - 1e-6 && b.max.y <= floor.max.y + 1e-6,
+                    "{n}: {}",
+                    o.id()
+                );
+            }
+        }
+    }
 
     #[test]
     fn bench_scenes_have_the_advertised_shape() {

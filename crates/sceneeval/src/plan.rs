@@ -8,7 +8,7 @@ use serde_json::{Map, Value};
 use crate::EvalError;
 use crate::fidelity::{FidelityMetric, FidelityParams};
 use crate::io::{Limits, ReadOptions};
-use crate::plausibility::{Metric, PlausibilityError, PlausibilityParams};
+use crate::plausibility::{Footprint, Metric, PlausibilityError, PlausibilityParams};
 use crate::relations::RelationParams;
 
 /// The default time budget per scene, in seconds (loading and every metric together).
@@ -141,7 +141,9 @@ impl EvaluationPlan {
     /// Every geometry-only metric with every reference-parity switch on: floor coverings
     /// (rugs, carpets, mats) are tested for collisions like any object
     /// (`params.collision.exclude_floor_coverings = false`), no object is walked over by
-    /// navigability, accessibility or opening clearance (`walkable_height = 0`), and the
+    /// navigability, accessibility or opening clearance (`walkable_height = 0`), obstacles on
+    /// the floor plan are the projected bounding boxes rather than the meshes' convex hulls
+    /// (`footprint = bounding_box` for navigability and accessibility), and the
     /// spatial predicates use [`RelationParams::reference`]. Scene reading already follows
     /// the reference by default (simple architecture when a file has none, its floor at the
     /// lowest object).
@@ -152,6 +154,8 @@ impl EvaluationPlan {
         plan.params.navigability.walkable_height = 0.0;
         plan.params.accessibility.walkable_height = 0.0;
         plan.params.opening_clearance.walkable_height = 0.0;
+        plan.params.navigability.footprint = Footprint::BoundingBox;
+        plan.params.accessibility.footprint = Footprint::BoundingBox;
         plan.relations = RelationParams::reference();
         plan.fidelity = FidelityParams::reference();
         plan.read = ReadOptions::default();
@@ -625,6 +629,10 @@ mod tests {
         assert_eq!(r, EvaluationPlan::reference());
         assert_eq!(r.relations, RelationParams::reference());
         assert!(!r.params.collision.exclude_floor_coverings);
+        assert_eq!(r.params.navigability.footprint, Footprint::BoundingBox);
+        assert_eq!(r.params.accessibility.footprint, Footprint::BoundingBox);
+        let d = EvaluationPlan::geometry_only();
+        assert_eq!(d.params.navigability.footprint, Footprint::ConvexHull);
         let r = EvaluationPlan::from_json_str_with_preset(
             r#"{"preset": "default", "params": {"collision": {"exclude_floor_coverings": true}}}"#,
             Some(Preset::Reference),
