@@ -2,7 +2,6 @@
 //! `<out>/<scene>/timing.json` as each scene finishes, then `<out>/summary.csv` and
 //! `<out>/summary.md`.
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -11,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sceneeval::annotation::Annotations;
 use sceneeval::io::AssetLibrary;
 use sceneeval::{
-    BatchOptions, EvaluationPlan, Evaluator, Metric, Outcome, Preset, SceneRecord, SceneStatus, Summary,
-    annotation_digest, check_output_dir, find_scenes, run_batch, write_atomic,
+    EvaluationPlan, Evaluator, FolderOutcome, FolderRun, Metric, Outcome, Preset, SceneRecord, SceneStatus,
+    check_output_dir, find_scenes,
 };
 
 /// Arguments of `sceneeval evaluate`.
@@ -97,18 +96,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .transpose()?;
     check_output_dir(&args.out)?;
 
-    let row_of = |scene_id: &str| {
-        let ann = annotations.as_ref()?;
-        ann.get(scene_id)
-            .or_else(|| ann.get(scene_id.trim_start_matches('0')))
-    };
-    let mut digests = BTreeMap::new();
-    for s in &scenes {
-        if let Some(row) = row_of(&s.id.to_string()) {
-            digests.insert(s.name.clone(), annotation_digest(row));
-        }
-    }
-
     let progress = if args.no_progress {
         ProgressBar::hidden()
     } else {
@@ -117,11 +104,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes {msg}") {
         progress.set_style(style.progress_chars("=> "));
     }
-    let options = BatchOptions {
+    let run = FolderRun {
         out_dir: args.out.clone(),
         force: args.force,
         diagnostics: args.diagnostics,
-        annotations: digests,
+        annotations: annotations.as_ref(),
     };
     let on_done = |scene: &sceneeval::SceneFile, status: &SceneStatus, record: &SceneRecord| {
         if let (SceneStatus::Failed { .. }, Outcome::Failed { stage, error, causes }) =
@@ -149,17 +136,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         pool = pool.num_threads(n.max(1));
     }
     let pool = pool.build().context("starting worker threads")?;
-    let outcome = pool.install(|| run_batch(&scenes, &evaluator, &assets, &options, &on_done))?;
+    let FolderOutcome {
+        batch: outcome,
+        summary,
+    } = pool.install(|| run.run(&scenes, &evaluator, &assets, &on_done))?;
     progress.finish_and_clear();
 
-    let difficulty =
-        |r: &SceneRecord| row_of(r.scene_id.as_deref()?).map(|row| row.difficulty.as_str().to_owned());
-    let summary = Summary::from_records(&outcome.records, difficulty).with_plan(plan);
-    write_atomic(&args.out.join("summary.csv"), summary.to_csv()?.as_bytes())?;
-    let markdown = summary.to_markdown();
-    write_atomic(&args.out.join("summary.md"), markdown.as_bytes())?;
-
-    print!("{markdown}");
+    print!("{}", summary.to_markdown());
     eprintln!(
         "{} scenes: {} evaluated, {} kept from an earlier run, {} failed; preset {}; results in {}",
         scenes.len(),
