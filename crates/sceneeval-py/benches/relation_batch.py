@@ -69,7 +69,7 @@ def main():
     t_list = [tuple(map(float, r)) for r in targets[: args.single]]
     a_list = [tuple(map(float, r)) for r in anchors[: args.single]]
     for name, kw in cases:
-        arch = name in sceneeval.OBJECT_ARCHITECTURE_RELATIONS and name not in ("next_to", "near") or "arch" in kw
+        arch = "arch" in kw or name in ("inside_room", "middle_of_room", "corner_of_room", "on_wall", "against_wall", "hang_from_ceiling")
         if arch:
             run = lambda: sceneeval.relation_batch(name, targets, room=ROOM, **kw)  # noqa: E731
             one = lambda: [sceneeval.relation(name, t, room=ROOM, **kw) for t in t_list]  # noqa: E731

@@ -118,6 +118,17 @@ pub fn rows<const C: usize>(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<
     let readonly = typed
         .try_readonly()
         .map_err(|e| value_error(format!("{what}: {e}")))?;
+    if let Ok(flat) = readonly.as_slice() {
+        // C-contiguous: one copy of the whole buffer.
+        return Ok(flat
+            .chunks_exact(C)
+            .map(|row| {
+                let mut r = [0.0; C];
+                r.copy_from_slice(row);
+                r
+            })
+            .collect());
+    }
     let view = readonly.as_array();
     let mut out = Vec::with_capacity(view.nrows());
     for row in view.rows() {

@@ -27,8 +27,7 @@ pub fn box_spec_from_row(row: &[f64; BOX_COLUMNS]) -> BoxSpec {
 /// use sceneeval_py::relations::obbs_from_rows;
 /// let boxes = obbs_from_rows(&[[0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]], "targets").unwrap();
 /// assert_eq!(boxes[0].half_extents.x, 0.5);
-/// let err = obbs_from_rows(&[[0.0; 7], [f64::NAN, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0]],
-/// "targets").unwrap_err();
+/// let err = obbs_from_rows(&[[0.0; 7], [f64::NAN, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0]], "targets").unwrap_err();
 /// assert_eq!(err.to_string(), "targets[1].center is not finite");
 /// ```
 ///
@@ -38,16 +37,34 @@ pub fn obbs_from_rows(
     rows: &[[f64; BOX_COLUMNS]],
     what: &str,
 ) -> Result<Vec<Obb>, sceneeval::relations::RelationError> {
-    rows.iter()
-        .enumerate()
-        .map(|(i, row)| {
-            let spec = box_spec_from_row(row);
-            // Name the row only when it is wrong: no allocation per good row.
-            spec.to_obb(what)
-                .or_else(|_| spec.to_obb(&format!("{what}[{i}]")))
-        })
-        .collect()
+    let mut out = Vec::with_capacity(rows.len());
+    obbs_into(rows, what, 0, &mut out)?;
+    Ok(out)
 }
+
+/// Replaces the content of `out` with the oriented boxes of `rows`, whose first row is row
+/// `first` of the caller's array (for the error's index).
+fn obbs_into(
+    rows: &[[f64; BOX_COLUMNS]],
+    what: &str,
+    first: usize,
+    out: &mut Vec<Obb>,
+) -> Result<(), sceneeval::relations::RelationError> {
+    out.clear();
+    for (i, row) in rows.iter().enumerate() {
+        let spec = box_spec_from_row(row);
+        // Name the row only when it is wrong: no allocation per good row.
+        let obb = spec
+            .to_obb(what)
+            .or_else(|_| spec.to_obb(&format!("{what}[{}]", first + i)))?;
+        out.push(obb);
+    }
+    Ok(())
+}
+
+/// Rows scored per chunk by the batch forms: the boxes of a chunk are built into buffers
+/// reused from chunk to chunk, so memory stays small and in cache whatever the batch size.
+const CHUNK: usize = 1024;
 
 /// A box given from Python: a sequence of seven numbers or a dict with `relate`'s keys
 /// (`center`, `half_size`, and `yaw` or `rotation`).
@@ -256,8 +273,8 @@ pub fn relation_batch<'py>(
 /// let scores = score_pairs(Relation::NextTo, &targets, &anchor,
 /// &RelationParams::default()).unwrap();
 /// assert_eq!(scores[0], 1.0);
-/// // 7.2 m apart: far beyond the band, exp(-6.7^2 / (2 * 0.25^2)) underflows to 0.
-/// assert_eq!(scores[1], 0.0);
+/// // 9 - 1.3 - 1 = 6.7 m apart: 6.2 m beyond the band, exp(-6.2^2 / (2 * 0.25^2)) = exp(-307.52).
+/// assert!((scores[1] / (-307.52f64).exp() - 1.0).abs() < 1e-9);
 /// ```
 ///
 /// # Errors
@@ -268,19 +285,40 @@ pub fn score_pairs(
     anchor_rows: &[[f64; BOX_COLUMNS]],
     params: &RelationParams,
 ) -> PyResult<Vec<f64>> {
-    let targets = obbs_from_rows(target_rows, "targets").map_err(|e| relation_error(&e))?;
-    let anchors = obbs_from_rows(anchor_rows, "anchors").map_err(|e| relation_error(&e))?;
-    let target_views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
-    let mut out = vec![0.0; targets.len()];
-    if let [anchor] = anchors.as_slice() {
-        let anchor = ObjectGeom::from_box(anchor);
-        for (t, o) in target_views.iter().zip(out.iter_mut()) {
-            *o = batch::score_pair(relation, t, &anchor, params).map_err(|e| relation_error(&e))?;
+    let mut out = vec![0.0; target_rows.len()];
+    let (mut targets, mut anchors) = (Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK));
+    let broadcast = anchor_rows.len() == 1 && target_rows.len() != 1;
+    if broadcast {
+        obbs_into(anchor_rows, "anchors", 0, &mut anchors).map_err(|e| relation_error(&e))?;
+    }
+    for (k, (chunk, out)) in target_rows.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
+        let first = k * CHUNK;
+        obbs_into(chunk, "targets", first, &mut targets).map_err(|e| relation_error(&e))?;
+        if broadcast {
+            let anchor = ObjectGeom::from_box(&anchors[0]);
+            for (t, o) in targets.iter().zip(out.iter_mut()) {
+                *o = batch::score_pair(relation, &ObjectGeom::from_box(t), &anchor, params)
+                    .map_err(|e| relation_error(&e))?;
+            }
+        } else {
+            let rows = anchor_rows.get(first..first + chunk.len()).ok_or_else(|| {
+                relation_error(&sceneeval::relations::RelationError::LengthMismatch {
+                    what: "anchors",
+                    got: anchor_rows.len(),
+                    expected: target_rows.len(),
+                })
+            })?;
+            obbs_into(rows, "anchors", first, &mut anchors).map_err(|e| relation_error(&e))?;
+            for ((t, a), o) in targets.iter().zip(&anchors).zip(out.iter_mut()) {
+                *o = batch::score_pair(
+                    relation,
+                    &ObjectGeom::from_box(t),
+                    &ObjectGeom::from_box(a),
+                    params,
+                )
+                .map_err(|e| relation_error(&e))?;
+            }
         }
-    } else {
-        let anchor_views: Vec<ObjectGeom<'_>> = anchors.iter().map(ObjectGeom::from_box).collect();
-        batch::score_pairs(relation, &target_views, &anchor_views, params, &mut out)
-            .map_err(|e| relation_error(&e))?;
     }
     Ok(out)
 }
@@ -296,11 +334,15 @@ pub fn score_in_room(
     params: &RelationParams,
 ) -> PyResult<Vec<f64>> {
     let room = room.build().map_err(|e| relation_error(&e))?;
-    let targets = obbs_from_rows(target_rows, "targets").map_err(|e| relation_error(&e))?;
-    let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
-    let mut out = vec![0.0; targets.len()];
-    batch::score_objects_in_rooms(relation, &views, std::slice::from_ref(&room), params, &mut out)
-        .map_err(|e| relation_error(&e))?;
+    let mut out = vec![0.0; target_rows.len()];
+    let mut targets = Vec::with_capacity(CHUNK);
+    for (k, (chunk, out)) in target_rows.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
+        obbs_into(chunk, "targets", k * CHUNK, &mut targets).map_err(|e| relation_error(&e))?;
+        // One small allocation per chunk of 1024 rows.
+        let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
+        batch::score_objects_in_rooms(relation, &views, std::slice::from_ref(&room), params, out)
+            .map_err(|e| relation_error(&e))?;
+    }
     Ok(out)
 }
 
