@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sceneeval::geom::Obb;
 use sceneeval::relations::spec::{BoxSpec, QuerySpec, RoomSpec, relation_from_spec};
-use sceneeval::relations::{ObjectGeom, Relation, RelationKind, RelationParams, batch};
+use sceneeval::relations::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, batch};
 
 use crate::convert::{rows, to_json};
 use crate::errors::{detached, relation_error, value_error};
@@ -33,10 +33,7 @@ pub fn box_spec_from_row(row: &[f64; BOX_COLUMNS]) -> BoxSpec {
 ///
 /// # Errors
 /// The error of [`BoxSpec::to_obb`] for the first bad row.
-pub fn obbs_from_rows(
-    rows: &[[f64; BOX_COLUMNS]],
-    what: &str,
-) -> Result<Vec<Obb>, sceneeval::relations::RelationError> {
+pub fn obbs_from_rows(rows: &[[f64; BOX_COLUMNS]], what: &str) -> Result<Vec<Obb>, RelationError> {
     let mut out = Vec::with_capacity(rows.len());
     obbs_into(rows, what, 0, &mut out)?;
     Ok(out)
@@ -49,7 +46,7 @@ fn obbs_into(
     what: &str,
     first: usize,
     out: &mut Vec<Obb>,
-) -> Result<(), sceneeval::relations::RelationError> {
+) -> Result<(), RelationError> {
     out.clear();
     for (i, row) in rows.iter().enumerate() {
         let spec = box_spec_from_row(row);
@@ -235,7 +232,9 @@ pub fn relation_batch<'py>(
                     target_rows.len()
                 )));
             }
-            detached(py, || score_pairs(relation, &target_rows, &anchor_rows, &params))?
+            detached(py, || {
+                score_pairs(relation, &target_rows, &anchor_rows, &params).map_err(|e| relation_error(&e))
+            })?
         }
         RelationKind::ObjectArchitecture => {
             if anchors.is_some() {
@@ -249,7 +248,9 @@ pub fn relation_batch<'py>(
                 ))
             })?;
             let room = room_spec(room)?;
-            detached(py, || score_in_room(relation, &target_rows, &room, &params))?
+            detached(py, || {
+                score_in_room(relation, &target_rows, &room, &params).map_err(|e| relation_error(&e))
+            })?
         }
         RelationKind::MultiTarget => {
             return Err(value_error(format!(
@@ -278,45 +279,44 @@ pub fn relation_batch<'py>(
 /// ```
 ///
 /// # Errors
-/// `ValueError` for a bad row or a relation that is not object-object.
+/// [`RelationError`] for a bad row (named by its index) or a relation that is not
+/// object-object.
 pub fn score_pairs(
     relation: Relation,
     target_rows: &[[f64; BOX_COLUMNS]],
     anchor_rows: &[[f64; BOX_COLUMNS]],
     params: &RelationParams,
-) -> PyResult<Vec<f64>> {
+) -> Result<Vec<f64>, RelationError> {
     let mut out = vec![0.0; target_rows.len()];
     let (mut targets, mut anchors) = (Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK));
     let broadcast = anchor_rows.len() == 1 && target_rows.len() != 1;
     if broadcast {
-        obbs_into(anchor_rows, "anchors", 0, &mut anchors).map_err(|e| relation_error(&e))?;
+        obbs_into(anchor_rows, "anchors", 0, &mut anchors)?;
     }
     for (k, (chunk, out)) in target_rows.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
         let first = k * CHUNK;
-        obbs_into(chunk, "targets", first, &mut targets).map_err(|e| relation_error(&e))?;
+        obbs_into(chunk, "targets", first, &mut targets)?;
         if broadcast {
             let anchor = ObjectGeom::from_box(&anchors[0]);
             for (t, o) in targets.iter().zip(out.iter_mut()) {
-                *o = batch::score_pair(relation, &ObjectGeom::from_box(t), &anchor, params)
-                    .map_err(|e| relation_error(&e))?;
+                *o = batch::score_pair(relation, &ObjectGeom::from_box(t), &anchor, params)?;
             }
         } else {
-            let rows = anchor_rows.get(first..first + chunk.len()).ok_or_else(|| {
-                relation_error(&sceneeval::relations::RelationError::LengthMismatch {
+            let rows = anchor_rows
+                .get(first..first + chunk.len())
+                .ok_or(RelationError::LengthMismatch {
                     what: "anchors",
                     got: anchor_rows.len(),
                     expected: target_rows.len(),
-                })
-            })?;
-            obbs_into(rows, "anchors", first, &mut anchors).map_err(|e| relation_error(&e))?;
+                })?;
+            obbs_into(rows, "anchors", first, &mut anchors)?;
             for ((t, a), o) in targets.iter().zip(&anchors).zip(out.iter_mut()) {
                 *o = batch::score_pair(
                     relation,
                     &ObjectGeom::from_box(t),
                     &ObjectGeom::from_box(a),
                     params,
-                )
-                .map_err(|e| relation_error(&e))?;
+                )?;
             }
         }
     }
@@ -326,22 +326,21 @@ pub fn score_pairs(
 /// `out[i]` = the object-architecture relation of target row i in `room`.
 ///
 /// # Errors
-/// `ValueError` for a bad row or room, or a relation that is not object-architecture.
+/// [`RelationError`] for a bad row or room, or a relation that is not object-architecture.
 pub fn score_in_room(
     relation: Relation,
     target_rows: &[[f64; BOX_COLUMNS]],
     room: &RoomSpec,
     params: &RelationParams,
-) -> PyResult<Vec<f64>> {
-    let room = room.build().map_err(|e| relation_error(&e))?;
+) -> Result<Vec<f64>, RelationError> {
+    let room = room.build()?;
     let mut out = vec![0.0; target_rows.len()];
     let mut targets = Vec::with_capacity(CHUNK);
     for (k, (chunk, out)) in target_rows.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
-        obbs_into(chunk, "targets", k * CHUNK, &mut targets).map_err(|e| relation_error(&e))?;
+        obbs_into(chunk, "targets", k * CHUNK, &mut targets)?;
         // One small allocation per chunk of 1024 rows.
         let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
-        batch::score_objects_in_rooms(relation, &views, std::slice::from_ref(&room), params, out)
-            .map_err(|e| relation_error(&e))?;
+        batch::score_objects_in_rooms(relation, &views, std::slice::from_ref(&room), params, out)?;
     }
     Ok(out)
 }
@@ -363,4 +362,70 @@ pub fn relation_params_py<'py>(
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     crate::convert::to_python(py, &relation_params(reference, params)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube(x: f64) -> [f64; BOX_COLUMNS] {
+        [x, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]
+    }
+
+    #[test]
+    fn bad_rows_are_named_by_their_index_in_the_whole_array() {
+        // Row 1500 lies in the second chunk of 1024 rows: its name counts from the array's start.
+        let mut rows = vec![cube(0.0); 2000];
+        rows[1500][6] = f64::INFINITY;
+        let anchors = vec![cube(2.0); 2000];
+        let err = score_pairs(Relation::Near, &rows, &anchors, &RelationParams::default()).unwrap_err();
+        assert_eq!(err.to_string(), "targets[1500].yaw is not finite");
+        let mut anchors = anchors;
+        anchors[1999][3] = -1.0;
+        let err = score_pairs(
+            Relation::Near,
+            &vec![cube(0.0); 2000],
+            &anchors,
+            &RelationParams::default(),
+        )
+        .unwrap_err();
+        assert!(
+            err.to_string().contains("anchors[1999] is not a valid box"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn one_anchor_row_scores_every_target_against_it() {
+        let params = RelationParams::default();
+        let targets: Vec<_> = (0..3000).map(|i| cube(f64::from(i) * 0.001)).collect();
+        let anchor = [cube(2.25)];
+        let broadcast = score_pairs(Relation::Near, &targets, &anchor, &params).unwrap();
+        let paired = score_pairs(Relation::Near, &targets, &vec![anchor[0]; 3000], &params).unwrap();
+        assert_eq!(broadcast, paired);
+        // Target 0: a 1.25 m gap to the anchor, inside near's [0.5, 1.5] m band.
+        assert_eq!(broadcast[0], 1.0);
+    }
+
+    #[test]
+    fn room_scores_match_one_query_at_a_time() {
+        let params = RelationParams::default();
+        let room = RoomSpec::new(vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]]);
+        let rows: Vec<_> = (0..1100)
+            .map(|i| [f64::from(i) * 0.004, 1.5, 0.4, 0.3, 0.3, 0.4, 0.0])
+            .collect();
+        let scores = score_in_room(Relation::InsideRoom, &rows, &room, &params).unwrap();
+        for (i, row) in rows.iter().enumerate().step_by(97) {
+            let query = QuerySpec {
+                relation: "inside_room".into(),
+                target: Some(box_spec_from_row(row)),
+                room: Some(room.clone()),
+                ..QuerySpec::default()
+            };
+            assert_eq!(scores[i], query.score(&params).unwrap(), "row {i}");
+        }
+        // Row 0 is centred on the wall x = 0: half of it is inside.
+        assert!((scores[0] - 0.5).abs() < 1e-9);
+        assert!(score_pairs(Relation::InsideRoom, &rows, &rows, &params).is_err());
+    }
 }

@@ -204,3 +204,10 @@ def test_non_finite_numbers_name_the_row_and_field(bad, column, field):
 def test_bad_arguments_raise_value_error(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_a_bad_row_beyond_the_first_chunk_is_named_by_its_index():
+    targets = np.tile(BOX[0], (3000, 1))
+    targets[2500, 0] = np.nan
+    with pytest.raises(ValueError, match=r"^targets\[2500\]\.center is not finite$"):
+        sceneeval.relation_batch("on_wall", targets, room={"floor": [[0, 0], [4, 0], [4, 3], [0, 3]]})
