@@ -21,6 +21,10 @@
 //! result file is written atomically ([`write_atomic`]). File formats and the guarantees a
 //! user may rely on: `docs/formats.md`.
 //!
+//! [`FolderRun`] is the whole run of `sceneeval evaluate` (the batch, then `summary.csv` and
+//! `summary.md`), shared by the CLI and the Python package; [`inspect`] gives a scene's objects,
+//! rooms, walls and openings as plain serializable values.
+//!
 //! # Example
 //! ```
 //! use sceneeval::{Evaluator, EvaluationPlan, Summary, SceneRecord};
