@@ -2,7 +2,6 @@
 //! `<out>/<scene>/timing.json` as each scene finishes, then `<out>/summary.csv` and
 //! `<out>/summary.md`.
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -17,8 +16,8 @@ use sceneeval::render::{RenderSettings, Renderer};
 use sceneeval::vlm::{Answer, Cached, Vlm, VlmError, VlmRequest};
 use sceneeval::vlm_openai::{ApiKey, DEFAULT_API_KEY_VAR, OpenAiConfig, OpenAiVlm};
 use sceneeval::{
-    BatchOptions, EvaluationPlan, Evaluator, Metric, Outcome, Preset, SceneRecord, SceneStatus, SharedVlm,
-    Summary, annotation_digest, check_output_dir, find_scenes, run_batch, write_atomic,
+    EvaluationPlan, Evaluator, FolderOutcome, FolderRun, Metric, Outcome, Preset, SceneRecord, SceneStatus,
+    SharedVlm, check_output_dir, find_scenes,
 };
 
 /// Arguments of `sceneeval evaluate`.
@@ -214,22 +213,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .transpose()?;
     check_output_dir(&args.out)?;
 
-    let row_of = |scene_id: &str| {
-        let ann = annotations.as_ref()?;
-        ann.get(scene_id)
-            .or_else(|| ann.get(scene_id.trim_start_matches('0')))
-    };
-    let mut digests = BTreeMap::new();
-    let mut rows = BTreeMap::new();
-    for s in &scenes {
-        if let Some(row) = row_of(&s.id.to_string()) {
-            digests.insert(s.name.clone(), annotation_digest(row));
-            if plan.has_fidelity() {
-                rows.insert(s.name.clone(), row.clone());
-            }
-        }
-    }
-
     let progress = if args.no_progress {
         ProgressBar::hidden()
     } else {
@@ -238,12 +221,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes{msg}") {
         progress.set_style(style.progress_chars("=> "));
     }
-    let options = BatchOptions {
+    let run = FolderRun {
         out_dir: args.out.clone(),
         force: args.force,
         diagnostics: args.diagnostics,
-        annotations: digests,
-        rows,
+        annotations: annotations.as_ref(),
     };
     let (renders, requests, cached) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
     let on_done = |scene: &sceneeval::SceneFile, status: &SceneStatus, record: &SceneRecord| {
@@ -287,18 +269,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         pool = pool.num_threads(n.max(1));
     }
     let pool = pool.build().context("starting worker threads")?;
-    let outcome = pool.install(|| run_batch(&scenes, &evaluator, &assets, &options, &on_done))?;
+    let FolderOutcome {
+        batch: outcome,
+        summary,
+    } = pool.install(|| run.run(&scenes, &evaluator, &assets, &on_done))?;
     progress.finish_and_clear();
     drop(runtime_stop);
 
-    let difficulty =
-        |r: &SceneRecord| row_of(r.scene_id.as_deref()?).map(|row| row.difficulty.as_str().to_owned());
-    let summary = Summary::from_records(&outcome.records, difficulty).with_plan(plan);
-    write_atomic(&args.out.join("summary.csv"), summary.to_csv()?.as_bytes())?;
-    let markdown = summary.to_markdown();
-    write_atomic(&args.out.join("summary.md"), markdown.as_bytes())?;
-
-    print!("{markdown}");
+    print!("{}", summary.to_markdown());
     eprintln!(
         "{} scenes: {} evaluated, {} kept from an earlier run, {} failed; preset {}; results in {}",
         scenes.len(),

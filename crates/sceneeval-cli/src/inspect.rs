@@ -10,9 +10,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
-use sceneeval::geom::{Real, Side};
+use sceneeval::geom::Real;
+use sceneeval::inspect::{ObjectInfo, RoomInfo, SceneInfo};
 use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
-use sceneeval::scene::{Room, Scene, SceneObject, SupportType, Wall};
+use sceneeval::scene::{Scene, SupportType};
 use serde::Serialize;
 
 /// Arguments of `sceneeval inspect`.
@@ -57,82 +58,25 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The JSON document of `inspect --json`. Lengths in metres, angles in radians.
+/// The JSON document of `inspect --json`: the scene's name, the file, and the facade's
+/// [`SceneInfo`] objects and rooms. Lengths in metres, angles in radians.
 #[derive(Debug, Serialize)]
 struct Report<'a> {
     /// The scene's name (the file stem).
     scene: Option<&'a str>,
     file: &'a Path,
-    objects: Vec<ObjectReport<'a>>,
-    rooms: Vec<RoomReport<'a>>,
-}
-
-#[derive(Debug, Serialize)]
-struct ObjectReport<'a> {
-    id: &'a str,
-    index: Option<i64>,
-    model_id: Option<&'a str>,
-    category: Option<&'a str>,
-    description: Option<&'a str>,
-    /// Whether the object is a plain box (no asset mesh).
-    is_box: bool,
-    /// OBB centre, world coordinates.
-    center: [Real; 3],
-    /// OBB full size: width (x), depth (y), height (z) in the object frame.
-    size: [Real; 3],
-    /// Rotation about +z; 0 means the front faces world -y.
-    yaw: Real,
-    /// Object-frame scale baked into the mesh.
-    scale: [Real; 3],
-    /// The support type the scene states (`supportType`), if any.
-    support_type: Option<SupportType>,
-    /// The functional sides the scene states (`functionalSides`), if any.
-    functional_sides: Option<&'a [Side]>,
-}
-
-#[derive(Debug, Serialize)]
-struct RoomReport<'a> {
-    id: &'a str,
-    kind: Option<&'a str>,
-    floor_id: &'a str,
-    floor_z: Real,
-    ceiling_z: Option<Real>,
-    floor_area: Real,
-    floor: Vec<[Real; 2]>,
-    walls: Vec<WallReport<'a>>,
-}
-
-#[derive(Debug, Serialize)]
-struct WallReport<'a> {
-    id: &'a str,
-    start: [Real; 2],
-    end: [Real; 2],
-    base_z: Real,
-    height: Real,
-    thickness: Real,
-    length: Real,
-    /// Unit normal of the inner face, pointing into the room.
-    inward_normal: [Real; 2],
-    openings: Vec<OpeningReport<'a>>,
-}
-
-#[derive(Debug, Serialize)]
-struct OpeningReport<'a> {
-    id: &'a str,
-    kind: &'static str,
-    /// Start and end along the wall, from its start point.
-    along: [Real; 2],
-    /// Bottom and top above the wall's base.
-    height: [Real; 2],
+    objects: Vec<ObjectInfo<'a>>,
+    rooms: Vec<RoomInfo<'a>>,
 }
 
 impl<'a> Report<'a> {
     fn new(file: &'a Path, scene: &'a Scene) -> Self {
+        let info = SceneInfo::new(scene);
         Report {
-            scene: scene.id(),
+            scene: info.scene,
             file,
-            objects: scene.objects().iter().map(ObjectReport::new).collect(),
-            rooms: scene.rooms().iter().map(RoomReport::new).collect(),
+            objects: info.objects,
+            rooms: info.rooms,
         }
     }
 
@@ -285,68 +229,6 @@ impl<'a> Report<'a> {
             &[false, false, false, false, false, false],
             rows,
         )
-    }
-}
-
-impl<'a> ObjectReport<'a> {
-    fn new(o: &'a SceneObject) -> Self {
-        let obb = o.obb();
-        let size = obb.extents();
-        ObjectReport {
-            id: o.id().as_str(),
-            index: o.index(),
-            model_id: o.model_id(),
-            category: o.category(),
-            description: o.description(),
-            is_box: o.box_half_extents().is_some(),
-            center: [obb.center.x, obb.center.y, obb.center.z],
-            size: [size.x, size.y, size.z],
-            yaw: o.yaw(),
-            scale: [o.scale().x, o.scale().y, o.scale().z],
-            support_type: o.support_type(),
-            functional_sides: o.functional_sides(),
-        }
-    }
-}
-
-impl<'a> RoomReport<'a> {
-    fn new(r: &'a Room) -> Self {
-        RoomReport {
-            id: r.id().as_str(),
-            kind: r.kind(),
-            floor_id: r.floor_id(),
-            floor_z: r.floor_z(),
-            ceiling_z: r.ceiling_z(),
-            floor_area: r.floor().area(),
-            floor: r.floor().points().iter().map(|p| [p.x, p.y]).collect(),
-            walls: r.walls().iter().map(WallReport::new).collect(),
-        }
-    }
-}
-
-impl<'a> WallReport<'a> {
-    fn new(w: &'a Wall) -> Self {
-        let n = w.inward_normal();
-        WallReport {
-            id: w.id(),
-            start: [w.start().x, w.start().y],
-            end: [w.end().x, w.end().y],
-            base_z: w.base_z(),
-            height: w.height(),
-            thickness: w.thickness(),
-            length: w.length(),
-            inward_normal: [n.x, n.y],
-            openings: w
-                .openings()
-                .iter()
-                .map(|o| OpeningReport {
-                    id: &o.id,
-                    kind: o.kind.name(),
-                    along: o.along,
-                    height: o.height,
-                })
-                .collect(),
-        }
     }
 }
 

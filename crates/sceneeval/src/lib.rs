@@ -24,6 +24,10 @@
 //! result file is written atomically ([`write_atomic`]). File formats and the guarantees a
 //! user may rely on: `docs/formats.md`.
 //!
+//! [`FolderRun`] is the whole run of `sceneeval evaluate` (the batch, then `summary.csv` and
+//! `summary.md`), shared by the CLI and the Python package; [`inspect`] gives a scene's objects,
+//! rooms, walls and openings as plain serializable values.
+//!
 //! # Example
 //! ```
 //! use sceneeval::{Evaluator, EvaluationPlan, Summary, SceneRecord};
@@ -72,6 +76,8 @@ mod error;
 mod evaluator;
 mod files;
 mod fingerprint;
+mod folder;
+pub mod inspect;
 mod plan;
 mod record;
 mod summary;
@@ -85,6 +91,7 @@ pub use error::EvalError;
 pub use evaluator::{Evaluator, SCENE_REPORT_SCHEMA, SceneReport};
 pub use files::{check_output_dir, write_atomic, write_atomic_with};
 pub use fingerprint::{AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest};
+pub use folder::{FolderOutcome, FolderRun, SUMMARY_CSV, SUMMARY_MD};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
 pub use plausibility::{Deadline, Metric, MetricTiming, PlausibilitySummary};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage, benchmark_id};

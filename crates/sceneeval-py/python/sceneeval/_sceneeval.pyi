@@ -1,0 +1,197 @@
+"""Type stubs of the Rust extension module ``sceneeval._sceneeval``.
+
+The docstrings here are the functions' runtime docstrings (a test checks that they agree).
+"""
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+OBJECT_OBJECT_RELATIONS: List[str]
+OBJECT_ARCHITECTURE_RELATIONS: List[str]
+
+BoxLike = Union[Sequence[float], Mapping[str, Any]]
+"""A box: ``(cx, cy, cz, hx, hy, hz, yaw)`` or a dict with the keys of ``sceneeval relate``
+(``center``, ``half_size``, and ``yaw`` or ``rotation``)."""
+
+RoomLike = Mapping[str, Any]
+"""A room: a dict with the keys of ``sceneeval relate`` (``floor``, ``floor_z``, ``height``,
+``wall_thickness``, ``openings``)."""
+
+ParamValue = Union[float, int, str, Tuple[float, Optional[float], float], Mapping[str, Optional[float]]]
+PathLike = Union[str, "os.PathLike[str]"]
+
+class SceneEvalError(Exception):
+    """A scene, asset, annotation or result file could not be read, evaluated or written. The message names the file and, where it applies, the JSON pointer, the object id or the asset."""
+
+def relation(
+    name: str,
+    target: Optional[BoxLike],
+    anchor: Optional[BoxLike] = None,
+    *,
+    side: Optional[str] = None,
+    arch: Optional[str] = None,
+    targets: Optional[Sequence[BoxLike]] = None,
+    room: Optional[RoomLike] = None,
+    reference: bool = False,
+    **params: ParamValue,
+) -> float:
+    """The score in [0, 1] of one spatial relation (it holds when the score is above 0.5).
+
+    name: one of the 23 relations (see relation_names()); side_of, side_region and
+    long_short_side_of take side= (left, right, front, back, top, bottom; long or short),
+    the distance relations next_to, near, across_from and far take arch= (wall, door, window)
+    to relate an object to the room. The name may carry its argument: "side_of(left)".
+
+    Object-object relations score target relative to anchor; surround scores targets=[...]
+    around anchor (target is None); object-architecture relations score target in room.
+    A box is (cx, cy, cz, hx, hy, hz, yaw) in metres and radians (yaw 0: front faces -y) or a
+    dict with the keys of `sceneeval relate` (center, half_size, yaw or rotation); a room is a
+    dict with its room keys (floor, floor_z, height, wall_thickness, openings).
+
+    reference=True selects every reference-parity switch (RelationParams::reference);
+    any other keyword sets one parameter by its name in relation_params(), e.g.
+    side_of_margin=0.3 or near=(0.4, 1.2, 0.2) (min, max, sigma).
+
+    Raises ValueError for an unknown name, a missing or extra operand or argument, a NaN or
+    infinite number, or a bad parameter, with the message `sceneeval relate` gives.
+    """
+
+def relation_batch(
+    name: str,
+    targets: npt.NDArray[np.float64],
+    anchors: Optional[npt.NDArray[np.float64]] = None,
+    *,
+    side: Optional[str] = None,
+    arch: Optional[str] = None,
+    room: Optional[RoomLike] = None,
+    reference: bool = False,
+    **params: ParamValue,
+) -> npt.NDArray[np.float64]:
+    """The scores of one relation for N boxes, as a float64 array of shape (N,).
+
+    targets: a float64 array of shape (N, 7), one box (cx, cy, cz, hx, hy, hz, yaw) per row.
+    Object-object relations take anchors of shape (N, 7) (row i is the anchor of target i)
+    or (1, 7) (one anchor for every target); object-architecture relations take room (a dict
+    as for relation()) instead. surround is not a pair relation: use relation().
+    name, side, arch, reference and the parameter keywords are as for relation().
+
+    The scores equal relation() called row by row. Computed with the GIL released.
+
+    Raises ValueError when an array is not a float64 numpy array of the right shape, holds a
+    NaN or infinite number, or when the relation or its arguments are wrong.
+    """
+
+def relation_names() -> List[str]:
+    """Every relation with every argument, in the printed form relation() accepts (side_of(left), next_to(wall), ...)."""
+
+def relation_params(*, reference: bool = False, **params: ParamValue) -> Dict[str, Any]:
+    """The predicates' parameters as a dict: the defaults (or the reference's with reference=True) with the keyword arguments given applied and validated. Lengths are metres, angles degrees."""
+
+class Scene:
+    """A scene: objects (boxes or meshes) and rooms with walls, doors and windows.
+
+    Build one from boxes with Scene.from_boxes or load a sceneState file with load_scene.
+    """
+
+    @staticmethod
+    def from_boxes(
+        boxes: npt.NDArray[np.float64],
+        room: Optional[RoomLike] = None,
+        *,
+        categories: Optional[Sequence[str]] = None,
+        ids: Optional[Sequence[str]] = None,
+        id: Optional[str] = None,
+    ) -> "Scene":
+        """A scene of box objects in one room.
+
+        boxes: a float64 array of shape (N, 7), one object per row (cx, cy, cz, hx, hy, hz,
+        yaw): centre, half extents (metres) and yaw (radians, yaw 0: front faces -y).
+        room: a dict as for relation(): the floor polygon, wall height and thickness, doors
+        and windows (openings). categories: one per object (used by the support and
+        accessibility tables); ids: one per object (default `box_0`, `box_1`, ...); id: the
+        scene's name.
+
+        Raises ValueError for a bad array, a bad room or a bad box.
+        """
+    @property
+    def id(self) -> Optional[str]:
+        """The scene's name, if it has one."""
+    @property
+    def objects(self) -> List[Dict[str, Any]]:
+        """Every object as a dict: id, index, model_id, category, description, is_box, center, size (full width, depth, height), yaw, scale, support_type, functional_sides."""
+    @property
+    def rooms(self) -> List[Dict[str, Any]]:
+        """Every room as a dict (id, kind, floor_id, floor_z, ceiling_z, floor_area, floor, walls), each wall with its openings."""
+    def info(self) -> Dict[str, Any]:
+        """The scene as one dict with scene, objects and rooms: what `sceneeval inspect --json` prints, without the file."""
+    def boxes(self) -> npt.NDArray[np.float64]:
+        """The objects' boxes as a float64 array of shape (N, 7): centre, half extents, yaw."""
+    def plausibility(self, *, plan: Optional[str] = None, metrics: Optional[Sequence[str]] = None) -> Dict[str, Any]:
+        """Runs the geometry-only plausibility metrics and returns the report as in eval.json.
+
+        plan: a preset name (default, reference) or the path of a plan file; default: every
+        metric with the default preset. metrics: run only these (collision, support,
+        navigability, accessibility, out_of_bounds, opening_clearance).
+        The report holds the scene-level summary and each metric's per-object evidence.
+        Computed with the GIL released.
+        """
+    def relation(
+        self,
+        name: str,
+        target: Optional[str],
+        anchor: Optional[str] = None,
+        *,
+        side: Optional[str] = None,
+        arch: Optional[str] = None,
+        targets: Optional[Sequence[str]] = None,
+        floors: Optional[Sequence[str]] = None,
+        reference: bool = False,
+        **params: ParamValue,
+    ) -> float:
+        """The score of a relation between objects of this scene, by object id.
+
+        As relation(), but the objects' meshes are used where the predicate uses geometry, and
+        the architecture is the scene's rooms (floors= restricts the floor-based relations to
+        some floors or rooms). surround takes targets=[id, ...] with target None.
+        """
+    def __len__(self) -> int: ...
+
+def load_scene(path: PathLike, assets: Optional[Mapping[str, PathLike]] = None) -> Scene:
+    """Loads a sceneState file (`scene_<ID>.json`).
+
+    assets maps a model id prefix to its folder, {"objaverse": "/data/objathor-assets"}; the
+    folder layout is chosen from the prefix as by `sceneeval evaluate --assets`, or given as
+    "LAYOUT:folder" (3d-future, objathor, hssd, layoutvlm, plain). Read with the GIL released.
+
+    Raises SceneEvalError naming the file, the JSON pointer and the asset when the scene
+    cannot be read, and ValueError for a bad assets mapping.
+    """
+
+def evaluate(
+    scenes_dir: PathLike,
+    *,
+    assets: Optional[Mapping[str, PathLike]],
+    out: PathLike,
+    annotations: Optional[PathLike] = None,
+    plan: Optional[str] = None,
+    force: bool = False,
+    threads: Optional[int] = None,
+) -> Dict[str, Any]:
+    """Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
+
+    assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON) adding
+    rows per difficulty to the summary. plan: a preset name (default, reference) or the path
+    of a plan file. A re-run into the same out reuses a scene's result while nothing it
+    depends on changed (force=True evaluates every scene again). threads: worker threads
+    (default one per core). Runs with the GIL released.
+
+    Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
+    scenes but are not `scene_<ID>.json`), failures (scene, error, causes) and summary (the
+    table of summary.csv as a dict). A scene that fails is recorded, not raised.
+    Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
+    ValueError for a bad plan or assets mapping.
+    """

@@ -1,0 +1,79 @@
+//! Rust errors as Python exceptions, and computations run without the GIL that never let a
+//! panic reach Python.
+
+use std::error::Error;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use sceneeval::EvalError;
+use sceneeval::relations::RelationError;
+
+pyo3::create_exception!(
+    sceneeval,
+    SceneEvalError,
+    PyException,
+    "A scene, asset, annotation or result file could not be read, evaluated or written. The \
+     message names the file and, where it applies, the JSON pointer, the object id or the \
+     asset."
+);
+
+/// The message of `e` followed by each cause not already part of it, joined by `": "` (as
+/// the CLI prints an error chain).
+pub fn chain(e: &(dyn Error + 'static)) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        let part = c.to_string();
+        if !text.contains(&part) {
+            text.push_str(": ");
+            text.push_str(&part);
+        }
+        cause = c.source();
+    }
+    text
+}
+
+/// A `ValueError` for a bad argument.
+pub fn value_error(message: impl Into<String>) -> PyErr {
+    PyValueError::new_err(message.into())
+}
+
+/// A relation query that was wrong: always the caller's argument, so a `ValueError`.
+pub fn relation_error(e: &RelationError) -> PyErr {
+    value_error(chain(e))
+}
+
+/// A `SceneEvalError` carrying `e`'s message and causes.
+pub fn scene_error(e: &(dyn Error + 'static)) -> PyErr {
+    SceneEvalError::new_err(chain(e))
+}
+
+/// An evaluation error: a bad plan is a `ValueError`, anything else a `SceneEvalError`.
+pub fn eval_error(e: &EvalError) -> PyErr {
+    match e {
+        EvalError::Plan { .. } => value_error(chain(e)),
+        other => scene_error(other),
+    }
+}
+
+/// Runs `f` with the GIL released. A panic (a bug: the library code does not panic on bad
+/// input) becomes a `RuntimeError` instead of unwinding into Python.
+pub fn detached<T, F>(py: Python<'_>, f: F) -> PyResult<T>
+where
+    F: FnOnce() -> PyResult<T> + Send,
+    T: Send,
+{
+    py.detach(|| {
+        catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|payload| {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown cause".to_owned());
+            Err(PyRuntimeError::new_err(format!(
+                "internal error in sceneeval (please report it): {what}"
+            )))
+        })
+    })
+}

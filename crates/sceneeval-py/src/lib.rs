@@ -1,0 +1,58 @@
+//! Python bindings of SceneEval, importable as `sceneeval` (the extension module
+//! `sceneeval._sceneeval`, re-exported by `python/sceneeval/__init__.py`).
+//!
+//! Built with maturin into abi3 wheels for CPython 3.9 and newer:
+//! `pip install ./crates/sceneeval-py`. The Python API (documented in
+//! `python/sceneeval/_sceneeval.pyi`):
+//!
+//! - `relation(name, target, anchor=None, *, side, arch, targets, room, reference, **params)`
+//!   and `relation_batch(name, targets, anchors=None, *, side, arch, room, reference, **params)`:
+//!   the 23 predicates on boxes given as `(cx, cy, cz, hx, hy, hz, yaw)` rows (numpy float64
+//!   arrays of shape `(N, 7)` for the batch form) or as dicts with `sceneeval relate`'s keys.
+//!   Both read their input through `sceneeval_relations::spec`, so they accept exactly what
+//!   `relate` accepts and fail with its messages.
+//! - `Scene.from_boxes(boxes, room, ...)`, `load_scene(path, assets={prefix: folder})`,
+//!   `Scene.objects` / `rooms` / `info()` / `boxes()` / `plausibility()` / `relation()`.
+//! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None)`: the facade's
+//!   [`sceneeval::FolderRun`], the same run and files as `sceneeval evaluate`.
+//!
+//! Every computation runs with the GIL released; bad arguments raise `ValueError`, files that
+//! cannot be read or evaluated raise `sceneeval.SceneEvalError`, with the Rust error's message
+//! and causes. The Rust side is usable on its own, which is how the unit tests check it:
+//!
+//! ```
+//! use sceneeval_py::relations::score_pairs;
+//! use sceneeval::relations::{Relation, RelationParams};
+//! // A 0.2 m lamp resting on a 1 m table: all of it is above the table's top face.
+//! let lamp = [[0.0, 0.0, 1.1, 0.1, 0.1, 0.1, 0.0]];
+//! let table = [[0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]];
+//! let on_top = score_pairs(Relation::OnTop, &lamp, &table, &RelationParams::default()).unwrap();
+//! assert_eq!(on_top, vec![1.0]);
+//! ```
+
+pub mod convert;
+pub mod errors;
+pub mod relations;
+pub mod scene;
+
+/// SceneEval's predicates, scenes, plausibility metrics and evaluation, implemented in Rust.
+#[pyo3::pymodule]
+mod _sceneeval {
+    use pyo3::prelude::*;
+
+    #[pymodule_export]
+    use crate::errors::SceneEvalError;
+    #[pymodule_export]
+    use crate::relations::{relation, relation_batch, relation_names, relation_params_py};
+    #[pymodule_export]
+    use crate::scene::{PyScene, evaluate, load_scene};
+
+    #[pymodule_init]
+    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        use sceneeval::relations::{OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES};
+        m.add("OBJECT_OBJECT_RELATIONS", OBJECT_OBJECT_NAMES.to_vec())?;
+        m.add("OBJECT_ARCHITECTURE_RELATIONS", OBJECT_ARCH_NAMES.to_vec())?;
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        Ok(())
+    }
+}

@@ -1,0 +1,431 @@
+//! The 23 predicates from Python: one query (`relation`) and the vectorised form over numpy
+//! arrays of boxes (`relation_batch`), both read through `sceneeval_relations::spec`, so they
+//! accept the inputs and give the errors of `sceneeval relate`.
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sceneeval::geom::Obb;
+use sceneeval::relations::spec::{BoxSpec, QuerySpec, RoomSpec, relation_from_spec};
+use sceneeval::relations::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, batch};
+
+use crate::convert::{rows, to_json};
+use crate::errors::{detached, relation_error, value_error};
+
+/// The columns of a box row: centre x, y, z, half extents x, y, z, yaw.
+pub const BOX_COLUMNS: usize = 7;
+
+/// A box from its row `(cx, cy, cz, hx, hy, hz, yaw)`.
+pub fn box_spec_from_row(row: &[f64; BOX_COLUMNS]) -> BoxSpec {
+    BoxSpec::from_yaw([row[0], row[1], row[2]], [row[3], row[4], row[5]], row[6])
+}
+
+/// The oriented boxes of `rows`; a bad row is named `what[i]` in the error
+/// (`targets[3].center is not finite`).
+///
+/// ```
+/// use sceneeval_py::relations::obbs_from_rows;
+/// let boxes = obbs_from_rows(&[[0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]], "targets").unwrap();
+/// assert_eq!(boxes[0].half_extents.x, 0.5);
+/// let err = obbs_from_rows(&[[0.0; 7], [f64::NAN, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0]], "targets").unwrap_err();
+/// assert_eq!(err.to_string(), "targets[1].center is not finite");
+/// ```
+///
+/// # Errors
+/// The error of [`BoxSpec::to_obb`] for the first bad row.
+pub fn obbs_from_rows(rows: &[[f64; BOX_COLUMNS]], what: &str) -> Result<Vec<Obb>, RelationError> {
+    let mut out = Vec::with_capacity(rows.len());
+    obbs_into(rows, what, 0, &mut out)?;
+    Ok(out)
+}
+
+/// Replaces the content of `out` with the oriented boxes of `rows`, whose first row is row
+/// `first` of the caller's array (for the error's index).
+fn obbs_into(
+    rows: &[[f64; BOX_COLUMNS]],
+    what: &str,
+    first: usize,
+    out: &mut Vec<Obb>,
+) -> Result<(), RelationError> {
+    out.clear();
+    for (i, row) in rows.iter().enumerate() {
+        let spec = box_spec_from_row(row);
+        // Name the row only when it is wrong: no allocation per good row.
+        let obb = spec
+            .to_obb(what)
+            .or_else(|_| spec.to_obb(&format!("{what}[{}]", first + i)))?;
+        out.push(obb);
+    }
+    Ok(())
+}
+
+/// Rows scored per chunk by the batch forms: the boxes of a chunk are built into buffers
+/// reused from chunk to chunk, so memory stays small and in cache whatever the batch size.
+const CHUNK: usize = 1024;
+
+/// A box given from Python: a sequence of seven numbers or a dict with `relate`'s keys
+/// (`center`, `half_size`, and `yaw` or `rotation`).
+pub fn box_spec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<BoxSpec> {
+    if obj.is_instance_of::<PyDict>() {
+        let value = to_json(obj, what)?;
+        return serde_json::from_value(value).map_err(|e| value_error(format!("{what}: {e}")));
+    }
+    let wrong = || {
+        value_error(format!(
+            "{what} must be a sequence of 7 numbers (cx, cy, cz, hx, hy, hz, yaw) or a dict with the keys \
+             center, half_size and yaw or rotation"
+        ))
+    };
+    let numbers: Vec<f64> = obj.extract().map_err(|_| wrong())?;
+    let row: [f64; BOX_COLUMNS] = numbers.try_into().map_err(|_| wrong())?;
+    Ok(box_spec_from_row(&row))
+}
+
+/// A room given from Python: a dict with `relate`'s room keys (`floor`, `floor_z`, `height`,
+/// `wall_thickness`, `openings`).
+pub fn room_spec(obj: &Bound<'_, PyAny>) -> PyResult<RoomSpec> {
+    if !obj.is_instance_of::<PyDict>() {
+        return Err(value_error(
+            "room must be a dict with the keys floor (a list of [x, y] points) and optionally floor_z, \
+             height, wall_thickness, openings",
+        ));
+    }
+    let value = to_json(obj, "room")?;
+    serde_json::from_value(value).map_err(|e| value_error(format!("room: {e}")))
+}
+
+/// The predicates' parameters: the defaults (or the reference's with `reference`), then each
+/// keyword argument by its field name in `RelationParams` (`side_of_margin=0.3`,
+/// `near=(0.4, 1.2, 0.2)` or `near={"min": 0.4, "max": 1.2, "sigma": 0.2}`,
+/// `on_top_plane="centre_plane"`), validated.
+pub fn relation_params(reference: bool, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<RelationParams> {
+    let base = if reference {
+        RelationParams::reference()
+    } else {
+        RelationParams::default()
+    };
+    let Some(overrides) = overrides.filter(|d| !d.is_empty()) else {
+        return Ok(base);
+    };
+    let mut value = serde_json::to_value(base).map_err(|e| value_error(e.to_string()))?;
+    if let (serde_json::Value::Object(fields), serde_json::Value::Object(given)) =
+        (&mut value, to_json(overrides.as_any(), "parameter")?)
+    {
+        for (name, v) in given {
+            if !fields.contains_key(&name) {
+                return Err(value_error(format!(
+                    "unknown parameter {name:?}: see sceneeval.relation_params() for the names"
+                )));
+            }
+            fields.insert(name, v);
+        }
+    }
+    let params: RelationParams =
+        serde_json::from_value(value).map_err(|e| value_error(format!("parameters: {e}")))?;
+    params.validate().map_err(|e| relation_error(&e))?;
+    Ok(params)
+}
+
+/// The score in [0, 1] of one spatial relation (it holds when the score is above 0.5).
+///
+/// name: one of the 23 relations (see relation_names()); side_of, side_region and
+/// long_short_side_of take side= (left, right, front, back, top, bottom; long or short),
+/// the distance relations next_to, near, across_from and far take arch= (wall, door, window)
+/// to relate an object to the room. The name may carry its argument: "side_of(left)".
+///
+/// Object-object relations score target relative to anchor; surround scores targets=[...]
+/// around anchor (target is None); object-architecture relations score target in room.
+/// A box is (cx, cy, cz, hx, hy, hz, yaw) in metres and radians (yaw 0: front faces -y) or a
+/// dict with the keys of `sceneeval relate` (center, half_size, yaw or rotation); a room is a
+/// dict with its room keys (floor, floor_z, height, wall_thickness, openings).
+///
+/// reference=True selects every reference-parity switch (RelationParams::reference);
+/// any other keyword sets one parameter by its name in relation_params(), e.g.
+/// side_of_margin=0.3 or near=(0.4, 1.2, 0.2) (min, max, sigma).
+///
+/// Raises ValueError for an unknown name, a missing or extra operand or argument, a NaN or
+/// infinite number, or a bad parameter, with the message `sceneeval relate` gives.
+#[pyfunction]
+#[pyo3(signature = (name, target, anchor=None, *, side=None, arch=None, targets=None, room=None, reference=false, **params))]
+#[allow(clippy::too_many_arguments)] // The Python signature is fixed by issue 15.
+pub fn relation(
+    py: Python<'_>,
+    name: &str,
+    target: Option<&Bound<'_, PyAny>>,
+    anchor: Option<&Bound<'_, PyAny>>,
+    side: Option<&str>,
+    arch: Option<&str>,
+    targets: Option<&Bound<'_, PyAny>>,
+    room: Option<&Bound<'_, PyAny>>,
+    reference: bool,
+    params: Option<&Bound<'_, PyDict>>,
+) -> PyResult<f64> {
+    let params = relation_params(reference, params)?;
+    let targets = match targets {
+        None => None,
+        Some(list) => {
+            let mut specs = Vec::new();
+            for (i, item) in list.try_iter()?.enumerate() {
+                specs.push(box_spec(&item?, &format!("targets[{i}]"))?);
+            }
+            Some(specs)
+        }
+    };
+    let query = QuerySpec {
+        relation: name.to_owned(),
+        side: side.map(str::to_owned),
+        arch: arch.map(str::to_owned),
+        target: target.map(|t| box_spec(t, "target")).transpose()?,
+        anchor: anchor.map(|a| box_spec(a, "anchor")).transpose()?,
+        targets,
+        room: room.map(room_spec).transpose()?,
+    };
+    detached(py, || query.score(&params).map_err(|e| relation_error(&e)))
+}
+
+/// The scores of one relation for N boxes, as a float64 array of shape (N,).
+///
+/// targets: a float64 array of shape (N, 7), one box (cx, cy, cz, hx, hy, hz, yaw) per row.
+/// Object-object relations take anchors of shape (N, 7) (row i is the anchor of target i)
+/// or (1, 7) (one anchor for every target); object-architecture relations take room (a dict
+/// as for relation()) instead. surround is not a pair relation: use relation().
+/// name, side, arch, reference and the parameter keywords are as for relation().
+///
+/// The scores equal relation() called row by row. Computed with the GIL released.
+///
+/// Raises ValueError when an array is not a float64 numpy array of the right shape, holds a
+/// NaN or infinite number, or when the relation or its arguments are wrong.
+#[pyfunction]
+#[pyo3(signature = (name, targets, anchors=None, *, side=None, arch=None, room=None, reference=false, **params))]
+#[allow(clippy::too_many_arguments)] // The Python signature is fixed by issue 15.
+pub fn relation_batch<'py>(
+    py: Python<'py>,
+    name: &str,
+    targets: &Bound<'py, PyAny>,
+    anchors: Option<&Bound<'py, PyAny>>,
+    side: Option<&str>,
+    arch: Option<&str>,
+    room: Option<&Bound<'py, PyAny>>,
+    reference: bool,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let relation = relation_from_spec(name, side, arch).map_err(|e| relation_error(&e))?;
+    let params = relation_params(reference, params)?;
+    let target_rows = rows::<BOX_COLUMNS>(targets, "targets")?;
+    let scores = match relation.kind() {
+        RelationKind::ObjectObject => {
+            if room.is_some() {
+                return Err(value_error(format!(
+                    "relation {relation} relates two objects: give anchors, not room"
+                )));
+            }
+            let anchors = anchors.ok_or_else(|| {
+                value_error(format!(
+                    "relation {relation} needs anchors: a float64 array of shape (N, 7) or (1, 7)"
+                ))
+            })?;
+            let anchor_rows = rows::<BOX_COLUMNS>(anchors, "anchors")?;
+            if anchor_rows.len() != target_rows.len() && anchor_rows.len() != 1 {
+                return Err(value_error(format!(
+                    "anchors has {} rows: expected {} (one per target) or 1 (the same anchor for every target)",
+                    anchor_rows.len(),
+                    target_rows.len()
+                )));
+            }
+            detached(py, || {
+                score_pairs(relation, &target_rows, &anchor_rows, &params).map_err(|e| relation_error(&e))
+            })?
+        }
+        RelationKind::ObjectArchitecture => {
+            if anchors.is_some() {
+                return Err(value_error(format!(
+                    "relation {relation} relates objects to the room: give room, not anchors"
+                )));
+            }
+            let room = room.ok_or_else(|| {
+                value_error(format!(
+                    "relation {relation} needs room: a dict with relate's room keys (floor, ...)"
+                ))
+            })?;
+            let room = room_spec(room)?;
+            detached(py, || {
+                score_in_room(relation, &target_rows, &room, &params).map_err(|e| relation_error(&e))
+            })?
+        }
+        RelationKind::MultiTarget => {
+            return Err(value_error(format!(
+                "relation {relation} scores one anchor against several targets at once: use \
+                 sceneeval.relation({relation:?}, None, anchor, targets=[...])",
+                relation = relation.to_string()
+            )));
+        }
+    };
+    Ok(PyArray1::from_vec(py, scores))
+}
+
+/// `out[i]` = the relation of target row i to anchor row i (or to the only anchor row).
+///
+/// ```
+/// use sceneeval_py::relations::score_pairs;
+/// use sceneeval::relations::{Relation, RelationParams};
+/// // Two unit cubes 1.3 m apart centre to centre: a 0.3 m gap, inside next_to's [0, 0.5] m.
+/// let targets = [[0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0], [9.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]];
+/// let anchor = [[1.3, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]];
+/// let scores = score_pairs(Relation::NextTo, &targets, &anchor,
+/// &RelationParams::default()).unwrap();
+/// assert_eq!(scores[0], 1.0);
+/// // 9 - 1.3 - 1 = 6.7 m apart: 6.2 m beyond the band, exp(-6.2^2 / (2 * 0.25^2)) = exp(-307.52).
+/// assert!((scores[1] / (-307.52f64).exp() - 1.0).abs() < 1e-9);
+/// ```
+///
+/// # Errors
+/// [`RelationError`] for a bad row (named by its index) or a relation that is not
+/// object-object.
+pub fn score_pairs(
+    relation: Relation,
+    target_rows: &[[f64; BOX_COLUMNS]],
+    anchor_rows: &[[f64; BOX_COLUMNS]],
+    params: &RelationParams,
+) -> Result<Vec<f64>, RelationError> {
+    let mut out = vec![0.0; target_rows.len()];
+    let (mut targets, mut anchors) = (Vec::with_capacity(CHUNK), Vec::with_capacity(CHUNK));
+    let broadcast = anchor_rows.len() == 1 && target_rows.len() != 1;
+    if broadcast {
+        obbs_into(anchor_rows, "anchors", 0, &mut anchors)?;
+    }
+    for (k, (chunk, out)) in target_rows.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
+        let first = k * CHUNK;
+        obbs_into(chunk, "targets", first, &mut targets)?;
+        if broadcast {
+            let anchor = ObjectGeom::from_box(&anchors[0]);
+            for (t, o) in targets.iter().zip(out.iter_mut()) {
+                *o = batch::score_pair(relation, &ObjectGeom::from_box(t), &anchor, params)?;
+            }
+        } else {
+            let rows = anchor_rows
+                .get(first..first + chunk.len())
+                .ok_or(RelationError::LengthMismatch {
+                    what: "anchors",
+                    got: anchor_rows.len(),
+                    expected: target_rows.len(),
+                })?;
+            obbs_into(rows, "anchors", first, &mut anchors)?;
+            for ((t, a), o) in targets.iter().zip(&anchors).zip(out.iter_mut()) {
+                *o = batch::score_pair(
+                    relation,
+                    &ObjectGeom::from_box(t),
+                    &ObjectGeom::from_box(a),
+                    params,
+                )?;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// `out[i]` = the object-architecture relation of target row i in `room`.
+///
+/// # Errors
+/// [`RelationError`] for a bad row or room, or a relation that is not object-architecture.
+pub fn score_in_room(
+    relation: Relation,
+    target_rows: &[[f64; BOX_COLUMNS]],
+    room: &RoomSpec,
+    params: &RelationParams,
+) -> Result<Vec<f64>, RelationError> {
+    let room = room.build()?;
+    let mut out = vec![0.0; target_rows.len()];
+    let mut targets = Vec::with_capacity(CHUNK);
+    for (k, (chunk, out)) in target_rows.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
+        obbs_into(chunk, "targets", k * CHUNK, &mut targets)?;
+        // One small allocation per chunk of 1024 rows.
+        let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
+        batch::score_objects_in_rooms(relation, &views, std::slice::from_ref(&room), params, out)?;
+    }
+    Ok(out)
+}
+
+/// Every relation with every argument, in the printed form relation() accepts (side_of(left),
+/// next_to(wall), ...).
+#[pyfunction]
+pub fn relation_names() -> Vec<String> {
+    Relation::all().map(|r| r.to_string()).collect()
+}
+
+/// The predicates' parameters as a dict: the defaults (or the reference's with reference=True) with
+/// the keyword arguments given applied and validated. Lengths are metres, angles degrees.
+#[pyfunction(name = "relation_params")]
+#[pyo3(signature = (*, reference=false, **params))]
+pub fn relation_params_py<'py>(
+    py: Python<'py>,
+    reference: bool,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    crate::convert::to_python(py, &relation_params(reference, params)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube(x: f64) -> [f64; BOX_COLUMNS] {
+        [x, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]
+    }
+
+    #[test]
+    fn bad_rows_are_named_by_their_index_in_the_whole_array() {
+        // Row 1500 lies in the second chunk of 1024 rows: its name counts from the array's start.
+        let mut rows = vec![cube(0.0); 2000];
+        rows[1500][6] = f64::INFINITY;
+        let anchors = vec![cube(2.0); 2000];
+        let err = score_pairs(Relation::Near, &rows, &anchors, &RelationParams::default()).unwrap_err();
+        assert_eq!(err.to_string(), "targets[1500].yaw is not finite");
+        let mut anchors = anchors;
+        anchors[1999][3] = -1.0;
+        let err = score_pairs(
+            Relation::Near,
+            &vec![cube(0.0); 2000],
+            &anchors,
+            &RelationParams::default(),
+        )
+        .unwrap_err();
+        assert!(
+            err.to_string().contains("anchors[1999] is not a valid box"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn one_anchor_row_scores_every_target_against_it() {
+        let params = RelationParams::default();
+        let targets: Vec<_> = (0..3000).map(|i| cube(f64::from(i) * 0.001)).collect();
+        let anchor = [cube(2.25)];
+        let broadcast = score_pairs(Relation::Near, &targets, &anchor, &params).unwrap();
+        let paired = score_pairs(Relation::Near, &targets, &vec![anchor[0]; 3000], &params).unwrap();
+        assert_eq!(broadcast, paired);
+        // Target 0: a 1.25 m gap to the anchor, inside near's [0.5, 1.5] m band.
+        assert_eq!(broadcast[0], 1.0);
+    }
+
+    #[test]
+    fn room_scores_match_one_query_at_a_time() {
+        let params = RelationParams::default();
+        let room = RoomSpec::new(vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]]);
+        let rows: Vec<_> = (0..1100)
+            .map(|i| [f64::from(i) * 0.004, 1.5, 0.4, 0.3, 0.3, 0.4, 0.0])
+            .collect();
+        let scores = score_in_room(Relation::InsideRoom, &rows, &room, &params).unwrap();
+        for (i, row) in rows.iter().enumerate().step_by(97) {
+            let query = QuerySpec {
+                relation: "inside_room".into(),
+                target: Some(box_spec_from_row(row)),
+                room: Some(room.clone()),
+                ..QuerySpec::default()
+            };
+            assert_eq!(scores[i], query.score(&params).unwrap(), "row {i}");
+        }
+        // Row 0 is centred on the wall x = 0: half of it is inside.
+        assert!((scores[0] - 0.5).abs() < 1e-9);
+        assert!(score_pairs(Relation::InsideRoom, &rows, &rows, &params).is_err());
+    }
+}

@@ -1,0 +1,52 @@
+"""The package's surface: the stubs list what the module exports, with the same docstrings."""
+
+import ast
+import inspect
+from pathlib import Path
+
+import sceneeval
+from sceneeval import _sceneeval
+
+STUB = Path(sceneeval.__file__).with_name("_sceneeval.pyi")
+
+
+def words(text):
+    return " ".join((text or "").split())
+
+
+def stub_items():
+    tree = ast.parse(STUB.read_text())
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            yield node.name, node
+            if isinstance(node, ast.ClassDef):
+                for member in node.body:
+                    if isinstance(member, ast.FunctionDef) and not member.name.startswith("__"):
+                        yield f"{node.name}.{member.name}", member
+
+
+def test_stubs_and_runtime_docstrings_agree():
+    names = []
+    for name, node in stub_items():
+        obj = _sceneeval
+        for part in name.split("."):
+            obj = getattr(obj, part)
+        names.append(name)
+        assert words(ast.get_docstring(node)) == words(inspect.getdoc(obj)), name
+    assert {"relation", "relation_batch", "load_scene", "evaluate", "Scene", "Scene.plausibility"} <= set(names)
+    exported = {n for n in dir(_sceneeval) if not n.startswith("_")}
+    assert exported <= set(sceneeval.__all__)
+    assert (Path(sceneeval.__file__).with_name("py.typed")).exists()
+
+
+def test_the_fixed_signatures():
+    sig = inspect.signature(sceneeval.relation)
+    assert list(sig.parameters)[:3] == ["name", "target", "anchor"]
+    assert sig.parameters["side"].kind is inspect.Parameter.KEYWORD_ONLY
+    assert sig.parameters["reference"].default is False
+    sig = inspect.signature(sceneeval.relation_batch)
+    assert list(sig.parameters)[:3] == ["name", "targets", "anchors"]
+    sig = inspect.signature(sceneeval.evaluate)
+    assert [p for p in sig.parameters if sig.parameters[p].kind is inspect.Parameter.KEYWORD_ONLY][:4] == [
+        "assets", "out", "annotations", "plan"
+    ]

@@ -1,0 +1,213 @@
+"""The predicates from Python agree with `sceneeval relate` (the Rust result) on the same boxes,
+the batch form equals calls one by one, and bad arguments raise ValueError with clear
+messages."""
+
+import json
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import sceneeval
+from conftest import ROOM, random_boxes
+
+
+def as_dict(row):
+    return {"center": list(map(float, row[0:3])), "half_size": list(map(float, row[3:6])), "yaw": float(row[6])}
+
+
+def test_there_are_23_relations_in_42_forms():
+    assert len(sceneeval.OBJECT_OBJECT_RELATIONS) == 13
+    assert len(sceneeval.OBJECT_ARCHITECTURE_RELATIONS) == 10
+    # 13 object-object names expand to 24 forms (6 sides x 2, long/short), 10 architecture
+    # names to 18 (wall/door/window for the 4 distance relations).
+    assert len(sceneeval.relation_names()) == 24 + 18
+
+
+def test_every_predicate_agrees_with_sceneeval_relate(sceneeval_bin, rng):
+    boxes = random_boxes(rng, 24)
+    queries, expected = [], []
+    for name in sceneeval.relation_names():
+        for k in range(4):
+            t, a = boxes[2 * k], boxes[2 * k + 1]
+            # Some pairs close together so that the scores are not all 0.
+            if k % 2 == 0:
+                t = t.copy()
+                t[0:2] = a[0:2] + rng.uniform(-1.0, 1.0, 2)
+            q = {"id": len(queries), "relation": name}
+            if name == "surround":
+                ts = [boxes[8 + i] for i in range(3 + k)]
+                q.update(anchor=as_dict(a), targets=[as_dict(x) for x in ts])
+                ours = sceneeval.relation(name, None, tuple(a), targets=[tuple(x) for x in ts])
+            elif name in sceneeval.relation_names()[24:]:
+                q.update(target=as_dict(t), room=ROOM)
+                ours = sceneeval.relation(name, tuple(t), room=ROOM)
+            else:
+                q.update(target=as_dict(t), anchor=as_dict(a))
+                ours = sceneeval.relation(name, tuple(t), tuple(a))
+            queries.append(q)
+            expected.append(ours)
+    for reference in (False, True):
+        args = [str(sceneeval_bin), "relate"] + (["--reference"] if reference else [])
+        text = "\n".join(json.dumps(q) for q in queries) + "\n"
+        done = subprocess.run(args, input=text, capture_output=True, text=True, check=True)
+        answers = [json.loads(line) for line in done.stdout.splitlines()]
+        assert len(answers) == len(queries)
+        for q, answer in zip(queries, answers):
+            assert "error" not in answer, answer
+            if reference:
+                ours = call_like(q, reference=True)
+            else:
+                ours = expected[q["id"]]
+            # The same Rust code on the same numbers (JSON floats round-trip exactly).
+            assert answer["score"] == ours, (q["relation"], answer, ours)
+    # Not every score is 0 or 1: the comparison exercises the fall-offs too.
+    assert any(0.0 < s < 1.0 for s in expected)
+    assert any(s == 1.0 for s in expected)
+
+
+def call_like(q, **kw):
+    if "targets" in q:
+        return sceneeval.relation(q["relation"], None, q["anchor"], targets=q["targets"], **kw)
+    if "room" in q:
+        return sceneeval.relation(q["relation"], q["target"], room=q["room"], **kw)
+    return sceneeval.relation(q["relation"], q["target"], q["anchor"], **kw)
+
+
+def test_dict_and_tuple_boxes_are_the_same_box():
+    t, a = (0.3, 0.1, 0.5, 0.2, 0.3, 0.5, 0.4), (1.0, 0.0, 0.5, 0.5, 0.5, 0.5, -0.2)
+    assert sceneeval.relation("near", t, a) == sceneeval.relation("near", as_dict(t), as_dict(a))
+    # A yaw and the equivalent rotation matrix: the same box up to rounding.
+    c, s = np.cos(0.4), np.sin(0.4)
+    rotated = {"center": [0.3, 0.1, 0.5], "half_size": [0.2, 0.3, 0.5], "rotation": [[c, -s, 0], [s, c, 0], [0, 0, 1]]}
+    assert sceneeval.relation("side_of", rotated, a, side="left") == pytest.approx(
+        sceneeval.relation("side_of", t, a, side="left"), abs=1e-12
+    )
+
+
+def test_hand_computed_scores():
+    table = (0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0)
+    # A lamp resting on the table's top face (z = 1): all of it is above, on_top = 1.
+    assert sceneeval.relation("on_top", (0.0, 0.0, 1.1, 0.1, 0.1, 0.1, 0.0), table) == 1.0
+    # Sunk halfway into the table: the top-face plane (ours, moved out by the 1e-6 m tolerance)
+    # sees (0.1 + 1e-6) / 0.2 = 0.500005 of it above; the reference's centre plane (z = 0.5)
+    # sees all of it above, 1.
+    sunk = (0.0, 0.0, 1.0, 0.1, 0.1, 0.1, 0.0)
+    assert sceneeval.relation("on_top", sunk, table) == pytest.approx(0.500005, abs=1e-12)
+    assert sceneeval.relation("on_top", sunk, table, reference=True) == 1.0
+    assert sceneeval.relation("on_top", sunk, table, on_top_plane="centre_plane") == 1.0
+    # Unit cubes 2.25 m apart centre to centre: a 1.25 m gap, in near's [0.5, 1.5] m band.
+    a, b = (0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0), (2.25, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0)
+    assert sceneeval.relation("near", a, b) == 1.0
+    # With the band moved to [0, 1] m (sigma 0.25): 0.25 m beyond it, exp(-0.25^2 / (2 * 0.25^2)).
+    assert sceneeval.relation("near", a, b, near=(0.0, 1.0, 0.25)) == pytest.approx(np.exp(-0.5), abs=1e-15)
+    assert sceneeval.relation("near", a, b, near={"min": 0.0, "max": 1.0, "sigma": 0.25}) == pytest.approx(
+        np.exp(-0.5), abs=1e-15
+    )
+    assert sceneeval.relation_params(reference=True)["on_top_plane"] == "centre_plane"
+    assert sceneeval.relation_params()["far"]["max"] is None  # unbounded
+
+
+def test_batch_equals_one_by_one(rng):
+    targets, anchors = random_boxes(rng, 50), random_boxes(rng, 50)
+    anchors[:25, 0:2] = targets[:25, 0:2] + rng.uniform(-1, 1, (25, 2))
+    for name in sceneeval.relation_names():
+        if name == "surround":
+            continue
+        if name in sceneeval.relation_names()[24:]:
+            got = sceneeval.relation_batch(name, targets, room=ROOM)
+            want = [sceneeval.relation(name, tuple(t), room=ROOM) for t in targets]
+        else:
+            got = sceneeval.relation_batch(name, targets, anchors)
+            want = [sceneeval.relation(name, tuple(t), tuple(a)) for t, a in zip(targets, anchors)]
+        assert got.dtype == np.float64 and got.shape == (50,)
+        assert got.tolist() == want, name
+    # One anchor for every target, a non-contiguous view, and the reference's parameters.
+    view = targets[::2]
+    got = sceneeval.relation_batch("side_of", view, anchors[:1], side="front", reference=True)
+    want = [sceneeval.relation("side_of", tuple(t), tuple(anchors[0]), side="front", reference=True) for t in view]
+    assert got.tolist() == want
+    assert sceneeval.relation_batch("near", np.empty((0, 7)), np.empty((0, 7))).shape == (0,)
+
+
+def test_batch_from_several_threads_gives_the_same_scores(rng):
+    # The GIL is released while Rust computes: several Python threads may score at once.
+    targets, anchors = random_boxes(rng, 2000), random_boxes(rng, 2000)
+    want = sceneeval.relation_batch("next_to", targets, anchors)
+    results = [None] * 4
+
+    def work(i):
+        results[i] = sceneeval.relation_batch("next_to", targets, anchors)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for r in results:
+        assert np.array_equal(r, want)
+
+
+BOX = np.zeros((3, 7)) + [0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]
+
+
+@pytest.mark.parametrize(
+    "targets, anchors, message",
+    [
+        (BOX[:, :6], BOX, r"targets must be a numpy float64 array of shape \(N, 7\), got shape \(3, 6\)"),
+        (BOX[0], BOX, r"got shape \(7\)"),
+        (BOX, BOX[:, :, None], r"anchors must be .* got shape \(3, 7, 1\)"),
+        (BOX.astype(np.float32), BOX, r"got dtype float32 \(convert with targets.astype\(numpy.float64\)\)"),
+        (BOX.astype(np.int64), BOX, r"got dtype int64"),
+        (BOX.tolist(), BOX, r"targets must be .* got a list"),
+        (BOX, BOX[:2], r"anchors has 2 rows: expected 3 \(one per target\) or 1"),
+    ],
+)
+def test_bad_arrays_raise_value_error(targets, anchors, message):
+    with pytest.raises(ValueError, match=message):
+        sceneeval.relation_batch("near", targets, anchors)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+@pytest.mark.parametrize("column, field", [(1, "center"), (4, "half_size"), (6, "yaw")])
+def test_non_finite_numbers_name_the_row_and_field(bad, column, field):
+    targets = BOX.copy()
+    targets[2, column] = bad
+    with pytest.raises(ValueError, match=rf"^targets\[2\]\.{field} is not finite$"):
+        sceneeval.relation_batch("near", targets, BOX)
+    with pytest.raises(ValueError, match=rf"target\.{field} is not finite"):
+        sceneeval.relation("near", tuple(targets[2]), tuple(BOX[0]))
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: sceneeval.relation("beside", BOX[0], BOX[1]), r'unknown relation "beside": expected one of inside_of'),
+        (lambda: sceneeval.relation("side_of", BOX[0], BOX[1]), r"relation side_of needs a side"),
+        (lambda: sceneeval.relation("side_of", BOX[0], BOX[1], side="up"), r"side_of.*\"up\""),
+        (lambda: sceneeval.relation("near", BOX[0], BOX[1], side="left"), r"its argument is an architecture element"),
+        (lambda: sceneeval.relation("near", BOX[0]), r'relation near needs "anchor"'),
+        (lambda: sceneeval.relation("near", BOX[0], room=ROOM), r'"arch" \(wall, door or window\)'),
+        (lambda: sceneeval.relation("on_wall", BOX[0], BOX[1], room=ROOM), r'does not use "anchor"'),
+        (lambda: sceneeval.relation("near", (1, 2, 3), BOX[1]), r"target must be a sequence of 7 numbers"),
+        (lambda: sceneeval.relation("near", {"center": [0, 0, 0]}, BOX[1]), r"target: missing field `half_size`"),
+        (lambda: sceneeval.relation("inside_room", BOX[0], room={"floor": [[0, 0], [1, 0]]}), r"^room: "),
+        (lambda: sceneeval.relation("near", BOX[0], BOX[1], bogus=1.0), r'unknown parameter "bogus"'),
+        (lambda: sceneeval.relation("near", BOX[0], BOX[1], middle_of_sigma=-1.0), r"middle_of_sigma"),
+        (lambda: sceneeval.relation_batch("surround", BOX, BOX), r"use sceneeval.relation"),
+        (lambda: sceneeval.relation_batch("on_wall", BOX), r"needs room"),
+        (lambda: sceneeval.relation_batch("near", BOX), r"needs anchors"),
+        (lambda: sceneeval.relation_batch("near", BOX, BOX, room=ROOM), r"give anchors, not room"),
+    ],
+)
+def test_bad_arguments_raise_value_error(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_a_bad_row_beyond_the_first_chunk_is_named_by_its_index():
+    targets = np.tile(BOX[0], (3000, 1))
+    targets[2500, 0] = np.nan
+    with pytest.raises(ValueError, match=r"^targets\[2500\]\.center is not finite$"):
+        sceneeval.relation_batch("on_wall", targets, room={"floor": [[0, 0], [4, 0], [4, 3], [0, 3]]})

@@ -1,0 +1,148 @@
+//! A whole evaluation run over a folder, as `sceneeval evaluate` and the Python package's
+//! `sceneeval.evaluate` do it: [`run_batch`] with each scene's annotation digest, then the
+//! summary grouped by the annotations' difficulty, written as `summary.csv` and `summary.md`.
+//!
+//! The front ends only choose the plan, the assets and how progress is shown; what is written
+//! is decided here, once.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use crate::annotation::{AnnotationRow, Annotations};
+use crate::io::AssetLibrary;
+use crate::{
+    BatchOptions, BatchOutcome, EvalError, EvaluationPlan, Evaluator, Preset, SceneFile, SceneRecord,
+    SceneStatus, Summary, annotation_digest, run_batch, write_atomic,
+};
+
+/// The name of the CSV summary written into the output folder.
+pub const SUMMARY_CSV: &str = "summary.csv";
+
+/// The name of the Markdown summary written into the output folder.
+pub const SUMMARY_MD: &str = "summary.md";
+
+/// How to run a folder of scenes (see [`FolderRun::run`]).
+#[derive(Debug, Clone, Default)]
+pub struct FolderRun<'a> {
+    /// The output folder: `<scene>/eval.json`, `<scene>/timing.json`, the summaries.
+    pub out_dir: PathBuf,
+    /// Evaluate every scene again, even those whose earlier result still matches.
+    pub force: bool,
+    /// Also write diagnostic images under `<out_dir>/<scene>/diagnostics/`.
+    pub diagnostics: bool,
+    /// The SceneEval-500 annotations: rows per difficulty in the summary, each scene's row
+    /// digest in its fingerprint, and, when the plan runs fidelity metrics, the row they read.
+    pub annotations: Option<&'a Annotations>,
+}
+
+/// What a [`FolderRun`] did.
+#[derive(Debug, Clone)]
+pub struct FolderOutcome {
+    /// The per-scene records, statuses and timings.
+    pub batch: BatchOutcome,
+    /// The summary written to `summary.csv` and `summary.md`.
+    pub summary: Summary,
+}
+
+impl FolderRun<'_> {
+    /// The annotation row of a scene: by its id (`12`), or without leading zeros (`012`).
+    pub fn annotation_row(&self, scene_id: &str) -> Option<&AnnotationRow> {
+        let annotations = self.annotations?;
+        annotations
+            .get(scene_id)
+            .or_else(|| annotations.get(scene_id.trim_start_matches('0')))
+    }
+
+    /// Evaluates `scenes` on the current rayon pool with [`run_batch`] (calling `on_done`
+    /// after each scene), then writes `summary.csv` and `summary.md` into the output folder
+    /// (the summary's groups: all scenes, each difficulty of the annotations, unannotated).
+    ///
+    /// # Errors
+    /// As [`run_batch`]; [`EvalError::File`] or [`EvalError::Csv`] when a summary cannot be
+    /// written.
+    pub fn run(
+        &self,
+        scenes: &[SceneFile],
+        evaluator: &Evaluator,
+        assets: &AssetLibrary,
+        on_done: &(dyn Fn(&SceneFile, &SceneStatus, &SceneRecord) + Sync),
+    ) -> Result<FolderOutcome, EvalError> {
+        let fidelity = evaluator.plan().has_fidelity();
+        let mut digests = BTreeMap::new();
+        let mut rows = BTreeMap::new();
+        for s in scenes {
+            if let Some(row) = self.annotation_row(&s.id.to_string()) {
+                digests.insert(s.name.clone(), annotation_digest(row));
+                if fidelity {
+                    rows.insert(s.name.clone(), row.clone());
+                }
+            }
+        }
+        let options = BatchOptions {
+            out_dir: self.out_dir.clone(),
+            force: self.force,
+            diagnostics: self.diagnostics,
+            annotations: digests,
+            rows,
+        };
+        let batch = run_batch(scenes, evaluator, assets, &options, on_done)?;
+        let difficulty = |r: &SceneRecord| {
+            self.annotation_row(r.scene_id.as_deref()?)
+                .map(|row| row.difficulty.as_str().to_owned())
+        };
+        let summary = Summary::from_records(&batch.records, difficulty).with_plan(evaluator.plan());
+        write_atomic(&self.out_dir.join(SUMMARY_CSV), summary.to_csv()?.as_bytes())?;
+        write_atomic(&self.out_dir.join(SUMMARY_MD), summary.to_markdown().as_bytes())?;
+        Ok(FolderOutcome { batch, summary })
+    }
+}
+
+impl EvaluationPlan {
+    /// The plan named by `spec`: a preset name (`default`, `reference`) or the path of a plan
+    /// file.
+    ///
+    /// ```
+    /// use sceneeval::{EvaluationPlan, Preset};
+    /// assert_eq!(EvaluationPlan::from_preset_or_file("reference").unwrap().preset, Preset::Reference);
+    /// let err = EvaluationPlan::from_preset_or_file("no/such/plan.json").unwrap_err();
+    /// assert!(err.to_string().contains("no/such/plan.json"));
+    /// ```
+    ///
+    /// # Errors
+    /// [`EvalError::Plan`] naming `spec` when it is neither a preset name nor a file; else as
+    /// [`EvaluationPlan::read`].
+    pub fn from_preset_or_file(spec: &str) -> Result<Self, EvalError> {
+        match Preset::from_str(spec) {
+            Ok(preset) => Ok(EvaluationPlan::with_preset(preset)),
+            Err(_) if !Path::new(spec).exists() => Err(EvalError::Plan {
+                path: Some(PathBuf::from(spec)),
+                field: None,
+                message: "no such file, and not a preset name (default or reference)".into(),
+            }),
+            Err(_) => EvaluationPlan::read(Path::new(spec)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_and_plan_files_are_both_accepted() {
+        assert_eq!(
+            EvaluationPlan::from_preset_or_file("Default").unwrap(),
+            EvaluationPlan::geometry_only()
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("plan.json");
+        std::fs::write(&path, r#"{"preset": "reference", "metrics": ["collision"]}"#).unwrap();
+        let plan = EvaluationPlan::from_preset_or_file(path.to_str().unwrap()).unwrap();
+        assert_eq!(plan.preset, Preset::Reference);
+        assert_eq!(plan.metrics, vec![crate::Metric::Collision]);
+        let err = EvaluationPlan::from_preset_or_file("refrence").unwrap_err();
+        assert!(matches!(err, EvalError::Plan { path: Some(_), .. }), "{err}");
+        assert!(err.to_string().contains("not a preset name"), "{err}");
+    }
+}
