@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use sceneeval::annotation::Annotations;
-use sceneeval::{RECORD_FILE, SceneRecord, Summary, write_atomic};
+use sceneeval::{RECORD_FILE, SUMMARY_CSV, SUMMARY_MD, SceneRecord, Summary, write_atomic};
 
 /// Arguments of `sceneeval summarize`.
 #[derive(Debug, clap::Args)]
@@ -82,8 +82,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let markdown = summary.to_markdown();
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        write_atomic(&out.join("summary.csv"), summary.to_csv()?.as_bytes())?;
-        write_atomic(&out.join("summary.md"), markdown.as_bytes())?;
+        write_atomic(&out.join(SUMMARY_CSV), summary.to_csv()?.as_bytes())?;
+        write_atomic(&out.join(SUMMARY_MD), markdown.as_bytes())?;
     }
     print!("{markdown}");
     eprintln!("{} scenes from {} folder(s)", records.len(), args.dirs.len());

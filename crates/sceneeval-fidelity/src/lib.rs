@@ -74,6 +74,7 @@ pub use error::FidelityError;
 pub use evaluate::{FidelityEvaluator, FidelityOutcome, MAX_RECORDED_GROUPS, Resources, binomial};
 pub use matching::{
     MATCHING_FILE, MATCHING_SCHEMA, Matching, MatchingRecord, MatchingSource, REFERENCE_MATCHING_FILE,
+    matching_file_for,
 };
 pub use params::{
     DEFAULT_MAX_CANDIDATE_GROUPS, FidelityMetric, FidelityParams, MatchingMethod, RelationMapping,

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, IndexWork, WorkCounter, flat};
-use crate::objects::{Footprint, ObjectInfo, object_infos};
+use crate::objects::{DEFAULT_WALKABLE_HEIGHT, Footprint, ObjectInfo, object_infos};
 use crate::plane::{
     FloorPiece, area, bounds, boxes_overlap, ccw, clip_convex, floor_pieces, subtract_convex,
 };
@@ -28,7 +28,7 @@ pub struct AccessibilityParams {
     /// `obj_height_threshold`, 2.0, applied there to the OBB centre).
     pub height_cutoff: Real,
     /// Objects whose top is at most this above their floor (rugs) do not block, metres.
-    /// Default 0: every object blocks, as in the reference.
+    /// Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object block (0).
     pub walkable_height: Real,
     /// The blocking footprints: convex hulls of the projected meshes (default) or, as the
     /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
@@ -41,7 +41,7 @@ impl Default for AccessibilityParams {
             strip_offset: 0.05,
             strip_width: 0.2,
             height_cutoff: 2.0,
-            walkable_height: 0.0,
+            walkable_height: DEFAULT_WALKABLE_HEIGHT,
             footprint: Footprint::ConvexHull,
         }
     }

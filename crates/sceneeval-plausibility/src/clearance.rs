@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::check_non_negative;
 use crate::index::{BoxIndex, IndexWork, WorkCounter};
-use crate::objects::ObjectInfo;
+use crate::objects::{DEFAULT_WALKABLE_HEIGHT, ObjectInfo};
 use crate::plane::{area3, clip_half_space};
 use crate::{Deadline, PlausibilityError};
 
@@ -43,7 +43,8 @@ pub struct OpeningClearanceParams {
     /// not count as blocking.
     pub touch_tolerance: Real,
     /// Objects whose top is at most this above their floor (rugs, doormats) do not block,
-    /// metres. Default 0: every object can block, as in the reference.
+    /// metres. Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object
+    /// block (0).
     pub walkable_height: Real,
 }
 
@@ -59,7 +60,7 @@ impl Default for OpeningClearanceParams {
             probe_offset: 0.1,
             pixels_per_metre: 100.0,
             touch_tolerance: 0.001,
-            walkable_height: 0.0,
+            walkable_height: DEFAULT_WALKABLE_HEIGHT,
         }
     }
 }

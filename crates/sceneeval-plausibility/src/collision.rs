@@ -25,8 +25,9 @@ pub struct CollisionParams {
     /// 5 mm push).
     pub contact_tolerance: Real,
     /// Leave floor coverings (rugs, carpets, mats) out of the metric: not tested, not counted.
-    /// Default `false`, like the original reference (a bed standing on a 1 cm rug is in
-    /// collision there); its fork sets it.
+    /// Default `true`: a bed standing on a 1 cm rug is not a collision (the fork of the
+    /// reference sets it too). The original reference tests rugs like any object (`false`, the
+    /// `reference` preset).
     pub exclude_floor_coverings: bool,
     /// Whole words that mark a floor covering in an object's category (or, without a category,
     /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
@@ -52,7 +53,7 @@ impl Default for CollisionParams {
     fn default() -> Self {
         CollisionParams {
             contact_tolerance: 0.005,
-            exclude_floor_coverings: false,
+            exclude_floor_coverings: true,
             floor_covering_words: default_floor_covering_words(),
             depth_sample_spacing: 0.0025,
             depth_sample_budget: 8192,

@@ -149,7 +149,7 @@ pub use layout::{LayoutChecks, LayoutScratch};
 pub use navigability::{
     NavigabilityParams, NavigabilityReport, OccupancyMap, RoomNavigability, navigability, occupancy_map,
 };
-pub use objects::Footprint;
+pub use objects::{DEFAULT_WALKABLE_HEIGHT, Footprint};
 pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds};
 pub use raster::{Grid, Resolution};
 pub use sceneeval_geom::DepthSearch;

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::PlausibilityError;
 use crate::error::check_non_negative;
-use crate::objects::{Footprint, ObjectInfo, object_infos};
+use crate::objects::{DEFAULT_WALKABLE_HEIGHT, Footprint, ObjectInfo, object_infos};
 use crate::plane::{ccw, exposed_boundary};
 use crate::raster::{Grid, Resolution, RowRuns, merge, par_rows, subtract};
 
@@ -25,7 +25,8 @@ pub struct NavigabilityParams {
     /// `obj_height_threshold`, 2.0, applied there to the OBB centre).
     pub height_cutoff: Real,
     /// Objects whose top is at most this above their floor are walked over (rugs), in metres.
-    /// Default 0: every object obstructs, as in the reference.
+    /// Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object obstruct
+    /// (0).
     pub walkable_height: Real,
     /// A door whose bottom is at most this above its wall's base is passable, in metres
     /// (default 0.05). Windows never are.
@@ -45,7 +46,7 @@ impl Default for NavigabilityParams {
             margin: 0.2,
             robot_width: 0.2,
             height_cutoff: 2.0,
-            walkable_height: 0.0,
+            walkable_height: DEFAULT_WALKABLE_HEIGHT,
             door_max_sill: 0.05,
             door_strip_depth: 0.5,
             footprint: Footprint::ConvexHull,

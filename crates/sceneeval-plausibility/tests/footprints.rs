@@ -131,8 +131,8 @@ fn accessibility_uses_the_chosen_footprint() {
 #[test]
 fn floor_coverings_obstruct_unless_walked_over() {
     // A 1 cm rug across the whole room at y in [2, 3], a doormat in front of the door
-    // (x in [1.0, 1.9] on y = 0), and a bed whose front faces the rug. By default (as the
-    // reference) they obstruct; with a 2 cm walkable height they are walked over.
+    // (x in [1.0, 1.9] on y = 0), and a bed whose front faces the rug. With walkable height 0
+    // (the reference) they obstruct; with 2 cm, or the 5 cm default, they are walked over.
     let s = scene()
         .add_box(
             "rug",
@@ -167,10 +167,21 @@ fn floor_coverings_obstruct_unless_walked_over() {
     assert_eq!(navigability(&s, &reference).unwrap().num_components, 2);
 
     assert_eq!(
+        navigability(&s, &NavigabilityParams::default())
+            .unwrap()
+            .num_components,
+        1
+    );
+    let reference = OpeningClearanceParams {
+        walkable_height: 0.0,
+        ..OpeningClearanceParams::default()
+    };
+    assert_eq!(opening_clearance(&s, &reference).unwrap().doors_blocked, 1);
+    assert_eq!(
         opening_clearance(&s, &OpeningClearanceParams::default())
             .unwrap()
             .doors_blocked,
-        1
+        0
     );
     let walked = OpeningClearanceParams {
         walkable_height: 0.02,
@@ -199,8 +210,19 @@ fn floor_coverings_obstruct_unless_walked_over() {
         )
         .build()
         .unwrap();
-    let a = accessibility(&s, &AccessibilityParams::default(), &Stated).unwrap();
+    let reference = AccessibilityParams {
+        walkable_height: 0.0,
+        ..AccessibilityParams::default()
+    };
+    let a = accessibility(&s, &reference, &Stated).unwrap();
     assert_eq!(a.objects[1].score, Some(0.0));
+    assert_eq!(
+        accessibility(&s, &AccessibilityParams::default(), &Stated)
+            .unwrap()
+            .objects[1]
+            .score,
+        Some(1.0)
+    );
     let walked = AccessibilityParams {
         walkable_height: 0.02,
         ..AccessibilityParams::default()

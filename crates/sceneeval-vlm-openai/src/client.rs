@@ -2,7 +2,7 @@
 
 use std::fmt;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Duration;
+use std::time::{Duration, SystemTime};
 
 use reqwest::header::{AUTHORIZATION, CONTENT_TYPE, HeaderMap, HeaderValue};
 use serde::Serialize;
@@ -406,17 +406,29 @@ impl OpenAiVlm {
 
 /// How long the server asks to wait: `retry-after-ms` (milliseconds, OpenAI), else
 /// `Retry-After` in seconds. An HTTP-date `Retry-After` is ignored (backoff applies).
+/// The wait a server asks for: `retry-after-ms` (milliseconds, OpenAI), else `Retry-After` as
+/// seconds or as an HTTP date (RFC 9110; a date in the past means no wait).
 fn retry_after(headers: &HeaderMap) -> Option<Duration> {
-    let number = |name: &str| {
-        headers
-            .get(name)
-            .and_then(|v| v.to_str().ok())
-            .and_then(|v| v.trim().parse::<f64>().ok())
-            .filter(|v| v.is_finite() && *v >= 0.0)
+    retry_after_at(headers, SystemTime::now())
+}
+
+/// [`retry_after`] with the current time given.
+fn retry_after_at(headers: &HeaderMap, now: SystemTime) -> Option<Duration> {
+    let text = |name: &str| headers.get(name).and_then(|v| v.to_str().ok()).map(str::trim);
+    let seconds = |v: &str| {
+        v.parse::<f64>()
+            .ok()
+            .filter(|v| *v >= 0.0)
+            .and_then(|v| Duration::try_from_secs_f64(v).ok())
     };
-    number("retry-after-ms")
-        .map(|ms| Duration::from_secs_f64(ms / 1000.0))
-        .or_else(|| number("retry-after").map(Duration::from_secs_f64))
+    if let Some(ms) = text("retry-after-ms").and_then(seconds) {
+        return Some(ms / 1000);
+    }
+    let value = text("retry-after")?;
+    seconds(value).or_else(|| {
+        let date = httpdate::parse_http_date(value).ok()?;
+        Some(date.duration_since(now).unwrap_or(Duration::ZERO))
+    })
 }
 
 impl Vlm for OpenAiVlm {
@@ -489,11 +501,26 @@ mod tests {
         assert_eq!(retry_after(&h), Some(Duration::from_secs(2)));
         h.insert("retry-after-ms", HeaderValue::from_static("150"));
         assert_eq!(retry_after(&h), Some(Duration::from_millis(150)));
+        // An HTTP date: the wait is the time until then, none for a date in the past.
         let mut d = HeaderMap::new();
         d.insert(
             "retry-after",
             HeaderValue::from_static("Wed, 21 Oct 2015 07:28:00 GMT"),
         );
-        assert_eq!(retry_after(&d), None);
+        let date = httpdate::parse_http_date("Wed, 21 Oct 2015 07:28:00 GMT").unwrap();
+        assert_eq!(
+            retry_after_at(&d, date - Duration::from_secs(3)),
+            Some(Duration::from_secs(3))
+        );
+        assert_eq!(
+            retry_after_at(&d, date + Duration::from_secs(3)),
+            Some(Duration::ZERO)
+        );
+        // Nonsense and values no duration can hold are ignored (the backoff applies).
+        for bad in ["soon", "-1", "1e300", "NaN"] {
+            let mut b = HeaderMap::new();
+            b.insert("retry-after", HeaderValue::from_static(bad));
+            assert_eq!(retry_after(&b), None, "{bad}");
+        }
     }
 }

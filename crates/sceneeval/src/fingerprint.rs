@@ -185,6 +185,40 @@ fn hash_file(path: &Path) -> Option<String> {
 /// The digest of an annotation row for [`Fingerprint::annotation`]: hex BLAKE3 of the row's
 /// JSON form, so that reformatting the CSV without changing the row keeps it.
 pub fn annotation_digest(row: &crate::annotation::AnnotationRow) -> String {
+    annotation_text_digest(row)
+}
+
+/// An annotation row's digest extended by the contents of the scene's matching file (the
+/// plan's `fidelity.matching` is a file): editing the file invalidates the scene's record as
+/// editing the row does. A missing or unreadable file digests as such; reading it for the
+/// metrics then fails the scene with the reason.
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// let file = dir.path().join("matching.json");
+/// std::fs::write(&file, r#"{"bed": ["a"]}"#).unwrap();
+/// let first = sceneeval::matching_file_digest("row", &file);
+/// assert_eq!(first, sceneeval::matching_file_digest("row", &file));
+/// std::fs::write(&file, r#"{"bed": ["b"]}"#).unwrap();
+/// assert_ne!(first, sceneeval::matching_file_digest("row", &file));
+/// assert_ne!(first, sceneeval::matching_file_digest("other row", &file));
+/// ```
+pub fn matching_file_digest(row_digest: &str, file: &Path) -> String {
+    let mut hasher = blake3::Hasher::new();
+    hasher.update(row_digest.as_bytes());
+    match std::fs::read(file) {
+        Ok(bytes) => {
+            hasher.update(b"\nmatching file\n");
+            hasher.update(&bytes);
+        }
+        Err(e) => {
+            hasher.update(format!("\nmatching file unreadable: {:?}", e.kind()).as_bytes());
+        }
+    }
+    hasher.finalize().to_hex().to_string()
+}
+
+fn annotation_text_digest(row: &crate::annotation::AnnotationRow) -> String {
     // Rows serialise to a JSON object of strings and lists of strings: this cannot fail.
     let text = serde_json::to_string(row).unwrap_or_default();
     blake3::hash(text.as_bytes()).to_hex().to_string()

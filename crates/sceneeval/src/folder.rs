@@ -10,10 +10,11 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 use crate::annotation::{AnnotationRow, Annotations};
+use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::AssetLibrary;
 use crate::{
     BatchOptions, BatchOutcome, EvalError, EvaluationPlan, Evaluator, Preset, SceneFile, SceneRecord,
-    SceneStatus, Summary, annotation_digest, run_batch, write_atomic,
+    SceneStatus, Summary, annotation_digest, matching_file_digest, run_batch, write_atomic,
 };
 
 /// The name of the CSV summary written into the output folder.
@@ -69,11 +70,19 @@ impl FolderRun<'_> {
         on_done: &(dyn Fn(&SceneFile, &SceneStatus, &SceneRecord) + Sync),
     ) -> Result<FolderOutcome, EvalError> {
         let fidelity = evaluator.plan().has_fidelity();
+        let matching_file = match &evaluator.plan().fidelity.matching {
+            MatchingMethod::File { path } if fidelity => Some(path),
+            _ => None,
+        };
         let mut digests = BTreeMap::new();
         let mut rows = BTreeMap::new();
         for s in scenes {
             if let Some(row) = self.annotation_row(&s.id.to_string()) {
-                digests.insert(s.name.clone(), annotation_digest(row));
+                let mut digest = annotation_digest(row);
+                if let Some(path) = matching_file {
+                    digest = matching_file_digest(&digest, &matching_file_for(path, &s.name));
+                }
+                digests.insert(s.name.clone(), digest);
                 if fidelity {
                     rows.insert(s.name.clone(), row.clone());
                 }

@@ -90,7 +90,9 @@ pub use dyn_vlm::SharedVlm;
 pub use error::EvalError;
 pub use evaluator::{Evaluator, SCENE_REPORT_SCHEMA, SceneReport};
 pub use files::{check_output_dir, write_atomic, write_atomic_with};
-pub use fingerprint::{AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest};
+pub use fingerprint::{
+    AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest, matching_file_digest,
+};
 pub use folder::{FolderOutcome, FolderRun, SUMMARY_CSV, SUMMARY_MD};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
 pub use plausibility::{Deadline, Metric, MetricTiming, PlausibilitySummary};
