@@ -32,26 +32,7 @@ pub struct BenchMeshes {
 /// Never for these fixed shapes (the constructors only reject degenerate input).
 #[allow(clippy::expect_used)]
 pub fn meshes() -> BenchMeshes {
-    let table_parts = [
-        (Vector3::new(0.6, 0.4, 0.025), Vector3::new(0.0, 0.0, 0.725)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, -0.35, 0.35)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, -0.35, 0.35)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, 0.35, 0.35)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, 0.35, 0.35)),
-    ];
-    let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
-    for (h, c) in table_parts {
-        let part = Mesh::subdivided_box(&h, 9).expect("table part");
-        let base = tv.len() as u32;
-        tv.extend(part.vertices().iter().map(|p| p + c));
-        tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
-    }
-    let table = Mesh::new(tv, tt).expect("table mesh");
-    let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 20)
-        .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
-        .expect("cabinet mesh");
-    let painting = Mesh::subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 20).expect("painting mesh");
-    let lamp = Mesh::uv_ellipsoid(&Vector3::repeat(0.15), 72, 36).expect("lamp mesh");
+    let [table, cabinet, painting, lamp] = furniture(9, 20, 72, 36);
     BenchMeshes {
         table: Arc::new(table),
         cabinet: Arc::new(cabinet),
@@ -263,26 +244,7 @@ pub struct AssetSet {
 /// Never for these fixed shapes.
 #[allow(clippy::expect_used)]
 pub fn mesh8k_set() -> AssetSet {
-    let table_parts = [
-        (Vector3::new(0.6, 0.4, 0.025), Vector3::new(0.0, 0.0, 0.725)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, -0.35, 0.35)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, -0.35, 0.35)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, 0.35, 0.35)),
-        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, 0.35, 0.35)),
-    ];
-    let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
-    for (h, c) in table_parts {
-        let part = Mesh::subdivided_box(&h, 11).expect("table part");
-        let base = tv.len() as u32;
-        tv.extend(part.vertices().iter().map(|p| p + c));
-        tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
-    }
-    let table = Mesh::new(tv, tt).expect("table mesh");
-    let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), 26)
-        .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
-        .expect("cabinet mesh");
-    let painting = Mesh::subdivided_box(&Vector3::new(0.4, 0.02, 0.3), 26).expect("painting mesh");
-    let lamp = Mesh::uv_ellipsoid(&Vector3::repeat(0.15), 90, 46).expect("lamp mesh");
+    let [table, cabinet, painting, lamp] = furniture(11, 26, 90, 46);
     AssetSet {
         kind: "mesh8k".into(),
         prefix: "bench".into(),
@@ -408,6 +370,35 @@ pub fn scaling_scene(n: usize, set: &AssetSet) -> Scene {
         }
     }
     b.build().expect("scaling scene")
+}
+
+/// The benchmark furniture at a given detail: a table (a top and four legs, each a box split
+/// `table_split` times per edge), a cabinet and a painting (boxes split `box_split` times),
+/// a lamp (a UV sphere of `segments` x `rings`); origins at the bottom centre (the lamp and
+/// painting at their centre).
+#[allow(clippy::expect_used)]
+fn furniture(table_split: u32, box_split: u32, segments: u32, rings: u32) -> [Mesh; 4] {
+    let table_parts = [
+        (Vector3::new(0.6, 0.4, 0.025), Vector3::new(0.0, 0.0, 0.725)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, -0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, -0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, 0.35, 0.35)),
+        (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, 0.35, 0.35)),
+    ];
+    let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
+    for (h, c) in table_parts {
+        let part = Mesh::subdivided_box(&h, table_split).expect("table part");
+        let base = tv.len() as u32;
+        tv.extend(part.vertices().iter().map(|p| p + c));
+        tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
+    }
+    let table = Mesh::new(tv, tt).expect("table mesh");
+    let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), box_split)
+        .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
+        .expect("cabinet mesh");
+    let painting = Mesh::subdivided_box(&Vector3::new(0.4, 0.02, 0.3), box_split).expect("painting mesh");
+    let lamp = Mesh::uv_ellipsoid(&Vector3::repeat(0.15), segments, rings).expect("lamp mesh");
+    [table, cabinet, painting, lamp]
 }
 
 #[cfg(test)]
