@@ -44,22 +44,10 @@ pub const SYNONYMS: &[(&str, &str)] = &[
     ("closet", "wardrobe"),
 ];
 
-/// Trimmed, lower case, runs of spaces, hyphens and underscores as one `_`.
+/// Trimmed, lower case, runs of spaces, hyphens and underscores as one `_`: the same form
+/// the VLM layer compares offered labels in ([`sceneeval_vlm::tasks::norm`]).
 pub fn normalise(label: &str) -> String {
-    let mut out = String::with_capacity(label.len());
-    let mut gap = false;
-    for c in label.trim().chars() {
-        if c == ' ' || c == '-' || c == '_' {
-            gap = true;
-        } else {
-            if gap && !out.is_empty() {
-                out.push('_');
-            }
-            gap = false;
-            out.extend(c.to_lowercase());
-        }
-    }
-    out
+    sceneeval_vlm::tasks::norm(label)
 }
 
 /// The singular of one lower-case English word (regular plurals only).

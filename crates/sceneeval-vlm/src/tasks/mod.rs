@@ -54,8 +54,13 @@ pub use support::{SupportTypeAnswer, SupportTypeResponse, SupportTypeTask};
 use crate::VlmError;
 
 /// A label in comparable form: trimmed, lower case, runs of spaces, hyphens and underscores as
-/// one `_`.
-pub(crate) fn norm(label: &str) -> String {
+/// one `_` (`"Dining  Table"` and `"dining-table"` are both `dining_table`).
+///
+/// ```
+/// assert_eq!(sceneeval_vlm::tasks::norm(" Dining  Table "), "dining_table");
+/// assert_eq!(sceneeval_vlm::tasks::norm("dining-table"), "dining_table");
+/// ```
+pub fn norm(label: &str) -> String {
     let mut out = String::with_capacity(label.len());
     let mut gap = false;
     for c in label.trim().chars() {
