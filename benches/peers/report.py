@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Markdown tables from the lines `run.sh` collected: per kind of scene, the seconds of every
 metric at every size (`collision_first`: collision's first run, which also builds the per-mesh
-tables; every other figure is the minimum of the repeated runs) with its growth exponent (least-squares slope of log time against
-log objects over the sizes from 1,000 up), the peak memory of `evaluate`; then sceneeval
-against each peer at the sizes both ran."""
+tables; every other figure is the minimum of the repeated runs) with its growth exponent
+(least-squares slope of log time against log objects over the sizes from 1,000 up, next to
+the exponent n log n itself has over those sizes), the peak memory of `evaluate`; then
+sceneeval against each peer at the sizes both ran, warm (per-mesh tables and BVHs built) and,
+for collision, cold (first runs: sceneeval's builds its tables, fcl's adds its BVH build)."""
 
 import json
 import math
@@ -86,6 +88,10 @@ def main():
                 continue
             e = exponent([(n, times[(kind, n)].get(m)) for n in sizes])
             print(f"| {m} | " + " | ".join(fmt_s(x) for x in row) + f" | {e:.2f} |" if e is not None else f"| {m} | " + " | ".join(fmt_s(x) for x in row) + " | - |")
+        # What n log n work alone would show as an exponent over the same sizes.
+        e = exponent([(n, n * math.log(n)) for n in sizes])
+        if e is not None:
+            print("| (n log n for reference) | " + " | ".join("" for _ in sizes) + f" | {e:.2f} |")
         row = [peak.get((kind, n)) for n in sizes]
         print("| peak memory, evaluate | " + " | ".join("-" if x is None else f"{x:.0f} MB" for x in row) + " | |")
         row = [tris.get((kind, n)) for n in sizes]
@@ -107,20 +113,27 @@ def main():
         rows[key][p["objects"]] = p
     if rows:
         print("### sceneeval against the peers (seconds, peak memory; ratio = peer / sceneeval)\n")
-        print("| scenes | task | peer | objects | peer | sceneeval | ratio | sceneeval, first run | peer memory |")
-        print("|---|---|---|---|---|---|---|---|---|")
+        print("| scenes | task | peer | objects | peer | sceneeval | ratio | peer, first run | sceneeval, first run | ratio, first run | peer memory |")
+        print("|---" * 11 + "|")
         for (kind, task, peer), by_n in sorted(rows.items()):
             for n in sorted(by_n):
                 p = by_n[n]
                 ours = times[(kind, n)].get(ours_for[task])
                 ratio = p["seconds"] / ours if ours else None
+                # First runs: sceneeval's builds its per-mesh tables, fcl's its BVHs
+                # (build_seconds); trimesh builds its BVHs inside its timer.
                 first = times[(kind, n)].get("collision_first") if task == "collision" else None
+                peer_first = None
+                if task == "collision":
+                    peer_first = p["seconds"] + p.get("build_seconds", 0.0)
+                ratio_first = peer_first / first if first and peer_first else None
                 print(
                     f"| {kind} | {task} | {peer} | {n:,} | {fmt_s(p['seconds'])} | {fmt_s(ours)} | "
                     + ("-" if ratio is None else f"{ratio:.1f}x")
-                    + f" | {fmt_s(first)} | {p['peak_mb']:.0f} MB |"
+                    + f" | {fmt_s(peer_first)} | {fmt_s(first)} | "
+                    + ("-" if ratio_first is None else f"{ratio_first:.1f}x")
+                    + f" | {p['peak_mb']:.0f} MB |"
                 )
-
 
 if __name__ == "__main__":
     main()

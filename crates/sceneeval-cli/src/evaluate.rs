@@ -370,6 +370,10 @@ impl Vlm for RuntimeVlm {
         self.inner.model()
     }
 
+    fn settings(&self) -> &str {
+        self.inner.settings()
+    }
+
     fn answer(
         &self,
         request: &VlmRequest,

@@ -37,6 +37,8 @@ pub struct OpenAiVlm {
     key_source: Option<String>,
     key: Option<ApiKey>,
     sampling: Sampling,
+    /// [`Vlm::settings`]: the sampling settings as canonical text.
+    settings: String,
     timeout: Duration,
     retry: RetryPolicy,
     http: reqwest::Client,
@@ -158,18 +160,20 @@ impl OpenAiVlm {
             .user_agent(concat!("sceneeval-vlm-openai/", env!("CARGO_PKG_VERSION")))
             .build()
             .map_err(|source| OpenAiError::Client { source })?;
+        let sampling = Sampling {
+            detail: config.detail,
+            seed: config.seed,
+            temperature: config.temperature,
+            max_tokens: config.max_tokens,
+        };
         Ok(OpenAiVlm {
             url: format!("{base}/chat/completions"),
             base_url: base,
             model: config.model,
             key_source: config.api_key.as_ref().map(|k| k.source().to_owned()),
             key: config.api_key,
-            sampling: Sampling {
-                detail: config.detail,
-                seed: config.seed,
-                temperature: config.temperature,
-                max_tokens: config.max_tokens,
-            },
+            settings: sampling.canonical(),
+            sampling,
             timeout: config.timeout,
             retry: config.retry,
             http,
@@ -434,6 +438,12 @@ fn retry_after_at(headers: &HeaderMap, now: SystemTime) -> Option<Duration> {
 impl Vlm for OpenAiVlm {
     fn model(&self) -> &str {
         &self.model
+    }
+
+    /// `detail=low;seed=42;temperature=0` with the default configuration; a setting that is
+    /// not sent (`None`) is left out, `max_tokens` appears when set.
+    fn settings(&self) -> &str {
+        &self.settings
     }
 
     async fn answer(&self, request: &VlmRequest) -> Result<Answer, VlmError> {

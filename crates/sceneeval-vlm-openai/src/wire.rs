@@ -65,6 +65,30 @@ pub(crate) struct Sampling {
     pub max_tokens: Option<u32>,
 }
 
+impl Sampling {
+    /// The settings as canonical text, `name=value` pairs in a fixed order joined by `;`,
+    /// leaving out what is not sent: the client's `Vlm::settings`.
+    pub(crate) fn canonical(&self) -> String {
+        let detail = match self.detail {
+            ImageDetail::Low => "low",
+            ImageDetail::High => "high",
+            ImageDetail::Auto => "auto",
+        };
+        let mut parts = vec![format!("detail={detail}")];
+        if let Some(seed) = self.seed {
+            parts.push(format!("seed={seed}"));
+        }
+        if let Some(t) = self.temperature {
+            // Shortest text that reads back as the same f32 (`0`, `0.7`).
+            parts.push(format!("temperature={t}"));
+        }
+        if let Some(n) = self.max_tokens {
+            parts.push(format!("max_tokens={n}"));
+        }
+        parts.join(";")
+    }
+}
+
 /// The request body: system message, then one user message with the text and the images as
 /// `data:image/png;base64` URLs, and the strict JSON schema.
 pub(crate) fn request_body(
@@ -203,6 +227,29 @@ mod tests {
             .unwrap()
             .into_answer()
             .unwrap()
+    }
+
+    #[test]
+    fn sampling_settings_as_canonical_text() {
+        let mut s = Sampling {
+            detail: ImageDetail::Low,
+            seed: Some(42),
+            temperature: Some(0.0),
+            max_tokens: None,
+        };
+        assert_eq!(s.canonical(), "detail=low;seed=42;temperature=0");
+        s.detail = ImageDetail::High;
+        s.temperature = Some(0.7);
+        s.max_tokens = Some(300);
+        assert_eq!(
+            s.canonical(),
+            "detail=high;seed=42;temperature=0.7;max_tokens=300"
+        );
+        s.seed = None;
+        s.temperature = None;
+        s.max_tokens = None;
+        s.detail = ImageDetail::Auto;
+        assert_eq!(s.canonical(), "detail=auto");
     }
 
     #[test]

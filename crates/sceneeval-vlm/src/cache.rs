@@ -1,11 +1,13 @@
 //! The response cache: one JSON file per answer, named by a content hash of the request.
 //!
 //! # Key
-//! The key is the blake3 hash of the model name, the system prompt, the user text, the bytes of
-//! every image (in order), the schema name and the schema (compact JSON), each prefixed with
-//! its length so that no two different requests share a byte stream. It is written as 64 hex
-//! digits. Sampling settings (temperature, seed, image detail) are *not* part of the key: a
-//! cache holds the answers of one setting, so use one cache folder per setting.
+//! The key is the blake3 hash of the model name, the model's settings ([`Vlm::settings`]:
+//! image detail, sampling temperature and seed, reply token limit; only when not empty), the
+//! system prompt, the user text, the bytes of every image (in order), the schema name and the
+//! schema (compact JSON), each prefixed with its length so that no two different requests
+//! share a byte stream. It is written as 64 hex digits. One cache folder can hold the answers
+//! of several models and settings side by side: a request asked again with another detail or
+//! temperature is a different key, never a stale answer.
 //!
 //! # Files
 //! The answer to key `k` is `<dir>/<k[0..2]>/<k>.json`, a [`CacheRecord`] (format
@@ -44,6 +46,9 @@ pub struct CacheRecord {
     pub key: String,
     /// The model that answered.
     pub model: String,
+    /// The model's settings when it answered ([`Vlm::settings`]); empty for models without.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub settings: String,
     /// The task name.
     pub task: String,
     /// The request.
@@ -80,7 +85,9 @@ pub struct RecordedImage {
     pub blake3: String,
 }
 
-/// The cache key of `request` asked of `model` (see the [module docs](self)).
+/// The cache key of `request` asked of `model` with `settings` ([`Vlm::settings`]; see the
+/// [module docs](self)). Empty settings add nothing to the hash, so the keys of models without
+/// settings are those of earlier versions.
 ///
 /// ```
 /// use sceneeval_vlm::cache::cache_key;
@@ -89,13 +96,15 @@ pub struct RecordedImage {
 ///     task: "t".into(), system: "s".into(), user_text: "u".into(), images: vec![],
 ///     schema: ResponseSchema { name: "t".into(), schema: serde_json::json!({"type": "object"}) },
 /// };
-/// let k = cache_key("m", &r);
+/// let k = cache_key("m", "", &r);
 /// assert_eq!(k.len(), 64);
-/// assert_ne!(k, cache_key("other-model", &r));
+/// assert_ne!(k, cache_key("other-model", "", &r));
+/// assert_ne!(k, cache_key("m", "detail=high", &r));
+/// assert_ne!(cache_key("m", "detail=low", &r), cache_key("m", "detail=high", &r));
 /// r.user_text.push(' ');
-/// assert_ne!(k, cache_key("m", &r));
+/// assert_ne!(k, cache_key("m", "", &r));
 /// ```
-pub fn cache_key(model: &str, request: &VlmRequest) -> String {
+pub fn cache_key(model: &str, settings: &str, request: &VlmRequest) -> String {
     fn field(h: &mut blake3::Hasher, bytes: &[u8]) {
         h.update(&(bytes.len() as u64).to_le_bytes());
         h.update(bytes);
@@ -103,6 +112,11 @@ pub fn cache_key(model: &str, request: &VlmRequest) -> String {
     let mut h = blake3::Hasher::new();
     h.update(b"sceneeval-vlm cache key v1\0");
     field(&mut h, model.as_bytes());
+    if !settings.is_empty() {
+        // Tagged, so that no model name and settings run together into another model's name.
+        h.update(b"settings\0");
+        field(&mut h, settings.as_bytes());
+    }
     field(&mut h, request.system.as_bytes());
     field(&mut h, request.user_text.as_bytes());
     h.update(&(request.images.len() as u64).to_le_bytes());
@@ -186,12 +200,13 @@ impl DiskCache {
         Ok(path)
     }
 
-    /// The record of `answer` to `request` asked of `model`.
-    pub fn record(model: &str, request: &VlmRequest, answer: &Answer) -> CacheRecord {
+    /// The record of `answer` to `request` asked of `model` with `settings`.
+    pub fn record(model: &str, settings: &str, request: &VlmRequest, answer: &Answer) -> CacheRecord {
         CacheRecord {
             format: CACHE_FORMAT.to_owned(),
-            key: cache_key(model, request),
+            key: cache_key(model, settings, request),
             model: model.to_owned(),
+            settings: settings.to_owned(),
             task: request.task.clone(),
             request: RecordedRequest {
                 system: request.system.clone(),
@@ -250,8 +265,12 @@ impl<V: Vlm> Vlm for Cached<V> {
         self.inner.model()
     }
 
+    fn settings(&self) -> &str {
+        self.inner.settings()
+    }
+
     async fn answer(&self, request: &VlmRequest) -> Result<Answer, VlmError> {
-        let key = cache_key(self.model(), request);
+        let key = cache_key(self.model(), self.settings(), request);
         match self.cache.load(&key) {
             Ok(Some(record)) => {
                 tracing::debug!(task = %request.task, key = %key, "answer read from the cache");
@@ -265,7 +284,7 @@ impl<V: Vlm> Vlm for Cached<V> {
             Err(e) => tracing::warn!(error = %e, "unusable cache entry; asking the model again"),
         }
         let answer = self.inner.answer(request).await?;
-        let record = DiskCache::record(self.model(), request, &answer);
+        let record = DiskCache::record(self.model(), self.settings(), request, &answer);
         let path = self.cache.store(&record)?;
         tracing::debug!(task = %request.task, path = %path.display(), "answer stored in the cache");
         Ok(answer)
@@ -278,15 +297,24 @@ impl<V: Vlm> Vlm for Cached<V> {
 pub struct Replay {
     cache: DiskCache,
     model: String,
+    settings: String,
 }
 
 impl Replay {
-    /// Answers of `model` from the cache in `dir`.
+    /// Answers of `model` (asked without settings) from the cache in `dir`.
     pub fn new(dir: impl Into<PathBuf>, model: impl Into<String>) -> Self {
         Replay {
             cache: DiskCache::new(dir),
             model: model.into(),
+            settings: String::new(),
         }
+    }
+
+    /// Replays the answers the model gave with `settings` (its [`Vlm::settings`] when the
+    /// answers were cached, e.g. `sceneeval_vlm_openai::OpenAiVlm::settings`).
+    pub fn with_settings(mut self, settings: impl Into<String>) -> Self {
+        self.settings = settings.into();
+        self
     }
 }
 
@@ -295,8 +323,12 @@ impl Vlm for Replay {
         &self.model
     }
 
+    fn settings(&self) -> &str {
+        &self.settings
+    }
+
     async fn answer(&self, request: &VlmRequest) -> Result<Answer, VlmError> {
-        let key = cache_key(&self.model, request);
+        let key = cache_key(&self.model, &self.settings, request);
         match self.cache.load(&key)? {
             Some(record) => Ok(Answer {
                 content: record.answer,

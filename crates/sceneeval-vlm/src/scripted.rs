@@ -28,6 +28,7 @@ type Responder = dyn Fn(&VlmRequest) -> Result<AnswerContent, VlmError> + Send +
 /// ```
 pub struct Scripted {
     model: String,
+    settings: String,
     queue: Mutex<VecDeque<AnswerContent>>,
     responder: Option<Box<Responder>>,
     log: Mutex<Vec<VlmRequest>>,
@@ -55,6 +56,7 @@ impl Scripted {
     pub fn queue(model: impl Into<String>, answers: impl IntoIterator<Item = AnswerContent>) -> Self {
         Scripted {
             model: model.into(),
+            settings: String::new(),
             queue: Mutex::new(answers.into_iter().collect()),
             responder: None,
             log: Mutex::new(Vec::new()),
@@ -68,10 +70,18 @@ impl Scripted {
     ) -> Self {
         Scripted {
             model: model.into(),
+            settings: String::new(),
             queue: Mutex::new(VecDeque::new()),
             responder: Some(Box::new(f)),
             log: Mutex::new(Vec::new()),
         }
+    }
+
+    /// The same model reporting `settings` as its [`Vlm::settings`] (to test how settings
+    /// reach cache keys and result digests).
+    pub fn with_settings(mut self, settings: impl Into<String>) -> Self {
+        self.settings = settings.into();
+        self
     }
 
     /// The requests received so far, in order.
@@ -101,6 +111,10 @@ impl Scripted {
 impl Vlm for Scripted {
     fn model(&self) -> &str {
         &self.model
+    }
+
+    fn settings(&self) -> &str {
+        &self.settings
     }
 
     async fn answer(&self, request: &VlmRequest) -> Result<Answer, VlmError> {

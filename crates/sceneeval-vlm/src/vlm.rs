@@ -18,6 +18,15 @@ pub trait Vlm: Send + Sync {
     /// The model name, part of every cache key.
     fn model(&self) -> &str;
 
+    /// Everything besides the request and the model name that changes this model's answers
+    /// (image detail, sampling temperature and seed, reply token limit), as canonical text
+    /// such as `detail=low;seed=42;temperature=0`; part of every cache key and of the result
+    /// digest, so that answers obtained with other settings are never reused. Empty (the
+    /// default) for models without such settings.
+    fn settings(&self) -> &str {
+        ""
+    }
+
     /// Answers one request.
     ///
     /// A reply that cannot be used (not JSON, refused, truncated) is an [`Answer`] with the
@@ -30,6 +39,10 @@ impl<T: Vlm + ?Sized> Vlm for &T {
         (**self).model()
     }
 
+    fn settings(&self) -> &str {
+        (**self).settings()
+    }
+
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
         (**self).answer(request)
     }
@@ -40,6 +53,10 @@ impl<T: Vlm + ?Sized> Vlm for Arc<T> {
         (**self).model()
     }
 
+    fn settings(&self) -> &str {
+        (**self).settings()
+    }
+
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
         (**self).answer(request)
     }
@@ -48,6 +65,10 @@ impl<T: Vlm + ?Sized> Vlm for Arc<T> {
 impl<T: Vlm + ?Sized> Vlm for Box<T> {
     fn model(&self) -> &str {
         (**self).model()
+    }
+
+    fn settings(&self) -> &str {
+        (**self).settings()
     }
 
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {

@@ -63,6 +63,37 @@ fn second_run_is_served_from_the_cache() {
 }
 
 #[test]
+fn answers_given_with_other_settings_are_not_reused() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = SupportTypeTask::new(test_image(), test_image());
+    let low = Arc::new(Scripted::from_fn("painter-1", |_| Ok(support_answer())).with_settings("detail=low"));
+    let high =
+        Arc::new(Scripted::from_fn("painter-1", |_| Ok(support_answer())).with_settings("detail=high"));
+
+    pollster::block_on(Session::new(Cached::new(low.clone(), dir.path())).ask(&task)).unwrap();
+    // Same model, same request, other image detail: asked again, stored beside the first.
+    pollster::block_on(Session::new(Cached::new(high.clone(), dir.path())).ask(&task)).unwrap();
+    assert_eq!((low.requests().len(), high.requests().len()), (1, 1));
+    assert_eq!(files(dir.path()).len(), 2);
+    // Each setting is served from its own entry afterwards.
+    pollster::block_on(Session::new(Cached::new(high.clone(), dir.path())).ask(&task)).unwrap();
+    assert_eq!(high.requests().len(), 1);
+
+    // The record says which settings answered; Replay finds it only with the same settings.
+    let request = Session::new(&*low).request(&task).unwrap();
+    let key = cache_key("painter-1", "detail=low", &request);
+    let record = DiskCache::new(dir.path()).load(&key).unwrap().unwrap();
+    assert_eq!(record.settings, "detail=low");
+    let replay = Session::new(Replay::new(dir.path(), "painter-1").with_settings("detail=low"));
+    assert!(pollster::block_on(replay.ask(&task)).is_ok());
+    let without = Session::new(Replay::new(dir.path(), "painter-1"));
+    assert!(matches!(
+        pollster::block_on(without.ask(&task)),
+        Err(VlmError::CacheMiss { .. })
+    ));
+}
+
+#[test]
 fn cache_files_are_readable_records() {
     let dir = tempfile::tempdir().unwrap();
     let vlm = Cached::new(Scripted::queue("model-x", [support_answer()]), dir.path());
@@ -71,7 +102,7 @@ fn cache_files_are_readable_records() {
     let request = session.request(&task).unwrap();
     pollster::block_on(session.ask(&task)).unwrap();
 
-    let key = cache_key("model-x", &request);
+    let key = cache_key("model-x", "", &request);
     let path = DiskCache::new(dir.path()).path_of(&key);
     assert_eq!(path, dir.path().join(&key[..2]).join(format!("{key}.json")));
     let text = std::fs::read_to_string(&path).unwrap();
@@ -147,7 +178,7 @@ fn damaged_entries_are_replaced_by_cached_and_reported_by_replay() {
     let task = SupportTypeTask::new(test_image(), test_image());
     let inner = Scripted::from_fn("m", |_| Ok(support_answer()));
     let request = Session::new(&inner).request(&task).unwrap();
-    let path = DiskCache::new(dir.path()).path_of(&cache_key("m", &request));
+    let path = DiskCache::new(dir.path()).path_of(&cache_key("m", "", &request));
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
     std::fs::write(&path, "{\"format\": \"sceneeval.vlm-cache/1\", \"trunc").unwrap();
 
@@ -222,24 +253,24 @@ proptest! {
     #[test]
     fn key_depends_on_content(text in "[a-z ]{0,20}", images in proptest::collection::vec(0u8..4, 0..4)) {
         let r = request(&text, images.clone());
-        prop_assert_eq!(cache_key("m", &r), cache_key("m", &request(&text, images.clone())));
+        prop_assert_eq!(cache_key("m", "", &r), cache_key("m", "", &request(&text, images.clone())));
         let mut other = text.clone();
         other.push('x');
-        prop_assert_ne!(cache_key("m", &r), cache_key("m", &request(&other, images.clone())));
+        prop_assert_ne!(cache_key("m", "", &r), cache_key("m", "", &request(&other, images.clone())));
         let mut more = images.clone();
         more.push(9);
-        prop_assert_ne!(cache_key("m", &r), cache_key("m", &request(&text, more)));
+        prop_assert_ne!(cache_key("m", "", &r), cache_key("m", "", &request(&text, more)));
         if images.len() >= 2 && images[0] != images[1] {
             let mut swapped = images.clone();
             swapped.swap(0, 1);
-            prop_assert_ne!(cache_key("m", &r), cache_key("m", &request(&text, swapped)));
+            prop_assert_ne!(cache_key("m", "", &r), cache_key("m", "", &request(&text, swapped)));
         }
         // Moving a boundary between fields changes the key (length prefixes).
         let mut shifted = r.clone();
         shifted.system = format!("s{text}");
         shifted.user_text = String::new();
         if !text.is_empty() {
-            prop_assert_ne!(cache_key("m", &r), cache_key("m", &shifted));
+            prop_assert_ne!(cache_key("m", "", &r), cache_key("m", "", &shifted));
         }
     }
 }

@@ -11,12 +11,17 @@ type BoxedAnswer<'a> = Pin<Box<dyn Future<Output = Result<Answer, VlmError>> + S
 
 trait ErasedVlm: Send + Sync {
     fn model(&self) -> &str;
+    fn settings(&self) -> &str;
     fn answer_boxed<'a>(&'a self, request: &'a VlmRequest) -> BoxedAnswer<'a>;
 }
 
 impl<T: Vlm> ErasedVlm for T {
     fn model(&self) -> &str {
         Vlm::model(self)
+    }
+
+    fn settings(&self) -> &str {
+        Vlm::settings(self)
     }
 
     fn answer_boxed<'a>(&'a self, request: &'a VlmRequest) -> BoxedAnswer<'a> {
@@ -43,6 +48,7 @@ impl std::fmt::Debug for SharedVlm {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SharedVlm")
             .field("model", &self.inner.model())
+            .field("settings", &self.inner.settings())
             .finish()
     }
 }
@@ -57,6 +63,10 @@ impl SharedVlm {
 impl Vlm for SharedVlm {
     fn model(&self) -> &str {
         self.inner.model()
+    }
+
+    fn settings(&self) -> &str {
+        self.inner.settings()
     }
 
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {

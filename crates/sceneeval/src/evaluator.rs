@@ -77,16 +77,21 @@ impl Evaluator {
     }
 
     /// The digest a result depends on: the plan's [`EvaluationPlan::result_digest`], and the
-    /// VLM's model name when one is configured (answers of another model are other results).
+    /// VLM's model name and settings ([`crate::vlm::Vlm::settings`]) when one is configured
+    /// (answers of another model, or of the same model with another image detail or
+    /// temperature, are other results).
     pub fn result_digest(&self) -> String {
         let plan = self.plan.result_digest();
         match &self.vlm {
             None => plan,
             Some(v) => {
                 use crate::vlm::Vlm;
-                blake3::hash(format!("{plan}\nvlm {}", v.model()).as_bytes())
-                    .to_hex()
-                    .to_string()
+                // Without settings the digest is the one earlier versions wrote.
+                let text = match v.settings() {
+                    "" => format!("{plan}\nvlm {}", v.model()),
+                    settings => format!("{plan}\nvlm {}\nvlm settings {settings}", v.model()),
+                };
+                blake3::hash(text.as_bytes()).to_hex().to_string()
             }
         }
     }
@@ -427,6 +432,36 @@ mod tests {
             )
             .build()
             .unwrap()
+    }
+
+    #[test]
+    fn result_digest_depends_on_the_vlm_model_and_its_settings() {
+        use crate::vlm::Scripted;
+        let with = |vlm: Option<Scripted>| {
+            let e = Evaluator::new(EvaluationPlan::geometry_only()).unwrap();
+            match vlm {
+                Some(v) => e.with_vlm(SharedVlm::new(v)),
+                None => e,
+            }
+            .result_digest()
+        };
+        let none = with(None);
+        assert_eq!(none, EvaluationPlan::geometry_only().result_digest());
+        let m = with(Some(Scripted::queue("m", [])));
+        let low = with(Some(Scripted::queue("m", []).with_settings("detail=low")));
+        let high = with(Some(Scripted::queue("m", []).with_settings("detail=high")));
+        let other = with(Some(Scripted::queue("m2", [])));
+        let all = [&none, &m, &low, &high, &other];
+        for (i, a) in all.iter().enumerate() {
+            for b in &all[i + 1..] {
+                assert_ne!(a, b);
+            }
+        }
+        // Deterministic: the same model and settings give the same digest.
+        assert_eq!(
+            low,
+            with(Some(Scripted::queue("m", []).with_settings("detail=low")))
+        );
     }
 
     #[test]
