@@ -97,10 +97,12 @@ pub(crate) struct SolidTables {
     /// The solid as a union of its components, if the surface has no boundary and at most
     /// [`MAX_REGIONS`] components.
     pub(crate) regions: Option<Vec<Region>>,
-    /// For such a mesh of several components: each component as a mesh of its own, so that a
-    /// point's side is decided by the pseudo-normals (or rays) of the few components whose
-    /// box holds it instead of a winding number over the whole mesh. Built on first use.
-    parts: std::sync::OnceLock<Vec<Mesh>>,
+    /// For such a mesh of several components: each component as a mesh of its own (`None`
+    /// when all its triangles are degenerate), so that a point's side is decided by the
+    /// pseudo-normals (or rays) of the few components whose box holds it instead of a winding
+    /// number over the whole mesh. Each part is built when a point first falls in its
+    /// component's box: a collision touching one leg of a table never builds the others.
+    parts: Vec<std::sync::OnceLock<Option<Mesh>>>,
     /// Whether the mesh has such parts.
     has_parts: bool,
 }
@@ -117,9 +119,19 @@ impl SolidTables {
         // Without a boundary chain every component's winding number is an integer, and a
         // point inside the solid is enclosed by some component: its depth is at most its
         // distance to that component's boundary.
-        let regions = (boundary.nodes.is_empty() && components.len() <= MAX_REGIONS)
-            .then(|| components.iter().map(|c| region(mesh, c, &patches)).collect());
+        let regions = (boundary.nodes.is_empty() && components.len() <= MAX_REGIONS).then(|| {
+            let mut mark = vec![false; mesh.vertices().len()];
+            components
+                .iter()
+                .map(|c| region(mesh, c, &patches, &mut mark))
+                .collect()
+        });
         let has_parts = regions.is_some() && components.len() > 1;
+        let parts = if has_parts {
+            components.iter().map(|_| std::sync::OnceLock::new()).collect()
+        } else {
+            Vec::new()
+        };
         SolidTables {
             normals,
             tree,
@@ -128,7 +140,7 @@ impl SolidTables {
             balls: std::sync::OnceLock::new(),
             patches,
             regions,
-            parts: std::sync::OnceLock::new(),
+            parts,
             has_parts,
         }
     }
@@ -209,15 +221,14 @@ impl SolidTables {
             return false;
         }
         if self.has_parts {
-            // No boundary: inside the solid is inside some component.
-            let parts = self.parts.get_or_init(|| {
-                self.components
-                    .iter()
-                    .filter_map(|c| part_mesh(mesh, c))
-                    .collect()
-            });
-            return parts.iter().any(|part| {
-                part.aabb().contains_point(p) && part.solid().classify_within(part, p, 0.0).inside
+            // No boundary: inside the solid is inside some component. A component's box is
+            // its part's box (the part holds exactly the vertices of its triangles).
+            return self.components.iter().zip(&self.parts).any(|(c, slot)| {
+                c.aabb.contains_point(p)
+                    && slot
+                        .get_or_init(|| part_mesh(mesh, c))
+                        .as_ref()
+                        .is_some_and(|part| part.solid().classify_within(part, p, 0.0).inside)
             });
         }
         self.winding(mesh, p, 0.0).0.abs() >= 0.5
@@ -400,6 +411,7 @@ impl Patches {
             members[p as usize].push(ti as u32);
         }
         let v = mesh.vertices();
+        let mut mark = vec![false; v.len()];
         let patches = members
             .iter()
             .map(|m| {
@@ -412,12 +424,11 @@ impl Patches {
                 let u = normal.cross(&helper).normalize();
                 let w = normal.cross(&u);
                 let flat = |p: &Point3| Point2::new(p.coords.dot(&u), p.coords.dot(&w));
-                let pts: Vec<Point2> = m
-                    .iter()
-                    .flat_map(|&t| tris[t as usize])
-                    .map(|i| flat(&v[i as usize]))
-                    .collect();
-                let hull = crate::planar::convex_hull(&pts);
+                // Each vertex once (a patch of a gridded face shares most of its corners
+                // between six triangles), then the hull of few points after Akl-Toussaint.
+                let ids = member_vertices(tris, m, &mut mark);
+                let pts: Vec<Point2> = ids.iter().map(|&i| flat(&v[i as usize])).collect();
+                let hull = crate::planar::convex_hull_fast(&pts);
                 let patch_area: Real = m.iter().map(|&t| planes[t as usize].2).sum();
                 let hull_area = crate::planar::area(&hull);
                 let convex = hull.len() >= 3 && (hull_area - patch_area).abs() <= 1e-9 * hull_area.max(1e-12);
@@ -480,21 +491,35 @@ fn part_mesh(mesh: &Mesh, c: &Component) -> Option<Mesh> {
     Mesh::new(vertices, triangles).ok()
 }
 
+/// The distinct vertices of the triangles `members`, ascending. `mark` is scratch space with
+/// one flag per vertex of `tris`' mesh, all `false` on entry and again on return.
+fn member_vertices(tris: &[[u32; 3]], members: &[u32], mark: &mut [bool]) -> Vec<u32> {
+    let mut ids = Vec::new();
+    for &t in members {
+        for v in tris[t as usize] {
+            let seen = &mut mark[v as usize];
+            if !*seen {
+                *seen = true;
+                ids.push(v);
+            }
+        }
+    }
+    for &v in &ids {
+        mark[v as usize] = false;
+    }
+    ids.sort_unstable();
+    ids
+}
+
 /// The [`Region`] of one closed component.
-fn region(mesh: &Mesh, c: &Component, patches: &Patches) -> Region {
+fn region(mesh: &Mesh, c: &Component, patches: &Patches, mark: &mut [bool]) -> Region {
     let mut ids: Vec<u32> = c.members.iter().map(|&t| patches.of[t as usize]).collect();
     ids.sort_unstable();
     ids.dedup();
     let scale = 1.0 + c.aabb.extents().norm();
     let mut planes = Vec::new();
     if ids.len() <= MAX_REGION_PLANES {
-        let mut vertices: Vec<u32> = c
-            .members
-            .iter()
-            .flat_map(|&t| mesh.triangles()[t as usize])
-            .collect();
-        vertices.sort_unstable();
-        vertices.dedup();
+        let vertices = member_vertices(mesh.triangles(), &c.members, mark);
         let convex = ids.iter().all(|&id| {
             let p = &patches.patches[id as usize];
             vertices
@@ -548,8 +573,46 @@ fn half_edges(mesh: &Mesh, weld: &[u32]) -> Vec<HalfEdge> {
             }
         }
     }
-    out.sort_unstable_by_key(|e| (e.key, e.tri));
+    // By lower end (a counting sort: linear), then each vertex's few edges by higher end and
+    // triangle (and first vertex, which tells a degenerate triangle's two uses of one edge
+    // apart).
+    let vertices = weld.iter().copied().max().map_or(0, |m| m as usize + 1);
+    bucket_sort(
+        &mut out,
+        vertices,
+        |e| e.key.0 as usize,
+        |e, f| (e.key.1, e.tri, e.from).cmp(&(f.key.1, f.tri, f.from)),
+    );
     out
+}
+
+/// Sorts `items` by their bucket (each below `buckets`), then within a bucket by `within`: a
+/// counting sort followed by a sort of each bucket, linear in the items when buckets hold few
+/// of them (the edges at one vertex). Deterministic: equal items keep an order that depends
+/// only on the input.
+fn bucket_sort<T: Copy>(
+    items: &mut [T],
+    buckets: usize,
+    bucket: impl Fn(&T) -> usize,
+    mut within: impl FnMut(&T, &T) -> Ordering,
+) {
+    let mut start = vec![0usize; buckets + 1];
+    for item in items.iter() {
+        start[bucket(item) + 1] += 1;
+    }
+    for k in 0..buckets {
+        start[k + 1] += start[k];
+    }
+    let mut next = start.clone();
+    let unsorted = items.to_vec();
+    for item in &unsorted {
+        let b = bucket(item);
+        items[next[b]] = *item;
+        next[b] += 1;
+    }
+    for k in 0..buckets {
+        items[start[k]..start[k + 1]].sort_unstable_by(&mut within);
+    }
 }
 
 /// Union-find over `n` items, the smaller index as root.
@@ -661,7 +724,7 @@ fn pseudo_normals(mesh: &Mesh, weld: &[u32]) -> PseudoNormals {
         }
     }
     // Sum the face normals of each edge (sorting is faster than hashing here).
-    edges.sort_unstable_by_key(|e| e.0);
+    bucket_sort(&mut edges, count, |e| e.0.0 as usize, |e, f| e.0.1.cmp(&f.0.1));
     let mut edge: Vec<((u32, u32), Vector3)> = Vec::with_capacity(edges.len() / 2 + 1);
     for (key, n) in edges {
         match edge.last_mut() {
@@ -689,12 +752,11 @@ fn components(mesh: &Mesh, edges: &[HalfEdge]) -> (Vec<Component>, usize) {
     }
     let count = members.len();
     let v = mesh.vertices();
+    let mut mark = vec![false; v.len()];
     let mut out: Vec<(usize, Component)> = members
         .iter()
         .map(|m| {
-            let mut ids: Vec<u32> = m.iter().flat_map(|&t| tris[t as usize]).collect();
-            ids.sort_unstable();
-            ids.dedup();
+            let ids = member_vertices(tris, m, &mut mark);
             let aabb = Aabb::from_points(ids.iter().map(|&i| &v[i as usize]))
                 .unwrap_or(Aabb::new(Point3::origin(), Point3::origin()));
             // The first vertex and the extremes along each axis.
@@ -1251,6 +1313,31 @@ fn point_segment_distance(p: &Point3, a: &Point3, b: &Point3) -> Real {
 pub(crate) mod tests {
     use super::*;
     use crate::Isometry3;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The bucket sort orders like a full sort by (bucket, key).
+        #[test]
+        fn bucket_sort_orders_like_a_full_sort(
+            items in proptest::collection::vec((0u32..12, 0u32..50, 0u32..1000), 0..300)
+        ) {
+            let mut ours = items.clone();
+            bucket_sort(&mut ours, 12, |e| e.0 as usize, |a, b| (a.1, a.2).cmp(&(b.1, b.2)));
+            let mut full = items;
+            full.sort();
+            prop_assert_eq!(ours, full);
+        }
+    }
+
+    #[test]
+    fn member_vertices_lists_each_vertex_once_in_order_and_clears_its_marks() {
+        let tris = [[4, 1, 2], [2, 1, 0], [5, 6, 7], [2, 4, 3]];
+        let mut mark = vec![false; 8];
+        assert_eq!(member_vertices(&tris, &[0, 1, 3], &mut mark), vec![0, 1, 2, 3, 4]);
+        assert!(mark.iter().all(|m| !m));
+        assert_eq!(member_vertices(&tris, &[2], &mut mark), vec![5, 6, 7]);
+        assert_eq!(member_vertices(&tris, &[], &mut mark), Vec::<u32>::new());
+    }
 
     /// A unit cube (half extent 0.5) whose faces are split into `n` x `n` squares.
     pub(crate) fn subdivided_cube(n: u32) -> Mesh {
