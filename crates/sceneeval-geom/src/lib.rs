@@ -48,6 +48,7 @@ mod polygon;
 mod ray;
 mod shapes;
 mod solid;
+mod sort;
 mod tritri;
 
 pub use aabb::Aabb;

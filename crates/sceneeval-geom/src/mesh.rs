@@ -1,4 +1,3 @@
-use std::collections::HashMap;
 use std::fmt;
 use std::sync::{Arc, OnceLock};
 
@@ -414,26 +413,77 @@ fn signed_volume<'a>(v: &[Point3], tris: impl Iterator<Item = &'a [u32; 3]>) -> 
     .sum()
 }
 
+/// The triangles using each undirected welded edge, over a list of uses `(lower end, higher
+/// end, triangle)` sorted by edge: the edges as runs of that list, and each triangle's edges.
+struct EdgeUsers {
+    /// Start of each edge's run in the list, then the list's length.
+    groups: Vec<usize>,
+    /// Per triangle, its (up to three) edges as `(edge, run)`; unused entries hold `u32::MAX`.
+    of_triangle: Vec<[((u32, u32), u32); 3]>,
+}
+
+impl EdgeUsers {
+    fn new(uses: &[(u32, u32, u32)], triangles: usize) -> Self {
+        let mut groups = Vec::with_capacity(uses.len() / 2 + 1);
+        let mut of_triangle = vec![[((u32::MAX, u32::MAX), u32::MAX); 3]; triangles];
+        for (i, u) in uses.iter().enumerate() {
+            if i == 0 || (uses[i - 1].0, uses[i - 1].1) != (u.0, u.1) {
+                groups.push(i);
+            }
+            let run = (groups.len() - 1) as u32;
+            let slots = &mut of_triangle[u.2 as usize];
+            // A triangle uses an edge at most three times; keep one entry per edge.
+            if let Some(slot) = slots.iter_mut().find(|s| s.1 == u32::MAX || s.0 == (u.0, u.1)) {
+                *slot = ((u.0, u.1), run);
+            }
+        }
+        groups.push(uses.len());
+        EdgeUsers { groups, of_triangle }
+    }
+
+    /// The uses of `edge`, which triangle `tri` has, in triangle order.
+    fn users<'a>(
+        &self,
+        uses: &'a [(u32, u32, u32)],
+        tri: usize,
+        edge: (u32, u32),
+    ) -> Option<&'a [(u32, u32, u32)]> {
+        let run = self.of_triangle[tri]
+            .iter()
+            .find(|s| s.0 == edge && s.1 != u32::MAX)?
+            .1 as usize;
+        Some(&uses[self.groups[run]..self.groups[run + 1]])
+    }
+}
+
 /// Makes triangle winding consistent across edges shared by exactly two triangles (breadth
 /// first from the lowest-numbered triangle of each component), then turns each closed
 /// component outward. Returns whether the whole mesh is closed and consistently orientable.
 fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool {
     // Weld vertices at identical positions so that split seams (normals, UVs) still connect.
-    let (ids, _) = crate::weld_vertices(vertices);
+    let (ids, count) = crate::weld_vertices(vertices);
     let welded = |t: &[u32; 3]| [ids[t[0] as usize], ids[t[1] as usize], ids[t[2] as usize]];
 
-    // Undirected edge -> triangles using it.
-    let mut edges: HashMap<(u32, u32), Vec<u32>> = HashMap::with_capacity(triangles.len() * 3 / 2);
+    // Undirected edge -> triangles using it: every (lower end, higher end, triangle), sorted,
+    // so that the users of an edge are consecutive and in triangle order.
+    let mut uses: Vec<(u32, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
     for (ti, t) in triangles.iter().enumerate() {
         let w = welded(t);
         for k in 0..3 {
             let (a, b) = (w[k], w[(k + 1) % 3]);
             if a != b {
-                edges.entry((a.min(b), a.max(b))).or_default().push(ti as u32);
+                uses.push((a.min(b), a.max(b), ti as u32));
             }
         }
     }
-    let mut closed = edges.values().all(|users| users.len() == 2);
+    crate::sort::bucket_sort(
+        &mut uses,
+        count,
+        |u| u.0 as usize,
+        |u, v| (u.1, u.2).cmp(&(v.1, v.2)),
+    );
+    let edges = EdgeUsers::new(&uses, triangles.len());
+    let mut closed = edges.groups.windows(2).all(|g| g[1] - g[0] == 2);
 
     let directed = |t: &[u32; 3], a: u32, b: u32| {
         let w = welded(t);
@@ -455,16 +505,16 @@ fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool 
             let w = welded(&triangles[ti]);
             for k in 0..3 {
                 let (a, b) = (w[k], w[(k + 1) % 3]);
-                let Some(users) = edges.get(&(a.min(b), a.max(b))) else {
+                let Some(users) = edges.users(&uses, ti, (a.min(b), a.max(b))) else {
                     continue;
                 };
                 if users.len() != 2 {
                     continue;
                 }
-                let other = if users[0] as usize == ti {
-                    users[1]
+                let other = if users[0].2 as usize == ti {
+                    users[1].2
                 } else {
-                    users[0]
+                    users[0].2
                 } as usize;
                 // Consistent neighbours traverse the shared edge in opposite directions.
                 let consistent = directed(&triangles[other], b, a);
@@ -488,7 +538,9 @@ fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool 
             let w = welded(&triangles[ti as usize]);
             (0..3).all(|k| {
                 let (a, b) = (w[k], w[(k + 1) % 3]);
-                edges.get(&(a.min(b), a.max(b))).is_some_and(|u| u.len() == 2)
+                edges
+                    .users(&uses, ti as usize, (a.min(b), a.max(b)))
+                    .is_some_and(|u| u.len() == 2)
             })
         });
         if component_closed
@@ -505,6 +557,144 @@ fn orient_consistently(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// The earlier implementation of `orient_consistently` (edges in a hash map), as the
+    /// oracle of the sorted-edge one: same flips, same closedness, on any triangle soup.
+    fn orient_by_hash_map(vertices: &[Point3], triangles: &mut [[u32; 3]]) -> bool {
+        // Weld vertices at identical positions so that split seams (normals, UVs) still connect.
+        let (ids, _) = crate::weld_vertices(vertices);
+        let welded = |t: &[u32; 3]| [ids[t[0] as usize], ids[t[1] as usize], ids[t[2] as usize]];
+
+        // Undirected edge -> triangles using it.
+        let mut edges: std::collections::HashMap<(u32, u32), Vec<u32>> =
+            std::collections::HashMap::with_capacity(triangles.len() * 3 / 2);
+        for (ti, t) in triangles.iter().enumerate() {
+            let w = welded(t);
+            for k in 0..3 {
+                let (a, b) = (w[k], w[(k + 1) % 3]);
+                if a != b {
+                    edges.entry((a.min(b), a.max(b))).or_default().push(ti as u32);
+                }
+            }
+        }
+        let mut closed = edges.values().all(|users| users.len() == 2);
+
+        let directed = |t: &[u32; 3], a: u32, b: u32| {
+            let w = welded(t);
+            (0..3).any(|k| w[k] == a && w[(k + 1) % 3] == b)
+        };
+        let mut component = vec![u32::MAX; triangles.len()];
+        let mut components: Vec<Vec<u32>> = Vec::new();
+        for seed in 0..triangles.len() {
+            if component[seed] != u32::MAX {
+                continue;
+            }
+            let cid = components.len() as u32;
+            let mut members = vec![seed as u32];
+            component[seed] = cid;
+            let mut head = 0;
+            while head < members.len() {
+                let ti = members[head] as usize;
+                head += 1;
+                let w = welded(&triangles[ti]);
+                for k in 0..3 {
+                    let (a, b) = (w[k], w[(k + 1) % 3]);
+                    let Some(users) = edges.get(&(a.min(b), a.max(b))) else {
+                        continue;
+                    };
+                    if users.len() != 2 {
+                        continue;
+                    }
+                    let other = if users[0] as usize == ti {
+                        users[1]
+                    } else {
+                        users[0]
+                    } as usize;
+                    // Consistent neighbours traverse the shared edge in opposite directions.
+                    let consistent = directed(&triangles[other], b, a);
+                    if component[other] == u32::MAX {
+                        if !consistent {
+                            triangles[other].swap(1, 2);
+                        }
+                        component[other] = cid;
+                        members.push(other as u32);
+                    } else if !consistent {
+                        // Non-orientable (or conflicting) surface: cannot be a closed solid.
+                        closed = false;
+                    }
+                }
+            }
+            components.push(members);
+        }
+        // Turn each closed component outward (positive signed volume).
+        for members in &components {
+            let component_closed = members.iter().all(|&ti| {
+                let w = welded(&triangles[ti as usize]);
+                (0..3).all(|k| {
+                    let (a, b) = (w[k], w[(k + 1) % 3]);
+                    edges.get(&(a.min(b), a.max(b))).is_some_and(|u| u.len() == 2)
+                })
+            });
+            if component_closed
+                && signed_volume(vertices, members.iter().map(|&ti| &triangles[ti as usize])) < 0.0
+            {
+                for &ti in members {
+                    triangles[ti as usize].swap(1, 2);
+                }
+            }
+        }
+        closed
+    }
+
+    proptest! {
+        /// On a box and a tetrahedron (closed), with triangles flipped, dropped, repeated or
+        /// given a seam's duplicate vertex, and random extra triangles.
+        #[test]
+        fn orientation_agrees_with_the_hash_map_version(
+            flips in proptest::collection::vec(any::<bool>(), 16),
+            seams in proptest::collection::vec(any::<bool>(), 16),
+            drop in proptest::option::of(0usize..16),
+            repeat in proptest::option::of(0usize..16),
+            extra in proptest::collection::vec((0u32..12, 0u32..12, 0u32..12), 0..3),
+        ) {
+            let mut vertices: Vec<Point3> = (0..8)
+                .map(|k| Point3::new(f64::from(k & 1), f64::from((k >> 1) & 1), f64::from(k >> 2)))
+                .collect();
+            vertices.extend([
+                Point3::new(3.0, 0.0, 0.0),
+                Point3::new(4.0, 0.0, 0.0),
+                Point3::new(3.0, 1.0, 0.0),
+                Point3::new(3.0, 0.0, 1.0),
+            ]);
+            // Seam copies of vertices 0..12, numbered 12..24.
+            let copies: Vec<Point3> = vertices.clone();
+            vertices.extend(copies);
+            let mut tris: Vec<[u32; 3]> = crate::CUBOID_TRIANGLES.to_vec();
+            tris.extend([[8, 10, 9], [8, 9, 11], [8, 11, 10], [9, 10, 11]]);
+            for (k, t) in tris.iter_mut().enumerate() {
+                if flips[k] {
+                    t.swap(1, 2);
+                }
+                if seams[k] {
+                    t[0] += 12;
+                }
+            }
+            if let Some(k) = repeat {
+                tris.push(tris[k]);
+            }
+            if let Some(k) = drop {
+                tris.remove(k);
+            }
+            tris.extend(extra.iter().filter(|t| t.0 != t.1 && t.1 != t.2 && t.0 != t.2).map(|t| [t.0, t.1, t.2]));
+            let mut ours = tris.clone();
+            let mut theirs = tris;
+            let closed = orient_consistently(&vertices, &mut ours);
+            let expected = orient_by_hash_map(&vertices, &mut theirs);
+            prop_assert_eq!(closed, expected);
+            prop_assert_eq!(ours, theirs);
+        }
+    }
 
     #[test]
     fn clones_share_the_solid_tables() {
