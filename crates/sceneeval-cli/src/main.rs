@@ -69,9 +69,30 @@ fn main() -> ExitCode {
             for cause in err.chain().skip(1) {
                 eprintln!("  caused by: {cause}");
             }
+            if let Some(hint) = hint(&err) {
+                eprintln!("hint: {hint}");
+            }
             ExitCode::FAILURE
         }
     }
+}
+
+/// What to do about an error that a command-line option fixes, if it is one.
+fn hint(err: &anyhow::Error) -> Option<String> {
+    use sceneeval::io::IoError;
+    // Causes are `IoError`s, or boxed ones (an object's asset error boxes its cause).
+    fn io<'e>(cause: &'e (dyn std::error::Error + 'static)) -> Option<&'e IoError> {
+        cause
+            .downcast_ref::<IoError>()
+            .or_else(|| cause.downcast_ref::<Box<IoError>>().map(|b| &**b))
+    }
+    err.chain().find_map(|cause| match io(cause)? {
+        IoError::UnknownPrefix { prefix, .. } => Some(format!(
+            "the scene names assets with the prefix {prefix:?}: pass --assets {prefix}=DIR with the folder \
+             that holds them ({prefix}=LAYOUT:DIR to choose its layout; README, \"Using real asset folders\")"
+        )),
+        _ => None,
+    })
 }
 
 fn init_logging(verbose: u8) {

@@ -164,7 +164,10 @@ fn a_scene_that_fails_to_load_prints_the_error_chain() {
         .stderr(predicate::str::contains(
             "/scene/object/0: cannot load asset \"fixture.dresser\"",
         ))
-        .stderr(predicate::str::contains("no asset source for prefix \"fixture\""));
+        .stderr(predicate::str::contains("no asset source for prefix \"fixture\""))
+        .stderr(predicate::str::contains(
+            "hint: the scene names assets with the prefix \"fixture\": pass --assets fixture=DIR",
+        ));
     // A missing asset file names the paths tried.
     let empty = dir.path().join("empty");
     std::fs::create_dir_all(&empty).unwrap();
