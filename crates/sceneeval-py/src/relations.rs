@@ -52,8 +52,7 @@ pub fn obbs_from_rows(rows: &[[f64; BOX_COLUMNS]], what: &str) -> Result<Vec<Obb
 /// As [`BoxSpec::to_obb`].
 #[inline]
 pub fn obb_from_row(row: &[f64; BOX_COLUMNS], name: impl FnOnce() -> String) -> Result<Obb, RelationError> {
-    let spec = box_spec_from_row(row);
-    spec.to_obb("").or_else(|_| spec.to_obb(&name()))
+    BoxSpec::yaw_obb([row[0], row[1], row[2]], [row[3], row[4], row[5]], row[6], name)
 }
 
 /// Replaces the content of `out` with the oriented boxes of `rows`, whose first row is row

@@ -110,6 +110,44 @@ impl BoxSpec {
     /// when both a yaw and a rotation are given, [`RelationError::Geometry`] for negative half
     /// extents or a matrix that is not a proper rotation.
     pub fn to_obb(&self, what: &str) -> Result<Obb, RelationError> {
+        if let (Some(yaw), None) = (self.yaw, &self.rotation)
+            && let Some(obb) = yaw_box(self.center, self.half_size, yaw)
+        {
+            return Ok(obb);
+        }
+        self.checked_obb(what)
+    }
+
+    /// The oriented box of a centre, half extents and yaw: exactly
+    /// `BoxSpec::from_yaw(center, half_size, yaw).to_obb(&what())`, without building the spec;
+    /// `what` is called only for an error, so a valid box allocates nothing. This is how the
+    /// Python package's batch forms read their `(N, 7)` rows.
+    ///
+    /// ```
+    /// use sceneeval_relations::spec::BoxSpec;
+    /// let obb = BoxSpec::yaw_obb([1.0, 2.0, 0.5], [0.5, 0.25, 0.5], 0.3, || "targets[4]".into()).unwrap();
+    /// assert_eq!(Some(obb), BoxSpec::from_yaw([1.0, 2.0, 0.5], [0.5, 0.25, 0.5], 0.3).to_obb("t").ok());
+    /// let err = BoxSpec::yaw_obb([1.0, 2.0, 0.5], [0.5, f64::NAN, 0.5], 0.3, || "targets[4]".into());
+    /// assert_eq!(err.unwrap_err().to_string(), "targets[4].half_size is not finite");
+    /// ```
+    ///
+    /// # Errors
+    /// As [`BoxSpec::to_obb`].
+    #[inline]
+    pub fn yaw_obb(
+        center: [Real; 3],
+        half_size: [Real; 3],
+        yaw: Real,
+        what: impl FnOnce() -> String,
+    ) -> Result<Obb, RelationError> {
+        match yaw_box(center, half_size, yaw) {
+            Some(obb) => Ok(obb),
+            None => BoxSpec::from_yaw(center, half_size, yaw).checked_obb(&what()),
+        }
+    }
+
+    /// [`BoxSpec::to_obb`] checking every number and the rotation through [`Obb::new`].
+    fn checked_obb(&self, what: &str) -> Result<Obb, RelationError> {
         finite(&self.center, || format!("{what}.center"))?;
         finite(&self.half_size, || format!("{what}.half_size"))?;
         let rotation = rotation_of(self.yaw, self.rotation.as_ref(), what)?;
@@ -271,6 +309,24 @@ impl<'de> serde::Deserialize<'de> for ObjectSpec {
             }
         }
     }
+}
+
+/// The box turned by `yaw` when every number is finite and no half extent is negative, else
+/// `None`. It is the box [`Obb::new`] validates in [`BoxSpec::checked_obb`], with the same
+/// rotation (`rotation_of`), built without `Obb::new`'s check that the matrix is a rotation:
+/// a turn about +z made by `Rotation3::from_axis_angle` from a finite angle is one (its
+/// columns are `(c, s, 0)`, `(-s, c, 0)`, `(0, 0, 1)` with `c^2 + s^2` one within rounding).
+#[inline]
+fn yaw_box(center: [Real; 3], half_size: [Real; 3], yaw: Real) -> Option<Obb> {
+    let finite = center.iter().chain(&half_size).all(|v| v.is_finite()) && yaw.is_finite();
+    if !finite || half_size.iter().any(|&h| h < 0.0) {
+        return None;
+    }
+    Some(Obb {
+        center: Point3::from(center),
+        half_extents: Vector3::from(half_size),
+        rotation: Rotation3::from_axis_angle(&Vector3::z_axis(), yaw),
+    })
 }
 
 /// The rotation given by a `yaw` or a row-major `rotation` (neither: identity), unchecked
@@ -835,6 +891,51 @@ mod tests {
         let mut b = unit_cube(0.0);
         b.half_size[0] = -1.0;
         assert!(matches!(b.to_obb("anchor"), Err(RelationError::Geometry { .. })));
+    }
+
+    #[test]
+    fn yaw_boxes_are_the_boxes_the_checked_path_makes() {
+        // The shortcut for a yaw builds the same box, bit for bit, as the path through
+        // Obb::new; and every invalid box gets the checked path's error.
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as Real / (1u64 << 53) as Real
+        };
+        for i in 0..2000 {
+            let c = [next() * 10.0 - 5.0, next() * 10.0 - 5.0, next() * 2.0];
+            let h = [next(), next() * 0.5, next() * 2.0];
+            let yaw = match i % 4 {
+                0 => next() * 7.0 - 3.5,
+                1 => (next() * 1e6).round() * 1e-3,
+                2 => [0.0, std::f64::consts::PI, -std::f64::consts::FRAC_PI_2, 1e12][i % 8 / 2],
+                _ => next() * 200.0 - 100.0,
+            };
+            let spec = BoxSpec::from_yaw(c, h, yaw);
+            let checked = spec.checked_obb("b").unwrap();
+            assert_eq!(spec.to_obb("b").unwrap(), checked, "{c:?} {h:?} {yaw}");
+            assert_eq!(BoxSpec::yaw_obb(c, h, yaw, || "b".into()).unwrap(), checked);
+        }
+        let good = ([0.0, 0.0, 0.5], [0.5, 0.5, 0.5], 0.2);
+        let bad_rows = [
+            ([Real::NAN, 0.0, 0.5], good.1, good.2),
+            (good.0, [0.5, Real::INFINITY, 0.5], good.2),
+            (good.0, [0.5, -0.1, 0.5], good.2),
+            (good.0, good.1, Real::NEG_INFINITY),
+        ];
+        for (c, h, yaw) in bad_rows {
+            let expected = BoxSpec::from_yaw(c, h, yaw).checked_obb("rows[3]").unwrap_err();
+            assert_eq!(
+                BoxSpec::yaw_obb(c, h, yaw, || "rows[3]".into()).unwrap_err(),
+                expected
+            );
+            assert_eq!(
+                BoxSpec::from_yaw(c, h, yaw).to_obb("rows[3]").unwrap_err(),
+                expected
+            );
+        }
     }
 
     #[test]
