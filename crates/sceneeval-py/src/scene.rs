@@ -10,7 +10,7 @@ use std::sync::{PoisonError, RwLock};
 use numpy::PyArray2;
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyInt};
+use pyo3::types::{PyDict, PyInt, PyList, PyTuple};
 use sceneeval::geom::conventions::pose_from_yaw;
 use sceneeval::geom::{Point3, Vector3};
 use sceneeval::inspect::{ObjectInfo, RoomInfo, SceneInfo};
@@ -252,7 +252,7 @@ impl PyScene {
     fn from_boxes(
         boxes: &Bound<'_, PyAny>,
         room: Option<&Bound<'_, PyAny>>,
-        rooms: Option<Vec<Bound<'_, PyAny>>>,
+        rooms: Option<&Bound<'_, PyAny>>,
         categories: Option<Vec<String>>,
         ids: Option<Vec<String>>,
         id: Option<String>,
@@ -283,8 +283,11 @@ impl PyScene {
             }
             (Some(room), None) => builder = builder.room(scene_room(room, "room", "room")?),
             (None, Some(rooms)) => {
-                for (i, room) in rooms.iter().enumerate() {
-                    builder = builder.room(scene_room(room, &format!("rooms[{i}]"), &format!("room_{i}"))?);
+                if !(rooms.is_instance_of::<PyList>() || rooms.is_instance_of::<PyTuple>()) {
+                    return Err(value_error("rooms must be a list of room dicts"));
+                }
+                for (i, room) in rooms.try_iter()?.enumerate() {
+                    builder = builder.room(scene_room(&room?, &format!("rooms[{i}]"), &format!("room_{i}"))?);
                 }
             }
             (None, None) => {}

@@ -146,6 +146,10 @@ def test_bad_rooms_are_named_by_their_position():
         sceneeval.Scene.from_boxes(boxes, rooms=[ROOM, {"floor": [[np.nan, 0.0], [1.0, 0.0], [1.0, 1.0]]}])
     with pytest.raises(ValueError, match=r"^rooms\[1\]: room: "):
         sceneeval.Scene.from_boxes(boxes, rooms=[ROOM, {"floor": [[0.0, 0.0], [1.0, 0.0]]}])
+    with pytest.raises(ValueError, match=r"^rooms must be a list of room dicts$"):
+        sceneeval.Scene.from_boxes(boxes, rooms=ROOM)
+    with pytest.raises(ValueError, match=r"^rooms\[0\] must be a dict"):
+        sceneeval.Scene.from_boxes(boxes, rooms=[[0, 1]])
     with pytest.raises(ValueError, match=r"^rooms\[0\]: unknown field `flor`"):
         sceneeval.Scene.from_boxes(boxes, rooms=[{"flor": []}])
     with pytest.raises(ValueError, match=r"rooms\[0\].id must be a string"):
