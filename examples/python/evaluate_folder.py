@@ -3,7 +3,8 @@
 writes the same files as `sceneeval evaluate`, and prints the summary table and any failures.
 
     python examples/python/evaluate_folder.py fixtures/scenes --assets fixture=fixtures/assets \\
-        --out target/py-eval [--annotations fixtures/annotations/fixture_scenes.csv] [--plan reference]
+        --out target/py-eval [--annotations fixtures/annotations/fixture_scenes.csv] \\
+        [--plan geometry|full|LIST|FILE] [--preset reference]
 """
 
 import argparse
@@ -20,7 +21,8 @@ def main(argv=None):
                         help="asset folder of a model id prefix (repeatable)")
     parser.add_argument("--out", type=Path, required=True, help="output folder")
     parser.add_argument("--annotations", type=Path, help="SceneEval-500 annotation CSV")
-    parser.add_argument("--plan", help="preset name (default, reference) or plan file")
+    parser.add_argument("--plan", help="geometry (default), full, a metric list or a plan file, as for sceneeval evaluate")
+    parser.add_argument("--preset", help="parameter preset: default or reference")
     args = parser.parse_args(argv)
 
     assets = {}
@@ -31,7 +33,7 @@ def main(argv=None):
         assets[prefix] = folder
     try:
         run = sceneeval.evaluate(args.scenes, assets=assets, out=args.out,
-                                 annotations=args.annotations, plan=args.plan)
+                                 annotations=args.annotations, plan=args.plan, preset=args.preset)
     except (ValueError, sceneeval.SceneEvalError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 1

@@ -2,7 +2,7 @@
 //! `<out>/<scene>/timing.json` as each scene finishes, then `<out>/summary.csv` and
 //! `<out>/summary.md`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -10,14 +10,13 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use sceneeval::annotation::Annotations;
-use sceneeval::fidelity::{MatchingMethod, RelationMapping};
 use sceneeval::io::AssetLibrary;
 use sceneeval::render::{RenderSettings, Renderer};
 use sceneeval::vlm::{Answer, Cached, Vlm, VlmError, VlmRequest};
 use sceneeval::vlm_openai::{ApiKey, DEFAULT_API_KEY_VAR, OpenAiConfig, OpenAiVlm};
 use sceneeval::{
-    EvaluationPlan, Evaluator, FolderOutcome, FolderRun, Metric, Outcome, Preset, SceneRecord, SceneStatus,
-    SharedVlm, check_output_dir, find_scenes,
+    ChosenPlan, Evaluator, FolderOutcome, FolderRun, Metric, Outcome, PlanChoice, Preset, SceneRecord,
+    SceneStatus, SharedVlm, check_output_dir, find_scenes,
 };
 
 /// Arguments of `sceneeval evaluate`.
@@ -119,65 +118,21 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .collect();
         eprintln!("shard {k}/{n}: {} scenes", scenes.len());
     }
-    let preset = args.preset.unwrap_or_default();
-    let mut plan = match args.plan.as_deref().map(str::trim) {
-        None | Some("geometry") => EvaluationPlan::with_preset(preset),
-        Some("full") => EvaluationPlan::full(preset),
-        Some(p) if Path::new(p).is_file() => EvaluationPlan::read_with_preset(Path::new(p), args.preset)?,
-        Some(list) => EvaluationPlan::from_metric_list(list, preset).with_context(|| {
-            format!("--plan {list:?} is not geometry, full, a metric list or an existing file")
-        })?,
-    };
-    if let Some(metrics) = args.metrics {
-        plan.metrics = metrics;
-    }
-    if let Some(b) = args.time_budget {
-        plan.time_budget_seconds = (b != 0.0).then_some(b);
-    }
     let vlm_configured = args.vlm_base_url.is_some();
-    if plan.has_fidelity() {
-        if args.annotations.is_none() {
-            bail!("the plan runs fidelity metrics (cnt, atr, oor, oar), which need --annotations");
-        }
-        match args.matching.as_deref() {
-            None if vlm_configured => plan.fidelity.matching = MatchingMethod::Vlm,
-            None => {}
-            Some("vlm") => plan.fidelity.matching = MatchingMethod::Vlm,
-            Some("labels") => plan.fidelity.matching = MatchingMethod::Labels,
-            Some(path) => {
-                plan.fidelity.matching = MatchingMethod::File {
-                    path: PathBuf::from(path),
-                }
-            }
-        }
-        match args.relation_mapping.as_deref() {
-            None if vlm_configured => plan.fidelity.relation_mapping = RelationMapping::Vlm,
-            None => {}
-            Some("vlm") => plan.fidelity.relation_mapping = RelationMapping::Vlm,
-            Some("lexicon") => plan.fidelity.relation_mapping = RelationMapping::Lexicon,
-            Some(other) => bail!("--relation-mapping {other:?}: expected vlm or lexicon"),
-        }
-        if !vlm_configured {
-            let mut fell_back = Vec::new();
-            if plan.fidelity.matching == MatchingMethod::Vlm {
-                plan.fidelity.matching = MatchingMethod::Labels;
-                fell_back.push("matching by labels");
-            }
-            if plan.fidelity.relation_mapping == RelationMapping::Vlm {
-                plan.fidelity.relation_mapping = RelationMapping::Lexicon;
-                fell_back.push("relations mapped by the lexicon");
-            }
-            eprintln!(
-                "note: no VLM configured (--vlm-base-url, --vlm-model): fidelity runs with {} matching and the {} relation mapping{}; ATR is not judged.",
-                plan.fidelity.matching,
-                plan.fidelity.relation_mapping,
-                if fell_back.is_empty() {
-                    String::new()
-                } else {
-                    format!(" ({} instead of the VLM)", fell_back.join(", "))
-                }
-            );
-        }
+    let choice = PlanChoice {
+        plan: args.plan.as_deref(),
+        preset: args.preset,
+        metrics: args.metrics.clone(),
+        time_budget_seconds: args.time_budget,
+        matching: args.matching.as_deref(),
+        relation_mapping: args.relation_mapping.as_deref(),
+        vlm_configured,
+        annotations: args.annotations.is_some(),
+        names: PlanChoice::CLI,
+    };
+    let ChosenPlan { plan, fallback } = choice.resolve()?;
+    if let Some(fallback) = fallback {
+        eprintln!("note: no VLM configured (--vlm-base-url, --vlm-model): {fallback}");
     }
     let mut evaluator = Evaluator::new(plan)?;
     let mut runtime_stop = None;

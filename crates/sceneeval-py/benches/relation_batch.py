@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Throughput of sceneeval.relation_batch from Python, counting the numpy round trip (reading
 the (N, 7) float64 arrays, the boxes' checks, the scores and the returned array), on one core.
-Also one sceneeval.relation call at a time (a Python tuple per box), for comparison with the
-reference's milliseconds per call.
+Also one sceneeval.relation call at a time (a Python tuple per box, a dict per room), for
+comparison with the reference's milliseconds per call; surround scores the rows as groups of 4
+targets around an anchor.
 
     python crates/sceneeval-py/benches/relation_batch.py [--pairs 1000000] [--repeat 5]
 
@@ -68,6 +69,14 @@ def main():
     ]
     t_list = [tuple(map(float, r)) for r in targets[: args.single]]
     a_list = [tuple(map(float, r)) for r in anchors[: args.single]]
+    # surround: one score per group of 4 targets around an anchor (the rows as groups).
+    groups = targets[: args.pairs // 4 * 4].reshape(-1, 4, 7)
+    group_anchors = anchors[: len(groups)]
+    seconds = best(lambda: sceneeval.relation_batch("surround", groups, group_anchors), args.repeat)
+    g_list = [[tuple(map(float, r)) for r in g] for g in groups[: args.single]]
+    single = best(lambda: [sceneeval.relation("surround", None, a, targets=g) for g, a in zip(g_list, a_list)], 1)
+    print(f"| `surround`, groups of 4 ({len(groups):,} groups) | {len(groups) / seconds / 1e6:.2f} M/s "
+          f"| {seconds / len(groups) * 1e9:.0f} ns | {single / len(g_list) * 1e6:.1f} µs |")
     for name, kw in cases:
         arch = "arch" in kw or name in ("inside_room", "middle_of_room", "corner_of_room", "on_wall", "against_wall", "hang_from_ceiling")
         if arch:

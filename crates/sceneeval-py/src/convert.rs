@@ -2,7 +2,10 @@
 //! the same serde definitions (and give the same errors) as the JSON of `sceneeval relate` and
 //! `eval.json`, and results reach Python as plain dicts, lists, floats and strings.
 
-use numpy::{PyArray2, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{
+    PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use serde::Serialize;
@@ -80,14 +83,17 @@ pub fn to_python<'py>(py: Python<'py>, value: &impl Serialize) -> PyResult<Bound
     py.import("json")?.call_method1("loads", (text,))
 }
 
-/// The rows of a float64 numpy array of shape `(N, columns)`, copied row-major. `what` names
-/// the argument in errors.
+/// A float64 numpy array, borrowed for reading. `what` names the argument in errors,
+/// `shape_hint` the shape expected (`(N, 7)`).
 ///
 /// # Errors
-/// `ValueError` for anything else: not a numpy array, another dtype, another number of
-/// dimensions or columns.
-pub fn rows<const C: usize>(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f64; C]>> {
-    let shape_hint = format!("a numpy float64 array of shape (N, {C})");
+/// `ValueError` for anything that is not a float64 numpy array.
+pub fn float64_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+    shape_hint: &str,
+) -> PyResult<PyReadonlyArrayDyn<'py, f64>> {
+    let expected = format!("a numpy float64 array of shape {shape_hint}");
     let array = obj.cast::<PyUntypedArray>().map_err(|_| {
         let type_name = obj
             .get_type()
@@ -95,48 +101,85 @@ pub fn rows<const C: usize>(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<
             .map(|n| n.to_string())
             .unwrap_or_else(|_| "?".to_owned());
         value_error(format!(
-            "{what} must be {shape_hint}, got a {type_name} (convert with numpy.asarray({what}, dtype=numpy.float64))"
+            "{what} must be {expected}, got a {type_name} (convert with numpy.asarray({what}, dtype=numpy.float64))"
         ))
     })?;
     let dtype = array.dtype();
     if !dtype.is_equiv_to(&numpy::dtype::<f64>(obj.py())) {
         return Err(value_error(format!(
-            "{what} must be {shape_hint}, got dtype {dtype} (convert with {what}.astype(numpy.float64))"
+            "{what} must be {expected}, got dtype {dtype} (convert with {what}.astype(numpy.float64))"
         )));
     }
+    array
+        .cast::<PyArrayDyn<f64>>()
+        .map_err(|_| value_error(format!("{what} must be {expected}")))?
+        .try_readonly()
+        .map_err(|e| value_error(format!("{what}: {e}")))
+}
+
+/// `what must be a numpy float64 array of shape {hint}, got shape (3, 6)`.
+fn wrong_shape(what: &str, hint: &str, shape: &[usize]) -> PyErr {
+    let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
+    value_error(format!(
+        "{what} must be a numpy float64 array of shape {hint}, got shape ({})",
+        dims.join(", ")
+    ))
+}
+
+/// The array's values in C (row-major) order, `C` at a time: one copy of the buffer when it
+/// is C-contiguous.
+fn copy_rows<const C: usize>(array: &PyReadonlyArrayDyn<'_, f64>) -> Vec<[f64; C]> {
+    let to_row = |row: &[f64]| {
+        let mut r = [0.0; C];
+        r.copy_from_slice(row);
+        r
+    };
+    if let Ok(flat) = array.as_slice() {
+        return flat.chunks_exact(C).map(to_row).collect();
+    }
+    let view = array.as_array();
+    let mut out = Vec::with_capacity(view.len() / C.max(1));
+    let mut row = [0.0; C];
+    for (i, v) in view.iter().enumerate() {
+        row[i % C] = *v;
+        if i % C == C - 1 {
+            out.push(row);
+        }
+    }
+    out
+}
+
+/// The rows of a float64 numpy array of shape `(N, C)`, copied row-major. `what` names the
+/// argument in errors.
+///
+/// # Errors
+/// `ValueError` for anything else: not a numpy array, another dtype, another number of
+/// dimensions or columns.
+pub fn rows<const C: usize>(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f64; C]>> {
+    let hint = format!("(N, {C})");
+    let array = float64_array(obj, what, &hint)?;
     let shape = array.shape();
     if shape.len() != 2 || shape[1] != C {
-        let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
-        return Err(value_error(format!(
-            "{what} must be {shape_hint}, got shape ({})",
-            dims.join(", ")
-        )));
+        return Err(wrong_shape(what, &hint, shape));
     }
-    let typed = array
-        .cast::<PyArray2<f64>>()
-        .map_err(|_| value_error(format!("{what} must be {shape_hint}")))?;
-    let readonly = typed
-        .try_readonly()
-        .map_err(|e| value_error(format!("{what}: {e}")))?;
-    if let Ok(flat) = readonly.as_slice() {
-        // C-contiguous: one copy of the whole buffer.
-        return Ok(flat
-            .chunks_exact(C)
-            .map(|row| {
-                let mut r = [0.0; C];
-                r.copy_from_slice(row);
-                r
-            })
-            .collect());
+    Ok(copy_rows(&array))
+}
+
+/// The rows of a float64 numpy array of shape `(N, K, C)` (N groups of K rows), copied
+/// row-major, with N and K. `hint` is the shape expected as shown in errors.
+///
+/// # Errors
+/// As [`rows`].
+pub fn row_groups<const C: usize>(
+    obj: &Bound<'_, PyAny>,
+    what: &str,
+    hint: &str,
+) -> PyResult<(Vec<[f64; C]>, usize, usize)> {
+    let array = float64_array(obj, what, hint)?;
+    let shape = array.shape();
+    if shape.len() != 3 || shape[2] != C {
+        return Err(wrong_shape(what, hint, shape));
     }
-    let view = readonly.as_array();
-    let mut out = Vec::with_capacity(view.nrows());
-    for row in view.rows() {
-        let mut r = [0.0; C];
-        for (dst, src) in r.iter_mut().zip(row.iter()) {
-            *dst = *src;
-        }
-        out.push(r);
-    }
-    Ok(out)
+    let (n, k) = (shape[0], shape[1]);
+    Ok((copy_rows(&array), n, k))
 }

@@ -49,10 +49,11 @@ pub fn scene_error(e: &(dyn Error + 'static)) -> PyErr {
     SceneEvalError::new_err(chain(e))
 }
 
-/// An evaluation error: a bad plan is a `ValueError`, anything else a `SceneEvalError`.
+/// An evaluation error: a bad plan or plan choice is a `ValueError`, anything else a
+/// `SceneEvalError`.
 pub fn eval_error(e: &EvalError) -> PyErr {
     match e {
-        EvalError::Plan { .. } => value_error(chain(e)),
+        EvalError::Plan { .. } | EvalError::Choice { .. } => value_error(chain(e)),
         other => scene_error(other),
     }
 }

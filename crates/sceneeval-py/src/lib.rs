@@ -8,13 +8,17 @@
 //! - `relation(name, target, anchor=None, *, side, arch, targets, room, reference, **params)`
 //!   and `relation_batch(name, targets, anchors=None, *, side, arch, room, reference, **params)`:
 //!   the 23 predicates on boxes given as `(cx, cy, cz, hx, hy, hz, yaw)` rows (numpy float64
-//!   arrays of shape `(N, 7)` for the batch form) or as dicts with `sceneeval relate`'s keys.
-//!   Both read their input through `sceneeval_relations::spec`, so they accept exactly what
-//!   `relate` accepts and fail with its messages.
-//! - `Scene.from_boxes(boxes, room, ...)`, `load_scene(path, assets={prefix: folder})`,
-//!   `Scene.objects` / `rooms` / `info()` / `boxes()` / `plausibility()` / `relation()`.
-//! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None)`: the facade's
-//!   [`sceneeval::FolderRun`], the same run and files as `sceneeval evaluate`.
+//!   arrays of shape `(N, 7)` for the batch form, `(N, K, 7)` for `surround`'s groups) or as
+//!   dicts with `sceneeval relate`'s keys. Both read their input through
+//!   `sceneeval_relations::spec`, so they accept exactly what `relate` accepts and fail with
+//!   its messages; rooms given as dicts are prepared once and kept in `relate`'s
+//!   `RoomCache`.
+//! - `Scene.from_boxes(boxes, room, *, rooms, ...)`, `load_scene(path, assets={prefix:
+//!   folder})`, `Scene.objects` / `rooms` / `info()` / `boxes()` / `set_pose()` /
+//!   `set_boxes()` / `plausibility()` / `relation()`.
+//! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, ...)`:
+//!   the plan read by the facade's [`sceneeval::PlanChoice`] and run by
+//!   [`sceneeval::FolderRun`], the same plans, run and files as `sceneeval evaluate`.
 //!
 //! Every computation runs with the GIL released; bad arguments raise `ValueError`, files that
 //! cannot be read or evaluated raise `sceneeval.SceneEvalError`, with the Rust error's message

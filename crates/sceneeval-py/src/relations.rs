@@ -2,14 +2,19 @@
 //! arrays of boxes (`relation_batch`), both read through `sceneeval_relations::spec`, so they
 //! accept the inputs and give the errors of `sceneeval relate`.
 
+use std::sync::{Arc, LazyLock, Mutex, PoisonError};
+
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sceneeval::geom::Obb;
-use sceneeval::relations::spec::{BoxSpec, QuerySpec, RoomSpec, relation_from_spec};
+use sceneeval::relations::spec::{
+    BoxSpec, Operands, RoomCache, RoomSpec, relation_from_spec, score_operands,
+};
 use sceneeval::relations::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, batch};
+use sceneeval::scene::Room;
 
-use crate::convert::{rows, to_json};
+use crate::convert::{row_groups, rows, to_json};
 use crate::errors::{detached, relation_error, value_error};
 
 /// The columns of a box row: centre x, y, z, half extents x, y, z, yaw.
@@ -39,6 +44,17 @@ pub fn obbs_from_rows(rows: &[[f64; BOX_COLUMNS]], what: &str) -> Result<Vec<Obb
     Ok(out)
 }
 
+/// The oriented box of the row `(cx, cy, cz, hx, hy, hz, yaw)`: the box
+/// [`BoxSpec::to_obb`] makes of [`box_spec_from_row`], and its error with the box named by
+/// `name()` (called only for a bad row, so a good row allocates nothing).
+///
+/// # Errors
+/// As [`BoxSpec::to_obb`].
+#[inline]
+pub fn obb_from_row(row: &[f64; BOX_COLUMNS], name: impl FnOnce() -> String) -> Result<Obb, RelationError> {
+    BoxSpec::yaw_obb([row[0], row[1], row[2]], [row[3], row[4], row[5]], row[6], name)
+}
+
 /// Replaces the content of `out` with the oriented boxes of `rows`, whose first row is row
 /// `first` of the caller's array (for the error's index).
 fn obbs_into(
@@ -49,12 +65,7 @@ fn obbs_into(
 ) -> Result<(), RelationError> {
     out.clear();
     for (i, row) in rows.iter().enumerate() {
-        let spec = box_spec_from_row(row);
-        // Name the row only when it is wrong: no allocation per good row.
-        let obb = spec
-            .to_obb(what)
-            .or_else(|_| spec.to_obb(&format!("{what}[{}]", first + i)))?;
-        out.push(obb);
+        out.push(obb_from_row(row, || format!("{what}[{}]", first + i))?);
     }
     Ok(())
 }
@@ -82,16 +93,66 @@ pub fn box_spec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<BoxSpec> {
 }
 
 /// A room given from Python: a dict with `relate`'s room keys (`floor`, `floor_z`, `height`,
-/// `wall_thickness`, `openings`).
-pub fn room_spec(obj: &Bound<'_, PyAny>) -> PyResult<RoomSpec> {
+/// `wall_thickness`, `openings`). `what` names it in errors (`room`, `rooms[2]`).
+pub fn room_spec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<RoomSpec> {
+    room_json(obj, what).and_then(|value| room_from_json(value, what))
+}
+
+/// The room dict as JSON, checked to be a dict.
+fn room_json(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<serde_json::Value> {
     if !obj.is_instance_of::<PyDict>() {
-        return Err(value_error(
-            "room must be a dict with the keys floor (a list of [x, y] points) and optionally floor_z, \
-             height, wall_thickness, openings",
-        ));
+        return Err(value_error(format!(
+            "{what} must be a dict with the keys floor (a list of [x, y] points) and optionally floor_z, \
+             height, wall_thickness, openings"
+        )));
     }
-    let value = to_json(obj, "room")?;
-    serde_json::from_value(value).map_err(|e| value_error(format!("room: {e}")))
+    to_json(obj, what)
+}
+
+fn room_from_json(value: serde_json::Value, what: &str) -> PyResult<RoomSpec> {
+    serde_json::from_value(value).map_err(|e| value_error(format!("{what}: {e}")))
+}
+
+/// How many rooms given as dicts stay prepared at once (see [`prepared_room`]).
+pub const ROOMS_KEPT: usize = 64;
+
+/// The rooms given as dicts to `relation` and `relation_batch`, by the JSON text of the dict:
+/// the cache `sceneeval relate` keeps its rooms written in place in.
+static ROOMS: LazyLock<Mutex<RoomCache>> = LazyLock::new(|| Mutex::new(RoomCache::new(ROOMS_KEPT)));
+
+/// The room kept in `cache` under `key`, else the room `build` makes, kept under `key`. The
+/// cache is locked only to look up and to insert: `build` runs unlocked (two threads may
+/// both build a new room; the second insert replaces the first, an equal room).
+///
+/// # Errors
+/// The error of `build`.
+pub fn cached_room(
+    cache: &Mutex<RoomCache>,
+    key: &str,
+    build: impl FnOnce() -> PyResult<Room>,
+) -> PyResult<Arc<Room>> {
+    let lock = || cache.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some(room) = lock().get(key) {
+        return Ok(room);
+    }
+    let room = Arc::new(build()?);
+    lock().insert(Arc::from(key), Arc::clone(&room));
+    Ok(room)
+}
+
+/// The prepared room of a room dict (see [`room_spec`]): one of the last [`ROOMS_KEPT`]
+/// distinct rooms given, found by the dict's JSON text, or else read and prepared (walls cut
+/// around their openings, the floor triangulated) with the GIL released, and kept.
+///
+/// # Errors
+/// `ValueError` for a dict that is not a valid room, with `relate`'s message.
+pub fn prepared_room(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Arc<Room>> {
+    let value = room_json(obj, "room")?;
+    let key = serde_json::to_string(&value).map_err(|e| value_error(format!("room: {e}")))?;
+    cached_room(&ROOMS, &key, || {
+        let spec = room_from_json(value, "room")?;
+        detached(py, || spec.build().map_err(|e| relation_error(&e)))
+    })
 }
 
 /// The predicates' parameters: the defaults (or the reference's with `reference`), then each
@@ -137,7 +198,10 @@ pub fn relation_params(reference: bool, overrides: Option<&Bound<'_, PyDict>>) -
 /// around anchor (target is None); object-architecture relations score target in room.
 /// A box is (cx, cy, cz, hx, hy, hz, yaw) in metres and radians (yaw 0: front faces -y) or a
 /// dict with the keys of `sceneeval relate` (center, half_size, yaw or rotation); a room is a
-/// dict with its room keys (floor, floor_z, height, wall_thickness, openings).
+/// dict with its room keys (floor, floor_z, height, wall_thickness, openings). A room is
+/// prepared (walls cut around their openings, floor triangulated) once and kept, with the
+/// last 64 distinct rooms given (found by their content), so a loop asking about one room
+/// prepares it once; relation_batch shares these rooms.
 ///
 /// reference=True selects every reference-parity switch (RelationParams::reference);
 /// any other keyword sets one parameter by its name in relation_params(), e.g.
@@ -160,7 +224,10 @@ pub fn relation(
     reference: bool,
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<f64> {
+    let relation = relation_from_spec(name, side, arch).map_err(|e| relation_error(&e))?;
     let params = relation_params(reference, params)?;
+    let target = target.map(|t| box_spec(t, "target")).transpose()?;
+    let anchor = anchor.map(|a| box_spec(a, "anchor")).transpose()?;
     let targets = match targets {
         None => None,
         Some(list) => {
@@ -171,27 +238,43 @@ pub fn relation(
             Some(specs)
         }
     };
-    let query = QuerySpec {
-        relation: name.to_owned(),
-        side: side.map(str::to_owned),
-        arch: arch.map(str::to_owned),
-        target: target.map(|t| box_spec(t, "target")).transpose()?,
-        anchor: anchor.map(|a| box_spec(a, "anchor")).transpose()?,
-        targets,
-        room: room.map(room_spec).transpose()?,
+    // Checked in the order of `QuerySpec::score`: the boxes, then the room.
+    let obb = |spec: &BoxSpec, what: &str| spec.to_obb(what).map_err(|e| relation_error(&e));
+    let target = target.map(|b| obb(&b, "target")).transpose()?;
+    let anchor = anchor.map(|b| obb(&b, "anchor")).transpose()?;
+    let targets = targets
+        .map(|ts| {
+            ts.iter()
+                .enumerate()
+                .map(|(i, b)| obb(b, &format!("targets[{i}]")))
+                .collect::<PyResult<Vec<Obb>>>()
+        })
+        .transpose()?;
+    let room = room.map(|r| prepared_room(py, r)).transpose()?;
+    let operands = Operands {
+        target: target.as_ref(),
+        anchor: anchor.as_ref(),
+        targets: targets.as_deref(),
+        room: room.as_deref(),
     };
-    detached(py, || query.score(&params).map_err(|e| relation_error(&e)))
+    detached(py, || {
+        score_operands(relation, &operands, &params).map_err(|e| relation_error(&e))
+    })
 }
 
-/// The scores of one relation for N boxes, as a float64 array of shape (N,).
+/// The scores of one relation for N boxes (or N groups of boxes), as a float64 array of
+/// shape (N,).
 ///
 /// targets: a float64 array of shape (N, 7), one box (cx, cy, cz, hx, hy, hz, yaw) per row.
 /// Object-object relations take anchors of shape (N, 7) (row i is the anchor of target i)
 /// or (1, 7) (one anchor for every target); object-architecture relations take room (a dict
-/// as for relation()) instead. surround is not a pair relation: use relation().
-/// name, side, arch, reference and the parameter keywords are as for relation().
+/// as for relation()) instead. surround takes N groups of K targets, targets of shape
+/// (N, K, 7), and anchors of shape (N, 7) or (1, 7): score i is surround of the K boxes
+/// of group i around anchor i. name, side, arch, reference and the parameter keywords are as
+/// for relation().
 ///
-/// The scores equal relation() called row by row. Computed with the GIL released.
+/// The scores equal relation() called row by row (group by group for surround). Computed
+/// with the GIL released.
 ///
 /// Raises ValueError when an array is not a float64 numpy array of the right shape, holds a
 /// NaN or infinite number, or when the relation or its arguments are wrong.
@@ -211,53 +294,72 @@ pub fn relation_batch<'py>(
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let relation = relation_from_spec(name, side, arch).map_err(|e| relation_error(&e))?;
     let params = relation_params(reference, params)?;
-    let target_rows = rows::<BOX_COLUMNS>(targets, "targets")?;
-    let scores = match relation.kind() {
+    let kind = relation.kind();
+    if kind != RelationKind::ObjectArchitecture && room.is_some() {
+        return Err(value_error(format!(
+            "relation {relation} relates objects to each other: give anchors, not room"
+        )));
+    }
+    if kind == RelationKind::ObjectArchitecture && anchors.is_some() {
+        return Err(value_error(format!(
+            "relation {relation} relates objects to the room: give room, not anchors"
+        )));
+    }
+    let anchors_of = |expected: usize| -> PyResult<Vec<[f64; BOX_COLUMNS]>> {
+        let anchors = anchors.ok_or_else(|| {
+            value_error(format!(
+                "relation {relation} needs anchors: a float64 array of shape (N, 7) or (1, 7)"
+            ))
+        })?;
+        let anchor_rows = rows::<BOX_COLUMNS>(anchors, "anchors")?;
+        if anchor_rows.len() != expected && anchor_rows.len() != 1 {
+            let per = if kind == RelationKind::MultiTarget {
+                "one per group of targets"
+            } else {
+                "one per target"
+            };
+            return Err(value_error(format!(
+                "anchors has {} rows: expected {expected} ({per}) or 1 (the same anchor for every {})",
+                anchor_rows.len(),
+                if kind == RelationKind::MultiTarget {
+                    "group"
+                } else {
+                    "target"
+                },
+            )));
+        }
+        Ok(anchor_rows)
+    };
+    let scores = match kind {
         RelationKind::ObjectObject => {
-            if room.is_some() {
-                return Err(value_error(format!(
-                    "relation {relation} relates two objects: give anchors, not room"
-                )));
-            }
-            let anchors = anchors.ok_or_else(|| {
-                value_error(format!(
-                    "relation {relation} needs anchors: a float64 array of shape (N, 7) or (1, 7)"
-                ))
-            })?;
-            let anchor_rows = rows::<BOX_COLUMNS>(anchors, "anchors")?;
-            if anchor_rows.len() != target_rows.len() && anchor_rows.len() != 1 {
-                return Err(value_error(format!(
-                    "anchors has {} rows: expected {} (one per target) or 1 (the same anchor for every target)",
-                    anchor_rows.len(),
-                    target_rows.len()
-                )));
-            }
+            let target_rows = rows::<BOX_COLUMNS>(targets, "targets")?;
+            let anchor_rows = anchors_of(target_rows.len())?;
             detached(py, || {
                 score_pairs(relation, &target_rows, &anchor_rows, &params).map_err(|e| relation_error(&e))
             })?
         }
+        RelationKind::MultiTarget => {
+            let (target_rows, n, _) = row_groups::<BOX_COLUMNS>(
+                targets,
+                "targets",
+                &format!("(N, K, 7) for {relation} (N groups of K targets)"),
+            )?;
+            let anchor_rows = anchors_of(n)?;
+            detached(py, || {
+                score_groups(relation, &target_rows, n, &anchor_rows, &params).map_err(|e| relation_error(&e))
+            })?
+        }
         RelationKind::ObjectArchitecture => {
-            if anchors.is_some() {
-                return Err(value_error(format!(
-                    "relation {relation} relates objects to the room: give room, not anchors"
-                )));
-            }
+            let target_rows = rows::<BOX_COLUMNS>(targets, "targets")?;
             let room = room.ok_or_else(|| {
                 value_error(format!(
                     "relation {relation} needs room: a dict with relate's room keys (floor, ...)"
                 ))
             })?;
-            let room = room_spec(room)?;
+            let room = prepared_room(py, room)?;
             detached(py, || {
                 score_in_room(relation, &target_rows, &room, &params).map_err(|e| relation_error(&e))
             })?
-        }
-        RelationKind::MultiTarget => {
-            return Err(value_error(format!(
-                "relation {relation} scores one anchor against several targets at once: use \
-                 sceneeval.relation({relation:?}, None, anchor, targets=[...])",
-                relation = relation.to_string()
-            )));
         }
     };
     Ok(PyArray1::from_vec(py, scores))
@@ -326,21 +428,98 @@ pub fn score_pairs(
 /// `out[i]` = the object-architecture relation of target row i in `room`.
 ///
 /// # Errors
-/// [`RelationError`] for a bad row or room, or a relation that is not object-architecture.
+/// [`RelationError`] for a bad row, or a relation that is not object-architecture.
 pub fn score_in_room(
     relation: Relation,
     target_rows: &[[f64; BOX_COLUMNS]],
-    room: &RoomSpec,
+    room: &Room,
     params: &RelationParams,
 ) -> Result<Vec<f64>, RelationError> {
-    let room = room.build()?;
     let mut out = vec![0.0; target_rows.len()];
     let mut targets = Vec::with_capacity(CHUNK);
     for (k, (chunk, out)) in target_rows.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
         obbs_into(chunk, "targets", k * CHUNK, &mut targets)?;
         // One small allocation per chunk of 1024 rows.
         let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
-        batch::score_objects_in_rooms(relation, &views, std::slice::from_ref(&room), params, out)?;
+        batch::score_objects_in_rooms(relation, &views, std::slice::from_ref(room), params, out)?;
+    }
+    Ok(out)
+}
+
+/// `out[i]` = the multi-target relation (`surround`) of group i of `target_rows` (`groups`
+/// groups of equally many rows, in order) around anchor row i, or around the only anchor row.
+///
+/// ```
+/// use sceneeval_py::relations::score_groups;
+/// use sceneeval::relations::{Relation, RelationParams};
+/// let chair = |x: f64, y: f64| [x, y, 0.4, 0.25, 0.25, 0.4, 0.0];
+/// // Four chairs 1 m from the table at 90-degree gaps: score 1. Four chairs at one place:
+/// // equal distances (distance terms 1, weight 0.5) but every gap is 0 against the ideal 90
+/// // degrees (angle terms 0, weight 0.5): 0.5.
+/// let targets = [chair(1.0, 0.0), chair(0.0, 1.0), chair(-1.0, 0.0), chair(0.0, -1.0),
+///                chair(1.0, 0.0), chair(1.0, 0.0), chair(1.0, 0.0), chair(1.0, 0.0)];
+/// let table = [[0.0, 0.0, 0.4, 0.5, 0.5, 0.4, 0.0]];
+/// let scores = score_groups(Relation::Surround, &targets, 2, &table, &RelationParams::default()).unwrap();
+/// assert_eq!(scores, vec![1.0, 0.5]);
+/// ```
+///
+/// # Errors
+/// [`RelationError`] for a bad row (named `targets[i][j]` or `anchors[i]`), rows that do not
+/// split into `groups` groups or anchors that are neither one nor one per group, a relation
+/// that is not multi-target, or too many targets for the reference `surround`.
+pub fn score_groups(
+    relation: Relation,
+    target_rows: &[[f64; BOX_COLUMNS]],
+    groups: usize,
+    anchor_rows: &[[f64; BOX_COLUMNS]],
+    params: &RelationParams,
+) -> Result<Vec<f64>, RelationError> {
+    if relation.kind() != RelationKind::MultiTarget {
+        return Err(RelationError::WrongKind {
+            relation: relation.to_string(),
+            actual: relation.kind().describe(),
+            expected: "a multi-target relation (surround)",
+        });
+    }
+    let k = target_rows.len().checked_div(groups).unwrap_or(0);
+    if k * groups != target_rows.len() {
+        return Err(RelationError::LengthMismatch {
+            what: "targets",
+            got: target_rows.len(),
+            expected: k * groups,
+        });
+    }
+    let broadcast = anchor_rows.len() == 1;
+    if !broadcast && anchor_rows.len() != groups {
+        return Err(RelationError::LengthMismatch {
+            what: "anchors",
+            got: anchor_rows.len(),
+            expected: groups,
+        });
+    }
+    let mut out = Vec::with_capacity(groups);
+    let mut targets = Vec::with_capacity(k);
+    let shared = if broadcast {
+        Some(obb_from_row(&anchor_rows[0], || "anchors[0]".to_owned())?)
+    } else {
+        None
+    };
+    for i in 0..groups {
+        targets.clear();
+        for j in 0..k {
+            let row = &target_rows[i * k + j];
+            targets.push(obb_from_row(row, || format!("targets[{i}][{j}]"))?);
+        }
+        let anchor = match shared {
+            Some(anchor) => anchor,
+            None => obb_from_row(&anchor_rows[i], || format!("anchors[{i}]"))?,
+        };
+        let operands = Operands {
+            anchor: Some(&anchor),
+            targets: Some(&targets),
+            ..Operands::default()
+        };
+        out.push(score_operands(relation, &operands, params)?);
     }
     Ok(out)
 }
@@ -367,6 +546,7 @@ pub fn relation_params_py<'py>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval::relations::spec::QuerySpec;
 
     fn cube(x: f64) -> [f64; BOX_COLUMNS] {
         [x, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]
@@ -414,7 +594,7 @@ mod tests {
         let rows: Vec<_> = (0..1100)
             .map(|i| [f64::from(i) * 0.004, 1.5, 0.4, 0.3, 0.3, 0.4, 0.0])
             .collect();
-        let scores = score_in_room(Relation::InsideRoom, &rows, &room, &params).unwrap();
+        let scores = score_in_room(Relation::InsideRoom, &rows, &room.build().unwrap(), &params).unwrap();
         for (i, row) in rows.iter().enumerate().step_by(97) {
             let query = QuerySpec {
                 relation: "inside_room".into(),
@@ -427,5 +607,92 @@ mod tests {
         // Row 0 is centred on the wall x = 0: half of it is inside.
         assert!((scores[0] - 0.5).abs() < 1e-9);
         assert!(score_pairs(Relation::InsideRoom, &rows, &rows, &params).is_err());
+    }
+
+    #[test]
+    fn groups_score_as_surround_queries_one_by_one() {
+        let params = RelationParams::default();
+        let chair = |x: f64, y: f64| [x, y, 0.4, 0.25, 0.25, 0.4, 0.3];
+        // Three groups of four around three anchors.
+        let mut rows = Vec::new();
+        let mut anchors = Vec::new();
+        for g in 0..3 {
+            let d = 1.0 + f64::from(g) * 0.3;
+            rows.extend([
+                chair(d, 0.0),
+                chair(0.0, d),
+                chair(-d, 0.1 * f64::from(g)),
+                chair(0.2 * f64::from(g), -d),
+            ]);
+            anchors.push([0.0, 0.0, 0.4, 0.5, 0.5, 0.4, 0.0]);
+        }
+        let scores = score_groups(Relation::Surround, &rows, 3, &anchors, &params).unwrap();
+        for (g, score) in scores.iter().enumerate() {
+            let query = QuerySpec {
+                relation: "surround".into(),
+                anchor: Some(box_spec_from_row(&anchors[g])),
+                targets: Some(rows[g * 4..g * 4 + 4].iter().map(box_spec_from_row).collect()),
+                ..QuerySpec::default()
+            };
+            assert_eq!(*score, query.score(&params).unwrap(), "group {g}");
+        }
+        // Group 0: four chairs 1 m away at 90-degree gaps, score 1.
+        assert_eq!(scores[0], 1.0);
+        // One anchor row for every group.
+        let shared = score_groups(Relation::Surround, &rows, 3, &anchors[..1], &params).unwrap();
+        assert_eq!(shared, scores);
+        // No target in each of two groups: fewer than three targets score 0.
+        assert_eq!(
+            score_groups(Relation::Surround, &[], 2, &anchors[..1], &params).unwrap(),
+            vec![0.0, 0.0]
+        );
+        assert!(
+            score_groups(Relation::Surround, &[], 0, &anchors[..1], &params)
+                .unwrap()
+                .is_empty()
+        );
+        // A bad row is named by its group and position.
+        let mut bad = rows.clone();
+        bad[6][2] = f64::NAN;
+        let err = score_groups(Relation::Surround, &bad, 3, &anchors, &params).unwrap_err();
+        assert_eq!(err.to_string(), "targets[1][2].center is not finite");
+        assert!(score_groups(Relation::Surround, &rows, 3, &anchors[..2], &params).is_err());
+        assert!(score_groups(Relation::Surround, &rows[..11], 3, &anchors, &params).is_err());
+        assert!(score_groups(Relation::Near, &rows, 3, &anchors, &params).is_err());
+        // The reference variant refuses more targets than its limit, as relation() does.
+        let many = vec![chair(1.0, 0.0); sceneeval::relations::SURROUND_REFERENCE_MAX_TARGETS + 1];
+        let err = score_groups(
+            Relation::Surround,
+            &many,
+            1,
+            &anchors[..1],
+            &RelationParams::reference(),
+        );
+        assert!(
+            matches!(err, Err(RelationError::TooManyTargets { .. })),
+            "{err:?}"
+        );
+    }
+
+    #[test]
+    fn rooms_are_built_once_per_key_and_failures_are_not_kept() {
+        let cache = Mutex::new(RoomCache::new(4));
+        let built = std::cell::Cell::new(0);
+        let build = || {
+            built.set(built.get() + 1);
+            RoomSpec::new(vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]])
+                .build()
+                .map_err(|e| relation_error(&e))
+        };
+        let a = cached_room(&cache, "a", build).unwrap();
+        let again = cached_room(&cache, "a", build).unwrap();
+        assert!(Arc::ptr_eq(&a, &again));
+        assert_eq!(built.get(), 1);
+        let failing = || Err(value_error("room: bad"));
+        assert!(cached_room(&cache, "b", failing).is_err());
+        assert!(cached_room(&cache, "b", build).is_ok());
+        assert_eq!(built.get(), 2);
+        let cache = cache.lock().unwrap();
+        assert_eq!((cache.len(), cache.built()), (2, 2));
     }
 }

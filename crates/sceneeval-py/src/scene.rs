@@ -4,53 +4,120 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::str::FromStr;
+use std::sync::{PoisonError, RwLock};
 
 use numpy::PyArray2;
+use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyInt, PyList, PyTuple};
 use sceneeval::geom::conventions::pose_from_yaw;
 use sceneeval::geom::{Point3, Vector3};
 use sceneeval::inspect::{ObjectInfo, RoomInfo, SceneInfo};
 use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
 use sceneeval::relations::spec::relation_from_spec;
 use sceneeval::relations::{Query, SceneRelations};
-use sceneeval::scene::{Category, Scene, SceneObject};
-use sceneeval::{EvaluationPlan, Evaluator, FolderRun, Metric, find_scenes};
+use sceneeval::scene::{Category, Room, Scene, SceneObject};
+use sceneeval::{EvaluationPlan, Evaluator, FolderRun, Metric, PlanChoice, Preset, find_scenes};
 use serde::Serialize;
 
-use crate::convert::{rows, to_python};
-use crate::errors::{detached, eval_error, relation_error, scene_error, value_error};
+use crate::convert::{rows, to_json, to_python};
+use crate::errors::{chain, detached, eval_error, relation_error, scene_error, value_error};
 use crate::relations::{BOX_COLUMNS, obbs_from_rows, relation_params, room_spec};
 
 /// A scene: objects (boxes or meshes) and rooms with walls, doors and windows.
 ///
 /// Build one from boxes with Scene.from_boxes or load a sceneState file with load_scene.
+/// Objects can be moved (set_pose, set_boxes), for example in an optimisation loop; a scene
+/// may be shared between threads (a move waits for the computations under way).
 #[pyclass(module = "sceneeval", name = "Scene", frozen)]
 pub struct PyScene {
-    scene: Scene,
+    /// The scene. Locked only by Rust code that calls no Python (so a thread waiting for the
+    /// lock never holds it while waiting for the GIL, and one holding the GIL while waiting
+    /// for the lock waits only for such code): read for inspection and computations (with the
+    /// GIL released), written by the moves.
+    scene: RwLock<Scene>,
 }
 
 impl PyScene {
-    /// The wrapped scene.
-    pub fn scene(&self) -> &Scene {
-        &self.scene
+    /// A Python scene wrapping `scene`.
+    pub fn new(scene: Scene) -> Self {
+        PyScene {
+            scene: RwLock::new(scene),
+        }
+    }
+
+    /// `f` applied to the scene, read-locked (`f` must not call Python).
+    pub fn with_scene<T>(&self, f: impl FnOnce(&Scene) -> T) -> T {
+        f(&self.scene.read().unwrap_or_else(PoisonError::into_inner))
+    }
+
+    /// `f` applied to the scene, write-locked: at once when no computation holds the scene,
+    /// else with the GIL released while waiting.
+    fn with_scene_mut<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&mut Scene) -> T + Send) -> PyResult<T> {
+        if let Ok(mut scene) = self.scene.try_write() {
+            return Ok(f(&mut scene));
+        }
+        detached(py, || {
+            Ok(f(&mut self.scene.write().unwrap_or_else(PoisonError::into_inner)))
+        })
+    }
+
+    /// The JSON text `f` writes of the scene (under the read lock) as plain Python values
+    /// (converted after the lock is released).
+    fn to_python_with<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl FnOnce(&Scene) -> serde_json::Result<String>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let text = self
+            .with_scene(f)
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("serialising a result: {e}")))?;
+        py.import("json")?.call_method1("loads", (text,))
     }
 }
 
-/// The plan named by `plan` (a preset name or a plan file; default: every geometry metric
-/// with the default preset), restricted to `metrics` when given.
-fn plan_of(plan: Option<&str>, metrics: Option<Vec<String>>) -> PyResult<EvaluationPlan> {
-    let mut plan = match plan {
-        Some(spec) => EvaluationPlan::from_preset_or_file(spec).map_err(|e| eval_error(&e))?,
-        None => EvaluationPlan::geometry_only(),
-    };
-    if let Some(names) = metrics {
-        plan.metrics = names
-            .iter()
-            .map(|n| n.parse::<Metric>().map_err(|e| value_error(e.to_string())))
-            .collect::<PyResult<_>>()?;
+/// The plan for `Scene.plausibility`: as for `evaluate` (see [`PlanChoice`]), geometry
+/// metrics only.
+fn plausibility_plan(
+    plan: Option<&str>,
+    preset: Option<&str>,
+    metrics: Option<Vec<String>>,
+) -> PyResult<EvaluationPlan> {
+    let mut choice = PlanChoice::new(PlanChoice::PYTHON);
+    choice.plan = plan;
+    choice.preset = preset_of(preset)?;
+    choice.metrics = metrics_of(metrics)?;
+    // Checked below with a message for this method.
+    choice.annotations = true;
+    let chosen = choice.resolve().map_err(|e| eval_error(&e))?;
+    if chosen.plan.has_fidelity() {
+        return Err(value_error(format!(
+            "plan {:?} runs text-fidelity metrics (cnt, atr, oor, oar): Scene.plausibility runs the \
+             geometry metrics only (evaluate a folder with sceneeval.evaluate(..., annotations=...) for those)",
+            plan.unwrap_or_default()
+        )));
     }
-    Ok(plan)
+    Ok(chosen.plan)
+}
+
+/// A preset by name.
+fn preset_of(preset: Option<&str>) -> PyResult<Option<Preset>> {
+    preset
+        .map(|p| Preset::from_str(p).map_err(|e| eval_error(&e)))
+        .transpose()
+}
+
+/// Metrics by name.
+fn metrics_of(metrics: Option<Vec<String>>) -> PyResult<Option<Vec<Metric>>> {
+    metrics
+        .map(|names| {
+            names
+                .iter()
+                .map(|n| n.parse::<Metric>().map_err(|e| value_error(e.to_string())))
+                .collect::<PyResult<Vec<Metric>>>()
+        })
+        .transpose()
 }
 
 /// An asset library from `{prefix: folder}` (a folder may be written `LAYOUT:folder`).
@@ -60,26 +127,132 @@ fn asset_library(assets: Option<BTreeMap<String, PathBuf>>) -> PyResult<AssetLib
         .into_iter()
         .map(|(prefix, dir)| format!("{prefix}={}", dir.display()))
         .collect();
-    AssetLibrary::from_specs(&specs).map_err(|e| value_error(format!("assets: {}", crate::errors::chain(&e))))
+    AssetLibrary::from_specs(&specs).map_err(|e| value_error(format!("assets: {}", chain(&e))))
+}
+
+/// A room of `Scene.from_boxes`: a dict with `relate`'s room keys and optionally `id` (the
+/// room's id, default `default_id`). `what` names it in errors.
+fn scene_room(obj: &Bound<'_, PyAny>, what: &str, default_id: &str) -> PyResult<Room> {
+    let mut id = default_id.to_owned();
+    let spec = if let Ok(dict) = obj.cast::<PyDict>()
+        && dict.contains("id")?
+    {
+        let mut value = to_json(obj, what)?;
+        if let Some(map) = value.as_object_mut()
+            && let Some(given) = map.remove("id")
+        {
+            id = given
+                .as_str()
+                .ok_or_else(|| value_error(format!("{what}.id must be a string, got {given}")))?
+                .to_owned();
+        }
+        serde_json::from_value(value).map_err(|e| value_error(format!("{what}: {e}")))?
+    } else {
+        room_spec(obj, what)?
+    };
+    spec.build_with_id(&id).map_err(|e| {
+        if what == "room" {
+            relation_error(&e)
+        } else {
+            value_error(format!("{what}: {}", chain(&e)))
+        }
+    })
+}
+
+/// An object of the scene as given from Python: its id or its position in `Scene.objects`.
+enum ObjectRef {
+    Index(i64),
+    Id(String),
+}
+
+impl ObjectRef {
+    /// Read from an id (a str) or a position (an int).
+    fn extract(object: &Bound<'_, PyAny>) -> PyResult<Self> {
+        if object.is_instance_of::<PyInt>() {
+            return object
+                .extract::<i64>()
+                .map(ObjectRef::Index)
+                .map_err(|_| value_error(format!("no object at index {object}")));
+        }
+        object.extract::<String>().map(ObjectRef::Id).map_err(|_| {
+            value_error(format!(
+                "object must be an id (str) or an index (int), got {object}"
+            ))
+        })
+    }
+
+    /// The object's position in the scene.
+    fn position(&self, scene: &Scene) -> PyResult<usize> {
+        match self {
+            ObjectRef::Index(i) => {
+                let count = scene.objects().len();
+                usize::try_from(*i)
+                    .ok()
+                    .filter(|&i| i < count)
+                    .ok_or_else(|| value_error(format!("no object at index {i}: the scene has {count}")))
+            }
+            ObjectRef::Id(id) => scene
+                .object_index(id)
+                .ok_or_else(|| value_error(format!("no object with id {id:?} in the scene"))),
+        }
+    }
+}
+
+/// Three numbers from a sequence (a tuple, list or numpy array). `what` names it in errors.
+fn point(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 3]> {
+    let numbers: Vec<f64> = obj
+        .extract()
+        .map_err(|_| value_error(format!("{what} must be a sequence of 3 numbers (x, y, z)")))?;
+    numbers
+        .try_into()
+        .map_err(|_| value_error(format!("{what} must be a sequence of 3 numbers (x, y, z)")))
+}
+
+/// The pose that puts the box of `object` at `center`, turned by `yaw` about +z: for a box
+/// object the box's centre is the pose's origin; a mesh object's box centre is offset from
+/// its origin by the centre of its mesh bounds (object frame).
+fn pose_for_box(object: &SceneObject, center: [f64; 3], yaw: f64) -> sceneeval::geom::Isometry3 {
+    let c = Point3::from(center);
+    if object.box_half_extents().is_some() {
+        return pose_from_yaw(c, yaw);
+    }
+    let turned = pose_from_yaw(Point3::origin(), yaw);
+    let offset = turned * object.mesh().aabb().center();
+    pose_from_yaw(c - offset.coords, yaw)
+}
+
+/// `Ok` when every number is finite; `what` is the prefix of the names in errors
+/// (`boxes[2].`).
+fn finite_pose(center: &[f64; 3], yaw: f64, what: &str) -> PyResult<()> {
+    if !center.iter().all(|v| v.is_finite()) {
+        return Err(value_error(format!("{what}center is not finite")));
+    }
+    if !yaw.is_finite() {
+        return Err(value_error(format!("{what}yaw is not finite")));
+    }
+    Ok(())
 }
 
 #[pymethods]
 impl PyScene {
-    /// A scene of box objects in one room.
+    /// A scene of box objects in one room or several.
     ///
     /// boxes: a float64 array of shape (N, 7), one object per row (cx, cy, cz, hx, hy, hz,
     /// yaw): centre, half extents (metres) and yaw (radians, yaw 0: front faces -y).
     /// room: a dict as for relation(): the floor polygon, wall height and thickness, doors
-    /// and windows (openings). categories: one per object (used by the support and
-    /// accessibility tables); ids: one per object (default `box_0`, `box_1`, ...); id: the
-    /// scene's name.
+    /// and windows (openings); its id is "room". rooms: several such dicts instead (ids
+    /// "room_0", "room_1", ...); a room dict may also carry its id (the key id), used by
+    /// Scene.relation's floors= and in the plausibility report. categories: one per object
+    /// (used by the support and accessibility tables); ids: one per object (default `box_0`,
+    /// `box_1`, ...); id: the scene's name.
     ///
     /// Raises ValueError for a bad array, a bad room or a bad box.
     #[staticmethod]
-    #[pyo3(signature = (boxes, room=None, *, categories=None, ids=None, id=None))]
+    #[pyo3(signature = (boxes, room=None, *, rooms=None, categories=None, ids=None, id=None))]
     fn from_boxes(
         boxes: &Bound<'_, PyAny>,
         room: Option<&Bound<'_, PyAny>>,
+        rooms: Option<&Bound<'_, PyAny>>,
         categories: Option<Vec<String>>,
         ids: Option<Vec<String>>,
         id: Option<String>,
@@ -102,9 +275,22 @@ impl PyScene {
         if let Some(id) = id {
             builder = builder.id(id);
         }
-        if let Some(room) = room {
-            let room = room_spec(room)?.build().map_err(|e| relation_error(&e))?;
-            builder = builder.room(room);
+        match (room, rooms) {
+            (Some(_), Some(_)) => {
+                return Err(value_error(
+                    "give room (one room) or rooms (a list of rooms), not both",
+                ));
+            }
+            (Some(room), None) => builder = builder.room(scene_room(room, "room", "room")?),
+            (None, Some(rooms)) => {
+                if !(rooms.is_instance_of::<PyList>() || rooms.is_instance_of::<PyTuple>()) {
+                    return Err(value_error("rooms must be a list of room dicts"));
+                }
+                for (i, room) in rooms.try_iter()?.enumerate() {
+                    builder = builder.room(scene_room(&room?, &format!("rooms[{i}]"), &format!("room_{i}"))?);
+                }
+            }
+            (None, None) => {}
         }
         for (i, row) in box_rows.iter().enumerate() {
             let object_id = ids
@@ -113,96 +299,183 @@ impl PyScene {
             let half = Vector3::new(row[3], row[4], row[5]);
             let pose = pose_from_yaw(Point3::new(row[0], row[1], row[2]), row[6]);
             let mut object = SceneObject::new_box(object_id, half, pose)
-                .map_err(|e| value_error(format!("boxes[{i}]: {}", crate::errors::chain(&e))))?
+                .map_err(|e| value_error(format!("boxes[{i}]: {}", chain(&e))))?
                 .with_index(i as i64);
             if let Some(categories) = &categories {
                 object = object.with_category(Category::new(categories[i].as_str()));
             }
             builder = builder.object(object);
         }
-        let scene = builder
-            .build()
-            .map_err(|e| value_error(crate::errors::chain(&e)))?;
-        Ok(PyScene { scene })
+        let scene = builder.build().map_err(|e| value_error(chain(&e)))?;
+        Ok(PyScene::new(scene))
     }
 
     /// The scene's name, if it has one.
     #[getter]
-    fn id(&self) -> Option<&str> {
-        self.scene.id()
+    fn id(&self) -> Option<String> {
+        self.with_scene(|scene| scene.id().map(str::to_owned))
     }
 
     /// Every object as a dict: id, index, model_id, category, description, is_box, center, size
     /// (full width, depth, height), yaw, scale, support_type, functional_sides.
     #[getter]
     fn objects<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let objects: Vec<ObjectInfo<'_>> = self.scene.objects().iter().map(ObjectInfo::new).collect();
-        to_python(py, &objects)
+        self.to_python_with(py, |scene| {
+            serde_json::to_string(&scene.objects().iter().map(ObjectInfo::new).collect::<Vec<_>>())
+        })
     }
 
     /// Every room as a dict (id, kind, floor_id, floor_z, ceiling_z, floor_area, floor, walls),
     /// each wall with its openings.
     #[getter]
     fn rooms<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let rooms: Vec<RoomInfo<'_>> = self.scene.rooms().iter().map(RoomInfo::new).collect();
-        to_python(py, &rooms)
+        self.to_python_with(py, |scene| {
+            serde_json::to_string(&scene.rooms().iter().map(RoomInfo::new).collect::<Vec<_>>())
+        })
     }
 
     /// The scene as one dict with scene, objects and rooms: what `sceneeval inspect --json` prints,
     /// without the file.
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        to_python(py, &SceneInfo::new(&self.scene))
+        self.to_python_with(py, |scene| serde_json::to_string(&SceneInfo::new(scene)))
     }
 
     /// The objects' boxes as a float64 array of shape (N, 7): centre, half extents, yaw.
     fn boxes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows: Vec<Vec<f64>> = self
-            .scene
-            .objects()
-            .iter()
-            .map(|o| {
-                let obb = o.obb();
-                let (c, h) = (obb.center, obb.half_extents);
-                vec![c.x, c.y, c.z, h.x, h.y, h.z, o.yaw()]
-            })
-            .collect();
+        let rows: Vec<Vec<f64>> = self.with_scene(|scene| {
+            scene
+                .objects()
+                .iter()
+                .map(|o| {
+                    let obb = o.obb();
+                    let (c, h) = (obb.center, obb.half_extents);
+                    vec![c.x, c.y, c.z, h.x, h.y, h.z, o.yaw()]
+                })
+                .collect()
+        });
         if rows.is_empty() {
             return Ok(PyArray2::zeros(py, [0, BOX_COLUMNS], false));
         }
         PyArray2::from_vec2(py, &rows).map_err(|e| value_error(e.to_string()))
     }
 
+    /// Moves one object: its box's centre to center (x, y, z) and its yaw to yaw (radians
+    /// about +z; the object is then upright), as boxes() reports them. object: the object's
+    /// id (str) or its position in objects (int). For a box object the centre is the box's;
+    /// for a mesh object, the centre of its mesh bounds. Everything computed afterwards
+    /// (relations, plausibility, objects, boxes) sees the object where it now is.
+    ///
+    /// Raises ValueError for an unknown id, an index out of range, or a NaN or infinite
+    /// number (the object then stays where it was).
+    fn set_pose(
+        &self,
+        py: Python<'_>,
+        object: &Bound<'_, PyAny>,
+        center: &Bound<'_, PyAny>,
+        yaw: f64,
+    ) -> PyResult<()> {
+        let object = ObjectRef::extract(object)?;
+        let center = point(center, "center")?;
+        finite_pose(&center, yaw, "")?;
+        self.with_scene_mut(py, |scene| {
+            let index = object.position(scene)?;
+            let pose = scene
+                .object_at(index)
+                .map(|o| pose_for_box(o, center, yaw))
+                .ok_or_else(|| value_error(format!("no object at index {index}")))?;
+            scene.set_pose(index, pose).map_err(|e| value_error(chain(&e)))
+        })?
+    }
+
+    /// Moves every object at once: boxes is a float64 array of shape (N, 7) as boxes()
+    /// returns it, one row per object in order; each object's box centre and yaw are set
+    /// from its row as set_pose does. The half extents of a row must be the object's (an
+    /// object cannot be resized): `b = scene.boxes(); b[:, 0] += 0.1; scene.set_boxes(b)`
+    /// moves everything 10 cm along x.
+    ///
+    /// Raises ValueError for an array of the wrong shape or dtype, a NaN or infinite number,
+    /// or half extents that differ from the object's; then no object is moved.
+    fn set_boxes(&self, py: Python<'_>, boxes: &Bound<'_, PyAny>) -> PyResult<()> {
+        let box_rows = rows::<BOX_COLUMNS>(boxes, "boxes")?;
+        self.with_scene(|scene| -> PyResult<()> {
+            let objects = scene.objects();
+            if box_rows.len() != objects.len() {
+                return Err(value_error(format!(
+                    "boxes has {} rows, the scene has {} objects",
+                    box_rows.len(),
+                    objects.len()
+                )));
+            }
+            for (i, (row, object)) in box_rows.iter().zip(objects).enumerate() {
+                finite_pose(&[row[0], row[1], row[2]], row[6], &format!("boxes[{i}]."))?;
+                let h = object.obb().half_extents;
+                let given = [row[3], row[4], row[5]];
+                let same = given
+                    .iter()
+                    .zip(h.iter())
+                    .all(|(g, h)| (g - h).abs() <= 1e-9 * (1.0 + h.abs()));
+                if !same {
+                    return Err(value_error(format!(
+                        "boxes[{i}]: half extents {given:?} differ from object {:?}'s {:?}: objects cannot be resized",
+                        object.id().as_str(),
+                        [h.x, h.y, h.z]
+                    )));
+                }
+            }
+            Ok(())
+        })?;
+        self.with_scene_mut(py, |scene| -> PyResult<()> {
+            for (i, row) in box_rows.iter().enumerate() {
+                let pose = scene
+                    .object_at(i)
+                    .map(|o| pose_for_box(o, [row[0], row[1], row[2]], row[6]))
+                    .ok_or_else(|| value_error(format!("no object at index {i}")))?;
+                scene.set_pose(i, pose).map_err(|e| value_error(chain(&e)))?;
+            }
+            Ok(())
+        })?
+    }
+
     fn __len__(&self) -> usize {
-        self.scene.objects().len()
+        self.with_scene(|scene| scene.objects().len())
     }
 
     fn __repr__(&self) -> String {
-        format!(
-            "Scene(id={}, objects={}, rooms={})",
-            self.scene
-                .id()
-                .map_or_else(|| "None".to_owned(), |id| format!("{id:?}")),
-            self.scene.objects().len(),
-            self.scene.rooms().len()
-        )
+        self.with_scene(|scene| {
+            format!(
+                "Scene(id={}, objects={}, rooms={})",
+                scene
+                    .id()
+                    .map_or_else(|| "None".to_owned(), |id| format!("{id:?}")),
+                scene.objects().len(),
+                scene.rooms().len()
+            )
+        })
     }
 
     /// Runs the geometry-only plausibility metrics and returns the report as in eval.json.
     ///
-    /// plan: a preset name (default, reference) or the path of a plan file; default: every
-    /// metric with the default preset. metrics: run only these (collision, support,
-    /// navigability, accessibility, out_of_bounds, opening_clearance).
+    /// plan: as for evaluate() ("geometry", the default: every geometry metric; a
+    /// comma-separated metric list; or the path of a plan file), without text-fidelity
+    /// metrics. preset: "default" or "reference" (every reference-parity switch), replacing
+    /// a plan file's. metrics: run only these (collision, support, navigability,
+    /// accessibility, out_of_bounds, opening_clearance).
     /// The report holds the scene-level summary and each metric's per-object evidence.
     /// Computed with the GIL released.
-    #[pyo3(signature = (*, plan=None, metrics=None))]
+    #[pyo3(signature = (*, plan=None, preset=None, metrics=None))]
     fn plausibility<'py>(
         &self,
         py: Python<'py>,
         plan: Option<&str>,
+        preset: Option<&str>,
         metrics: Option<Vec<String>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let evaluator = Evaluator::new(plan_of(plan, metrics)?).map_err(|e| eval_error(&e))?;
-        let report = detached(py, || evaluator.evaluate(&self.scene).map_err(|e| eval_error(&e)))?;
+        let evaluator =
+            Evaluator::new(plausibility_plan(plan, preset, metrics)?).map_err(|e| eval_error(&e))?;
+        let report = detached(py, || {
+            self.with_scene(|scene| evaluator.evaluate(scene))
+                .map_err(|e| eval_error(&e))
+        })?;
         to_python(py, &report)
     }
 
@@ -234,8 +507,7 @@ impl PyScene {
         query.anchor = anchor;
         query.floors = floors.unwrap_or_default();
         detached(py, || {
-            relations
-                .evaluate(&self.scene, &query)
+            self.with_scene(|scene| relations.evaluate(scene, &query))
                 .map(|e| e.score)
                 .map_err(|e| relation_error(&e))
         })
@@ -261,7 +533,7 @@ pub fn load_scene(
     let scene = detached(py, || {
         read_scene_state(&path, &library, &ReadOptions::default()).map_err(|e| scene_error(&e))
     })?;
-    Ok(PyScene { scene })
+    Ok(PyScene::new(scene))
 }
 
 /// What `evaluate` returns: the summary and what happened to each scene.
@@ -274,6 +546,7 @@ struct RunReport {
     failed: usize,
     skipped: Vec<Skipped>,
     failures: Vec<Failure>,
+    note: Option<String>,
     summary: sceneeval::Summary,
 }
 
@@ -294,19 +567,27 @@ struct Failure {
 /// files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then
 /// summary.csv and summary.md.
 ///
-/// assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON) adding
-/// rows per difficulty to the summary. plan: a preset name (default, reference) or the path
-/// of a plan file. A re-run into the same out reuses a scene's result while nothing it
-/// depends on changed (force=True evaluates every scene again). threads: worker threads
-/// (default one per core). Runs with the GIL released.
+/// assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON): the rows
+/// the text-fidelity metrics check, and rows per difficulty in the summary. plan: exactly what
+/// `sceneeval evaluate --plan` accepts: "geometry" (the default: the six geometry metrics),
+/// "full" (the paper's ten metrics, adding cnt, atr, oor, oar, which need annotations), a
+/// comma-separated metric list ("collision,cnt,oor") or the path of a plan file (JSON or
+/// TOML). preset: "default" or "reference" (every reference-parity switch), as --preset:
+/// the parameters start from it (it replaces a plan file's preset). metrics: run only these
+/// geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
+/// by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
+/// one, and say so with a UserWarning and the run's note. A re-run into the same out reuses
+/// a scene's result while nothing it depends on changed (force=True evaluates every scene
+/// again). threads: worker threads (default one per core). Runs with the GIL released.
 ///
 /// Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
-/// scenes but are not `scene_<ID>.json`), failures (scene, error, causes) and summary (the
-/// table of summary.csv as a dict). A scene that fails is recorded, not raised.
+/// scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
+/// text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
+/// summary.csv as a dict). A scene that fails is recorded, not raised.
 /// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
-/// ValueError for a bad plan or assets mapping.
+/// ValueError for a bad plan, preset, metric or assets mapping.
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, force=false, threads=None))]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, force=false, threads=None))]
 #[allow(clippy::too_many_arguments)] // The Python signature is fixed by issue 15.
 pub fn evaluate<'py>(
     py: Python<'py>,
@@ -315,6 +596,8 @@ pub fn evaluate<'py>(
     out: PathBuf,
     annotations: Option<PathBuf>,
     plan: Option<&str>,
+    preset: Option<&str>,
+    metrics: Option<Vec<String>>,
     force: bool,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -325,7 +608,21 @@ pub fn evaluate<'py>(
             scenes_dir.display()
         )));
     }
-    let evaluator = Evaluator::new(plan_of(plan, None)?).map_err(|e| eval_error(&e))?;
+    let mut choice = PlanChoice::new(PlanChoice::PYTHON);
+    choice.plan = plan;
+    choice.preset = preset_of(preset)?;
+    choice.metrics = metrics_of(metrics)?;
+    choice.annotations = annotations.is_some();
+    let chosen = choice.resolve().map_err(|e| eval_error(&e))?;
+    let note = chosen
+        .fallback
+        .map(|f| format!("no VLM configured (the Python package runs without one): {f}"));
+    if let Some(note) = &note {
+        let category = py.get_type::<PyUserWarning>();
+        let message = std::ffi::CString::new(note.as_str()).map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    let evaluator = Evaluator::new(chosen.plan).map_err(|e| eval_error(&e))?;
     let library = asset_library(assets)?.with_limits(evaluator.plan().limits);
     let annotations = annotations
         .map(|p| sceneeval::annotation::Annotations::read(&p).map_err(|e| scene_error(&e)))
@@ -377,6 +674,7 @@ pub fn evaluate<'py>(
             })
             .collect(),
         failures,
+        note,
         summary: outcome.summary,
     };
     to_python(py, &report)

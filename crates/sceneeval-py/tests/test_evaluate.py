@@ -1,5 +1,6 @@
 """sceneeval.evaluate writes the same files as `sceneeval evaluate` on fixture scenes."""
 
+import json
 import shutil
 import subprocess
 
@@ -44,16 +45,55 @@ def test_evaluate_writes_what_the_cli_writes(sceneeval_bin, scenes_dir, tmp_path
     assert (again["evaluated"], again["reused"]) == (0, 3)
 
 
-def test_plans_by_preset_name_or_file(scenes_dir, tmp_path):
+def test_plans_as_the_cli_reads_them(scenes_dir, tmp_path):
+    assets = {"fixture": FIXTURES / "assets"}
     plan = tmp_path / "plan.json"
     plan.write_text('{"preset": "reference", "metrics": ["collision", "out_of_bounds"]}')
-    run = sceneeval.evaluate(scenes_dir, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "a", plan=str(plan))
-    assert run["failed"] == 0
+    run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "a", plan=str(plan))
+    assert run["failed"] == 0 and run["note"] is None
     assert "Preset: `reference`" in (tmp_path / "a" / "summary.md").read_text()
-    run = sceneeval.evaluate(scenes_dir, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "b", plan="reference")
-    assert run["evaluated"] == 3
-    with pytest.raises(ValueError, match="not a preset name"):
-        sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "c", plan="refrence")
+    # preset= replaces the file's preset, as --preset does.
+    sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "b", plan=str(plan), preset="default")
+    assert "Preset: `default`" in (tmp_path / "b" / "summary.md").read_text()
+    # A metric list, with a preset; and metrics= overriding the plan's list.
+    run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "c", plan="collision, support", preset="reference")
+    record = json.loads((tmp_path / "c" / "scene_0" / "eval.json").read_text())
+    assert record["report"]["metrics"] == ["collision", "support"]
+    run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "d", plan="geometry", metrics=["navigability"])
+    record = json.loads((tmp_path / "d" / "scene_0" / "eval.json").read_text())
+    assert record["report"]["metrics"] == ["navigability"]
+    # A preset name is not a plan (as for --plan): the preset is its own keyword.
+    with pytest.raises(ValueError, match=r'^plan "reference" is not geometry, full, a metric list or an existing file: .*unknown metric "reference"'):
+        sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "e", plan="reference")
+    with pytest.raises(ValueError, match=r"unknown preset \"refrence\""):
+        sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "e", preset="refrence")
+    with pytest.raises(ValueError, match=r"unknown metric"):
+        sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "e", metrics=["colision"])
+    # The text-fidelity metrics need annotations, as with the CLI.
+    with pytest.raises(ValueError, match=r"the plan runs fidelity metrics \(cnt, atr, oor, oar\), which need annotations$"):
+        sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "e", plan="full")
+
+
+def test_the_full_plan_runs_without_a_vlm_as_the_cli_does(sceneeval_bin, scenes_dir, tmp_path):
+    annotations = FIXTURES / "annotations" / "fixture_scenes.csv"
+    cli_out, py_out = tmp_path / "cli", tmp_path / "py"
+    done = subprocess.run(
+        [str(sceneeval_bin), "evaluate", str(scenes_dir), "--assets", f"fixture={FIXTURES / 'assets'}",
+         "--out", str(cli_out), "--annotations", str(annotations), "--plan", "full", "--preset", "reference",
+         "--no-progress"],
+        check=True, capture_output=True, text=True,
+    )
+    with pytest.warns(UserWarning, match=r"no VLM configured .*: fidelity runs with labels matching and the lexicon relation mapping \(matching by labels, relations mapped by the lexicon instead of the VLM\); ATR is not judged\."):
+        run = sceneeval.evaluate(scenes_dir, assets={"fixture": FIXTURES / "assets"}, out=py_out,
+                                 annotations=annotations, plan="full", preset="reference")
+    cli_note = next(line for line in done.stderr.splitlines() if line.startswith("note: no VLM configured"))
+    assert cli_note.split("): ", 1)[1] == run["note"].split("): ", 1)[1]
+    assert run["failed"] == 0
+    for name in SCENES:
+        stem = name[:-5]
+        assert (py_out / stem / "eval.json").read_bytes() == (cli_out / stem / "eval.json").read_bytes(), stem
+    assert (py_out / "summary.csv").read_text() == (cli_out / "summary.csv").read_text()
+    assert "CNT" in (py_out / "summary.csv").read_text().splitlines()[0]
 
 
 def test_failures_are_recorded_and_unusable_input_raises(scenes_dir, tmp_path):

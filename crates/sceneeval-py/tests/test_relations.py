@@ -195,7 +195,8 @@ def test_non_finite_numbers_name_the_row_and_field(bad, column, field):
         (lambda: sceneeval.relation("inside_room", BOX[0], room={"floor": [[0, 0], [1, 0]]}), r"^room: "),
         (lambda: sceneeval.relation("near", BOX[0], BOX[1], bogus=1.0), r'unknown parameter "bogus"'),
         (lambda: sceneeval.relation("near", BOX[0], BOX[1], middle_of_sigma=-1.0), r"middle_of_sigma"),
-        (lambda: sceneeval.relation_batch("surround", BOX, BOX), r"use sceneeval.relation"),
+        (lambda: sceneeval.relation_batch("surround", BOX, BOX), r"targets must be a numpy float64 array of shape \(N, K, 7\) for surround"),
+        (lambda: sceneeval.relation_batch("surround", BOX[None], BOX, room=ROOM), r"give anchors, not room"),
         (lambda: sceneeval.relation_batch("on_wall", BOX), r"needs room"),
         (lambda: sceneeval.relation_batch("near", BOX), r"needs anchors"),
         (lambda: sceneeval.relation_batch("near", BOX, BOX, room=ROOM), r"give anchors, not room"),
@@ -211,3 +212,97 @@ def test_a_bad_row_beyond_the_first_chunk_is_named_by_its_index():
     targets[2500, 0] = np.nan
     with pytest.raises(ValueError, match=r"^targets\[2500\]\.center is not finite$"):
         sceneeval.relation_batch("on_wall", targets, room={"floor": [[0, 0], [4, 0], [4, 3], [0, 3]]})
+
+
+def test_surround_batch_equals_one_group_at_a_time(rng):
+    # 40 groups of 5 chairs around 40 tables; half of them evenly around (the scores reach 1).
+    n, k = 40, 5
+    anchors = random_boxes(rng, n)
+    targets = np.empty((n, k, 7))
+    for i in range(n):
+        targets[i] = random_boxes(rng, k)
+        if i % 2 == 0:
+            angles = 2 * np.pi * np.arange(k) / k + rng.uniform(-0.2, 0.2, k)
+            targets[i, :, 0] = anchors[i, 0] + 1.2 * np.cos(angles)
+            targets[i, :, 1] = anchors[i, 1] + 1.2 * np.sin(angles)
+    for reference in (False, True):
+        got = sceneeval.relation_batch("surround", targets, anchors, reference=reference)
+        want = [
+            sceneeval.relation("surround", None, tuple(a), targets=[tuple(t) for t in group], reference=reference)
+            for group, a in zip(targets, anchors)
+        ]
+        assert got.dtype == np.float64 and got.shape == (n,)
+        assert got.tolist() == want
+    assert max(want) > 0.9 and min(want) < 0.6
+    # One anchor for every group, and a non-contiguous view of the groups.
+    view = targets[::3, ::2]
+    got = sceneeval.relation_batch("surround", view, anchors[:1])
+    want = [sceneeval.relation("surround", None, tuple(anchors[0]), targets=[tuple(t) for t in g]) for g in view]
+    assert got.tolist() == want
+    # Fewer than three targets score 0; no group at all gives no score.
+    assert sceneeval.relation_batch("surround", targets[:, :2], anchors).tolist() == [0.0] * n
+    assert sceneeval.relation_batch("surround", np.empty((0, 4, 7)), np.empty((0, 7))).shape == (0,)
+
+
+def test_surround_batch_hand_computed():
+    # Four chairs 1 m from the table at 90-degree gaps: every deviation 0, score 1. Four chairs
+    # at one place: equal distances (distance terms 1, weight 0.5), every gap 0 against the
+    # ideal 90 degrees (angle terms 0, weight 0.5): 0.5.
+    chair = lambda x, y: [x, y, 0.4, 0.25, 0.25, 0.4, 0.0]  # noqa: E731
+    around = [chair(1, 0), chair(0, 1), chair(-1, 0), chair(0, -1)]
+    together = [chair(1, 0)] * 4
+    table = np.array([[0.0, 0.0, 0.4, 0.5, 0.5, 0.4, 0.0]])
+    scores = sceneeval.relation_batch("surround", np.array([around, together]), table)
+    assert scores.tolist() == [1.0, 0.5]
+
+
+@pytest.mark.parametrize(
+    "targets, anchors, message",
+    [
+        (np.zeros((2, 4, 6)), np.zeros((2, 7)), r"targets must be .* shape \(N, K, 7\) for surround .* got shape \(2, 4, 6\)"),
+        (np.zeros((2, 4, 7, 1)), np.zeros((2, 7)), r"got shape \(2, 4, 7, 1\)"),
+        (np.zeros((2, 4, 7), dtype=np.float32), np.zeros((2, 7)), r"got dtype float32"),
+        (np.zeros((2, 4, 7)), np.zeros((3, 7)), r"anchors has 3 rows: expected 2 \(one per group of targets\) or 1"),
+        (np.zeros((2, 4, 7)), np.zeros((2, 4, 7)), r"anchors must be a numpy float64 array of shape \(N, 7\), got shape \(2, 4, 7\)"),
+        (np.zeros((2, 4, 7)), None, r"relation surround needs anchors"),
+    ],
+)
+def test_bad_surround_arrays_raise_value_error(targets, anchors, message):
+    with pytest.raises(ValueError, match=message):
+        sceneeval.relation_batch("surround", targets, anchors)
+
+
+def test_bad_surround_rows_name_the_group_and_the_target():
+    targets = np.tile(BOX[0], (3, 4, 1))
+    targets[2, 1, 4] = np.nan
+    with pytest.raises(ValueError, match=r"^targets\[2\]\[1\]\.half_size is not finite$"):
+        sceneeval.relation_batch("surround", targets, BOX)
+    anchors = BOX.copy()
+    anchors[1, 6] = np.inf
+    with pytest.raises(ValueError, match=r"^anchors\[1\]\.yaw is not finite$"):
+        sceneeval.relation_batch("surround", np.tile(BOX[0], (3, 4, 1)), anchors)
+    # The reference surround compares every pair: it refuses more than its limit of targets.
+    many = np.tile(BOX[0], (1, 2049, 1))
+    with pytest.raises(ValueError, match=r"accepts at most"):
+        sceneeval.relation_batch("surround", many, BOX[:1], reference=True)
+
+
+def test_rooms_are_found_by_their_content():
+    # A 1 x 1 x 0.8 m box centred on x = 2 in a room 4 m wide is inside it (1); in a room
+    # 2 m wide it straddles the wall x = 2 by half its width (0.5). The same dict object edited
+    # between calls is a new room, not the one prepared for its old content.
+    box = (2.0, 1.0, 0.4, 0.5, 0.5, 0.4, 0.0)
+    room = {"floor": [[0, 0], [4, 0], [4, 3], [0, 3]]}
+    assert sceneeval.relation("inside_room", box, room=room) == 1.0
+    room["floor"] = [[0, 0], [2, 0], [2, 3], [0, 3]]
+    assert sceneeval.relation("inside_room", box, room=room) == pytest.approx(0.5, abs=1e-5)
+    room["floor"] = [[0, 0], [4, 0], [4, 3], [0, 3]]
+    assert sceneeval.relation("inside_room", box, room=room) == 1.0
+    batch = sceneeval.relation_batch("inside_room", np.array([box]), room={"floor": [[0, 0], [2, 0], [2, 3], [0, 3]]})
+    assert batch[0] == pytest.approx(0.5, abs=1e-5)
+    # More distinct rooms than are kept: each still scores as its own room.
+    for i in range(70):
+        width = 1.5 + 0.01 * i
+        score = sceneeval.relation("inside_room", box, room={"floor": [[0, 0], [width, 0], [width, 3], [0, 3]]})
+        # The box spans x in [1.5, 2.5]: the part left of x = width is inside.
+        assert score == pytest.approx(width - 1.5, abs=1e-5), width

@@ -1,5 +1,6 @@
 //! Exact clipping on the stack: the volume of a box inside up to six half-spaces, and convex
-//! polygons clipped by half-planes. Nothing here allocates.
+//! polygons clipped by half-planes. Nothing here allocates (the polyhedron is a per-thread
+//! scratch value, reused from call to call).
 //!
 //! The box is clipped as a polyhedron whose faces are kept as unordered sets of directed
 //! edges, wound counter-clockwise seen from outside. Clipping a convex face by a plane keeps
@@ -8,6 +9,8 @@
 //! The volume follows from the divergence theorem, `V = 1/6 sum_f p_f . sum_e (a x b)`, which
 //! needs no vertex order. An edge shared by two faces is cut at bit-identical points because
 //! the cut is always computed from the inside end.
+
+use std::cell::RefCell;
 
 use sceneeval_geom::{Point2, Real, Vector3};
 
@@ -69,9 +72,22 @@ struct Polyhedron {
     faces: [Face; MAX_FACES],
 }
 
+thread_local! {
+    /// The polyhedron [`box_volume_inside`] clips, kept per thread: it is about 7 KiB, and
+    /// filling a fresh one with zeros took a good part of a volume fraction's time. Only the
+    /// faces and edges below their lengths are ever read, so what a previous call left beyond
+    /// them does not matter.
+    static SCRATCH: RefCell<Polyhedron> = const { RefCell::new(Polyhedron::EMPTY) };
+}
+
 impl Polyhedron {
-    /// The box `[-h, h]` with counter-clockwise (outward) faces.
-    fn cuboid(h: &Vector3) -> Self {
+    const EMPTY: Polyhedron = Polyhedron {
+        len: 0,
+        faces: [Face::EMPTY; MAX_FACES],
+    };
+
+    /// Makes this the box `[-h, h]` with counter-clockwise (outward) faces.
+    fn set_cuboid(&mut self, h: &Vector3) {
         let v = |k: usize| {
             Vector3::new(
                 if k & 1 == 0 { -h.x } else { h.x },
@@ -87,25 +103,33 @@ impl Polyhedron {
             [0, 4, 6, 2], // -x
             [1, 3, 7, 5], // +x
         ];
-        let mut faces = [Face::EMPTY; MAX_FACES];
-        for (face, q) in faces.iter_mut().zip(QUADS) {
+        for (face, q) in self.faces.iter_mut().zip(QUADS) {
+            face.len = 0;
             for i in 0..4 {
                 face.push(v(q[i]), v(q[(i + 1) % 4]));
             }
         }
-        Polyhedron { len: 6, faces }
+        self.len = 6;
     }
 
-    /// Keeps the part inside `plane`; returns whether anything is left.
+    /// Keeps the part inside `plane`; returns whether anything is left. The cap face is built
+    /// in the first unused face (when there is one).
     fn clip(&mut self, plane: &HalfSpace) -> bool {
         #[inline]
         fn cut(inside: &Vector3, d_in: Real, outside: &Vector3, d_out: Real) -> Vector3 {
             inside + (outside - inside) * (d_in / (d_in - d_out))
         }
-        let mut cap = Face::EMPTY;
+        let len = self.len;
+        let (faces, spare) = self.faces.split_at_mut(len);
+        // With every face in use there is no room for a cap (never for at most MAX_PLANES
+        // planes): it is then not built.
+        let mut cap = spare.first_mut();
+        if let Some(cap) = cap.as_deref_mut() {
+            cap.len = 0;
+        }
         let mut kept = 0;
-        for fi in 0..self.len {
-            let face = &mut self.faces[fi];
+        for fi in 0..len {
+            let face = &mut faces[fi];
             let mut w = 0;
             let mut exit = None;
             let mut entry = None;
@@ -137,20 +161,23 @@ impl Polyhedron {
                 && x != e
             {
                 face.push(x, e);
-                cap.push(e, x);
+                if let Some(cap) = cap.as_deref_mut() {
+                    cap.push(e, x);
+                }
             }
             if face.len > 0 {
                 if kept != fi {
-                    self.faces[kept] = self.faces[fi];
+                    faces[kept] = faces[fi];
                 }
                 kept += 1;
             }
         }
-        self.len = kept;
-        if cap.len >= 3 && self.len < MAX_FACES {
-            self.faces[self.len] = cap;
-            self.len += 1;
+        let has_cap = cap.is_some_and(|cap| cap.len >= 3);
+        if has_cap && kept != len {
+            // Move the cap down next to the faces kept.
+            self.faces[kept] = self.faces[len];
         }
+        self.len = kept + usize::from(has_cap);
         self.len > 0
     }
 
@@ -195,13 +222,25 @@ pub(crate) fn box_volume_inside(h: &Vector3, planes: &[HalfSpace]) -> Real {
     if k == 0 {
         return full;
     }
-    let mut poly = Polyhedron::cuboid(h);
-    for p in &cutting[..k] {
-        if !poly.clip(p) {
-            return 0.0;
+    let clip_all = |poly: &mut Polyhedron| {
+        poly.set_cuboid(h);
+        for p in &cutting[..k] {
+            if !poly.clip(p) {
+                return 0.0;
+            }
+        }
+        poly.volume().min(full)
+    };
+    let kept = SCRATCH.try_with(|scratch| scratch.try_borrow_mut().ok().map(|mut poly| clip_all(&mut poly)));
+    match kept {
+        Ok(Some(volume)) => volume,
+        // Not reached (nothing here calls back into this function, and threads are not torn
+        // down while they compute); a fresh polyhedron gives the same volume.
+        _ => {
+            let mut fresh = Polyhedron::EMPTY;
+            clip_all(&mut fresh)
         }
     }
-    poly.volume().min(full)
 }
 
 /// Capacity of a clipped polygon: a quadrilateral clipped by up to twelve half-planes.
@@ -237,29 +276,43 @@ impl Poly2 {
     }
 
     /// Keeps the part with `a x + b y <= c` (Sutherland-Hodgman for one half-plane).
+    ///
+    /// Each vertex's side is computed once; a polygon wholly inside is left as it is and one
+    /// wholly outside emptied without walking its edges (what the walk would give, exactly).
     pub(crate) fn clip(&mut self, a: Real, b: Real, c: Real) {
-        if self.len == 0 {
+        let len = self.len;
+        if len == 0 {
             return;
         }
-        let mut out = [Point2::origin(); MAX_POLY];
+        let mut d = [0.0; MAX_POLY];
+        let mut inside = 0;
+        for (di, p) in d.iter_mut().zip(&self.pts[..len]) {
+            *di = a * p.x + b * p.y - c;
+            inside += usize::from(*di <= 0.0);
+        }
+        if inside == len {
+            return;
+        }
+        if inside == 0 {
+            self.len = 0;
+            return;
+        }
+        let src = self.pts;
         let mut n = 0;
-        let f = |p: &Point2| a * p.x + b * p.y - c;
-        for i in 0..self.len {
-            let p = self.pts[i];
-            let q = self.pts[(i + 1) % self.len];
-            let (dp, dq) = (f(&p), f(&q));
+        for i in 0..len {
+            let j = if i + 1 == len { 0 } else { i + 1 };
+            let (p, q, dp, dq) = (src[i], src[j], d[i], d[j]);
             if dp <= 0.0 && n < MAX_POLY {
-                out[n] = p;
+                self.pts[n] = p;
                 n += 1;
             }
             if (dp <= 0.0) != (dq <= 0.0) && n < MAX_POLY {
                 // Cut from the inside end so that neighbouring pieces agree exactly.
                 let (i_pt, di, o_pt, d_o) = if dp <= 0.0 { (p, dp, q, dq) } else { (q, dq, p, dp) };
-                out[n] = i_pt + (o_pt - i_pt) * (di / (di - d_o));
+                self.pts[n] = i_pt + (o_pt - i_pt) * (di / (di - d_o));
                 n += 1;
             }
         }
-        self.pts = out;
         self.len = n;
     }
 
@@ -403,5 +456,52 @@ mod tests {
         r.clip_by_convex(&tri);
         let (a, _) = r.area_centroid();
         assert!((a - 2.0).abs() < 1e-12, "{a}");
+    }
+
+    #[test]
+    fn the_reused_polyhedron_keeps_no_trace_of_earlier_clips() {
+        // A six-plane clip leaves twelve faces behind in the per-thread polyhedron; the volumes
+        // after it are those of a fresh one (the 36 and 9 of axis_planes_give_box_volumes).
+        let h = Vector3::new(1.0, 2.0, 3.0);
+        let six = [
+            hs([1.0, 0.2, 0.1], 0.5),
+            hs([-0.3, 1.0, 0.2], 1.0),
+            hs([0.1, -0.2, 1.0], 2.0),
+            hs([-1.0, 0.1, -0.3], 0.7),
+            hs([0.2, -1.0, 0.1], 1.5),
+            hs([-0.1, 0.3, -1.0], 2.5),
+        ];
+        let first = box_volume_inside(&h, &six);
+        assert!(first > 0.0 && first < 48.0, "{first}");
+        let one = box_volume_inside(&h, &[hs([1.0, 0.0, 0.0], 0.5)]);
+        assert!((one - 36.0).abs() < 1e-12, "{one}");
+        let two = box_volume_inside(&h, &[hs([1.0, 0.0, 0.0], 0.5), hs([0.0, -1.0, 0.0], -1.0)]);
+        assert!((two - 9.0).abs() < 1e-12, "{two}");
+        assert_eq!(box_volume_inside(&h, &six).to_bits(), first.to_bits());
+        // Another thread (its own polyhedron) gets the same bits.
+        let other = std::thread::spawn(move || box_volume_inside(&h, &six))
+            .join()
+            .unwrap();
+        assert_eq!(other.to_bits(), first.to_bits());
+    }
+
+    #[test]
+    fn polygons_wholly_inside_or_outside_a_half_plane() {
+        let mut p = Poly2::rectangle(1.0, 0.5);
+        let before = p;
+        // x <= 1 keeps the whole rectangle (its right edge lies on the line): unchanged.
+        p.clip(1.0, 0.0, 1.0);
+        assert_eq!((p.len, &p.pts[..4]), (4, &before.pts[..4]));
+        // x <= -1.5 keeps nothing.
+        p.clip(1.0, 0.0, -1.5);
+        assert!(p.is_empty());
+        assert_eq!(p.area_centroid().0, 0.0);
+        // The diagonal y = x / 2 through two corners keeps the lower-right triangle, area 1.
+        let mut q = Poly2::rectangle(1.0, 0.5);
+        q.clip(-0.5, 1.0, 0.0);
+        let (a, c) = q.area_centroid();
+        assert!((a - 1.0).abs() < 1e-15, "{a}");
+        // Centroid of the triangle (-1, -0.5), (1, -0.5), (1, 0.5): (1/3, -1/6).
+        assert!((c - Point2::new(1.0 / 3.0, -1.0 / 6.0)).norm() < 1e-15, "{c}");
     }
 }

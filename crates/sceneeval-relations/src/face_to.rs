@@ -76,8 +76,23 @@ fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3>
     let m = (a.rotation.inverse() * b.rotation).into_inner();
     let c = a.rotation.inverse_transform_vector(&(b.center - a.center));
     let hb = b.half_extents;
+    // The anchor's reach from its centre along the target's axes.
+    let reach = |k: usize| -> Real { (0..3).map(|l| m[(k, l)].abs() * hb[l]).sum() };
+    let reach_y = reach(1);
+    // No line can hit an anchor wholly behind the mid-depth plane (the lines run along -y from
+    // it) or wholly beside the cross-section: every piece below would be clipped away. Decided
+    // here only with a margin far above the rounding of the pieces' corners, so that the score
+    // is the one the construction gives.
+    let clear = |centre: Real, reach: Real, half: Real| {
+        centre.abs() - reach - half > 1e-9 * (1.0 + centre.abs() + reach + half)
+    };
+    if clear(c.x, reach(0), h.x)
+        || clear(c.z, reach(2), h.z)
+        || c.y - reach_y > 1e-9 * (1.0 + c.y.abs() + reach_y)
+    {
+        return None;
+    }
     // Does the anchor reach across the mid-depth plane y = 0 (some lines start inside it)?
-    let reach_y: Real = (0..3).map(|l| m[(1, l)].abs() * hb[l]).sum();
     let straddles = c.y - reach_y < 0.0 && c.y + reach_y > 0.0;
 
     // Accumulated area and area-weighted (u, s, v) of the hit points; u = x, v = z in the
@@ -236,6 +251,26 @@ mod tests {
         // Completely beside (no overlap of the cross-sections): no hit.
         let beside = bx([3.0, -2.0, 0.5], [0.5, 0.1, 0.5], 0.0);
         assert_eq!(score(&a, &beside), 0.0);
+    }
+
+    #[test]
+    fn lines_grazing_the_edge_of_the_cross_section_still_hit() {
+        // The anchor overlaps the target's 1 m wide cross-section by 1 micrometre at x = 0.5:
+        // a strip of lines at x = 0.5 hits at depth 1.9, angle atan(0.5 / 1.9) = 14.74 degrees,
+        // score 1 - 14.74 / 30 = 0.5086 (not the 0 of a miss).
+        let a = bx([0.0, 0.0, 0.5], [0.5, 0.3, 0.5], 0.0);
+        let b = bx([1.0 - 1e-6, -2.0, 0.5], [0.5, 0.1, 0.5], 0.0);
+        let expected = 1.0 - (0.5f64 / 1.9).atan().to_degrees() / 30.0;
+        assert!((score(&a, &b) - expected).abs() < 1e-6, "{}", score(&a, &b));
+        // 1 micrometre apart: no line hits.
+        let apart = bx([1.0 + 1e-6, -2.0, 0.5], [0.5, 0.1, 0.5], 0.0);
+        assert_eq!(score(&a, &apart), 0.0);
+        // Wholly behind the mid-depth plane, but for 1 micrometre: lines from that sliver of
+        // the cross-section start inside the anchor and leave through its far face at y = -1e-6.
+        let behind = bx([0.0, 1.0 - 1e-6, 0.5], [0.5, 1.0, 0.5], 0.0);
+        assert!((score(&a, &behind) - 1.0).abs() < 1e-9);
+        let wholly_behind = bx([0.0, 1.0 + 1e-6, 0.5], [0.5, 1.0, 0.5], 0.0);
+        assert_eq!(score(&a, &wholly_behind), 0.0);
     }
 
     #[test]

@@ -97,7 +97,8 @@
 //! bounds its sampled minimum from below.
 //!
 //! # Performance
-//! Kernels allocate nothing per call: clipping runs on fixed-size stack buffers, mesh distance
+//! Kernels allocate nothing per call: clipping runs on fixed-size buffers (on the stack, and a
+//! per-thread polyhedron reused from call to call), mesh distance
 //! searches recurse over trees built with the mesh, ray casts use parry's stack-allocated
 //! traversal, rooms are prepared once (when the `sceneeval_scene::Room` is built), `surround`
 //! sorts up to 64 targets on the stack, `corner_of_room` keeps up to 32 walls' bounds on the stack

@@ -50,29 +50,57 @@ pub(crate) fn fraction_in_frame_box(
     region: &FrameBox,
     params: &RelationParams,
 ) -> Real {
-    let h = effective_half(a, params);
-    // Columns of m: the frame's axes in a's frame; t: a's centre in the frame.
-    let m = a.rotation.inverse() * frame_rot;
-    let t = frame_rot.inverse_transform_vector(&(a.center - frame_origin));
-    let mut planes = [HalfSpace::new(Vector3::zeros(), 0.0); MAX_PLANES];
-    let mut k = 0;
-    for i in 0..3 {
-        let axis = m.matrix().column(i).into_owned();
-        if region.hi[i].is_finite() {
-            planes[k] = HalfSpace::new(axis, region.hi[i] - t[i]);
-            k += 1;
-        } else if region.hi[i] < 0.0 {
-            return 0.0;
-        }
-        if region.lo[i].is_finite() {
-            planes[k] = HalfSpace::new(-axis, t[i] - region.lo[i]);
-            k += 1;
-        } else if region.lo[i] > 0.0 {
-            return 0.0;
+    BoxInFrame::new(a, frame_rot, frame_origin, params).fraction_in(region)
+}
+
+/// A box seen from a frame, for the fractions of its volume in regions of that frame
+/// ([`fraction_in_frame_box`] for one region; [`long_short_side_of`] asks about two).
+pub(crate) struct BoxInFrame {
+    /// The box's half extents, with the flat-box floor applied.
+    h: Vector3,
+    /// Columns: the frame's axes in the box's frame.
+    m: Rotation3,
+    /// The box's centre in the frame.
+    t: Vector3,
+}
+
+impl BoxInFrame {
+    pub(crate) fn new(
+        a: &Obb,
+        frame_rot: &Rotation3,
+        frame_origin: &Point3,
+        params: &RelationParams,
+    ) -> Self {
+        BoxInFrame {
+            h: effective_half(a, params),
+            m: a.rotation.inverse() * frame_rot,
+            t: frame_rot.inverse_transform_vector(&(a.center - frame_origin)),
         }
     }
-    let full = 8.0 * h.x * h.y * h.z;
-    (box_volume_inside(&h, &planes[..k]) / full).clamp(0.0, 1.0)
+
+    /// The fraction of the box's volume inside `region`.
+    pub(crate) fn fraction_in(&self, region: &FrameBox) -> Real {
+        let (h, m, t) = (&self.h, &self.m, &self.t);
+        let mut planes = [HalfSpace::new(Vector3::zeros(), 0.0); MAX_PLANES];
+        let mut k = 0;
+        for i in 0..3 {
+            let axis = m.matrix().column(i).into_owned();
+            if region.hi[i].is_finite() {
+                planes[k] = HalfSpace::new(axis, region.hi[i] - t[i]);
+                k += 1;
+            } else if region.hi[i] < 0.0 {
+                return 0.0;
+            }
+            if region.lo[i].is_finite() {
+                planes[k] = HalfSpace::new(-axis, t[i] - region.lo[i]);
+                k += 1;
+            } else if region.lo[i] > 0.0 {
+                return 0.0;
+            }
+        }
+        let full = 8.0 * h.x * h.y * h.z;
+        (box_volume_inside(h, &planes[..k]) / full).clamp(0.0, 1.0)
+    }
 }
 
 /// `inside_of`: the fraction of the target's box inside the anchor's box.
@@ -224,15 +252,11 @@ pub fn long_short_side_of(
         (LongShort::Long, true) | (LongShort::Short, false) => (Side::Right, Side::Left),
         (LongShort::Long, false) | (LongShort::Short, true) => (Side::Back, Side::Front),
     };
+    // The target in the anchor's frame, once for both sides.
+    let target_box = BoxInFrame::new(target.obb, &anchor.obb.rotation, &anchor.obb.center, params);
     let score = |side: Side| {
         let region = side_region_box(anchor.obb, side, true, params.region_margin, params.tolerance);
-        fraction_in_frame_box(
-            target.obb,
-            &anchor.obb.rotation,
-            &anchor.obb.center,
-            &region,
-            params,
-        )
+        target_box.fraction_in(&region)
     };
     score(axis_side.0).max(score(axis_side.1))
 }

@@ -20,6 +20,9 @@
 //!   caller loads the asset); [`ObjectSpec`] is a box or an asset object, told apart by the
 //!   `asset` key. [`score_geoms`] scores [`GeomOperands`], objects that may carry meshes.
 //!
+//! - [`RoomCache`]: prepared rooms kept by their text (or any key), least recently used
+//!   dropped, so that a room handed over again and again is prepared once.
+//!
 //! With the `serde` feature (on by default) the spec types deserialize from the documented
 //! schema (`docs/formats.md`, "`sceneeval relate` JSON lines"): unknown fields are errors.
 //!
@@ -33,6 +36,12 @@
 //! // The lamp rests on the table's top face (z = 1.0): all of it is above, score 1.
 //! assert_eq!(query.score(&RelationParams::default()).unwrap(), 1.0);
 //! ```
+
+use std::borrow::Borrow;
+use std::cell::Cell;
+use std::collections::HashMap;
+use std::hash::Hash;
+use std::sync::Arc;
 
 use sceneeval_geom::na::{Translation3, UnitQuaternion};
 use sceneeval_geom::{Isometry3, Matrix3, Obb, Point2, Point3, Real, Rotation3, Vector3};
@@ -101,6 +110,44 @@ impl BoxSpec {
     /// when both a yaw and a rotation are given, [`RelationError::Geometry`] for negative half
     /// extents or a matrix that is not a proper rotation.
     pub fn to_obb(&self, what: &str) -> Result<Obb, RelationError> {
+        if let (Some(yaw), None) = (self.yaw, &self.rotation)
+            && let Some(obb) = yaw_box(self.center, self.half_size, yaw)
+        {
+            return Ok(obb);
+        }
+        self.checked_obb(what)
+    }
+
+    /// The oriented box of a centre, half extents and yaw: exactly
+    /// `BoxSpec::from_yaw(center, half_size, yaw).to_obb(&what())`, without building the spec;
+    /// `what` is called only for an error, so a valid box allocates nothing. This is how the
+    /// Python package's batch forms read their `(N, 7)` rows.
+    ///
+    /// ```
+    /// use sceneeval_relations::spec::BoxSpec;
+    /// let obb = BoxSpec::yaw_obb([1.0, 2.0, 0.5], [0.5, 0.25, 0.5], 0.3, || "targets[4]".into()).unwrap();
+    /// assert_eq!(Some(obb), BoxSpec::from_yaw([1.0, 2.0, 0.5], [0.5, 0.25, 0.5], 0.3).to_obb("t").ok());
+    /// let err = BoxSpec::yaw_obb([1.0, 2.0, 0.5], [0.5, f64::NAN, 0.5], 0.3, || "targets[4]".into());
+    /// assert_eq!(err.unwrap_err().to_string(), "targets[4].half_size is not finite");
+    /// ```
+    ///
+    /// # Errors
+    /// As [`BoxSpec::to_obb`].
+    #[inline]
+    pub fn yaw_obb(
+        center: [Real; 3],
+        half_size: [Real; 3],
+        yaw: Real,
+        what: impl FnOnce() -> String,
+    ) -> Result<Obb, RelationError> {
+        match yaw_box(center, half_size, yaw) {
+            Some(obb) => Ok(obb),
+            None => BoxSpec::from_yaw(center, half_size, yaw).checked_obb(&what()),
+        }
+    }
+
+    /// [`BoxSpec::to_obb`] checking every number and the rotation through [`Obb::new`].
+    fn checked_obb(&self, what: &str) -> Result<Obb, RelationError> {
         finite(&self.center, || format!("{what}.center"))?;
         finite(&self.half_size, || format!("{what}.half_size"))?;
         let rotation = rotation_of(self.yaw, self.rotation.as_ref(), what)?;
@@ -264,6 +311,24 @@ impl<'de> serde::Deserialize<'de> for ObjectSpec {
     }
 }
 
+/// The box turned by `yaw` when every number is finite and no half extent is negative, else
+/// `None`. It is the box [`Obb::new`] validates in [`BoxSpec::checked_obb`], with the same
+/// rotation (`rotation_of`), built without `Obb::new`'s check that the matrix is a rotation:
+/// a turn about +z made by `Rotation3::from_axis_angle` from a finite angle is one (its
+/// columns are `(c, s, 0)`, `(-s, c, 0)`, `(0, 0, 1)` with `c^2 + s^2` one within rounding).
+#[inline]
+fn yaw_box(center: [Real; 3], half_size: [Real; 3], yaw: Real) -> Option<Obb> {
+    let finite = center.iter().chain(&half_size).all(|v| v.is_finite()) && yaw.is_finite();
+    if !finite || half_size.iter().any(|&h| h < 0.0) {
+        return None;
+    }
+    Some(Obb {
+        center: Point3::from(center),
+        half_extents: Vector3::from(half_size),
+        rotation: Rotation3::from_axis_angle(&Vector3::z_axis(), yaw),
+    })
+}
+
 /// The rotation given by a `yaw` or a row-major `rotation` (neither: identity), unchecked
 /// beyond finiteness (callers validate it as part of a box).
 fn rotation_of(
@@ -364,6 +429,15 @@ impl RoomSpec {
     /// [`RelationError::NotFinite`], [`RelationError::UnknownOpeningKind`], and
     /// [`RelationError::Room`] for an outline or opening the room builder rejects.
     pub fn build(&self) -> Result<Room, RelationError> {
+        self.build_with_id("room")
+    }
+
+    /// [`RoomSpec::build`] with the room's id `id` (several rooms of one scene need distinct
+    /// ids; its walls are `<id>_wall_<i>`, its floor `floor_<id>`).
+    ///
+    /// # Errors
+    /// As [`RoomSpec::build`].
+    pub fn build_with_id(&self, id: &str) -> Result<Room, RelationError> {
         for (i, p) in self.floor.iter().enumerate() {
             finite(p, || format!("room.floor[{i}]"))?;
         }
@@ -371,7 +445,7 @@ impl RoomSpec {
         finite(&[self.height], || "room.height".to_owned())?;
         finite(&[self.wall_thickness], || "room.wall_thickness".to_owned())?;
         let outline = self.floor.iter().map(|p| Point2::new(p[0], p[1])).collect();
-        let mut room = RoomBuilder::polygon("room", outline)
+        let mut room = RoomBuilder::polygon(id, outline)
             .floor_z(self.floor_z)
             .wall_height(self.height)
             .wall_thickness(self.wall_thickness);
@@ -650,6 +724,136 @@ impl QuerySpec {
     }
 }
 
+/// Prepared rooms kept by a key, at most a fixed number, the least recently used dropped
+/// beyond that: preparing a [`Room`] from a [`RoomSpec`] (walls cut into solids around their
+/// openings, the floor triangulated) costs far more than scoring a relation in it, so a front
+/// end that is handed the same room again and again (`sceneeval relate`'s rooms written in
+/// place, the Python package's `room=` dicts) prepares it once.
+///
+/// The key is whatever identifies a room's content to the caller: `relate` keys by the room's
+/// JSON text as written, the Python package by the JSON text of the dict it was given. Two
+/// spellings of one room are two entries (both correct); one key is never two rooms.
+/// The room asked for last is compared before the map is hashed, so a stream repeating one
+/// room costs one comparison per query.
+///
+/// ```
+/// use std::sync::Arc;
+/// use sceneeval_relations::spec::{RoomCache, RoomSpec};
+/// let mut cache: RoomCache = RoomCache::new(8);
+/// let text = r#"{"floor": [[0, 0], [4, 0], [4, 3], [0, 3]]}"#;
+/// let build = || RoomSpec::new(vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]]).build();
+/// let first = cache.get_or_build(text, build).unwrap();
+/// let again = cache.get_or_build(text, build).unwrap();
+/// assert!(Arc::ptr_eq(&first, &again));
+/// assert_eq!(cache.built(), 1);
+/// ```
+#[derive(Debug)]
+pub struct RoomCache<K = Arc<str>> {
+    capacity: usize,
+    clock: u64,
+    rooms: HashMap<K, (Arc<Room>, Cell<u64>)>,
+    /// The room asked for last, with its key. Its map entry's use stamp stays the newest
+    /// while it is last, so it is never the one evicted.
+    last: Option<(K, Arc<Room>)>,
+    /// Rooms added so far.
+    built: usize,
+}
+
+impl<K: Hash + Eq + Clone> RoomCache<K> {
+    /// An empty cache holding at most `capacity` rooms (at least one).
+    pub fn new(capacity: usize) -> Self {
+        RoomCache {
+            capacity: capacity.max(1),
+            clock: 0,
+            rooms: HashMap::new(),
+            last: None,
+            built: 0,
+        }
+    }
+
+    /// The most rooms the cache holds.
+    pub fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// How many rooms the cache holds.
+    pub fn len(&self) -> usize {
+        self.rooms.len()
+    }
+
+    /// Whether the cache holds no room.
+    pub fn is_empty(&self) -> bool {
+        self.rooms.is_empty()
+    }
+
+    /// How many rooms have been added ([`RoomCache::insert`], or built by
+    /// [`RoomCache::get_or_build`]) since the cache was made: the misses.
+    pub fn built(&self) -> usize {
+        self.built
+    }
+
+    /// The room kept under `key`, marked as used now.
+    pub fn get<Q>(&mut self, key: &Q) -> Option<Arc<Room>>
+    where
+        K: Borrow<Q>,
+        Q: Hash + Eq + ?Sized,
+    {
+        if let Some((last_key, room)) = &self.last
+            && last_key.borrow() == key
+        {
+            return Some(Arc::clone(room));
+        }
+        self.clock += 1;
+        let (key, (room, used)) = self.rooms.get_key_value(key)?;
+        used.set(self.clock);
+        let room = Arc::clone(room);
+        self.last = Some((key.clone(), Arc::clone(&room)));
+        Some(room)
+    }
+
+    /// Keeps `room` under `key` (replacing a room kept under it), dropping the least recently
+    /// used room when the cache is full.
+    pub fn insert(&mut self, key: K, room: Arc<Room>) {
+        self.clock += 1;
+        if self.rooms.len() >= self.capacity
+            && !self.rooms.contains_key(&key)
+            && let Some(oldest) = self
+                .rooms
+                .iter()
+                .min_by_key(|(_, (_, used))| used.get())
+                .map(|(k, _)| k.clone())
+        {
+            self.rooms.remove(&oldest);
+        }
+        self.built += 1;
+        self.rooms
+            .insert(key.clone(), (Arc::clone(&room), Cell::new(self.clock)));
+        self.last = Some((key, room));
+    }
+
+    /// The room kept under `key`, else the room `build` makes, kept under `key` (a failure is
+    /// not kept).
+    ///
+    /// # Errors
+    /// The error of `build`.
+    pub fn get_or_build<Q, E>(
+        &mut self,
+        key: &Q,
+        build: impl FnOnce() -> Result<Room, E>,
+    ) -> Result<Arc<Room>, E>
+    where
+        K: Borrow<Q> + for<'q> From<&'q Q>,
+        Q: Hash + Eq + ?Sized,
+    {
+        if let Some(room) = self.get(key) {
+            return Ok(room);
+        }
+        let room = Arc::new(build()?);
+        self.insert(K::from(key), Arc::clone(&room));
+        Ok(room)
+    }
+}
+
 /// `Ok` when every value is finite, else [`RelationError::NotFinite`] naming `field()`.
 fn finite(values: &[Real], field: impl FnOnce() -> String) -> Result<(), RelationError> {
     if values.iter().all(|v| v.is_finite()) {
@@ -687,6 +891,51 @@ mod tests {
         let mut b = unit_cube(0.0);
         b.half_size[0] = -1.0;
         assert!(matches!(b.to_obb("anchor"), Err(RelationError::Geometry { .. })));
+    }
+
+    #[test]
+    fn yaw_boxes_are_the_boxes_the_checked_path_makes() {
+        // The shortcut for a yaw builds the same box, bit for bit, as the path through
+        // Obb::new; and every invalid box gets the checked path's error.
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as Real / (1u64 << 53) as Real
+        };
+        for i in 0..2000 {
+            let c = [next() * 10.0 - 5.0, next() * 10.0 - 5.0, next() * 2.0];
+            let h = [next(), next() * 0.5, next() * 2.0];
+            let yaw = match i % 4 {
+                0 => next() * 7.0 - 3.5,
+                1 => (next() * 1e6).round() * 1e-3,
+                2 => [0.0, std::f64::consts::PI, -std::f64::consts::FRAC_PI_2, 1e12][i % 8 / 2],
+                _ => next() * 200.0 - 100.0,
+            };
+            let spec = BoxSpec::from_yaw(c, h, yaw);
+            let checked = spec.checked_obb("b").unwrap();
+            assert_eq!(spec.to_obb("b").unwrap(), checked, "{c:?} {h:?} {yaw}");
+            assert_eq!(BoxSpec::yaw_obb(c, h, yaw, || "b".into()).unwrap(), checked);
+        }
+        let good = ([0.0, 0.0, 0.5], [0.5, 0.5, 0.5], 0.2);
+        let bad_rows = [
+            ([Real::NAN, 0.0, 0.5], good.1, good.2),
+            (good.0, [0.5, Real::INFINITY, 0.5], good.2),
+            (good.0, [0.5, -0.1, 0.5], good.2),
+            (good.0, good.1, Real::NEG_INFINITY),
+        ];
+        for (c, h, yaw) in bad_rows {
+            let expected = BoxSpec::from_yaw(c, h, yaw).checked_obb("rows[3]").unwrap_err();
+            assert_eq!(
+                BoxSpec::yaw_obb(c, h, yaw, || "rows[3]".into()).unwrap_err(),
+                expected
+            );
+            assert_eq!(
+                BoxSpec::from_yaw(c, h, yaw).to_obb("rows[3]").unwrap_err(),
+                expected
+            );
+        }
     }
 
     #[test]
@@ -954,6 +1203,42 @@ mod tests {
             score_geoms(Relation::Surround, &surround_with_room, &params),
             Err(RelationError::UnexpectedOperand { operand: "room", .. })
         ));
+    }
+
+    #[test]
+    fn the_room_cache_builds_each_key_once_and_evicts_the_least_recently_used() {
+        const ROOM: &str = r#"{"floor":[[0,0],[4,0],[4,3],[0,3]]}"#;
+        let other = r#"{"floor":[[0,0],[5,0],[5,3],[0,3]]}"#;
+        let third = r#"{"floor":[[0,0],[6,0],[6,3],[0,3]]}"#;
+        let build = |x: Real| move || RoomSpec::new(vec![[0.0, 0.0], [x, 0.0], [x, 3.0], [0.0, 3.0]]).build();
+        let mut cache: RoomCache = RoomCache::new(2);
+        assert!(cache.is_empty());
+        let a = cache.get_or_build(ROOM, build(4.0)).unwrap();
+        let again = cache.get_or_build(ROOM, build(4.0)).unwrap();
+        assert!(Arc::ptr_eq(&a, &again));
+        assert_eq!(cache.built(), 1);
+        cache.get_or_build(other, build(5.0)).unwrap();
+        // ROOM was used before `other`: adding a third evicts ROOM, keeps `other`.
+        cache.get_or_build(third, build(6.0)).unwrap();
+        assert_eq!((cache.len(), cache.built(), cache.capacity()), (2, 3, 2));
+        let kept = cache.get_or_build(other, build(5.0)).unwrap();
+        assert_eq!(cache.built(), 3, "other stayed cached");
+        // The 5 m room's floor: 15 m^2.
+        assert!((kept.floor().area() - 15.0).abs() < 1e-12);
+        cache.get_or_build(ROOM, build(4.0)).unwrap();
+        assert_eq!(cache.built(), 4, "ROOM was evicted and built again");
+        // `third` was used before `other`'s last use: it went, `other` stays.
+        assert!(cache.get(other).is_some());
+        assert!(cache.get(third).is_none());
+        let bad = cache.get_or_build("bad", || RoomSpec::new(vec![[0.0, 0.0], [1.0, 0.0]]).build());
+        assert!(matches!(bad, Err(RelationError::Room { .. })));
+        assert_eq!(cache.len(), 2, "failures are not kept");
+        assert!(cache.get("bad").is_none());
+        // A capacity of 0 still keeps the room in use.
+        let mut tiny: RoomCache<String> = RoomCache::new(0);
+        tiny.insert("a".into(), Arc::clone(&a));
+        assert!(tiny.get("a").is_some());
+        assert_eq!(tiny.capacity(), 1);
     }
 
     #[test]

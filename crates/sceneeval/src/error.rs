@@ -20,6 +20,18 @@ pub enum EvalError {
         /// What is wrong.
         message: String,
     },
+    /// The choices of a run do not fit together or name nothing (a plan that is none of
+    /// `geometry`, `full`, a metric list or a file; fidelity metrics without annotations; an
+    /// unknown relation mapping): see [`crate::PlanChoice`]. The message names the option as
+    /// the front end spells it (`--plan`, `plan`).
+    #[error("{message}")]
+    Choice {
+        /// What is wrong.
+        message: String,
+        /// The underlying plan error, if one.
+        #[source]
+        source: Option<Box<EvalError>>,
+    },
     /// A metric failed: its parameters are invalid or the scene's time budget ran out. The
     /// message is the metric's own.
     #[error(transparent)]

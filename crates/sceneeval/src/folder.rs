@@ -2,19 +2,18 @@
 //! `sceneeval.evaluate` do it: [`run_batch`] with each scene's annotation digest, then the
 //! summary grouped by the annotations' difficulty, written as `summary.csv` and `summary.md`.
 //!
-//! The front ends only choose the plan, the assets and how progress is shown; what is written
-//! is decided here, once.
+//! The front ends only choose the plan (read by [`crate::PlanChoice`]), the assets and how
+//! progress is shown; what is written is decided here, once.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-use std::str::FromStr;
+use std::path::PathBuf;
 
 use crate::annotation::{AnnotationRow, Annotations};
 use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::AssetLibrary;
 use crate::{
-    BatchOptions, BatchOutcome, EvalError, EvaluationPlan, Evaluator, Preset, SceneFile, SceneRecord,
-    SceneStatus, Summary, annotation_digest, matching_file_digest, run_batch, write_atomic,
+    BatchOptions, BatchOutcome, EvalError, Evaluator, SceneFile, SceneRecord, SceneStatus, Summary,
+    annotation_digest, matching_file_digest, run_batch, write_atomic,
 };
 
 /// The name of the CSV summary written into the output folder.
@@ -104,54 +103,5 @@ impl FolderRun<'_> {
         write_atomic(&self.out_dir.join(SUMMARY_CSV), summary.to_csv()?.as_bytes())?;
         write_atomic(&self.out_dir.join(SUMMARY_MD), summary.to_markdown().as_bytes())?;
         Ok(FolderOutcome { batch, summary })
-    }
-}
-
-impl EvaluationPlan {
-    /// The plan named by `spec`: a preset name (`default`, `reference`) or the path of a plan
-    /// file.
-    ///
-    /// ```
-    /// use sceneeval::{EvaluationPlan, Preset};
-    /// assert_eq!(EvaluationPlan::from_preset_or_file("reference").unwrap().preset, Preset::Reference);
-    /// let err = EvaluationPlan::from_preset_or_file("no/such/plan.json").unwrap_err();
-    /// assert!(err.to_string().contains("no/such/plan.json"));
-    /// ```
-    ///
-    /// # Errors
-    /// [`EvalError::Plan`] naming `spec` when it is neither a preset name nor a file; else as
-    /// [`EvaluationPlan::read`].
-    pub fn from_preset_or_file(spec: &str) -> Result<Self, EvalError> {
-        match Preset::from_str(spec) {
-            Ok(preset) => Ok(EvaluationPlan::with_preset(preset)),
-            Err(_) if !Path::new(spec).exists() => Err(EvalError::Plan {
-                path: Some(PathBuf::from(spec)),
-                field: None,
-                message: "no such file, and not a preset name (default or reference)".into(),
-            }),
-            Err(_) => EvaluationPlan::read(Path::new(spec)),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn presets_and_plan_files_are_both_accepted() {
-        assert_eq!(
-            EvaluationPlan::from_preset_or_file("Default").unwrap(),
-            EvaluationPlan::geometry_only()
-        );
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("plan.json");
-        std::fs::write(&path, r#"{"preset": "reference", "metrics": ["collision"]}"#).unwrap();
-        let plan = EvaluationPlan::from_preset_or_file(path.to_str().unwrap()).unwrap();
-        assert_eq!(plan.preset, Preset::Reference);
-        assert_eq!(plan.metrics, vec![crate::Metric::Collision]);
-        let err = EvaluationPlan::from_preset_or_file("refrence").unwrap_err();
-        assert!(matches!(err, EvalError::Plan { path: Some(_), .. }), "{err}");
-        assert!(err.to_string().contains("not a preset name"), "{err}");
     }
 }

@@ -25,7 +25,9 @@
 //! user may rely on: `docs/formats.md`.
 //!
 //! [`FolderRun`] is the whole run of `sceneeval evaluate` (the batch, then `summary.csv` and
-//! `summary.md`), shared by the CLI and the Python package; [`inspect`] gives a scene's objects,
+//! `summary.md`) and [`PlanChoice`] reads what it evaluates (`--plan geometry|full|LIST|FILE`,
+//! the preset, the fidelity choices and the downgrade without a VLM), both shared by the CLI
+//! and the Python package; [`inspect`] gives a scene's objects,
 //! rooms, walls and openings as plain serializable values.
 //!
 //! # Example
@@ -79,6 +81,7 @@ mod fingerprint;
 mod folder;
 pub mod inspect;
 mod plan;
+mod plan_choice;
 mod record;
 mod summary;
 
@@ -95,6 +98,7 @@ pub use fingerprint::{
 };
 pub use folder::{FolderOutcome, FolderRun, SUMMARY_CSV, SUMMARY_MD};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
+pub use plan_choice::{ChosenPlan, NoVlmFallback, OptionNames, PlanChoice, PlanSpec};
 pub use plausibility::{Deadline, Metric, MetricTiming, PlausibilitySummary};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage, benchmark_id};
 pub use summary::{ALL_SCENES, GroupSummary, LEGEND, Summary, UNANNOTATED};

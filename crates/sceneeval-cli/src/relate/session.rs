@@ -1,13 +1,15 @@
 //! The state of one `relate` stream: declared objects and rooms, the cache of prepared
-//! rooms, the asset library, and scoring one parsed line against them.
+//! rooms (`sceneeval::relations::spec::RoomCache`, shared with the Python package), the asset
+//! library, and scoring one parsed line against them.
 
-use std::cell::Cell;
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use sceneeval::geom::{Obb, Real};
 use sceneeval::io::AssetLibrary;
-use sceneeval::relations::spec::{GeomOperands, ObjectSpec, RoomSpec, relation_from_spec, score_geoms};
+use sceneeval::relations::spec::{
+    GeomOperands, ObjectSpec, RoomCache, RoomSpec, relation_from_spec, score_geoms,
+};
 use sceneeval::relations::{ObjectGeom, Relation, RelationParams};
 use sceneeval::scene::{Room, SceneObject};
 
@@ -41,71 +43,6 @@ enum Declared {
     Failed {
         line: usize,
     },
-}
-
-/// Prepared rooms keyed by their JSON text as written, least recently used evicted beyond
-/// `capacity`.
-#[derive(Debug)]
-pub(crate) struct RoomCache {
-    capacity: usize,
-    clock: u64,
-    rooms: HashMap<Arc<str>, (Arc<Room>, Cell<u64>)>,
-    /// The room asked for last, with its text: a stream repeating one room compares its text
-    /// instead of hashing it. Its map entry's use stamp stays the newest while it is last.
-    last: Option<(Arc<str>, Arc<Room>)>,
-    /// Rooms built so far (cache misses that built a room).
-    pub built: usize,
-}
-
-impl RoomCache {
-    /// An empty cache holding at most `capacity` rooms (at least one).
-    pub fn new(capacity: usize) -> Self {
-        RoomCache {
-            capacity: capacity.max(1),
-            clock: 0,
-            rooms: HashMap::new(),
-            last: None,
-            built: 0,
-        }
-    }
-
-    /// The prepared room written as `text` (a JSON object), built on first use.
-    pub fn get(&mut self, text: &str) -> Result<Arc<Room>, String> {
-        if let Some((last_text, room)) = &self.last
-            && **last_text == *text
-        {
-            return Ok(Arc::clone(room));
-        }
-        self.clock += 1;
-        if let Some((key, (room, used))) = self.rooms.get_key_value(text) {
-            used.set(self.clock);
-            self.last = Some((Arc::clone(key), Arc::clone(room)));
-            return Ok(Arc::clone(room));
-        }
-        let spec: RoomSpec = serde_json::from_str(text).map_err(|e| format!("invalid room: {e}"))?;
-        let room = Arc::new(spec.build().map_err(|e| e.to_string())?);
-        self.built += 1;
-        if self.rooms.len() >= self.capacity
-            && let Some(oldest) = self
-                .rooms
-                .iter()
-                .min_by_key(|(_, (_, used))| used.get())
-                .map(|(key, _)| key.clone())
-        {
-            self.rooms.remove(&oldest);
-        }
-        let key: Arc<str> = text.into();
-        self.rooms
-            .insert(Arc::clone(&key), (Arc::clone(&room), Cell::new(self.clock)));
-        self.last = Some((key, Arc::clone(&room)));
-        Ok(room)
-    }
-
-    /// How many rooms the cache holds.
-    #[cfg(test)]
-    pub fn len(&self) -> usize {
-        self.rooms.len()
-    }
 }
 
 /// What a line produced.
@@ -164,7 +101,7 @@ impl Session {
     /// Rooms prepared so far (declared or inline).
     #[cfg(test)]
     pub fn rooms_built(&self) -> usize {
-        self.rooms.built
+        self.rooms.built()
     }
 
     /// Declares `name` as `object`; on failure the name becomes unusable (see
@@ -192,7 +129,7 @@ impl Session {
         line: usize,
     ) -> Result<Outcome, String> {
         let result = match room {
-            RoomOperand::Inline(text) => self.rooms.get(text.get()),
+            RoomOperand::Inline(text) => self.inline_room(text.get()),
             RoomOperand::Name(_) => {
                 Err("a declaration's \"room\" must be a room written in place, not a name".to_owned())
             }
@@ -263,10 +200,19 @@ impl Session {
         }
     }
 
+    /// The room written in place as `text` (a JSON object), prepared on first use and kept
+    /// in the session's [`RoomCache`] under its text.
+    fn inline_room(&mut self, text: &str) -> Result<Arc<Room>, String> {
+        self.rooms.get_or_build(text, || {
+            let spec: RoomSpec = serde_json::from_str(text).map_err(|e| format!("invalid room: {e}"))?;
+            spec.build().map_err(|e| e.to_string())
+        })
+    }
+
     /// The room an operand stands for.
     fn room(&mut self, operand: &RoomOperand<'_>) -> Result<Arc<Room>, String> {
         match operand {
-            RoomOperand::Inline(text) => self.rooms.get(text.get()),
+            RoomOperand::Inline(text) => self.inline_room(text.get()),
             RoomOperand::Name(name) => match self.names.get(name.as_ref()) {
                 Some(Declared::Room(room)) => Ok(Arc::clone(room)),
                 Some(Declared::Object(_)) => Err(format!("room: {name:?} is an object, not a room")),
@@ -356,39 +302,4 @@ fn with_causes(error: &dyn std::error::Error) -> String {
         source = cause.source();
     }
     text
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const ROOM: &str = r#"{"floor":[[0,0],[4,0],[4,3],[0,3]]}"#;
-
-    #[test]
-    fn the_room_cache_builds_each_text_once_and_evicts_the_least_recently_used() {
-        let mut cache = RoomCache::new(2);
-        let a = cache.get(ROOM).unwrap();
-        let again = cache.get(ROOM).unwrap();
-        assert!(Arc::ptr_eq(&a, &again));
-        assert_eq!(cache.built, 1);
-        let other = r#"{"floor":[[0,0],[5,0],[5,3],[0,3]]}"#;
-        let third = r#"{"floor":[[0,0],[6,0],[6,3],[0,3]]}"#;
-        cache.get(other).unwrap();
-        // ROOM was used before `other`: adding a third evicts ROOM, keeps `other`.
-        cache.get(third).unwrap();
-        assert_eq!(cache.len(), 2);
-        assert_eq!(cache.built, 3);
-        cache.get(other).unwrap();
-        assert_eq!(cache.built, 3, "other stayed cached");
-        cache.get(ROOM).unwrap();
-        assert_eq!(cache.built, 4, "ROOM was evicted and built again");
-        assert!(cache.get(r#"{"floor":[[0,0],[1,0]]}"#).is_err());
-        assert!(
-            cache
-                .get(r#"{"floor":3}"#)
-                .unwrap_err()
-                .starts_with("invalid room")
-        );
-        assert_eq!(cache.len(), 2, "failures are not cached");
-    }
 }

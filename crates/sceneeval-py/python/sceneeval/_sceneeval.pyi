@@ -50,7 +50,10 @@ def relation(
     around anchor (target is None); object-architecture relations score target in room.
     A box is (cx, cy, cz, hx, hy, hz, yaw) in metres and radians (yaw 0: front faces -y) or a
     dict with the keys of `sceneeval relate` (center, half_size, yaw or rotation); a room is a
-    dict with its room keys (floor, floor_z, height, wall_thickness, openings).
+    dict with its room keys (floor, floor_z, height, wall_thickness, openings). A room is
+    prepared (walls cut around their openings, floor triangulated) once and kept, with the
+    last 64 distinct rooms given (found by their content), so a loop asking about one room
+    prepares it once; relation_batch shares these rooms.
 
     reference=True selects every reference-parity switch (RelationParams::reference);
     any other keyword sets one parameter by its name in relation_params(), e.g.
@@ -71,15 +74,19 @@ def relation_batch(
     reference: bool = False,
     **params: ParamValue,
 ) -> npt.NDArray[np.float64]:
-    """The scores of one relation for N boxes, as a float64 array of shape (N,).
+    """The scores of one relation for N boxes (or N groups of boxes), as a float64 array of
+    shape (N,).
 
     targets: a float64 array of shape (N, 7), one box (cx, cy, cz, hx, hy, hz, yaw) per row.
     Object-object relations take anchors of shape (N, 7) (row i is the anchor of target i)
     or (1, 7) (one anchor for every target); object-architecture relations take room (a dict
-    as for relation()) instead. surround is not a pair relation: use relation().
-    name, side, arch, reference and the parameter keywords are as for relation().
+    as for relation()) instead. surround takes N groups of K targets, targets of shape
+    (N, K, 7), and anchors of shape (N, 7) or (1, 7): score i is surround of the K boxes
+    of group i around anchor i. name, side, arch, reference and the parameter keywords are as
+    for relation().
 
-    The scores equal relation() called row by row. Computed with the GIL released.
+    The scores equal relation() called row by row (group by group for surround). Computed
+    with the GIL released.
 
     Raises ValueError when an array is not a float64 numpy array of the right shape, holds a
     NaN or infinite number, or when the relation or its arguments are wrong.
@@ -95,6 +102,8 @@ class Scene:
     """A scene: objects (boxes or meshes) and rooms with walls, doors and windows.
 
     Build one from boxes with Scene.from_boxes or load a sceneState file with load_scene.
+    Objects can be moved (set_pose, set_boxes), for example in an optimisation loop; a scene
+    may be shared between threads (a move waits for the computations under way).
     """
 
     @staticmethod
@@ -102,18 +111,21 @@ class Scene:
         boxes: npt.NDArray[np.float64],
         room: Optional[RoomLike] = None,
         *,
+        rooms: Optional[Sequence[RoomLike]] = None,
         categories: Optional[Sequence[str]] = None,
         ids: Optional[Sequence[str]] = None,
         id: Optional[str] = None,
     ) -> "Scene":
-        """A scene of box objects in one room.
+        """A scene of box objects in one room or several.
 
         boxes: a float64 array of shape (N, 7), one object per row (cx, cy, cz, hx, hy, hz,
         yaw): centre, half extents (metres) and yaw (radians, yaw 0: front faces -y).
         room: a dict as for relation(): the floor polygon, wall height and thickness, doors
-        and windows (openings). categories: one per object (used by the support and
-        accessibility tables); ids: one per object (default `box_0`, `box_1`, ...); id: the
-        scene's name.
+        and windows (openings); its id is "room". rooms: several such dicts instead (ids
+        "room_0", "room_1", ...); a room dict may also carry its id (the key id), used by
+        Scene.relation's floors= and in the plausibility report. categories: one per object
+        (used by the support and accessibility tables); ids: one per object (default `box_0`,
+        `box_1`, ...); id: the scene's name.
 
         Raises ValueError for a bad array, a bad room or a bad box.
         """
@@ -130,12 +142,40 @@ class Scene:
         """The scene as one dict with scene, objects and rooms: what `sceneeval inspect --json` prints, without the file."""
     def boxes(self) -> npt.NDArray[np.float64]:
         """The objects' boxes as a float64 array of shape (N, 7): centre, half extents, yaw."""
-    def plausibility(self, *, plan: Optional[str] = None, metrics: Optional[Sequence[str]] = None) -> Dict[str, Any]:
+    def set_pose(self, object: Union[str, int], center: Sequence[float], yaw: float) -> None:
+        """Moves one object: its box's centre to center (x, y, z) and its yaw to yaw (radians
+        about +z; the object is then upright), as boxes() reports them. object: the object's
+        id (str) or its position in objects (int). For a box object the centre is the box's;
+        for a mesh object, the centre of its mesh bounds. Everything computed afterwards
+        (relations, plausibility, objects, boxes) sees the object where it now is.
+
+        Raises ValueError for an unknown id, an index out of range, or a NaN or infinite
+        number (the object then stays where it was).
+        """
+    def set_boxes(self, boxes: npt.NDArray[np.float64]) -> None:
+        """Moves every object at once: boxes is a float64 array of shape (N, 7) as boxes()
+        returns it, one row per object in order; each object's box centre and yaw are set
+        from its row as set_pose does. The half extents of a row must be the object's (an
+        object cannot be resized): `b = scene.boxes(); b[:, 0] += 0.1; scene.set_boxes(b)`
+        moves everything 10 cm along x.
+
+        Raises ValueError for an array of the wrong shape or dtype, a NaN or infinite number,
+        or half extents that differ from the object's; then no object is moved.
+        """
+    def plausibility(
+        self,
+        *,
+        plan: Optional[str] = None,
+        preset: Optional[str] = None,
+        metrics: Optional[Sequence[str]] = None,
+    ) -> Dict[str, Any]:
         """Runs the geometry-only plausibility metrics and returns the report as in eval.json.
 
-        plan: a preset name (default, reference) or the path of a plan file; default: every
-        metric with the default preset. metrics: run only these (collision, support,
-        navigability, accessibility, out_of_bounds, opening_clearance).
+        plan: as for evaluate() ("geometry", the default: every geometry metric; a
+        comma-separated metric list; or the path of a plan file), without text-fidelity
+        metrics. preset: "default" or "reference" (every reference-parity switch), replacing
+        a plan file's. metrics: run only these (collision, support, navigability,
+        accessibility, out_of_bounds, opening_clearance).
         The report holds the scene-level summary and each metric's per-object evidence.
         Computed with the GIL released.
         """
@@ -178,20 +218,30 @@ def evaluate(
     out: PathLike,
     annotations: Optional[PathLike] = None,
     plan: Optional[str] = None,
+    preset: Optional[str] = None,
+    metrics: Optional[Sequence[str]] = None,
     force: bool = False,
     threads: Optional[int] = None,
 ) -> Dict[str, Any]:
     """Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
 
-    assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON) adding
-    rows per difficulty to the summary. plan: a preset name (default, reference) or the path
-    of a plan file. A re-run into the same out reuses a scene's result while nothing it
-    depends on changed (force=True evaluates every scene again). threads: worker threads
-    (default one per core). Runs with the GIL released.
+    assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON): the rows
+    the text-fidelity metrics check, and rows per difficulty in the summary. plan: exactly what
+    `sceneeval evaluate --plan` accepts: "geometry" (the default: the six geometry metrics),
+    "full" (the paper's ten metrics, adding cnt, atr, oor, oar, which need annotations), a
+    comma-separated metric list ("collision,cnt,oor") or the path of a plan file (JSON or
+    TOML). preset: "default" or "reference" (every reference-parity switch), as --preset:
+    the parameters start from it (it replaces a plan file's preset). metrics: run only these
+    geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
+    by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
+    one, and say so with a UserWarning and the run's note. A re-run into the same out reuses
+    a scene's result while nothing it depends on changed (force=True evaluates every scene
+    again). threads: worker threads (default one per core). Runs with the GIL released.
 
     Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
-    scenes but are not `scene_<ID>.json`), failures (scene, error, causes) and summary (the
-    table of summary.csv as a dict). A scene that fails is recorded, not raised.
+    scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
+    text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
+    summary.csv as a dict). A scene that fails is recorded, not raised.
     Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
-    ValueError for a bad plan or assets mapping.
+    ValueError for a bad plan, preset, metric or assets mapping.
     """
