@@ -80,13 +80,15 @@ impl PyScene {
 /// The plan for `Scene.plausibility`: as for `evaluate` (see [`PlanChoice`]), geometry
 /// metrics only.
 fn plausibility_plan(
+    py: Python<'_>,
     plan: Option<&str>,
     preset: Option<&str>,
     metrics: Option<Vec<String>>,
 ) -> PyResult<EvaluationPlan> {
+    let (plan, preset) = plan_and_preset(py, plan, preset)?;
     let mut choice = PlanChoice::new(PlanChoice::PYTHON);
     choice.plan = plan;
-    choice.preset = preset_of(preset)?;
+    choice.preset = preset;
     choice.metrics = metrics_of(metrics)?;
     // Checked below with a message for this method.
     choice.annotations = true;
@@ -99,6 +101,36 @@ fn plausibility_plan(
         )));
     }
     Ok(chosen.plan)
+}
+
+/// `plan` and `preset` as given, except that a preset name given as the plan (`plan="reference"`,
+/// which earlier versions of the package documented) is read as that preset with the default
+/// plan, with a `DeprecationWarning`, unless a file of that name exists.
+fn plan_and_preset<'a>(
+    py: Python<'_>,
+    plan: Option<&'a str>,
+    preset: Option<&str>,
+) -> PyResult<(Option<&'a str>, Option<Preset>)> {
+    let given = preset_of(preset)?;
+    if let Some(name) = plan
+        && !std::path::Path::new(name).exists()
+        && let Ok(as_preset) = Preset::from_str(name)
+    {
+        if given.is_some_and(|p| p != as_preset) {
+            return Err(value_error(format!(
+                "plan={name:?} names a preset, and preset={:?} another: give the preset once, as preset=",
+                preset.unwrap_or_default()
+            )));
+        }
+        let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
+        let message = std::ffi::CString::new(format!(
+            "plan={name:?} is a preset name: pass preset={name:?} (plan= takes geometry, full, a metric list or a plan file)"
+        ))
+        .map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(py, &category, &message, 2)?;
+        return Ok((None, Some(as_preset)));
+    }
+    Ok((plan, given))
 }
 
 /// A preset by name.
@@ -471,7 +503,7 @@ impl PyScene {
         metrics: Option<Vec<String>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let evaluator =
-            Evaluator::new(plausibility_plan(plan, preset, metrics)?).map_err(|e| eval_error(&e))?;
+            Evaluator::new(plausibility_plan(py, plan, preset, metrics)?).map_err(|e| eval_error(&e))?;
         let report = detached(py, || {
             self.with_scene(|scene| evaluator.evaluate(scene))
                 .map_err(|e| eval_error(&e))
@@ -573,7 +605,9 @@ struct Failure {
 /// "full" (the paper's ten metrics, adding cnt, atr, oor, oar, which need annotations), a
 /// comma-separated metric list ("collision,cnt,oor") or the path of a plan file (JSON or
 /// TOML). preset: "default" or "reference" (every reference-parity switch), as --preset:
-/// the parameters start from it (it replaces a plan file's preset). metrics: run only these
+/// the parameters start from it (it replaces a plan file's preset; a preset name given as
+/// plan=, the spelling of earlier versions, is read as preset= with a DeprecationWarning).
+/// metrics: run only these
 /// geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
 /// by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
 /// one, and say so with a UserWarning and the run's note. A re-run into the same out reuses
@@ -608,9 +642,10 @@ pub fn evaluate<'py>(
             scenes_dir.display()
         )));
     }
+    let (plan, preset) = plan_and_preset(py, plan, preset)?;
     let mut choice = PlanChoice::new(PlanChoice::PYTHON);
     choice.plan = plan;
-    choice.preset = preset_of(preset)?;
+    choice.preset = preset;
     choice.metrics = metrics_of(metrics)?;
     choice.annotations = annotations.is_some();
     let chosen = choice.resolve().map_err(|e| eval_error(&e))?;

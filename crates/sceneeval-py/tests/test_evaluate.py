@@ -62,9 +62,17 @@ def test_plans_as_the_cli_reads_them(scenes_dir, tmp_path):
     run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "d", plan="geometry", metrics=["navigability"])
     record = json.loads((tmp_path / "d" / "scene_0" / "eval.json").read_text())
     assert record["report"]["metrics"] == ["navigability"]
-    # A preset name is not a plan (as for --plan): the preset is its own keyword.
-    with pytest.raises(ValueError, match=r'^plan "reference" is not geometry, full, a metric list or an existing file: .*unknown metric "reference"'):
-        sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "e", plan="reference")
+    # A preset name as the plan (the spelling of earlier versions) still works, as that preset
+    # with the default plan, and warns that the preset is its own keyword.
+    with pytest.warns(DeprecationWarning, match=r'plan="reference" is a preset name: pass preset="reference"'):
+        run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "f", plan="reference")
+    assert "Preset: `reference`" in (tmp_path / "f" / "summary.md").read_text()
+    record = json.loads((tmp_path / "f" / "scene_0" / "eval.json").read_text())
+    assert record["report"]["metrics"] == ["collision", "support", "navigability", "accessibility", "out_of_bounds", "opening_clearance"]
+    with pytest.raises(ValueError, match=r'plan="reference" names a preset, and preset="default" another'):
+        sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "g", plan="reference", preset="default")
+    with pytest.raises(ValueError, match=r'^plan "refrence" is not geometry, full, a metric list or an existing file'):
+        sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "e", plan="refrence")
     with pytest.raises(ValueError, match=r"unknown preset \"refrence\""):
         sceneeval.evaluate(scenes_dir, assets={}, out=tmp_path / "e", preset="refrence")
     with pytest.raises(ValueError, match=r"unknown metric"):

@@ -231,7 +231,9 @@ def evaluate(
     "full" (the paper's ten metrics, adding cnt, atr, oor, oar, which need annotations), a
     comma-separated metric list ("collision,cnt,oor") or the path of a plan file (JSON or
     TOML). preset: "default" or "reference" (every reference-parity switch), as --preset:
-    the parameters start from it (it replaces a plan file's preset). metrics: run only these
+    the parameters start from it (it replaces a plan file's preset; a preset name given as
+    plan=, the spelling of earlier versions, is read as preset= with a DeprecationWarning).
+    metrics: run only these
     geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
     by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
     one, and say so with a UserWarning and the run's note. A re-run into the same out reuses
