@@ -4,7 +4,7 @@ use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Ray, Real, Vector3};
 
 use crate::clip::Poly2;
 use crate::pairwise::effective_half;
-use crate::{ObjectGeom, RelationParams};
+use crate::{FaceToHeights, ObjectGeom, RelationParams};
 
 /// `face_to`: whether the target's front (local -y) points at the anchor, in `[0, 1]`.
 ///
@@ -29,10 +29,22 @@ use crate::{ObjectGeom, RelationParams};
 ///   the cells' centres (the midpoint rule), each ray first tested against the anchor's box;
 ///   a ray starting inside a closed mesh hits it from inside, as in the reference.
 ///
+/// **Heights** ([`RelationParams::face_to_heights`]): by default the anchor counts at any
+/// height. For an upright target (rotated about the vertical only) the rays are horizontal and
+/// only the plan view of their first hits enters the angle, so the kernel takes the first hits
+/// on the vertical prism over the anchor's footprint: a box anchor is extended vertically over
+/// every ray (exact; an upright box's footprint is its own), a mesh anchor is probed by each
+/// column of rays at the grid's heights spread over the anchor's own height, the column's
+/// nearest hit counting. A sofa then faces the TV hung above its backrest, which the
+/// reference's rays, leaving the sofa at the sofa's heights, never reach
+/// ([`FaceToHeights::TargetSpan`], the reference preset). A tilted target, or a tilted box
+/// anchor, is scored at the target's heights either way.
+///
 /// Differences from the reference: no sampling noise; where the anchor overlaps the target
 /// along the rays, rays start from the mid-depth plane rather than from every depth; the
 /// directions are normalised exactly (the reference adds `1e-6` to the lengths, which caps a
-/// perfect alignment at about 0.996) and the cosine is clipped before `acos` (quirk Q20).
+/// perfect alignment at about 0.996) and the cosine is clipped before `acos` (quirk Q20); the
+/// heights above.
 ///
 /// ```
 /// use sceneeval_relations::{face_to, ObjectGeom, RelationParams};
@@ -45,11 +57,21 @@ use crate::{ObjectGeom, RelationParams};
 /// // Turned away, no ray hits.
 /// let away = Obb::from_yaw(Point3::new(0.0, 0.0, 0.4), Vector3::new(1.0, 0.45, 0.4), 0.0).unwrap();
 /// assert_eq!(face_to(&ObjectGeom::from_box(&away), &ObjectGeom::from_box(&tv), &p), 0.0);
+/// // A TV hung at 1.2-1.8 m, above the 0.8 m sofa: faced in plan view, missed by the
+/// // reference's rays.
+/// let high = Obb::from_yaw(Point3::new(0.0, 3.0, 1.5), Vector3::new(0.6, 0.05, 0.3), 0.0).unwrap();
+/// assert!((face_to(&ObjectGeom::from_box(&sofa), &ObjectGeom::from_box(&high), &p) - 1.0).abs() < 1e-9);
+/// let reference = RelationParams::reference();
+/// assert_eq!(face_to(&ObjectGeom::from_box(&sofa), &ObjectGeom::from_box(&high), &reference), 0.0);
 /// ```
 pub fn face_to(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
+    let plan_view = params.face_to_heights == FaceToHeights::Any && is_upright(target.obb);
     let mean_local = match anchor.mesh {
+        None if plan_view && is_upright(anchor.obb) => {
+            mean_hit_on_box(target.obb, &prism_over(anchor.obb, target.obb, params), params)
+        }
         None => mean_hit_on_box(target.obb, anchor.obb, params),
-        Some((mesh, pose)) => mean_hit_on_mesh(target.obb, mesh, pose, anchor.obb, params),
+        Some((mesh, pose)) => mean_hit_on_mesh(target.obb, mesh, pose, anchor.obb, params, plan_view),
     };
     let Some(hit) = mean_local else {
         return 0.0;
@@ -152,6 +174,25 @@ fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3>
     })
 }
 
+/// Whether the box is rotated about the vertical only (its local z is world z or its
+/// opposite), so that its footprint is its own and its front is horizontal.
+fn is_upright(obb: &Obb) -> bool {
+    let z = obb.rotation * Vector3::z();
+    z.x.abs() <= 1e-12 && z.y.abs() <= 1e-12
+}
+
+/// An upright `anchor` extended vertically over every ray from the upright `target`: its
+/// footprint and orientation, centred at the target's height and taller than the target's
+/// cross-section. The rays are horizontal and keep their heights, so every line meets it where
+/// it meets the prism over the anchor's footprint.
+fn prism_over(anchor: &Obb, target: &Obb, params: &RelationParams) -> Obb {
+    let span = effective_half(target, params).z;
+    let mut prism = *anchor;
+    prism.center.z = target.center.z;
+    prism.half_extents.z = 2.0 * span + 1.0;
+    prism
+}
+
 fn clip_to_rect(poly: &mut Poly2, hx: Real, hz: Real) {
     poly.clip(1.0, 0.0, hx);
     poly.clip(-1.0, 0.0, hx);
@@ -184,12 +225,17 @@ fn ray_meets_box(obb: &Obb, origin: &Point3, dir: &Vector3) -> bool {
 
 /// Mean first-hit point on a mesh anchor over a fixed grid of rays from the target's
 /// mid-depth cross-section, in the target's frame; `None` when no ray hits.
+///
+/// With `plan_view` (an upright target), each column of the grid (one position across the
+/// target's width) casts its rays at heights spread over the anchor's box instead of the
+/// target's, and its nearest hit is the column's first hit in plan view.
 fn mean_hit_on_mesh(
     a: &Obb,
     mesh: &Mesh,
     pose: &Isometry3,
     b_box: &Obb,
     params: &RelationParams,
+    plan_view: bool,
 ) -> Option<Vector3> {
     let h = effective_half(a, params);
     let n = params.face_to_mesh_rays.max(1);
@@ -197,6 +243,29 @@ fn mean_hit_on_mesh(
     let front = a.rotation * Vector3::new(0.0, -1.0, 0.0);
     let mut count = 0u32;
     let mut acc = Vector3::zeros();
+    if plan_view {
+        // The anchor's box spans b.z +- reach in world height.
+        let r = b_box.rotation.matrix();
+        let reach: Real = (0..3).map(|l| r[(2, l)].abs() * b_box.half_extents[l]).sum();
+        for iu in 0..n {
+            let across = step(h.x, iu);
+            let nearest = (0..n)
+                .filter_map(|iv| {
+                    let mut origin = a.center + a.rotation * Vector3::new(across, 0.0, 0.0);
+                    origin.z = b_box.center.z + step(reach, iv);
+                    ray_meets_box(b_box, &origin, &front)
+                        .then(|| mesh.cast_ray(pose, &Ray::new(origin, front), Real::MAX))
+                        .flatten()
+                        .map(|hit| hit.toi)
+                })
+                .reduce(Real::min);
+            if let Some(toi) = nearest {
+                count += 1;
+                acc += Vector3::new(across, -toi, 0.0);
+            }
+        }
+        return (count > 0).then(|| acc / Real::from(count));
+    }
     for iu in 0..n {
         for iv in 0..n {
             let local = Vector3::new(step(h.x, iu), 0.0, step(h.z, iv));
@@ -309,6 +378,122 @@ mod tests {
         let hit = mean_hit_on_box(&a, &b, &RelationParams::default()).unwrap();
         assert!((hit - Vector3::new(0.0, -1.0, 0.0)).norm() < 1e-12, "{hit}");
         assert!((score(&a, &b) - 1.0).abs() < 1e-12);
+    }
+
+    fn score_with(a: &Obb, b: &Obb, params: &RelationParams) -> Real {
+        face_to(&ObjectGeom::from_box(a), &ObjectGeom::from_box(b), params)
+    }
+
+    #[test]
+    fn anchors_above_or_below_the_target_count_in_plan_view() {
+        let any = RelationParams::default();
+        let span = RelationParams::reference();
+        assert_eq!(any.face_to_heights, FaceToHeights::Any);
+        assert_eq!(span.face_to_heights, FaceToHeights::TargetSpan);
+        // Target 0-1 m tall facing -y; anchor hung at 1.5-2.5 m, 2 m ahead and 0.6 m to the
+        // side: the lines with x in [0.1, 0.5] reach its footprint at depth 1.9, as in
+        // `head_on_lateral_offset_and_away`, so the angle is atan(0.3 / 1.9).
+        let a = bx([0.0, 0.0, 0.5], [0.5, 0.3, 0.5], 0.0);
+        let high = bx([0.6, -2.0, 2.0], [0.5, 0.1, 0.5], 0.0);
+        let expected = 1.0 - (0.3f64 / 1.9).atan().to_degrees() / 30.0;
+        assert!((score_with(&a, &high, &any) - expected).abs() < 1e-12);
+        assert_eq!(score_with(&a, &high, &span), 0.0);
+        // Below the target (a rug under a raised object) likewise.
+        let low = bx([0.0, -2.0, -3.0], [0.5, 0.1, 0.5], 0.0);
+        assert!((score_with(&a, &low, &any) - 1.0).abs() < 1e-12);
+        assert_eq!(score_with(&a, &low, &span), 0.0);
+        // An anchor behind the target stays unseen at any height.
+        let behind = bx([0.0, 2.0, 2.0], [0.5, 0.1, 0.5], 0.0);
+        assert_eq!(score_with(&a, &behind, &any), 0.0);
+    }
+
+    #[test]
+    fn plan_view_changes_nothing_when_the_anchor_spans_the_target_height() {
+        // Anchors whose height covers the target's: every ray meets them at the same point
+        // either way, bit for bit.
+        let a = bx([0.3, -0.2, 0.5], [0.5, 0.3, 0.5], 0.4);
+        for (c, h, yaw) in [
+            ([0.0, -2.0, 0.5], [0.5, 0.1, 0.6], 0.0),
+            ([0.9, -2.5, 1.0], [0.7, 0.4, 1.0], 0.7),
+            ([-1.5, -1.0, 0.4], [0.3, 0.9, 0.6], 2.0),
+            ([0.0, -0.4, 0.5], [1.0, 0.6, 1.0], 0.0),
+        ] {
+            let b = bx(c, h, yaw);
+            let (any, span) = (RelationParams::default(), RelationParams::reference());
+            assert_eq!(score_with(&a, &b, &any), score_with(&a, &b, &span), "{b:?}");
+        }
+    }
+
+    #[test]
+    fn tilted_targets_keep_the_target_heights() {
+        use sceneeval_geom::na::UnitQuaternion;
+        // A target tipped 0.3 rad about its x axis: its rays are not horizontal, so the anchor
+        // above it is scored as the reference does (not hit).
+        let a = Obb::new(
+            Point3::new(0.0, 0.0, 0.5),
+            Vector3::new(0.5, 0.3, 0.5),
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.3).to_rotation_matrix(),
+        )
+        .unwrap();
+        let high = bx([0.0, -2.0, 4.0], [0.5, 0.1, 0.5], 0.0);
+        assert_eq!(score_with(&a, &high, &RelationParams::default()), 0.0);
+    }
+
+    #[test]
+    fn mesh_anchors_above_the_target_are_probed_at_their_own_heights() {
+        let a = bx([0.0, 0.0, 0.5], [0.5, 0.3, 0.5], 0.0);
+        let b = bx([0.6, -2.0, 2.0], [0.5, 0.1, 0.5], 0.0);
+        let mesh = Mesh::cuboid(&b.half_extents).unwrap();
+        let pose = b.pose();
+        let grid = |params: &RelationParams| {
+            face_to(
+                &ObjectGeom::from_box(&a),
+                &ObjectGeom::with_mesh(&b, &mesh, &pose),
+                params,
+            )
+        };
+        // As in `mesh_anchor_grid_matches_the_box_formula`: the columns at x = 0.1875,
+        // 0.3125, 0.4375 hit at depth 1.9, mean 0.3125.
+        let expected = 1.0 - (0.3125f64 / 1.9).atan().to_degrees() / 30.0;
+        assert!((grid(&RelationParams::default()) - expected).abs() < 1e-9);
+        assert_eq!(grid(&RelationParams::reference()), 0.0);
+        // A column's nearest hit counts: a mesh whose lower half reaches 0.5 m nearer.
+        let stepped = Mesh::new(
+            vec![
+                // Upper block: depth 1.9 .. 2.1 (y from -2.1 to -1.9), z 2.0 .. 2.5.
+                Point3::new(0.1, -2.1, 2.0),
+                Point3::new(1.1, -2.1, 2.0),
+                Point3::new(1.1, -1.9, 2.0),
+                Point3::new(0.1, -1.9, 2.0),
+                Point3::new(0.1, -2.1, 2.5),
+                Point3::new(1.1, -2.1, 2.5),
+                Point3::new(1.1, -1.9, 2.5),
+                Point3::new(0.1, -1.9, 2.5),
+                // Lower block: depth 1.4 .. 2.1, z 1.5 .. 2.0.
+                Point3::new(0.1, -2.1, 1.5),
+                Point3::new(1.1, -2.1, 1.5),
+                Point3::new(1.1, -1.4, 1.5),
+                Point3::new(0.1, -1.4, 1.5),
+                Point3::new(0.1, -2.1, 1.99),
+                Point3::new(1.1, -2.1, 1.99),
+                Point3::new(1.1, -1.4, 1.99),
+                Point3::new(0.1, -1.4, 1.99),
+            ],
+            sceneeval_geom::CUBOID_TRIANGLES
+                .iter()
+                .flat_map(|t| [*t, t.map(|v| v + 8)])
+                .collect(),
+        )
+        .unwrap();
+        let identity = Isometry3::identity();
+        let b2 = bx([0.6, -1.75, 2.0], [0.5, 0.35, 0.5], 0.0);
+        let s = face_to(
+            &ObjectGeom::from_box(&a),
+            &ObjectGeom::with_mesh(&b2, &stepped, &identity),
+            &RelationParams::default(),
+        );
+        let expected = 1.0 - (0.3125f64 / 1.4).atan().to_degrees() / 30.0;
+        assert!((s - expected).abs() < 1e-9, "{s} vs {expected}");
     }
 
     #[test]

@@ -67,6 +67,7 @@
 //! | `middle_of_room` centre | the floor's bounding-box centre | the floor's area centroid (paper) | [`RoomCentre::BoundsCentre`] |
 //! | `middle_of_room` sigma | `o/2 + (1 - o/r)`, can reach 0 or go negative | the ratio term stops at 0 | — |
 //! | `face_to` | rays from every sample; `1e-6` added to lengths; `arccos` unclipped (Q20) | exact over the mid-depth cross-section (box) or a fixed ray grid (mesh); exact normalisation, clipped cosine | — |
+//! | `face_to` heights | rays only at the target's heights: a TV above the sofa's backrest is never hit | the anchor at any height (plan view, the angle's own view) | [`FaceToHeights::TargetSpan`] |
 //! | `side_of` margin | lateral half extents x 1.25, unbounded outward | same (the paper says "25 % in each dimension") | — |
 //! | distance-relation element types | floor, ceiling or room crash (Q19) | rejected with an error when parsing | — |
 //! | `hang_from_ceiling` | every floor raised by the tallest wall of the scene | the room's ceiling (explicit, else its tallest wall) | — |
@@ -156,7 +157,8 @@ pub use pairwise::{
     pair_distance, side_of, side_region, surround,
 };
 pub use params::{
-    CornerWalls, DistanceBand, DistanceFrom, OnTopPlane, RelationParams, RoomCentre, SurroundVariant,
+    CornerWalls, DistanceBand, DistanceFrom, FaceToHeights, OnTopPlane, RelationParams, RoomCentre,
+    SurroundVariant,
 };
 pub use relation::{ArchElement, LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES, Relation, RelationKind};
 pub use scene_eval::{Evaluation, Query, SURROUND_REFERENCE_MAX_TARGETS, SceneRelations};

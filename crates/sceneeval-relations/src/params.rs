@@ -124,6 +124,24 @@ pub enum SurroundVariant {
     Reference,
 }
 
+/// At which heights `face_to` lets its rays find the anchor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum FaceToHeights {
+    /// At any height: the first hits are taken in plan view, as if the anchor's footprint
+    /// were a vertical prism, so that a sofa faces a TV hung above its backrest and a bed a
+    /// painting on the wall. The reference's angle is a plan-view angle too; only its rays are
+    /// bounded by the target's height. Applies to upright objects (rotated about the vertical
+    /// only), which is every object a scene generator places upright; a tilted target, or a
+    /// tilted box anchor, is scored as with [`FaceToHeights::TargetSpan`].
+    #[default]
+    Any,
+    /// The reference: rays leave the target horizontally at the heights it spans, so an
+    /// anchor wholly above or below the target is never hit (score 0).
+    TargetSpan,
+}
+
 /// Which point of a floor `middle_of_room` measures from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -192,6 +210,8 @@ pub struct RelationParams {
     /// `face_to` against a mesh: rays per side of the square grid over the target's
     /// cross-section (8, so 64 rays). Boxes are handled exactly without rays.
     pub face_to_mesh_rays: u32,
+    /// `face_to`: the anchor counts at any height (plan view) or only at the target's.
+    pub face_to_heights: FaceToHeights,
     /// `middle_of`: standard deviation of the plan-view centre distance (metres, 0.25; holds
     /// below 0.294 m).
     pub middle_of_sigma: Real,
@@ -257,6 +277,7 @@ impl Default for RelationParams {
             region_margin: 1e-9,
             face_to_max_deviation_deg: 30.0,
             face_to_mesh_rays: 8,
+            face_to_heights: FaceToHeights::Any,
             middle_of_sigma: 0.25,
             surround_distance_weight: 0.5,
             surround_angle_weight: 0.5,
@@ -298,6 +319,7 @@ impl RelationParams {
             room_centre: RoomCentre::BoundsCentre,
             corner_walls: CornerWalls::MeanDirections,
             distance_from: DistanceFrom::SmallerBox,
+            face_to_heights: FaceToHeights::TargetSpan,
             ..RelationParams::default()
         }
     }
