@@ -29,7 +29,8 @@
 //!
 //! # Colour
 //! Base colour factors and vertex colours are linear, colour textures sRGB, the output
-//! sRGB-encoded. The light is white and diffuse only (a hemisphere light plus a key and a fill
+//! sRGB-encoded (by the shader for opaque surfaces, once per pixel; blending and the
+//! multisample resolve happen in linear light). The light is white and diffuse only (a hemisphere light plus a key and a fill
 //! light fixed relative to the camera), nothing is tone-mapped, and a surface facing the key
 //! light receives about full light: a red sofa stays red, a white wall white. Objects without
 //! an asset (boxes) are drawn in [`BOX_COLOR`], floors in [`FLOOR_COLOR`], walls in

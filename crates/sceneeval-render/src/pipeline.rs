@@ -5,8 +5,14 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use sceneeval_io::appearance::{Filter, Sampler, Wrap};
 
-/// Colour format of the targets: 8-bit sRGB, so the PNG bytes are gamma-encoded.
+/// Format of colour textures: 8-bit sRGB-encoded colour, linear alpha.
 pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Format of the colour targets: the same bytes as [`COLOR_FORMAT`] (gamma-encoded, what the
+/// PNG stores), written as they are by opaque surfaces, which encode sRGB in the shader once
+/// per pixel; a CPU rasteriser would otherwise convert every one of the 4 samples. Blended
+/// surfaces and the multisample resolve use a [`COLOR_FORMAT`] view of the same texture, so
+/// that they mix in linear light.
+pub(crate) const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Depth format (reversed depth: 1 near, 0 far).
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Sample counts a render may use: 1 (no multisampling) or 4.
@@ -53,23 +59,36 @@ impl VertexKind {
     }
 }
 
-/// One pipeline: the vertex kind, whether the surface blends, and whether back faces are
-/// culled (only for opaque closed meshes, see `closed.rs`).
+/// One pipeline: the vertex kind, whether the surface blends, whether back faces are culled
+/// (only for opaque closed meshes, see `closed.rs`), and whether fragments may be discarded
+/// (walls cut in top views, alpha-masked materials). Without `discard` the shader has no
+/// discard at all, which lets a CPU rasteriser test and write depth in one step before
+/// shading.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) struct PipelineKey {
     pub kind: VertexKind,
     pub blend: bool,
     pub cull: bool,
+    pub discard: bool,
 }
 
 impl PipelineKey {
-    /// Every pipeline a render may use (blended surfaces are never culled).
+    /// The pipelines renders use: opaque surfaces culled or not, opaque ones that may discard
+    /// (never culled), and blended ones (never culled and never discarding: only objects
+    /// blend, and they are not cut). Others are created if ever needed.
     pub(crate) fn all() -> impl Iterator<Item = PipelineKey> {
         VertexKind::ALL.into_iter().flat_map(|kind| {
-            [(false, false), (false, true), (true, false)].map(|(blend, cull)| PipelineKey {
+            [
+                (false, false, false),
+                (false, true, false),
+                (false, false, true),
+                (true, false, false),
+            ]
+            .map(|(blend, cull, discard)| PipelineKey {
                 kind,
                 blend,
                 cull,
+                discard,
             })
         })
     }
@@ -177,8 +196,15 @@ impl Pipelines {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &attributes[..used],
         })];
+        // Opaque surfaces write sRGB-encoded bytes into the target as it is; blended ones go
+        // through its sRGB view and blend in linear light (`TARGET_FORMAT`).
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        let constants = [
+            ("encode_srgb", flag(!key.blend)),
+            ("may_discard", flag(key.discard)),
+        ];
         let targets = [Some(wgpu::ColorTargetState {
-            format: COLOR_FORMAT,
+            format: if key.blend { COLOR_FORMAT } else { TARGET_FORMAT },
             // Premultiplied alpha: the shader writes (rgb * a, a).
             blend: key
                 .blend
@@ -187,10 +213,11 @@ impl Pipelines {
         })];
         let (vertex_entry, fragment_entry) = key.kind.entry_points();
         let label = format!(
-            "{:?}{}{}",
+            "{:?}{}{}{}",
             key.kind,
             if key.blend { " blend" } else { " opaque" },
-            if key.cull { " culled" } else { "" }
+            if key.cull { " culled" } else { "" },
+            if key.discard { " discarding" } else { "" }
         );
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&label),
@@ -225,7 +252,10 @@ impl Pipelines {
             fragment: Some(wgpu::FragmentState {
                 module: &self.shader,
                 entry_point: Some(fragment_entry),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
                 targets: &targets,
             }),
             multiview_mask: None,

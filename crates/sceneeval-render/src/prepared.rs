@@ -15,7 +15,8 @@ use crate::closed::closed_outward;
 use crate::human::{FigureMesh, human_figure};
 use crate::input::{ObjectInput, SceneInput};
 use crate::pipeline::{
-    COLOR_FORMAT, DEPTH_FORMAT, ITEM_BYTES, PipelineKey, SAMPLE_COUNTS, VIEW_UNIFORM_BYTES, VertexKind,
+    COLOR_FORMAT, DEPTH_FORMAT, ITEM_BYTES, PipelineKey, SAMPLE_COUNTS, TARGET_FORMAT, VIEW_UNIFORM_BYTES,
+    VertexKind,
 };
 use crate::pixels;
 use crate::{Camera, NEAR_M, RenderError, RenderSettings, Renderer};
@@ -55,6 +56,8 @@ pub(crate) struct DrawItem {
     pub index_count: u32,
     pub material: usize,
     pub blend: bool,
+    /// Whether the material masks by alpha (fragments below its cutoff are discarded).
+    pub masked: bool,
     /// Whether the item may be drawn with back faces culled when its owner's box lies in
     /// front of the camera: its owner is drawn as one closed, outward-wound mesh
     /// ([`closed_outward`]) that is opaque everywhere, never cut, and not mirrored.
@@ -74,11 +77,16 @@ struct Targets {
     width: u32,
     height: u32,
     samples: u32,
-    /// The multisampled colour target (resolved into `resolve`); `None` with one sample,
-    /// when `resolve` is drawn into directly.
-    msaa: Option<wgpu::TextureView>,
+    /// The colour target drawn into ([`TARGET_FORMAT`]; multisampled, or `resolve` itself
+    /// with one sample): opaque surfaces write sRGB-encoded bytes through this view...
+    encoded: wgpu::TextureView,
+    /// ... and blended surfaces blend in linear light through this [`COLOR_FORMAT`] view.
+    linear: wgpu::TextureView,
+    /// The single-sample image that is read back.
     resolve: wgpu::Texture,
-    resolve_view: wgpu::TextureView,
+    /// With multisampling, `resolve`'s [`COLOR_FORMAT`] view, into which the samples are
+    /// averaged in linear light; `None` with one sample.
+    resolve_linear: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
     readback: wgpu::Buffer,
     padded_row: u32,
@@ -259,18 +267,32 @@ impl PreparedScene {
         }
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
-        {
+        // Opaque surfaces, then blended ones in a second pass through the linear view, which
+        // also resolves the samples (in linear light); each in item order.
+        for blend in [false, true] {
+            let resolving = blend && targets.resolve_linear.is_some();
+            if blend && !resolving && !shot.items.iter().any(|&i| self.items[i].blend) {
+                break;
+            }
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
-                // With multisampling the samples are resolved into `resolve` and discarded;
-                // without, `resolve` is drawn into directly.
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: targets.msaa.as_ref().unwrap_or(&targets.resolve_view),
+                    view: if blend { &targets.linear } else { &targets.encoded },
                     depth_slice: None,
-                    resolve_target: targets.msaa.as_ref().map(|_| &targets.resolve_view),
+                    resolve_target: if blend {
+                        targets.resolve_linear.as_ref()
+                    } else {
+                        None
+                    },
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: if targets.msaa.is_some() {
+                        load: if blend {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                        },
+                        // Multisampled, the samples are resolved into `resolve` and discarded;
+                        // with one sample `resolve` is the target.
+                        store: if resolving {
                             wgpu::StoreOp::Discard
                         } else {
                             wgpu::StoreOp::Store
@@ -281,8 +303,16 @@ impl PreparedScene {
                     view: &targets.depth,
                     depth_ops: Some(wgpu::Operations {
                         // Reversed depth: 0 is infinitely far.
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Discard,
+                        load: if blend {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(0.0)
+                        },
+                        store: if blend {
+                            wgpu::StoreOp::Discard
+                        } else {
+                            wgpu::StoreOp::Store
+                        },
                     }),
                     stencil_ops: None,
                 }),
@@ -291,40 +321,39 @@ impl PreparedScene {
                 multiview_mask: None,
             });
             let pipelines = self.renderer.pipelines();
-            // Opaque surfaces first, then blended ones, each in item order.
-            for blend in [false, true] {
-                let mut bound_pipeline = None;
-                let mut bound_mesh = None;
-                let mut bound_material = None;
-                for &i in &shot.items {
-                    let item = &self.items[i];
-                    if item.blend != blend {
-                        continue;
-                    }
-                    let mesh = &self.meshes[item.mesh];
-                    let key = PipelineKey {
-                        kind: mesh.kind,
-                        blend,
-                        cull: item.closed && shot.cull_closed && self.in_front(item.owner, shot),
-                    };
-                    if bound_pipeline != Some(key) {
-                        pass.set_pipeline(&pipelines.pipeline(device, targets.samples, key));
-                        bound_pipeline = Some(key);
-                    }
-                    if bound_mesh != Some(item.mesh) {
-                        pass.set_vertex_buffer(0, mesh.vertices.slice(..));
-                        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                        bound_mesh = Some(item.mesh);
-                    }
-                    if bound_material != Some(item.material) {
-                        pass.set_bind_group(1, &self.materials[item.material], &[]);
-                        bound_material = Some(item.material);
-                    }
-                    // The item's window of the item buffer (fits in u32: checked at upload).
-                    let offset = (i as u64 * self.item_stride) as u32;
-                    pass.set_bind_group(0, &self.view_bind_group, &[offset]);
-                    pass.draw_indexed(item.first_index..item.first_index + item.index_count, 0, 0..1);
+            let mut bound_pipeline = None;
+            let mut bound_mesh = None;
+            let mut bound_material = None;
+            for &i in &shot.items {
+                let item = &self.items[i];
+                if item.blend != blend {
+                    continue;
                 }
+                let mesh = &self.meshes[item.mesh];
+                let cut = shot.cut_walls && matches!(item.owner, Owner::Wall(_));
+                let key = PipelineKey {
+                    kind: mesh.kind,
+                    blend,
+                    cull: item.closed && shot.cull_closed && self.in_front(item.owner, shot),
+                    discard: cut || item.masked,
+                };
+                if bound_pipeline != Some(key) {
+                    pass.set_pipeline(&pipelines.pipeline(device, targets.samples, key));
+                    bound_pipeline = Some(key);
+                }
+                if bound_mesh != Some(item.mesh) {
+                    pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+                    pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    bound_mesh = Some(item.mesh);
+                }
+                if bound_material != Some(item.material) {
+                    pass.set_bind_group(1, &self.materials[item.material], &[]);
+                    bound_material = Some(item.material);
+                }
+                // The item's window of the item buffer (fits in u32: checked at upload).
+                let offset = (i as u64 * self.item_stride) as u32;
+                pass.set_bind_group(0, &self.view_bind_group, &[offset]);
+                pass.draw_indexed(item.first_index..item.first_index + item.index_count, 0, 0..1);
             }
         }
         encoder.copy_texture_to_buffer(
@@ -601,6 +630,7 @@ impl<'a> Upload<'a> {
                     index_count: part.index_count,
                     material: slot,
                     blend: material.alpha_mode == AlphaMode::Blend,
+                    masked: matches!(material.alpha_mode, AlphaMode::Mask { .. }),
                     closed,
                 },
                 data,
@@ -643,6 +673,7 @@ impl<'a> Upload<'a> {
                 index_count: indices.len() as u32,
                 material: 0,
                 blend: false,
+                masked: false,
                 closed: closed && cullable && normal.determinant() > 0.0,
             },
             data,
@@ -678,6 +709,7 @@ impl<'a> Upload<'a> {
                 index_count: figure.indices.len() as u32,
                 material: 0,
                 blend: false,
+                masked: false,
                 closed,
             },
             data,
@@ -866,7 +898,7 @@ impl Targets {
             height,
             depth_or_array_layers: 1,
         };
-        let texture = |label: &str, format, samples, usage| {
+        let texture = |label: &str, format, samples, usage, view_formats: &[wgpu::TextureFormat]| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size,
@@ -875,29 +907,48 @@ impl Targets {
                 dimension: wgpu::TextureDimension::D2,
                 format,
                 usage,
-                view_formats: &[],
+                view_formats,
             })
         };
-        let msaa = (samples > 1).then(|| {
-            texture(
-                "colour (msaa)",
-                COLOR_FORMAT,
-                samples,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&Default::default())
-        });
+        let linear_view = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(COLOR_FORMAT),
+                ..Default::default()
+            })
+        };
         let resolve = texture(
             "colour",
-            COLOR_FORMAT,
+            TARGET_FORMAT,
             1,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            &[COLOR_FORMAT],
         );
+        let (encoded, linear, resolve_linear) = if samples > 1 {
+            let msaa = texture(
+                "colour (msaa)",
+                TARGET_FORMAT,
+                samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+                &[COLOR_FORMAT],
+            );
+            (
+                msaa.create_view(&Default::default()),
+                linear_view(&msaa),
+                Some(linear_view(&resolve)),
+            )
+        } else {
+            (
+                resolve.create_view(&Default::default()),
+                linear_view(&resolve),
+                None,
+            )
+        };
         let depth = texture(
             "depth",
             DEPTH_FORMAT,
             samples,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
+            &[],
         );
         let padded_row = pixels::padded_row_bytes(width);
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
@@ -910,9 +961,10 @@ impl Targets {
             width,
             height,
             samples,
-            msaa,
-            resolve_view: resolve.create_view(&Default::default()),
+            encoded,
+            linear,
             resolve,
+            resolve_linear,
             depth: depth.create_view(&Default::default()),
             readback,
             padded_row,

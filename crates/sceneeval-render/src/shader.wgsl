@@ -7,7 +7,9 @@
 // - `vs_full`/`fs_full`: positions, normals, texture coordinates and vertex colours, and the
 //   base colour texture.
 // Per-item transforms and colours come from a uniform buffer bound at a dynamic offset per
-// draw; two-sided diffuse lighting from a fixed white rig; premultiplied-alpha output.
+// draw; two-sided diffuse lighting from a fixed white rig; premultiplied-alpha output,
+// sRGB-encoded here for opaque surfaces (`encode_srgb`) and by the target's sRGB view for
+// blended ones.
 
 struct ViewData {
     clip_from_world: mat4x4<f32>,
@@ -38,6 +40,15 @@ struct Item {
 @group(0) @binding(1) var<uniform> item: Item;
 @group(1) @binding(0) var base_texture: texture_2d<f32>;
 @group(1) @binding(1) var base_sampler: sampler;
+
+// True for opaque surfaces, which are drawn into an Rgba8Unorm view of the colour target:
+// the shader encodes sRGB once per pixel instead of the rasteriser once per sample. Blended
+// surfaces output linear light into the target's sRGB view, which blends in linear light.
+override encode_srgb: bool = false;
+
+// False for surfaces that are never cut or alpha-masked: their pipelines contain no discard,
+// so the rasteriser can test and write depth before shading in one step.
+override may_discard: bool = true;
 
 // Sky and ground brightness of the hemisphere light, key and fill strengths. A surface facing
 // the key light gets at most about 1.0: white stays white, colours keep their hue.
@@ -84,10 +95,17 @@ fn shade(world: vec3<f32>, normal: vec3<f32>, base: vec4<f32>) -> vec4<f32> {
 
     let cut = view.options.x > 0.5 && world.z > item.params.x + view.options.y;
     let masked = item.params.y >= 0.0 && base.a < item.params.y;
-    if (cut || masked) {
+    if (may_discard && (cut || masked)) {
         discard;
     }
-    return vec4<f32>(rgb * alpha, alpha);
+    let premultiplied = rgb * alpha;
+    return vec4<f32>(select(premultiplied, srgb_encode(premultiplied), encode_srgb), alpha);
+}
+
+// Linear light in [0, 1] to the sRGB transfer curve (IEC 61966-2-1).
+fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
+    let curve = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(curve, 12.92 * c, c <= vec3<f32>(0.0031308));
 }
 
 struct FlatOut {
