@@ -11,8 +11,10 @@
 //! `LP_NUM_THREADS=0` makes Mesa's software driver rasterise on its queue thread instead of
 //! worker threads. Running with `--renders 1` and `--renders 5` and taking a quarter of the
 //! difference gives the cost of one render without the device set-up and the shader
-//! compilation. `--out FILE.png` writes the last image; `--scene fixtures` renders the top
-//! view of the 50 fixture-furniture objects instead.
+//! compilation. `--out FILE.png` writes the last image; `--scene tubes` renders 50 open
+//! tubes of 2,000 triangles instead of the closed cylinders (`render/top_512_100k_triangles_open`:
+//! nothing can be culled), `--scene fixtures` the top view of the 50 fixture-furniture
+//! objects.
 
 // A measuring tool: it stops on a set-up failure and prints what it did.
 #![allow(clippy::expect_used, clippy::print_stdout, clippy::print_stderr)]
@@ -81,7 +83,7 @@ fn main() {
     let mut samples = RenderSettings::DEFAULT_SAMPLES;
     let mut renders = 1usize;
     let mut out: Option<PathBuf> = None;
-    let mut fixtures = false;
+    let mut scene_name = String::from("cylinders");
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         let mut value = || args.next().expect("a value after the option");
@@ -89,10 +91,10 @@ fn main() {
             "--samples" => samples = value().parse().expect("--samples N"),
             "--renders" => renders = value().parse().expect("--renders N"),
             "--out" => out = Some(PathBuf::from(value())),
-            "--scene" => fixtures = value() == "fixtures",
+            "--scene" => scene_name = value(),
             other => {
                 eprintln!(
-                    "unknown option {other:?}; usage: render-profile [--samples 1|4] [--renders N] [--scene cylinders|fixtures] [--out FILE.png]"
+                    "unknown option {other:?}; usage: render-profile [--samples 1|4] [--renders N] [--scene cylinders|tubes|fixtures] [--out FILE.png]"
                 );
                 std::process::exit(2);
             }
@@ -101,7 +103,7 @@ fn main() {
 
     let renderer = Renderer::new().expect("a renderer (install mesa-vulkan-drivers libvulkan1)");
     let dir = tempfile::tempdir().expect("temp dir");
-    let (library, scene) = if fixtures {
+    let (library, scene) = if scene_name == "fixtures" {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/assets");
         let library = AssetLibrary::new().with_source("fixture", PlainFolderSource::new(root));
         let scene = grid_scene(&library, "fixture", &FIXTURE_IDS);
@@ -115,16 +117,16 @@ fn main() {
             [0.7, 0.6, 0.5],
         ];
         let mut ids = Vec::new();
+        let open = scene_name == "tubes";
         for (k, rgb) in colours.iter().enumerate() {
-            // 2 * 40 * 24 + 2 * 40 = 2,000 triangles, as in the benchmark.
-            let mesh = common::cylinder(
-                &format!("c{k}"),
-                0.3 + 0.05 * k as f32,
-                0.6 + 0.2 * k as f32,
-                40,
-                24,
-            )
-            .with_material(GlbMaterial::color(*rgb));
+            let (radius, height) = (0.3 + 0.05 * k as f32, 0.6 + 0.2 * k as f32);
+            // As in the benchmark: 2 * 40 * 24 + 2 * 40 = 2,000 triangles, or without the caps
+            // (the last 2 * 40) and 25 bands, 2 * 40 * 25 = 2,000.
+            let mut mesh = common::cylinder(&format!("c{k}"), radius, height, 40, if open { 25 } else { 24 })
+                .with_material(GlbMaterial::color(*rgb));
+            if open {
+                mesh.indices.truncate(6 * 40 * 25);
+            }
             write_glb(&dir.path().join(format!("c{k}.glb")), &[mesh]).expect("asset");
             ids.push(format!("c{k}"));
         }
