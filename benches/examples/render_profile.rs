@@ -11,10 +11,11 @@
 //! `LP_NUM_THREADS=0` makes Mesa's software driver rasterise on its queue thread instead of
 //! worker threads. Running with `--renders 1` and `--renders 5` and taking a quarter of the
 //! difference gives the cost of one render without the device set-up and the shader
-//! compilation. `--out FILE.png` writes the last image; `--scene tubes` renders 50 open
+//! compilation; `benches/render_stages.py` does that (with 1 and 3 renders) and splits the
+//! count by stage (docs/performance.md, Rendering). `--out FILE.png` writes the last image; `--scene tubes` renders 50 open
 //! tubes of 2,000 triangles instead of the closed cylinders (`render/top_512_100k_triangles_open`:
 //! nothing can be culled), `--scene fixtures` the top view of the 50 fixture-furniture
-//! objects.
+//! objects; `--size N` renders N x N images instead of 512 x 512.
 
 // A measuring tool: it stops on a set-up failure and prints what it did.
 #![allow(clippy::expect_used, clippy::print_stdout, clippy::print_stderr)]
@@ -82,6 +83,7 @@ const FIXTURE_IDS: [&str; 18] = [
 fn main() {
     let mut samples = RenderSettings::DEFAULT_SAMPLES;
     let mut renders = 1usize;
+    let mut size = RenderSettings::DEFAULT_SIZE;
     let mut out: Option<PathBuf> = None;
     let mut scene_name = String::from("cylinders");
     let mut args = std::env::args().skip(1);
@@ -90,11 +92,12 @@ fn main() {
         match arg.as_str() {
             "--samples" => samples = value().parse().expect("--samples N"),
             "--renders" => renders = value().parse().expect("--renders N"),
+            "--size" => size = value().parse().expect("--size N"),
             "--out" => out = Some(PathBuf::from(value())),
             "--scene" => scene_name = value(),
             other => {
                 eprintln!(
-                    "unknown option {other:?}; usage: render-profile [--samples 1|4] [--renders N] [--scene cylinders|tubes|fixtures] [--out FILE.png]"
+                    "unknown option {other:?}; usage: render-profile [--samples 1|4] [--renders N] [--size N] [--scene cylinders|tubes|fixtures] [--out FILE.png]"
                 );
                 std::process::exit(2);
             }
@@ -138,7 +141,7 @@ fn main() {
     let prepared = renderer.prepare(&scene, &library).expect("prepared");
     let settings = RenderSettings {
         samples,
-        ..RenderSettings::square(512)
+        ..RenderSettings::square(size)
     };
     let mut last = None;
     for _ in 0..renders {
@@ -149,7 +152,7 @@ fn main() {
         println!("wrote {}", path.display());
     }
     println!(
-        "{renders} top views of 512 x 512, {samples} sample(s) per pixel, on {}",
+        "{renders} top views of {size} x {size}, {samples} sample(s) per pixel, on {}",
         renderer.gpu().adapter().name
     );
 }

@@ -101,8 +101,8 @@ pub struct RenderSettings {
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    /// Samples per pixel: 4 (multisampled edges, the default) or 1 (aliased edges; several
-    /// times faster on Mesa's software driver, see `docs/performance.md`).
+    /// Samples per pixel: 4 (multisampled edges, the default) or 1 (aliased edges; two to
+    /// three times faster on Mesa's software driver, see `docs/performance.md`).
     pub samples: u32,
     /// Top views draw walls only up to this height above their base (metres), so that the
     /// rooms' interiors show.
