@@ -3,11 +3,16 @@
 //! machine without a GPU).
 //!
 //! - `render/prepare_50_objects`: upload a 50-object scene of the fixture furniture (18
-//!   coloured GLB assets, 2,700 triangles in all, one textured) plus floors and walls.
+//!   coloured GLB assets, 2,700 triangles in all, one textured) plus floors and walls, and
+//!   wait until the GPU has executed the uploads (and released the previous iteration's
+//!   scene): otherwise the next benchmark's first renders would pay for thousands of them.
 //! - `render/top_512_50_objects`: one 512 x 512 top view of it (render and read back).
 //! - `render/front_size_surroundings_512_50_objects`: the three per-object views of every
 //!   object, 150 images.
-//! - `render/top_512_100k_triangles`: one 512 x 512 top view of 50 objects of 2,000 triangles.
+//! - `render/top_512_100k_triangles`: one 512 x 512 top view of 50 objects of 2,000 triangles
+//!   (closed cylinders: the renderer culls the half of their triangles that faces away).
+//! - `render/top_512_100k_triangles_open`: the same with 50 open tubes of 2,000 triangles
+//!   (no caps, so nothing can be culled and their insides show).
 //! - the same three renders with one sample per pixel instead of four (`..._1x`).
 //! - `appearance/read_scene_geometry_only` and `appearance/read_scene_and_appearances`: read a
 //!   40-object scene over 8 textured assets (1024 x 1024 PNGs) with a fresh asset library,
@@ -95,6 +100,14 @@ fn cylinder(name: &str, radius: f32, height: f32, segments: u32, bands: u32, rgb
     common::cylinder(name, radius, height, segments, bands).with_material(GlbMaterial::color(rgb))
 }
 
+/// The same cylinder without its caps: an open tube of `2 * segments * bands` triangles.
+fn tube(name: &str, radius: f32, height: f32, segments: u32, bands: u32, rgb: [f32; 3]) -> GlbMesh {
+    let mut mesh = cylinder(name, radius, height, segments, bands, rgb);
+    // The sides come first, then the caps.
+    mesh.indices.truncate((6 * segments * bands) as usize);
+    mesh
+}
+
 /// A PNG of `size x size` texels of deterministic noise (so that it does not compress away).
 fn noise_png(size: u32, seed: u32) -> Vec<u8> {
     let mut state = seed.wrapping_mul(2_654_435_761).wrapping_add(1);
@@ -131,30 +144,42 @@ fn rendering(c: &mut Criterion) {
         [0.3, 0.3, 0.3],
         [0.7, 0.6, 0.5],
     ];
-    let mut heavy_ids = Vec::new();
+    let (mut heavy_ids, mut open_ids) = (Vec::new(), Vec::new());
     for (k, rgb) in colours.iter().enumerate() {
+        let (radius, height) = (0.3 + 0.05 * k as f32, 0.6 + 0.2 * k as f32);
         // 2 * 40 * 24 + 2 * 40 = 2,000 triangles.
-        let mesh = cylinder(
-            &format!("c{k}"),
-            0.3 + 0.05 * k as f32,
-            0.6 + 0.2 * k as f32,
-            40,
-            24,
-            *rgb,
-        );
+        let mesh = cylinder(&format!("c{k}"), radius, height, 40, 24, *rgb);
         write_glb(&dir.path().join(format!("c{k}.glb")), &[mesh]).expect("asset");
         heavy_ids.push(format!("c{k}"));
+        // 2 * 40 * 25 = 2,000 triangles.
+        let mesh = tube(&format!("t{k}"), radius, height, 40, 25, *rgb);
+        write_glb(&dir.path().join(format!("t{k}.glb")), &[mesh]).expect("asset");
+        open_ids.push(format!("t{k}"));
     }
     let heavy_lib = AssetLibrary::new().with_source("bench", PlainFolderSource::new(dir.path()));
-    let heavy_refs: Vec<&str> = heavy_ids.iter().map(String::as_str).collect();
-    let heavy = renderer
-        .prepare(&grid_scene(&heavy_lib, "bench", &heavy_refs), &heavy_lib)
-        .expect("prepared");
+    let grid_of = |ids: &[String]| {
+        let refs: Vec<&str> = ids.iter().map(String::as_str).collect();
+        renderer
+            .prepare(&grid_scene(&heavy_lib, "bench", &refs), &heavy_lib)
+            .expect("prepared")
+    };
+    let heavy = grid_of(&heavy_ids);
+    let open = grid_of(&open_ids);
 
     let mut g = c.benchmark_group("render");
     g.sample_size(10);
     g.bench_function("prepare_50_objects", |b| {
-        b.iter(|| black_box(renderer.prepare(black_box(&scene), &fixtures).expect("prepared")))
+        b.iter(|| {
+            let prepared = renderer.prepare(black_box(&scene), &fixtures).expect("prepared");
+            // Texture uploads run at the next submission; submit and wait for them.
+            renderer.gpu().queue().submit([]);
+            renderer
+                .gpu()
+                .device()
+                .poll(wgpu::PollType::wait_indefinitely())
+                .expect("uploads done");
+            black_box(prepared)
+        })
     });
     g.bench_function("top_512_50_objects", |b| {
         b.iter(|| black_box(prepared.render(&View::Top, &settings).expect("rendered")))
@@ -168,6 +193,9 @@ fn rendering(c: &mut Criterion) {
     });
     g.bench_function("top_512_100k_triangles", |b| {
         b.iter(|| black_box(heavy.render(&View::Top, &settings).expect("rendered")))
+    });
+    g.bench_function("top_512_100k_triangles_open", |b| {
+        b.iter(|| black_box(open.render(&View::Top, &settings).expect("rendered")))
     });
     // The same without multisampling.
     let single = RenderSettings {

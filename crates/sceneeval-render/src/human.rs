@@ -96,26 +96,24 @@ impl FigureMesh {
                 })
                 .collect()
         };
-        // Sides (smooth), then the two caps (flat, their own vertices).
+        // Sides (smooth), then the two caps (flat, their own vertices), counter-clockwise seen
+        // from outside whichever way the tube points (the arms hang down).
+        let upward = top[2] >= bottom[2];
+        let outward = |t: [u32; 3], out: bool| if out { t } else { [t[0], t[2], t[1]] };
         let mut positions = ring(bottom, rb);
         positions.extend(ring(top, rt));
         let n = segments;
         let mut tris = Vec::new();
         for s in 0..n {
             let (b0, b1, t0, t1) = (s, (s + 1) % n, n + s, n + (s + 1) % n);
-            tris.push([b0, b1, t1]);
-            tris.push([b0, t1, t0]);
+            tris.push(outward([b0, b1, t1], upward));
+            tris.push(outward([b0, t1, t0], upward));
         }
         self.add(positions, tris);
-        for (c, r, up) in [(top, rt, true), (bottom, rb, false)] {
+        for (c, r, up) in [(top, rt, upward), (bottom, rb, !upward)] {
             let mut positions = vec![c];
             positions.extend(ring(c, r));
-            let tris = (0..n)
-                .map(|s| {
-                    let (a, b) = (1 + s, 1 + (s + 1) % n);
-                    if up { [0, a, b] } else { [0, b, a] }
-                })
-                .collect();
+            let tris = (0..n).map(|s| outward([0, 1 + s, 1 + (s + 1) % n], up)).collect();
             self.add(positions, tris);
         }
     }
@@ -171,6 +169,14 @@ mod tests {
         // Its toes point to the front (-y).
         let min_y = m.positions.iter().map(|p| p[1]).fold(0.0, f64::min);
         assert!((min_y + 0.165).abs() < 1e-12, "{min_y}");
+    }
+
+    #[test]
+    fn the_figure_is_closed_and_wound_outward() {
+        // So that a renderer may cull its back faces (`closed.rs`).
+        let m = human_figure();
+        let positions: Vec<[f32; 3]> = m.positions.iter().map(|p| p.map(|v| v as f32)).collect();
+        assert!(crate::closed::closed_outward(&positions, &m.indices));
     }
 
     #[test]

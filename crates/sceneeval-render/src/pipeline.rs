@@ -5,24 +5,93 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use sceneeval_io::appearance::{Filter, Sampler, Wrap};
 
-/// Colour format of the targets: 8-bit sRGB, so the PNG bytes are gamma-encoded.
+/// Format of colour textures: 8-bit sRGB-encoded colour, linear alpha.
 pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Format of the colour targets: the same bytes as [`COLOR_FORMAT`] (gamma-encoded, what the
+/// PNG stores), written as they are by opaque surfaces, which encode sRGB in the shader once
+/// per pixel; a CPU rasteriser would otherwise convert every one of the 4 samples. Blended
+/// surfaces and the multisample resolve use a [`COLOR_FORMAT`] view of the same texture, so
+/// that they mix in linear light.
+pub(crate) const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Depth format (reversed depth: 1 near, 0 far).
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Sample counts a render may use: 1 (no multisampling) or 4.
 pub(crate) const SAMPLE_COUNTS: [u32; 2] = [1, 4];
-/// Bytes per vertex: position, normal (3 x f32 each), uv (2 x f32), colour (4 x f32).
-pub(crate) const VERTEX_STRIDE: u64 = 48;
-/// Bytes per item in the storage buffer: a 4x4 matrix and five vec4s.
-pub(crate) const ITEM_STRIDE: u64 = 144;
+/// Bytes of one item's data in the uniform buffer: a 4x4 matrix and five vec4s (`Item` in
+/// `shader.wgsl`).
+pub(crate) const ITEM_BYTES: u64 = 144;
 /// Bytes of the per-view uniform: a 4x4 matrix and four vec4s.
 pub(crate) const VIEW_UNIFORM_BYTES: u64 = 128;
 
-/// The two pipelines of one sample count: opaque surfaces, then blended ones.
-#[derive(Debug)]
-pub(crate) struct Passes {
-    pub opaque: wgpu::RenderPipeline,
-    pub blend: wgpu::RenderPipeline,
+/// The vertex attributes a mesh is uploaded with, and the shader entry points that draw it.
+/// Each kind draws exactly what [`VertexKind::Full`] would draw for such a mesh, with fewer
+/// values passed per vertex and interpolated per pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum VertexKind {
+    /// Positions only: no normals (flat shading), no texture, white vertex colours.
+    Flat,
+    /// Positions and normals: no texture, white vertex colours.
+    Smooth,
+    /// Positions, normals, texture coordinates and vertex colours, and the base colour
+    /// texture.
+    Full,
+}
+
+impl VertexKind {
+    /// Every kind.
+    pub(crate) const ALL: [VertexKind; 3] = [VertexKind::Flat, VertexKind::Smooth, VertexKind::Full];
+
+    /// 32-bit floats per vertex: position (3), normal (3), uv (2), colour (4).
+    pub(crate) const fn floats(self) -> usize {
+        match self {
+            VertexKind::Flat => 3,
+            VertexKind::Smooth => 6,
+            VertexKind::Full => 12,
+        }
+    }
+
+    fn entry_points(self) -> (&'static str, &'static str) {
+        match self {
+            VertexKind::Flat => ("vs_flat", "fs_flat"),
+            VertexKind::Smooth => ("vs_smooth", "fs_smooth"),
+            VertexKind::Full => ("vs_full", "fs_full"),
+        }
+    }
+}
+
+/// One pipeline: the vertex kind, whether the surface blends, whether back faces are culled
+/// (only for opaque closed meshes, see `closed.rs`), and whether fragments may be discarded
+/// (walls cut in top views, alpha-masked materials). Without `discard` the shader has no
+/// discard at all, which lets a CPU rasteriser test and write depth in one step before
+/// shading.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) struct PipelineKey {
+    pub kind: VertexKind,
+    pub blend: bool,
+    pub cull: bool,
+    pub discard: bool,
+}
+
+impl PipelineKey {
+    /// The pipelines renders use: opaque surfaces culled or not, opaque ones that may discard
+    /// (never culled), and blended ones (never culled and never discarding: only objects
+    /// blend, and they are not cut). Others are created if ever needed.
+    pub(crate) fn all() -> impl Iterator<Item = PipelineKey> {
+        VertexKind::ALL.into_iter().flat_map(|kind| {
+            [
+                (false, false, false),
+                (false, true, false),
+                (false, false, true),
+                (true, false, false),
+            ]
+            .map(|(blend, cull, discard)| PipelineKey {
+                kind,
+                blend,
+                cull,
+                discard,
+            })
+        })
+    }
 }
 
 /// Everything compiled once per [`crate::Renderer`] (pipelines once per sample count).
@@ -32,7 +101,7 @@ pub(crate) struct Pipelines {
     pub material_layout: wgpu::BindGroupLayout,
     shader: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
-    passes: Mutex<HashMap<u32, Arc<Passes>>>,
+    pipelines: Mutex<HashMap<(u32, PipelineKey), Arc<wgpu::RenderPipeline>>>,
     samplers: Mutex<HashMap<Sampler, wgpu::Sampler>>,
 }
 
@@ -42,29 +111,22 @@ impl Pipelines {
             label: Some("sceneeval shader"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
         });
+        let uniform = |binding, bytes, dynamic| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: dynamic,
+                min_binding_size: wgpu::BufferSize::new(bytes),
+            },
+            count: None,
+        };
         let view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("view"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(VIEW_UNIFORM_BYTES),
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(ITEM_STRIDE),
-                    },
-                    count: None,
-                },
+                uniform(0, VIEW_UNIFORM_BYTES, false),
+                // The item drawn: one window of the item buffer per draw call.
+                uniform(1, ITEM_BYTES, true),
             ],
         });
         let material_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -98,64 +160,86 @@ impl Pipelines {
             material_layout,
             shader,
             layout,
-            passes: Mutex::new(HashMap::new()),
+            pipelines: Mutex::new(HashMap::new()),
             samplers: Mutex::new(HashMap::new()),
         }
     }
 
-    /// The pipelines for `samples` samples per pixel, compiled on first use.
-    pub(crate) fn passes(&self, device: &wgpu::Device, samples: u32) -> Arc<Passes> {
-        let mut map = self.passes.lock().unwrap_or_else(PoisonError::into_inner);
-        Arc::clone(map.entry(samples).or_insert_with(|| {
-            Arc::new(Passes {
-                opaque: self.pipeline(device, "opaque", false, samples),
-                blend: self.pipeline(device, "blend", true, samples),
-            })
-        }))
-    }
-
-    fn pipeline(
+    /// The pipeline `key` for `samples` samples per pixel, compiled on first use.
+    pub(crate) fn pipeline(
         &self,
         device: &wgpu::Device,
-        label: &str,
-        blend: bool,
         samples: u32,
-    ) -> wgpu::RenderPipeline {
+        key: PipelineKey,
+    ) -> Arc<wgpu::RenderPipeline> {
+        let mut map = self.pipelines.lock().unwrap_or_else(PoisonError::into_inner);
+        Arc::clone(
+            map.entry((samples, key))
+                .or_insert_with(|| Arc::new(self.create(device, samples, key))),
+        )
+    }
+
+    fn create(&self, device: &wgpu::Device, samples: u32, key: PipelineKey) -> wgpu::RenderPipeline {
         let attributes = wgpu::vertex_attr_array![
             0 => Float32x3,
             1 => Float32x3,
             2 => Float32x2,
             3 => Float32x4,
         ];
+        let used = match key.kind {
+            VertexKind::Flat => 1,
+            VertexKind::Smooth => 2,
+            VertexKind::Full => 4,
+        };
         let buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: VERTEX_STRIDE,
+            array_stride: (key.kind.floats() * 4) as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &attributes,
+            attributes: &attributes[..used],
         })];
+        // Opaque surfaces write sRGB-encoded bytes into the target as it is; blended ones go
+        // through its sRGB view and blend in linear light (`TARGET_FORMAT`).
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        let constants = [
+            ("encode_srgb", flag(!key.blend)),
+            ("may_discard", flag(key.discard)),
+        ];
         let targets = [Some(wgpu::ColorTargetState {
-            format: COLOR_FORMAT,
+            format: if key.blend { COLOR_FORMAT } else { TARGET_FORMAT },
             // Premultiplied alpha: the shader writes (rgb * a, a).
-            blend: blend.then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+            blend: key
+                .blend
+                .then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
             write_mask: wgpu::ColorWrites::ALL,
         })];
+        let (vertex_entry, fragment_entry) = key.kind.entry_points();
+        let label = format!(
+            "{:?}{}{}{}",
+            key.kind,
+            if key.blend { " blend" } else { " opaque" },
+            if key.cull { " culled" } else { "" },
+            if key.discard { " discarding" } else { "" }
+        );
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
+            label: Some(&label),
             layout: Some(&self.layout),
             vertex: wgpu::VertexState {
                 module: &self.shader,
-                entry_point: Some("vs_main"),
+                entry_point: Some(vertex_entry),
                 compilation_options: Default::default(),
                 buffers: &buffers,
             },
             primitive: wgpu::PrimitiveState {
                 topology: wgpu::PrimitiveTopology::TriangleList,
-                // Assets often have flipped triangles: draw both sides.
-                cull_mode: None,
+                // Triangles are counter-clockwise seen from outside (glTF's convention).
+                front_face: wgpu::FrontFace::Ccw,
+                // Assets often have flipped triangles: both sides are drawn, except that a
+                // closed mesh seen from outside cannot show its back faces.
+                cull_mode: key.cull.then_some(wgpu::Face::Back),
                 ..Default::default()
             },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
-                depth_write_enabled: Some(!blend),
+                depth_write_enabled: Some(!key.blend),
                 depth_compare: Some(wgpu::CompareFunction::Greater),
                 stencil: Default::default(),
                 bias: Default::default(),
@@ -167,8 +251,11 @@ impl Pipelines {
             },
             fragment: Some(wgpu::FragmentState {
                 module: &self.shader,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
+                entry_point: Some(fragment_entry),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
                 targets: &targets,
             }),
             multiview_mask: None,

@@ -3,19 +3,23 @@
 
 use std::collections::HashMap;
 use std::ops::Range;
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use image::RgbaImage;
 use sceneeval_geom::na::Matrix4;
-use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Real, Vector3};
+use sceneeval_geom::{Aabb, Isometry3, Matrix3, Mesh, Point3, Real, Vector3};
 use sceneeval_io::AssetLibrary;
 use sceneeval_io::appearance::{AlphaMode, Appearance, Texture, TextureBinding};
 
+use crate::closed::closed_outward;
 use crate::human::{FigureMesh, human_figure};
 use crate::input::{ObjectInput, SceneInput};
-use crate::pipeline::{COLOR_FORMAT, DEPTH_FORMAT, ITEM_STRIDE, SAMPLE_COUNTS, VIEW_UNIFORM_BYTES};
+use crate::pipeline::{
+    COLOR_FORMAT, DEPTH_FORMAT, ITEM_BYTES, PipelineKey, SAMPLE_COUNTS, TARGET_FORMAT, VIEW_UNIFORM_BYTES,
+    VertexKind,
+};
 use crate::pixels;
-use crate::{Camera, RenderError, RenderSettings, Renderer};
+use crate::{Camera, NEAR_M, RenderError, RenderSettings, Renderer};
 
 /// Linear base colour of box objects (no asset): a light, neutral grey.
 pub const BOX_COLOR: [f32; 4] = [0.70, 0.69, 0.66, 1.0];
@@ -28,6 +32,11 @@ pub const HUMAN_COLOR: [f32; 4] = [0.55, 0.55, 0.55, 1.0];
 
 /// `params.x` of items that are never cut.
 const NEVER_CUT: f32 = 1e30;
+
+/// A closed mesh is drawn with back faces culled only when its world box lies this much
+/// (metres, plus a thousandth of the box diagonal) beyond the near plane: then the camera is
+/// outside it and the near plane cuts nothing open.
+const CULL_NEAR_MARGIN_M: Real = 0.01;
 
 /// What an item belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,12 +56,19 @@ pub(crate) struct DrawItem {
     pub index_count: u32,
     pub material: usize,
     pub blend: bool,
+    /// Whether the material masks by alpha (fragments below its cutoff are discarded).
+    pub masked: bool,
+    /// Whether the item may be drawn with back faces culled when its owner's box lies in
+    /// front of the camera: its owner is drawn as one closed, outward-wound mesh
+    /// ([`closed_outward`]) that is opaque everywhere, never cut, and not mirrored.
+    pub closed: bool,
 }
 
 #[derive(Debug)]
 struct GpuMesh {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
+    kind: VertexKind,
 }
 
 /// Colour and depth targets and the readback buffer for one image size.
@@ -61,11 +77,16 @@ struct Targets {
     width: u32,
     height: u32,
     samples: u32,
-    /// The multisampled colour target (resolved into `resolve`); `None` with one sample,
-    /// when `resolve` is drawn into directly.
-    msaa: Option<wgpu::TextureView>,
+    /// The colour target drawn into ([`TARGET_FORMAT`]; multisampled, or `resolve` itself
+    /// with one sample): opaque surfaces write sRGB-encoded bytes through this view...
+    encoded: wgpu::TextureView,
+    /// ... and blended surfaces blend in linear light through this [`COLOR_FORMAT`] view.
+    linear: wgpu::TextureView,
+    /// The single-sample image that is read back.
     resolve: wgpu::Texture,
-    resolve_view: wgpu::TextureView,
+    /// With multisampling, `resolve`'s [`COLOR_FORMAT`] view, into which the samples are
+    /// averaged in linear light; `None` with one sample.
+    resolve_linear: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
     readback: wgpu::Buffer,
     padded_row: u32,
@@ -79,6 +100,10 @@ pub(crate) struct Shot {
     pub items: Vec<usize>,
     pub human: Option<Isometry3>,
     pub cut_walls: bool,
+    /// Whether closed meshes in front of the camera are drawn with back faces culled (the
+    /// image is the same either way up to depth ties at silhouettes; see
+    /// [`DrawItem::closed`]).
+    pub cull_closed: bool,
 }
 
 /// A scene uploaded to the GPU, ready to render any [`crate::View`]. Made by
@@ -96,6 +121,11 @@ pub struct PreparedScene {
     meshes: Vec<GpuMesh>,
     materials: Vec<wgpu::BindGroup>,
     item_buffer: wgpu::Buffer,
+    /// Bytes between consecutive items in `item_buffer` (the device's uniform offset
+    /// alignment, at least [`ITEM_BYTES`]).
+    item_stride: u64,
+    /// The human figure's bounds in its own frame.
+    figure_bounds: Aabb,
     view_buffer: wgpu::Buffer,
     view_bind_group: wgpu::BindGroup,
     targets: Mutex<Option<Targets>>,
@@ -114,11 +144,11 @@ enum MeshKey {
 struct Upload<'a> {
     renderer: &'a Renderer,
     meshes: Vec<GpuMesh>,
-    mesh_by_key: HashMap<MeshKey, usize>,
+    mesh_by_key: HashMap<MeshKey, (usize, bool)>,
     materials: Vec<wgpu::BindGroup>,
     material_by_key: HashMap<(usize, sceneeval_io::appearance::Sampler), usize>,
     items: Vec<DrawItem>,
-    item_data: Vec<f32>,
+    item_data: Vec<[f32; 36]>,
 }
 
 impl PreparedScene {
@@ -231,24 +261,38 @@ impl PreparedScene {
             );
             queue.write_buffer(
                 &self.item_buffer,
-                self.human_item as u64 * ITEM_STRIDE,
+                self.human_item as u64 * self.item_stride,
                 bytemuck::cast_slice(&item),
             );
         }
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
-        {
+        // Opaque surfaces, then blended ones in a second pass through the linear view, which
+        // also resolves the samples (in linear light); each in item order.
+        for blend in [false, true] {
+            let resolving = blend && targets.resolve_linear.is_some();
+            if blend && !resolving && !shot.items.iter().any(|&i| self.items[i].blend) {
+                break;
+            }
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
-                // With multisampling the samples are resolved into `resolve` and discarded;
-                // without, `resolve` is drawn into directly.
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: targets.msaa.as_ref().unwrap_or(&targets.resolve_view),
+                    view: if blend { &targets.linear } else { &targets.encoded },
                     depth_slice: None,
-                    resolve_target: targets.msaa.as_ref().map(|_| &targets.resolve_view),
+                    resolve_target: if blend {
+                        targets.resolve_linear.as_ref()
+                    } else {
+                        None
+                    },
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: if targets.msaa.is_some() {
+                        load: if blend {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                        },
+                        // Multisampled, the samples are resolved into `resolve` and discarded;
+                        // with one sample `resolve` is the target.
+                        store: if resolving {
                             wgpu::StoreOp::Discard
                         } else {
                             wgpu::StoreOp::Store
@@ -259,8 +303,16 @@ impl PreparedScene {
                     view: &targets.depth,
                     depth_ops: Some(wgpu::Operations {
                         // Reversed depth: 0 is infinitely far.
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Discard,
+                        load: if blend {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(0.0)
+                        },
+                        store: if blend {
+                            wgpu::StoreOp::Discard
+                        } else {
+                            wgpu::StoreOp::Store
+                        },
                     }),
                     stencil_ops: None,
                 }),
@@ -268,34 +320,40 @@ impl PreparedScene {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &self.view_bind_group, &[]);
-            let passes = self.renderer.pipelines().passes(device, targets.samples);
-            for (pipeline, blend) in [(&passes.opaque, false), (&passes.blend, true)] {
-                pass.set_pipeline(pipeline);
-                let mut bound_mesh = None;
-                let mut bound_material = None;
-                for &i in &shot.items {
-                    let item = &self.items[i];
-                    if item.blend != blend {
-                        continue;
-                    }
-                    if bound_mesh != Some(item.mesh) {
-                        let mesh = &self.meshes[item.mesh];
-                        pass.set_vertex_buffer(0, mesh.vertices.slice(..));
-                        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                        bound_mesh = Some(item.mesh);
-                    }
-                    if bound_material != Some(item.material) {
-                        pass.set_bind_group(1, &self.materials[item.material], &[]);
-                        bound_material = Some(item.material);
-                    }
-                    let index = i as u32;
-                    pass.draw_indexed(
-                        item.first_index..item.first_index + item.index_count,
-                        0,
-                        index..index + 1,
-                    );
+            let pipelines = self.renderer.pipelines();
+            let mut bound_pipeline = None;
+            let mut bound_mesh = None;
+            let mut bound_material = None;
+            for &i in &shot.items {
+                let item = &self.items[i];
+                if item.blend != blend {
+                    continue;
                 }
+                let mesh = &self.meshes[item.mesh];
+                let cut = shot.cut_walls && matches!(item.owner, Owner::Wall(_));
+                let key = PipelineKey {
+                    kind: mesh.kind,
+                    blend,
+                    cull: item.closed && shot.cull_closed && self.in_front(item.owner, shot),
+                    discard: cut || item.masked,
+                };
+                if bound_pipeline != Some(key) {
+                    pass.set_pipeline(&pipelines.pipeline(device, targets.samples, key));
+                    bound_pipeline = Some(key);
+                }
+                if bound_mesh != Some(item.mesh) {
+                    pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+                    pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    bound_mesh = Some(item.mesh);
+                }
+                if bound_material != Some(item.material) {
+                    pass.set_bind_group(1, &self.materials[item.material], &[]);
+                    bound_material = Some(item.material);
+                }
+                // The item's window of the item buffer (fits in u32: checked at upload).
+                let offset = (i as u64 * self.item_stride) as u32;
+                pass.set_bind_group(0, &self.view_bind_group, &[offset]);
+                pass.draw_indexed(item.first_index..item.first_index + item.index_count, 0, 0..1);
             }
         }
         encoder.copy_texture_to_buffer(
@@ -337,6 +395,55 @@ impl PreparedScene {
         pixels::unpremultiply(&mut image);
         Ok(image)
     }
+
+    /// Whether the world box of what `owner` draws lies entirely beyond the near plane of
+    /// `shot`'s camera (with [`CULL_NEAR_MARGIN_M`]), so that the camera sees a closed mesh
+    /// of it from outside and uncut. Only objects and the human are ever culled.
+    fn in_front(&self, owner: Owner, shot: &Shot) -> bool {
+        let corners: Vec<Point3> = match owner {
+            Owner::Object(i) => {
+                let b = &self.input.objects[i].world_aabb;
+                box_corners(b.min, b.max).collect()
+            }
+            Owner::Human => match &shot.human {
+                Some(pose) => box_corners(self.figure_bounds.min, self.figure_bounds.max)
+                    .map(|c| pose * c)
+                    .collect(),
+                None => return false,
+            },
+            Owner::Floor | Owner::Wall(_) => return false,
+        };
+        let Some((lo, hi)) = bounds_of(&corners) else {
+            return false;
+        };
+        let margin = NEAR_M + CULL_NEAR_MARGIN_M + 1e-3 * (hi - lo).norm();
+        let camera = &shot.camera;
+        let forward = camera.forward();
+        corners
+            .iter()
+            .all(|c| (c - camera.position).dot(&forward) > margin)
+    }
+}
+
+/// The 8 corners of the box `[lo, hi]`.
+fn box_corners(lo: Point3, hi: Point3) -> impl Iterator<Item = Point3> {
+    (0..8).map(move |k| {
+        Point3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
+/// The componentwise minimum and maximum of `points`.
+fn bounds_of(points: &[Point3]) -> Option<(Point3, Point3)> {
+    let first = *points.first()?;
+    Some(
+        points
+            .iter()
+            .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p))),
+    )
 }
 
 /// The appearance an object is drawn with, if it shows an asset whose look can be loaded and
@@ -434,7 +541,16 @@ impl<'a> Upload<'a> {
         m
     }
 
-    fn mesh(&mut self, key: MeshKey, vertices: &[f32], indices: &[u32]) -> usize {
+    /// The GPU mesh of `key` (uploaded on first use) and whether it is closed and wound
+    /// outward; `closed` is asked only on first use (`None`: not needed, taken as open).
+    fn mesh(
+        &mut self,
+        key: MeshKey,
+        kind: VertexKind,
+        vertices: &[f32],
+        indices: &[u32],
+        closed: impl FnOnce() -> Option<bool>,
+    ) -> (usize, bool) {
         if let Some(&m) = self.mesh_by_key.get(&key) {
             return m;
         }
@@ -451,37 +567,46 @@ impl<'a> Upload<'a> {
                 contents: bytemuck::cast_slice(indices),
                 usage: wgpu::BufferUsages::INDEX,
             }),
+            kind,
         };
         self.meshes.push(mesh);
-        let m = self.meshes.len() - 1;
+        let m = (self.meshes.len() - 1, closed().unwrap_or(false));
         self.mesh_by_key.insert(key, m);
         m
     }
 
     fn push_item(&mut self, item: DrawItem, data: [f32; 36]) {
         self.items.push(item);
-        self.item_data.extend_from_slice(&data);
+        self.item_data.push(data);
     }
 
     /// One item per part of an asset's render mesh, placed by the object's pose and scale.
     fn appearance_items(&mut self, i: usize, object: &ObjectInput, look: &Arc<Appearance>) {
         let mesh = &look.mesh;
-        let mut vertices = Vec::with_capacity(mesh.positions.len() * 12);
+        let kind = render_mesh_kind(look);
+        let mut vertices = Vec::with_capacity(mesh.positions.len() * kind.floats());
         for k in 0..mesh.positions.len() {
             vertices.extend_from_slice(&mesh.positions[k]);
-            vertices.extend_from_slice(&mesh.normals[k]);
-            vertices.extend_from_slice(&mesh.uvs[k]);
-            vertices.extend_from_slice(&mesh.colors[k]);
+            if kind != VertexKind::Flat {
+                vertices.extend_from_slice(&mesh.normals[k]);
+            }
+            if kind == VertexKind::Full {
+                vertices.extend_from_slice(&mesh.uvs[k]);
+                vertices.extend_from_slice(&mesh.colors[k]);
+            }
         }
-        let gpu_mesh = self.mesh(
+        let (gpu_mesh, closed) = self.mesh(
             MeshKey::Appearance(Arc::as_ptr(look) as usize),
+            kind,
             &vertices,
             &mesh.indices,
+            || Some(closed_outward(&mesh.positions, &mesh.indices)),
         );
         let s = object.scale;
         let world = object.pose.to_homogeneous() * Matrix4::new_nonuniform_scaling(&s);
         let rotation = object.pose.rotation.to_rotation_matrix();
         let normal = rotation.matrix() * Matrix3::from_diagonal(&s.map(|v| 1.0 / v));
+        let closed = closed && cullable_appearance(look, &s);
         for part in &mesh.parts {
             let Some(material) = look.materials.get(part.material) else {
                 continue;
@@ -505,13 +630,16 @@ impl<'a> Upload<'a> {
                     index_count: part.index_count,
                     material: slot,
                     blend: material.alpha_mode == AlphaMode::Blend,
+                    masked: matches!(material.alpha_mode, AlphaMode::Mask { .. }),
+                    closed,
                 },
                 data,
             );
         }
     }
 
-    /// One item drawing a geometry mesh (normals left to the shader) in a flat colour.
+    /// One item drawing a geometry mesh (flat shaded) in a flat colour. Only objects' meshes
+    /// may be culled (floors are open and walls are cut).
     fn geometry_item(
         &mut self,
         owner: Owner,
@@ -520,15 +648,21 @@ impl<'a> Upload<'a> {
         color: [f32; 4],
         cut_base: f32,
     ) {
-        let mut vertices = Vec::with_capacity(mesh.vertices().len() * 12);
-        for v in mesh.vertices() {
-            // Position; no normal (the shader shades flat) and no texture coordinates; white.
-            vertices.extend_from_slice(&[v.x as f32, v.y as f32, v.z as f32]);
-            vertices.extend_from_slice(&[0.0; 5]);
-            vertices.extend_from_slice(&[1.0; 4]);
-        }
+        let positions: Vec<[f32; 3]> = mesh
+            .vertices()
+            .iter()
+            .map(|v| [v.x as f32, v.y as f32, v.z as f32])
+            .collect();
+        let vertices: Vec<f32> = positions.iter().flatten().copied().collect();
         let indices: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
-        let gpu_mesh = self.mesh(MeshKey::Geometry(Arc::as_ptr(mesh) as usize), &vertices, &indices);
+        let cullable = matches!(owner, Owner::Object(_)) && cut_base == NEVER_CUT;
+        let (gpu_mesh, closed) = self.mesh(
+            MeshKey::Geometry(Arc::as_ptr(mesh) as usize),
+            VertexKind::Flat,
+            &vertices,
+            &indices,
+            || cullable.then(|| closed_outward(&positions, &indices)),
+        );
         let normal = world.fixed_view::<3, 3>(0, 0).into_owned();
         let data = item_data(world, &normal, color, cut_base, AlphaMode::Opaque);
         self.push_item(
@@ -539,18 +673,31 @@ impl<'a> Upload<'a> {
                 index_count: indices.len() as u32,
                 material: 0,
                 blend: false,
+                masked: false,
+                closed: closed && cullable && normal.determinant() > 0.0,
             },
             data,
         );
     }
 
     fn human_item(&mut self, figure: &FigureMesh) {
-        let mut vertices = Vec::with_capacity(figure.positions.len() * 12);
-        for (p, n) in figure.positions.iter().zip(&figure.normals) {
-            vertices.extend(p.iter().chain(n).map(|&v| v as f32));
-            vertices.extend_from_slice(&[0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+        let positions: Vec<[f32; 3]> = figure.positions.iter().map(|p| p.map(|v| v as f32)).collect();
+        let mut vertices = Vec::with_capacity(figure.positions.len() * VertexKind::Smooth.floats());
+        for (p, n) in positions.iter().zip(&figure.normals) {
+            vertices.extend_from_slice(p);
+            vertices.extend(n.iter().map(|&v| v as f32));
         }
-        let gpu_mesh = self.mesh(MeshKey::Human, &vertices, &figure.indices);
+        let (gpu_mesh, closed) = self.mesh(
+            MeshKey::Human,
+            VertexKind::Smooth,
+            &vertices,
+            &figure.indices,
+            // The figure is the same in every scene: check it once.
+            || {
+                static CLOSED: OnceLock<bool> = OnceLock::new();
+                Some(*CLOSED.get_or_init(|| closed_outward(&positions, &figure.indices)))
+            },
+        );
         let data = item_data(
             &Matrix4::identity(),
             &Matrix3::identity(),
@@ -566,6 +713,8 @@ impl<'a> Upload<'a> {
                 index_count: figure.indices.len() as u32,
                 material: 0,
                 blend: false,
+                masked: false,
+                closed,
             },
             data,
         );
@@ -581,10 +730,25 @@ impl<'a> Upload<'a> {
         use wgpu::util::DeviceExt;
         let renderer = self.renderer.clone();
         let device = renderer.gpu().device();
+        // Each item in its own window, at the device's uniform offset alignment.
+        let align = u64::from(device.limits().min_uniform_buffer_offset_alignment).max(1);
+        let item_stride = ITEM_BYTES.div_ceil(align) * align;
+        let floats = (item_stride / 4) as usize;
+        let mut contents = vec![0.0f32; floats * self.item_data.len()];
+        for (k, data) in self.item_data.iter().enumerate() {
+            contents[k * floats..k * floats + data.len()].copy_from_slice(data);
+        }
+        // Dynamic offsets are 32-bit.
+        if contents.len() as u64 * 4 > u64::from(u32::MAX) {
+            return Err(RenderError::Gpu {
+                operation: "uploading the scene".into(),
+                message: format!("{} draw items do not fit in one item buffer", self.items.len()),
+            });
+        }
         let item_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("items"),
-            contents: bytemuck::cast_slice(&self.item_data),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            contents: bytemuck::cast_slice(&contents),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let view_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("view"),
@@ -602,12 +766,24 @@ impl<'a> Upload<'a> {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: item_buffer.as_entire_binding(),
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &item_buffer,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(ITEM_BYTES),
+                    }),
                 },
             ],
         });
+        let figure_points: Vec<Point3> = figure
+            .positions
+            .iter()
+            .map(|p| Point3::new(p[0], p[1], p[2]))
+            .collect();
+        let (lo, hi) = bounds_of(&figure_points).unwrap_or((Point3::origin(), Point3::origin()));
+        let figure_bounds = Aabb::new(lo, hi);
         tracing::debug!(
             items = self.items.len(),
+            closed = self.items.iter().filter(|item| item.closed).count(),
             meshes = self.meshes.len(),
             materials = self.materials.len(),
             "scene uploaded"
@@ -622,11 +798,44 @@ impl<'a> Upload<'a> {
             meshes: self.meshes,
             materials: self.materials,
             item_buffer,
+            item_stride,
+            figure_bounds,
             view_buffer,
             view_bind_group,
             targets: Mutex::new(None),
         })
     }
+}
+
+/// The fewest vertex attributes that draw `look` exactly: texture coordinates and vertex
+/// colours only when a part has a texture or a vertex colour is not white, normals only when
+/// the file gives some.
+fn render_mesh_kind(look: &Appearance) -> VertexKind {
+    let mesh = &look.mesh;
+    let textured = mesh.parts.iter().any(|part| {
+        look.materials
+            .get(part.material)
+            .is_some_and(|m| m.base_color_texture.is_some())
+    });
+    if textured || mesh.colors.iter().any(|c| *c != [1.0; 4]) {
+        VertexKind::Full
+    } else if mesh.normals.iter().any(|n| *n != [0.0; 3]) {
+        VertexKind::Smooth
+    } else {
+        VertexKind::Flat
+    }
+}
+
+/// Whether an object showing `look` at `scale` hides the back faces of its mesh, if the mesh
+/// is closed and wound outward: every part is drawn and opaque (no blending, no alpha mask),
+/// and the scale does not mirror the mesh (which would turn its outside faces clockwise).
+fn cullable_appearance(look: &Appearance, scale: &Vector3) -> bool {
+    let opaque = look.mesh.parts.iter().all(|part| {
+        look.materials
+            .get(part.material)
+            .is_some_and(|m| m.alpha_mode == AlphaMode::Opaque)
+    });
+    opaque && scale.x * scale.y * scale.z > 0.0
 }
 
 /// The 36 floats of one item: `world_from_local`, the normal matrix's columns, the base
@@ -693,7 +902,7 @@ impl Targets {
             height,
             depth_or_array_layers: 1,
         };
-        let texture = |label: &str, format, samples, usage| {
+        let texture = |label: &str, format, samples, usage, view_formats: &[wgpu::TextureFormat]| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size,
@@ -702,29 +911,48 @@ impl Targets {
                 dimension: wgpu::TextureDimension::D2,
                 format,
                 usage,
-                view_formats: &[],
+                view_formats,
             })
         };
-        let msaa = (samples > 1).then(|| {
-            texture(
-                "colour (msaa)",
-                COLOR_FORMAT,
-                samples,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&Default::default())
-        });
+        let linear_view = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(COLOR_FORMAT),
+                ..Default::default()
+            })
+        };
         let resolve = texture(
             "colour",
-            COLOR_FORMAT,
+            TARGET_FORMAT,
             1,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            &[COLOR_FORMAT],
         );
+        let (encoded, linear, resolve_linear) = if samples > 1 {
+            let msaa = texture(
+                "colour (msaa)",
+                TARGET_FORMAT,
+                samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+                &[COLOR_FORMAT],
+            );
+            (
+                msaa.create_view(&Default::default()),
+                linear_view(&msaa),
+                Some(linear_view(&resolve)),
+            )
+        } else {
+            (
+                resolve.create_view(&Default::default()),
+                linear_view(&resolve),
+                None,
+            )
+        };
         let depth = texture(
             "depth",
             DEPTH_FORMAT,
             samples,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
+            &[],
         );
         let padded_row = pixels::padded_row_bytes(width);
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
@@ -737,9 +965,10 @@ impl Targets {
             width,
             height,
             samples,
-            msaa,
-            resolve_view: resolve.create_view(&Default::default()),
+            encoded,
+            linear,
             resolve,
+            resolve_linear,
             depth: depth.create_view(&Default::default()),
             readback,
             padded_row,
@@ -792,4 +1021,131 @@ fn upload_texture(gpu: &crate::Gpu, texture: &Texture) -> wgpu::TextureView {
 /// World-space points of an object's mesh (for fitting cameras).
 pub(crate) fn object_points(object: &ObjectInput) -> impl Iterator<Item = Point3> + '_ {
     object.mesh.vertices().iter().map(|v| object.pose * v)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use sceneeval_io::appearance::{Material, MeshPart, RenderMesh, Sampler, Texture, TextureBinding};
+    use sceneeval_io::assets::PlainFolderSource;
+    use sceneeval_io::{ReadOptions, read_scene_state};
+
+    use super::*;
+    use crate::{View, ViewKind};
+
+    /// A one-triangle look with two parts (materials 0 and 1, both opaque white).
+    fn look() -> Appearance {
+        Appearance {
+            model_id: "test.tri".into(),
+            path: "tri.glb".into(),
+            mesh: RenderMesh {
+                positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                normals: vec![[0.0; 3]; 3],
+                uvs: vec![[0.0; 2]; 3],
+                colors: vec![[1.0; 4]; 3],
+                indices: vec![0, 1, 2, 0, 1, 2],
+                parts: vec![
+                    MeshPart {
+                        first_index: 0,
+                        index_count: 3,
+                        material: 0,
+                    },
+                    MeshPart {
+                        first_index: 3,
+                        index_count: 3,
+                        material: 1,
+                    },
+                ],
+            },
+            materials: vec![Material::gltf_default(), Material::gltf_default()],
+        }
+    }
+
+    #[test]
+    fn meshes_get_the_fewest_attributes_that_draw_them() {
+        let mut l = look();
+        // No normals, texture or vertex colour: positions only.
+        assert_eq!(render_mesh_kind(&l), VertexKind::Flat);
+        l.mesh.normals[1] = [0.0, 0.0, 1.0];
+        assert_eq!(render_mesh_kind(&l), VertexKind::Smooth);
+        // One vertex colour that is not white needs the full set.
+        let mut coloured = l.clone();
+        coloured.mesh.colors[2] = [1.0, 0.5, 1.0, 1.0];
+        assert_eq!(render_mesh_kind(&coloured), VertexKind::Full);
+        // So does a texture on any part's material.
+        l.materials[1].base_color_texture = Some(TextureBinding {
+            texture: Arc::new(Texture {
+                label: "t".into(),
+                width: 1,
+                height: 1,
+                pixels: vec![255; 4],
+            }),
+            sampler: Sampler::default(),
+        });
+        assert_eq!(render_mesh_kind(&l), VertexKind::Full);
+    }
+
+    #[test]
+    fn only_opaque_unmirrored_looks_hide_back_faces() {
+        let one = Vector3::repeat(1.0);
+        assert!(cullable_appearance(&look(), &one));
+        // Mirrored along one axis: the outside turns clockwise. Along two it does not.
+        assert!(!cullable_appearance(&look(), &Vector3::new(-1.0, 1.0, 1.0)));
+        assert!(cullable_appearance(&look(), &Vector3::new(-1.0, -1.0, 1.0)));
+        for mode in [AlphaMode::Blend, AlphaMode::Mask { cutoff: 0.5 }] {
+            let mut l = look();
+            l.materials[1].alpha_mode = mode;
+            assert!(!cullable_appearance(&l, &one), "{mode:?}");
+        }
+        // A part whose material is missing is not drawn: the mesh has a hole.
+        let mut l = look();
+        l.materials.pop();
+        assert!(!cullable_appearance(&l, &one));
+    }
+
+    /// Every view of four fixture scenes with closed meshes culled and without: the images
+    /// differ only where a back face and a front face of the same mesh meet at a silhouette
+    /// and their depths tie (a few pixels); a wrong winding or a culled open mesh would lose
+    /// whole faces.
+    #[test]
+    fn culling_closed_meshes_changes_only_silhouette_ties() {
+        let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        let renderer = Renderer::new().unwrap();
+        let settings = RenderSettings::square(128);
+        let limit = 128 * 128 / 200;
+        let (mut views, mut culled_views) = (0, 0);
+        for n in [0, 4, 9, 11] {
+            let assets =
+                AssetLibrary::new().with_source("fixture", PlainFolderSource::new(fixtures.join("assets")));
+            let path = fixtures.join(format!("scenes/scene_{n}.json"));
+            let scene = read_scene_state(&path, &assets, &ReadOptions::default()).unwrap();
+            let prepared = renderer.prepare(&scene, &assets).unwrap();
+            let ids: Vec<&str> = prepared.object_ids().collect();
+            for view in View::standard(&ViewKind::ALL, ids) {
+                views += 1;
+                let mut shot = prepared.shot(&view, &settings).unwrap();
+                if shot
+                    .items
+                    .iter()
+                    .any(|&i| prepared.items[i].closed && prepared.in_front(prepared.items[i].owner, &shot))
+                {
+                    culled_views += 1;
+                }
+                let culled = prepared.draw(&shot, &settings, "culled").unwrap();
+                shot.cull_closed = false;
+                let both_sides = prepared.draw(&shot, &settings, "both sides").unwrap();
+                let differing = culled
+                    .pixels()
+                    .zip(both_sides.pixels())
+                    .filter(|(a, b)| a != b)
+                    .count();
+                assert!(differing <= limit, "scene {n} {view}: {differing} pixels differ");
+            }
+        }
+        // 33 objects with 3 views each, and 4 top views. All but 4 cull something: the front
+        // views of the sofa, bookshelf and chair (assets that are not closed) and the chair's
+        // surroundings view; size views cull the human figure.
+        assert_eq!((views, culled_views), (33 * 3 + 4, 99));
+    }
 }

@@ -283,6 +283,7 @@ impl PreparedScene {
                     items: self.object_items[i].clone().collect(),
                     human: None,
                     cut_walls: false,
+                    cull_closed: true,
                 }
             }
             View::Size(id) => {
@@ -303,6 +304,7 @@ impl PreparedScene {
                     items,
                     human: Some(human),
                     cut_walls: false,
+                    cull_closed: true,
                 }
             }
             View::Surroundings(id) => self.surroundings(self.object(id)?, settings, view)?,
@@ -311,6 +313,7 @@ impl PreparedScene {
                 items: self.items_of(|o| o != Owner::Human),
                 human: None,
                 cut_walls: true,
+                cull_closed: true,
             },
             View::TopOf(ids) => {
                 let chosen = ids
@@ -326,6 +329,7 @@ impl PreparedScene {
                     }),
                     human: None,
                     cut_walls: true,
+                    cull_closed: true,
                 }
             }
             View::Custom {
@@ -350,6 +354,7 @@ impl PreparedScene {
                     }),
                     human: None,
                     cut_walls: false,
+                    cull_closed: true,
                 }
             }
         };
@@ -433,6 +438,7 @@ impl PreparedScene {
             }),
             human: None,
             cut_walls: false,
+            cull_closed: true,
         })
     }
 }

@@ -62,6 +62,48 @@ fn blended_surfaces_mix_with_what_lies_behind_them() {
 }
 
 #[test]
+fn multisampled_edges_keep_the_surface_colour() {
+    // A red box seen head-on: only its front face shows. Edge pixels are partly covered; the
+    // samples are averaged in linear light and premultiplied, so un-premultiplied they show
+    // the face's own colour. Averaging the sRGB bytes instead would darken them: the face's
+    // red byte 200, half covered, would come back as about 138.
+    let dir = tempfile::tempdir().unwrap();
+    let red = color([0.8, 0.02, 0.02]);
+    write_asset(dir.path(), "box", &box_asset([0.4, 0.4, 0.4], red.clone(), red));
+    let lib = library(dir.path());
+    let scene = Scene::builder()
+        .object(object(&lib, "box", "box", at(0.0, 1.0, 0.0)))
+        .build()
+        .unwrap();
+    let prepared = renderer().prepare(&scene, &lib).unwrap();
+    let camera = Camera::looking_at(
+        Point3::new(0.0, -3.0, 0.2),
+        Point3::new(0.0, 0.0, 0.2),
+        Vector3::z(),
+    )
+    .unwrap();
+    let view = View::Custom {
+        camera,
+        objects: None,
+        architecture: false,
+    };
+    let img = prepared.render(&view, &RenderSettings::square(64)).unwrap();
+    let inside = img.get_pixel(32, 32).0;
+    assert_eq!(inside[3], 255);
+    let edges: Vec<[u8; 4]> = img
+        .pixels()
+        .map(|p| p.0)
+        .filter(|p| (60..=200).contains(&p[3]))
+        .collect();
+    assert!(edges.len() >= 8, "{} partly covered pixels", edges.len());
+    for e in edges {
+        for k in 0..3 {
+            assert!(e[k].abs_diff(inside[k]) <= 6, "edge {e:?} against {inside:?}");
+        }
+    }
+}
+
+#[test]
 fn an_object_whose_mesh_is_not_its_assets_is_drawn_in_grey() {
     let dir = tempfile::tempdir().unwrap();
     let red = color([0.8, 0.02, 0.02]);
