@@ -30,83 +30,13 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use sceneeval_geom::na::{Translation3, UnitQuaternion};
-use sceneeval_geom::{Isometry3, Point2, Vector3};
+use sceneeval_geom::{Point2, Vector3};
 use sceneeval_io::assets::PlainFolderSource;
 use sceneeval_io::{
-    AssetLibrary, GlbImage, GlbMaterial, GlbMesh, ReadOptions, read_scene_state, write_glb, write_scene_state,
+    AssetLibrary, GlbImage, GlbMaterial, ReadOptions, read_scene_state, write_glb, write_scene_state,
 };
 use sceneeval_render::{RenderSettings, Renderer, View, ViewKind};
 use sceneeval_scene::{RoomBuilder, Scene};
-
-fn fixture_assets() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/assets")
-}
-
-fn pose(x: f64, y: f64, yaw: f64) -> Isometry3 {
-    Isometry3::from_parts(
-        Translation3::new(x, y, 0.0),
-        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw),
-    )
-}
-
-/// 50 objects on a 10 x 5 grid in a 15 x 10 m room with a door and a window, cycling through
-/// `ids` of `library`'s source `prefix`.
-fn grid_scene(library: &AssetLibrary, prefix: &str, ids: &[&str]) -> Scene {
-    let mut builder = Scene::builder().room_builder(
-        RoomBuilder::rectangle("r", Point2::new(0.0, 0.0), Point2::new(15.0, 10.0))
-            .door(0, [1.0, 2.0], [0.0, 2.1])
-            .window(2, [4.0, 6.0], [0.9, 2.0]),
-    );
-    for i in 0..50usize {
-        let (x, y) = (0.75 + 1.5 * (i % 10) as f64, 1.0 + 2.0 * (i / 10) as f64);
-        let id = ids[i % ids.len()];
-        let object = library
-            .object(
-                format!("o{i}"),
-                &format!("{prefix}.{id}"),
-                pose(x, y, 0.4 * i as f64),
-                Vector3::repeat(1.0),
-            )
-            .expect("object");
-        builder = builder.object(object);
-    }
-    builder.build().expect("scene")
-}
-
-const FIXTURE_IDS: [&str; 18] = [
-    "bed",
-    "nightstand",
-    "desk",
-    "chair",
-    "dining_table",
-    "sofa",
-    "coffee_table",
-    "wardrobe",
-    "bookshelf",
-    "table_lamp",
-    "floor_lamp",
-    "rug",
-    "painting",
-    "ceiling_lamp",
-    "tv",
-    "plant",
-    "tv_stand",
-    "storage_box",
-];
-
-/// A cylinder asset (see [`common::cylinder`]) in a matte colour.
-fn cylinder(name: &str, radius: f32, height: f32, segments: u32, bands: u32, rgb: [f32; 3]) -> GlbMesh {
-    common::cylinder(name, radius, height, segments, bands).with_material(GlbMaterial::color(rgb))
-}
-
-/// The same cylinder without its caps: an open tube of `2 * segments * bands` triangles.
-fn tube(name: &str, radius: f32, height: f32, segments: u32, bands: u32, rgb: [f32; 3]) -> GlbMesh {
-    let mut mesh = cylinder(name, radius, height, segments, bands, rgb);
-    // The sides come first, then the caps.
-    mesh.indices.truncate((6 * segments * bands) as usize);
-    mesh
-}
 
 /// A PNG of `size x size` texels of deterministic noise (so that it does not compress away).
 fn noise_png(size: u32, seed: u32) -> Vec<u8> {
@@ -129,38 +59,22 @@ fn rendering(c: &mut Criterion) {
     eprintln!("adapter: {:?}", renderer.gpu().adapter());
     let settings = RenderSettings::square(512);
 
-    let fixtures = AssetLibrary::new().with_source("fixture", PlainFolderSource::new(fixture_assets()));
-    let scene = grid_scene(&fixtures, "fixture", &FIXTURE_IDS);
+    let fixtures =
+        AssetLibrary::new().with_source("fixture", PlainFolderSource::new(common::fixture_assets()));
+    let scene = common::grid_scene(&fixtures, "fixture", &common::FIXTURE_IDS);
     let prepared = renderer.prepare(&scene, &fixtures).expect("prepared");
     let ids: Vec<&str> = prepared.object_ids().collect();
     let per_object = View::standard(&[ViewKind::Front, ViewKind::Size, ViewKind::Surroundings], ids);
     assert_eq!(per_object.len(), 150);
 
     let dir = tempfile::tempdir().expect("temp dir");
-    let colours = [
-        [0.6, 0.2, 0.1],
-        [0.1, 0.4, 0.6],
-        [0.5, 0.5, 0.1],
-        [0.3, 0.3, 0.3],
-        [0.7, 0.6, 0.5],
-    ];
-    let (mut heavy_ids, mut open_ids) = (Vec::new(), Vec::new());
-    for (k, rgb) in colours.iter().enumerate() {
-        let (radius, height) = (0.3 + 0.05 * k as f32, 0.6 + 0.2 * k as f32);
-        // 2 * 40 * 24 + 2 * 40 = 2,000 triangles.
-        let mesh = cylinder(&format!("c{k}"), radius, height, 40, 24, *rgb);
-        write_glb(&dir.path().join(format!("c{k}.glb")), &[mesh]).expect("asset");
-        heavy_ids.push(format!("c{k}"));
-        // 2 * 40 * 25 = 2,000 triangles.
-        let mesh = tube(&format!("t{k}"), radius, height, 40, 25, *rgb);
-        write_glb(&dir.path().join(format!("t{k}.glb")), &[mesh]).expect("asset");
-        open_ids.push(format!("t{k}"));
-    }
+    let heavy_ids = common::heavy_assets(dir.path(), false);
+    let open_ids = common::heavy_assets(dir.path(), true);
     let heavy_lib = AssetLibrary::new().with_source("bench", PlainFolderSource::new(dir.path()));
     let grid_of = |ids: &[String]| {
         let refs: Vec<&str> = ids.iter().map(String::as_str).collect();
         renderer
-            .prepare(&grid_scene(&heavy_lib, "bench", &refs), &heavy_lib)
+            .prepare(&common::grid_scene(&heavy_lib, "bench", &refs), &heavy_lib)
             .expect("prepared")
     };
     let heavy = grid_of(&heavy_ids);
@@ -221,7 +135,8 @@ fn rendering(c: &mut Criterion) {
 /// Writes 8 textured assets and a 40-object scene over them into `dir`; returns the scene.
 fn textured_scene(dir: &Path) -> PathBuf {
     for k in 0..8u32 {
-        let mut mesh = cylinder(&format!("t{k}"), 0.3, 0.8, 40, 11, [1.0; 3]);
+        let mut mesh =
+            common::cylinder(&format!("t{k}"), 0.3, 0.8, 40, 11).with_material(GlbMaterial::color([1.0; 3]));
         let uvs = mesh
             .positions
             .iter()
@@ -242,7 +157,7 @@ fn textured_scene(dir: &Path) -> PathBuf {
             .object(
                 format!("o{i}"),
                 &format!("bench.t{}", i % 8),
-                pose(0.8 + 1.2 * (i % 8) as f64, 1.0 + 1.5 * (i / 8) as f64, 0.0),
+                common::pose(0.8 + 1.2 * (i % 8) as f64, 1.0 + 1.5 * (i / 8) as f64, 0.0),
                 Vector3::repeat(1.0),
             )
             .expect("object");

@@ -23,62 +23,11 @@
 #[path = "../benches/common/mod.rs"]
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use sceneeval_geom::na::{Translation3, UnitQuaternion};
-use sceneeval_geom::{Isometry3, Point2, Vector3};
+use sceneeval_io::AssetLibrary;
 use sceneeval_io::assets::PlainFolderSource;
-use sceneeval_io::{AssetLibrary, GlbMaterial, write_glb};
 use sceneeval_render::{RenderSettings, Renderer, View};
-use sceneeval_scene::{RoomBuilder, Scene};
-
-/// The same grid as `benches/render.rs`: 50 objects in a 15 x 10 m room with a door and a
-/// window, cycling through `ids`.
-fn grid_scene(library: &AssetLibrary, prefix: &str, ids: &[&str]) -> Scene {
-    let mut builder = Scene::builder().room_builder(
-        RoomBuilder::rectangle("r", Point2::new(0.0, 0.0), Point2::new(15.0, 10.0))
-            .door(0, [1.0, 2.0], [0.0, 2.1])
-            .window(2, [4.0, 6.0], [0.9, 2.0]),
-    );
-    for i in 0..50usize {
-        let (x, y) = (0.75 + 1.5 * (i % 10) as f64, 1.0 + 2.0 * (i / 10) as f64);
-        let pose = Isometry3::from_parts(
-            Translation3::new(x, y, 0.0),
-            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.4 * i as f64),
-        );
-        let object = library
-            .object(
-                format!("o{i}"),
-                &format!("{prefix}.{}", ids[i % ids.len()]),
-                pose,
-                Vector3::repeat(1.0),
-            )
-            .expect("object");
-        builder = builder.object(object);
-    }
-    builder.build().expect("scene")
-}
-
-const FIXTURE_IDS: [&str; 18] = [
-    "bed",
-    "nightstand",
-    "desk",
-    "chair",
-    "dining_table",
-    "sofa",
-    "coffee_table",
-    "wardrobe",
-    "bookshelf",
-    "table_lamp",
-    "floor_lamp",
-    "rug",
-    "painting",
-    "ceiling_lamp",
-    "tv",
-    "plant",
-    "tv_stand",
-    "storage_box",
-];
 
 fn main() {
     let mut samples = RenderSettings::DEFAULT_SAMPLES;
@@ -107,35 +56,15 @@ fn main() {
     let renderer = Renderer::new().expect("a renderer (install mesa-vulkan-drivers libvulkan1)");
     let dir = tempfile::tempdir().expect("temp dir");
     let (library, scene) = if scene_name == "fixtures" {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/assets");
+        let root = common::fixture_assets();
         let library = AssetLibrary::new().with_source("fixture", PlainFolderSource::new(root));
-        let scene = grid_scene(&library, "fixture", &FIXTURE_IDS);
+        let scene = common::grid_scene(&library, "fixture", &common::FIXTURE_IDS);
         (library, scene)
     } else {
-        let colours = [
-            [0.6, 0.2, 0.1],
-            [0.1, 0.4, 0.6],
-            [0.5, 0.5, 0.1],
-            [0.3, 0.3, 0.3],
-            [0.7, 0.6, 0.5],
-        ];
-        let mut ids = Vec::new();
-        let open = scene_name == "tubes";
-        for (k, rgb) in colours.iter().enumerate() {
-            let (radius, height) = (0.3 + 0.05 * k as f32, 0.6 + 0.2 * k as f32);
-            // As in the benchmark: 2 * 40 * 24 + 2 * 40 = 2,000 triangles, or without the caps
-            // (the last 2 * 40) and 25 bands, 2 * 40 * 25 = 2,000.
-            let mut mesh = common::cylinder(&format!("c{k}"), radius, height, 40, if open { 25 } else { 24 })
-                .with_material(GlbMaterial::color(*rgb));
-            if open {
-                mesh.indices.truncate(6 * 40 * 25);
-            }
-            write_glb(&dir.path().join(format!("c{k}.glb")), &[mesh]).expect("asset");
-            ids.push(format!("c{k}"));
-        }
+        let ids = common::heavy_assets(dir.path(), scene_name == "tubes");
         let library = AssetLibrary::new().with_source("bench", PlainFolderSource::new(dir.path()));
         let refs: Vec<&str> = ids.iter().map(String::as_str).collect();
-        let scene = grid_scene(&library, "bench", &refs);
+        let scene = common::grid_scene(&library, "bench", &refs);
         (library, scene)
     };
     let prepared = renderer.prepare(&scene, &library).expect("prepared");
