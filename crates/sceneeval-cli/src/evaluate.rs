@@ -13,7 +13,7 @@ use sceneeval::annotation::Annotations;
 use sceneeval::io::AssetLibrary;
 use sceneeval::render::{RenderSettings, Renderer};
 use sceneeval::vlm::{Answer, Cached, Vlm, VlmError, VlmRequest};
-use sceneeval::vlm_openai::{ApiKey, DEFAULT_API_KEY_VAR, OpenAiConfig, OpenAiVlm};
+use sceneeval::vlm_openai::{OpenAiConfig, OpenAiVlm};
 use sceneeval::{
     ChosenPlan, Evaluator, FolderOutcome, FolderRun, Metric, Outcome, PlanChoice, Preset, SceneRecord,
     SceneStatus, SharedVlm, check_output_dir, find_scenes,
@@ -42,12 +42,20 @@ pub struct Args {
     #[arg(long, value_name = "geometry|full|LIST|FILE")]
     pub plan: Option<String>,
     /// OpenAI-compatible API base URL of the VLM for the fidelity metrics (matching, ATR,
-    /// relation mapping), e.g. https://api.openai.com/v1. The key is read from OPENAI_API_KEY.
+    /// relation mapping), e.g. https://api.openai.com/v1. The key is read from OPENAI_API_KEY
+    /// (or `--vlm-api-key-env`).
     #[arg(long, value_name = "URL", requires = "vlm_model")]
     pub vlm_base_url: Option<String>,
     /// The VLM's model name, e.g. gpt-4o-2024-08-06.
     #[arg(long, value_name = "NAME", requires = "vlm_base_url")]
     pub vlm_model: Option<String>,
+    /// The environment variable holding the VLM's API key; it must then be set. Without this
+    /// option OPENAI_API_KEY is used when set (local servers need no key).
+    #[arg(long, value_name = "VAR", requires = "vlm_base_url")]
+    pub vlm_api_key_env: Option<String>,
+    /// What is sent with every VLM request.
+    #[command(flatten)]
+    pub vlm_sampling: crate::vlm::SamplingArgs,
     /// VLM requests in flight at once over the whole run.
     #[arg(long, default_value_t = 4, value_name = "N")]
     pub vlm_concurrency: usize,
@@ -119,6 +127,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         eprintln!("shard {k}/{n}: {} scenes", scenes.len());
     }
     let vlm_configured = args.vlm_base_url.is_some();
+    if let (false, Some(option)) = (vlm_configured, args.vlm_sampling.first_given()) {
+        bail!("{option} sets what is sent to the VLM; it needs --vlm-base-url and --vlm-model");
+    }
     let choice = PlanChoice {
         plan: args.plan.as_deref(),
         preset: args.preset,
@@ -141,8 +152,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         &args.vlm_model,
         evaluator.plan().has_fidelity(),
     ) {
-        let key = ApiKey::from_env(DEFAULT_API_KEY_VAR)?;
+        let key = crate::vlm::api_key(args.vlm_api_key_env.as_deref(), "--vlm-api-key-env")?;
         let mut config = OpenAiConfig::new(url, model).with_api_key(key);
+        args.vlm_sampling.apply(&mut config);
         config.max_concurrent_requests = args.vlm_concurrency.max(1);
         let client = OpenAiVlm::new(config).context("cannot set up the VLM client")?;
         let (vlm, stop) = RuntimeVlm::start(client)?;

@@ -12,7 +12,9 @@ use std::time::Duration;
 use anyhow::{Context, bail};
 use sceneeval_vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
 use sceneeval_vlm::{Outcome, Session};
-use sceneeval_vlm_openai::{ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, OpenAiVlm};
+use sceneeval_vlm_openai::{
+    ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, OpenAiVlm, TokenLimitField,
+};
 
 /// `sceneeval vlm` subcommands.
 #[derive(Debug, clap::Subcommand)]
@@ -35,9 +37,9 @@ pub struct CheckArgs {
     /// OPENAI_API_KEY is used when set (local servers need no key).
     #[arg(long, value_name = "VAR")]
     pub api_key_env: Option<String>,
-    /// Image detail: low (the reference's), high or auto.
-    #[arg(long, default_value = "low", value_parser = parse_detail)]
-    pub detail: ImageDetail,
+    /// What is sent with every request (the same options as `evaluate`'s).
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
     /// Seconds to wait for the answer (per attempt).
     #[arg(long, default_value_t = 60.0, value_name = "SECS")]
     pub timeout: f64,
@@ -46,8 +48,116 @@ pub struct CheckArgs {
     pub retries: u32,
 }
 
+/// The sampling settings sent with every VLM request, as options of `evaluate` and
+/// `vlm check`; an option not given keeps the client's default (`OpenAiConfig::new`).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct SamplingArgs {
+    /// Image detail: low (default, the reference's), high or auto.
+    #[arg(long = "vlm-detail", alias = "detail", value_name = "low|high|auto", value_parser = parse_detail)]
+    pub detail: Option<ImageDetail>,
+    /// Sampling temperature from 0 to 2 (default 0), or `none` to send none: OpenAI's
+    /// reasoning models (o-series, GPT-5) accept only their own.
+    #[arg(long = "vlm-temperature", value_name = "T|none", value_parser = parse_temperature)]
+    pub temperature: Option<Sent<f32>>,
+    /// Sampling seed (default 42, the reference's), or `none` to send none.
+    #[arg(long = "vlm-seed", value_name = "N|none", value_parser = parse_seed)]
+    pub seed: Option<Sent<u64>>,
+    /// Token limit of a reply (default: none sent, the server's own); a reply cut off there
+    /// is recorded as truncated.
+    #[arg(long = "vlm-max-tokens", value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_tokens: Option<u32>,
+    /// The request field of the token limit: max_tokens (default, every OpenAI-compatible
+    /// server) or max_completion_tokens (OpenAI's o-series and GPT-5 refuse max_tokens).
+    #[arg(
+        long = "vlm-token-limit-field",
+        value_name = "max_tokens|max_completion_tokens",
+        value_parser = parse_token_limit_field
+    )]
+    pub token_limit_field: Option<TokenLimitField>,
+}
+
+/// A setting given on the command line: a value, or `none` for "send none".
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sent<T>(pub Option<T>);
+
+impl SamplingArgs {
+    /// The first option given, if any (`--vlm-detail`, ...).
+    pub fn first_given(&self) -> Option<&'static str> {
+        [
+            (self.detail.is_some(), "--vlm-detail"),
+            (self.temperature.is_some(), "--vlm-temperature"),
+            (self.seed.is_some(), "--vlm-seed"),
+            (self.max_tokens.is_some(), "--vlm-max-tokens"),
+            (self.token_limit_field.is_some(), "--vlm-token-limit-field"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+    }
+
+    /// Sets in `config` the settings given.
+    pub fn apply(&self, config: &mut OpenAiConfig) {
+        if let Some(detail) = self.detail {
+            config.detail = detail;
+        }
+        if let Some(Sent(t)) = self.temperature {
+            config.temperature = t;
+        }
+        if let Some(Sent(seed)) = self.seed {
+            config.seed = seed;
+        }
+        if let Some(n) = self.max_tokens {
+            config.max_tokens = Some(n);
+        }
+        if let Some(field) = self.token_limit_field {
+            config.token_limit_field = field;
+        }
+    }
+}
+
 fn parse_detail(s: &str) -> Result<ImageDetail, String> {
     s.parse()
+}
+
+fn parse_token_limit_field(s: &str) -> Result<TokenLimitField, String> {
+    s.parse()
+}
+
+/// `none`, or what `value` makes of the text.
+fn sent<T>(s: &str, value: impl FnOnce(&str) -> Result<T, String>) -> Result<Sent<T>, String> {
+    if s.trim().eq_ignore_ascii_case("none") {
+        Ok(Sent(None))
+    } else {
+        value(s.trim()).map(|v| Sent(Some(v)))
+    }
+}
+
+fn parse_temperature(s: &str) -> Result<Sent<f32>, String> {
+    sent(s, |t| match t.parse::<f32>() {
+        Ok(v) if v.is_finite() && (0.0..=2.0).contains(&v) => Ok(v),
+        _ => Err(format!("{t:?} is not a temperature from 0 to 2 or \"none\"")),
+    })
+}
+
+fn parse_seed(s: &str) -> Result<Sent<u64>, String> {
+    sent(s, |t| {
+        t.parse::<u64>()
+            .map_err(|_| format!("{t:?} is not a seed (a whole number from 0) or \"none\""))
+    })
+}
+
+/// The API key from the variable `named` (which must then be set), or else from
+/// `OPENAI_API_KEY` if set.
+///
+/// # Errors
+/// When the named variable is unset or empty, or a variable is not valid Unicode.
+pub fn api_key(named: Option<&str>, option: &str) -> anyhow::Result<Option<ApiKey>> {
+    Ok(match named {
+        Some(var) => Some(
+            ApiKey::from_env(var)?
+                .with_context(|| format!("environment variable {var} ({option}) is not set or empty"))?,
+        ),
+        None => ApiKey::from_env(DEFAULT_API_KEY_VAR)?,
+    })
 }
 
 /// Runs a `sceneeval vlm` subcommand.
@@ -58,18 +168,12 @@ pub fn run(command: Command) -> anyhow::Result<ExitCode> {
 }
 
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    let key = match &args.api_key_env {
-        Some(var) => Some(
-            ApiKey::from_env(var)?
-                .with_context(|| format!("environment variable {var} (--api-key-env) is not set or empty"))?,
-        ),
-        None => ApiKey::from_env(DEFAULT_API_KEY_VAR)?,
-    };
+    let key = api_key(args.api_key_env.as_deref(), "--api-key-env")?;
     if !(args.timeout.is_finite() && args.timeout > 0.0) {
         bail!("--timeout must be a positive number of seconds");
     }
     let mut config = OpenAiConfig::new(&args.base_url, &args.model).with_api_key(key);
-    config.detail = args.detail;
+    args.sampling.apply(&mut config);
     config.timeout = Duration::from_secs_f64(args.timeout);
     config.retry.max_retries = args.retries;
     let vlm = OpenAiVlm::new(config).context("cannot set up the client")?;

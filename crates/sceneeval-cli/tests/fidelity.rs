@@ -460,3 +460,98 @@ fn a_changed_annotation_row_invalidates_only_its_record() {
         sceneeval::SceneStatus::Evaluated { why: sceneeval::Reason::Changed(w) } if w.contains("annotation row")
     )));
 }
+
+#[tokio::test]
+async fn sampling_options_reach_every_request_and_the_key_variable_is_used() {
+    let (_keep, scenes, csv) = setup();
+    std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let server = mock_server(usize::MAX, Arc::new(Nth::default())).await;
+    let url = format!("{}/v1", server.uri());
+    let (s, c, o) = (scenes.clone(), csv.clone(), out.path().to_owned());
+    let run = tokio::task::spawn_blocking(move || {
+        let (csv, scenes_dir) = (c.to_str().unwrap(), &s);
+        let mut cmd = common::evaluate_command(
+            scenes_dir,
+            &fixtures().join("assets"),
+            &o,
+            &[
+                "--annotations",
+                csv,
+                "--plan",
+                "full",
+                "--vlm-base-url",
+                &url,
+                "--vlm-model",
+                "test-model",
+                "--relation-mapping",
+                "lexicon",
+                "--render-size",
+                "64",
+                "--threads",
+                "1",
+                "--vlm-temperature",
+                "none",
+                "--vlm-seed",
+                "7",
+                "--vlm-detail",
+                "high",
+                "--vlm-max-tokens",
+                "500",
+                "--vlm-token-limit-field",
+                "max_completion_tokens",
+                "--vlm-api-key-env",
+                "MY_TEST_VLM_KEY",
+            ],
+        );
+        cmd.env("MY_TEST_VLM_KEY", "sk-named-variable")
+            .env_remove("OPENAI_API_KEY")
+            .output()
+            .unwrap()
+    })
+    .await
+    .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let requests = server.received_requests().await.unwrap();
+    assert_eq!(requests.len(), 7, "scene 8's questions");
+    let mut images = 0;
+    for r in &requests {
+        assert_eq!(
+            r.headers.get("authorization").unwrap(),
+            "Bearer sk-named-variable"
+        );
+        let body: Value = r.body_json().unwrap();
+        assert!(body.get("temperature").is_none(), "{body}");
+        assert!(body.get("max_tokens").is_none(), "{body}");
+        assert_eq!(
+            (body["seed"].clone(), body["max_completion_tokens"].clone()),
+            (json!(7), json!(500))
+        );
+        for part in body["messages"][1]["content"].as_array().unwrap() {
+            if part["type"] == "image_url" {
+                images += 1;
+                assert_eq!(part["image_url"]["detail"], "high");
+            }
+        }
+    }
+    assert!(images > 0);
+}
+
+#[test]
+fn sampling_options_need_a_vlm() {
+    let (_keep, scenes, _csv) = setup();
+    let out = tempfile::tempdir().unwrap();
+    let run = common::evaluate(
+        &scenes,
+        &fixtures().join("assets"),
+        out.path(),
+        &["--vlm-temperature", "0.5"],
+    );
+    let output = run.get_output();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("--vlm-temperature sets what is sent to the VLM; it needs --vlm-base-url"),
+        "{stderr}"
+    );
+}

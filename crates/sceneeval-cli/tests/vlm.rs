@@ -158,3 +158,51 @@ async fn a_refusal_fails() {
     assert_eq!(code, 1);
     assert!(stderr.contains("the model refused: I cannot help."), "{stderr}");
 }
+
+#[tokio::test]
+async fn sampling_options_are_sent() {
+    let server = server_answering(completion(json!({"colour": "red", "reason": "A red square."}))).await;
+    let (code, stdout, stderr) = check(
+        format!("{}/v1", server.uri()),
+        // `--detail` is the option's earlier name, still accepted.
+        &[
+            "--detail",
+            "auto",
+            "--vlm-temperature",
+            "1",
+            "--vlm-seed",
+            "none",
+            "--vlm-max-tokens",
+            "64",
+        ],
+        None,
+    )
+    .await;
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let body: Value = server.received_requests().await.unwrap()[0].body_json().unwrap();
+    assert_eq!(body["messages"][1]["content"][1]["image_url"]["detail"], "auto");
+    assert_eq!(
+        (body["temperature"].clone(), body["max_tokens"].clone()),
+        (json!(1.0), json!(64))
+    );
+    assert!(body.get("seed").is_none(), "{body}");
+    assert!(body.get("max_completion_tokens").is_none(), "{body}");
+}
+
+#[tokio::test]
+async fn bad_sampling_options_are_refused_before_asking() {
+    for (option, value, expect) in [
+        ("--vlm-temperature", "2.5", "not a temperature from 0 to 2"),
+        ("--vlm-seed", "1.5", "not a seed"),
+        ("--vlm-max-tokens", "0", "--vlm-max-tokens"),
+        (
+            "--vlm-token-limit-field",
+            "max_output_tokens",
+            "not one of max_tokens, max_completion_tokens",
+        ),
+    ] {
+        let (code, _, stderr) = check("http://127.0.0.1:9/v1".into(), &[option, value], None).await;
+        assert_eq!(code, 2, "{option} {value}: {stderr}");
+        assert!(stderr.contains(expect), "{option} {value}: {stderr}");
+    }
+}

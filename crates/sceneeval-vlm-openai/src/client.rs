@@ -116,7 +116,8 @@ impl OpenAiVlm {
     ///
     /// # Errors
     /// [`OpenAiError::InvalidBaseUrl`] for a base URL that is not `http(s)://...`,
-    /// [`OpenAiError::InvalidSetting`] for zero concurrency or timeouts,
+    /// [`OpenAiError::InvalidSetting`] for zero concurrency or timeouts, a temperature outside
+    /// 0 to 2 or a token limit of 0,
     /// [`OpenAiError::Client`] when the HTTP client cannot be built.
     pub fn new(config: OpenAiConfig) -> Result<Self, OpenAiError> {
         let base = config.base_url.trim().trim_end_matches('/').to_owned();
@@ -143,6 +144,20 @@ impl OpenAiVlm {
                 message: "must be at least 1".to_owned(),
             });
         }
+        if let Some(t) = config.temperature
+            && !(t.is_finite() && (0.0..=2.0).contains(&t))
+        {
+            return Err(OpenAiError::InvalidSetting {
+                setting: "temperature",
+                message: format!("{t} is not a number from 0 to 2"),
+            });
+        }
+        if config.max_tokens == Some(0) {
+            return Err(OpenAiError::InvalidSetting {
+                setting: "max_tokens",
+                message: "must be at least 1".to_owned(),
+            });
+        }
         if config.timeout.is_zero() || config.connect_timeout.is_zero() {
             return Err(OpenAiError::InvalidSetting {
                 setting: "timeout",
@@ -165,6 +180,7 @@ impl OpenAiVlm {
             seed: config.seed,
             temperature: config.temperature,
             max_tokens: config.max_tokens,
+            token_limit_field: config.token_limit_field,
         };
         Ok(OpenAiVlm {
             url: format!("{base}/chat/completions"),
@@ -441,7 +457,8 @@ impl Vlm for OpenAiVlm {
     }
 
     /// `detail=low;seed=42;temperature=0` with the default configuration; a setting that is
-    /// not sent (`None`) is left out, `max_tokens` appears when set.
+    /// not sent (`None`) is left out, the token limit appears when set, under the name of its
+    /// field (`max_tokens=300`, `max_completion_tokens=300`).
     fn settings(&self) -> &str {
         &self.settings
     }
@@ -459,6 +476,7 @@ impl Vlm for OpenAiVlm {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::TokenLimitField;
 
     fn client(key: Option<&str>) -> OpenAiVlm {
         let config = OpenAiConfig::new("http://127.0.0.1:9/v1/", "m")
@@ -479,6 +497,56 @@ mod tests {
         let mut zero = OpenAiConfig::new("http://x/v1", "m");
         zero.max_concurrent_requests = 0;
         assert!(OpenAiVlm::new(zero).is_err());
+    }
+
+    #[test]
+    fn sampling_settings_are_checked() {
+        let with = |f: &dyn Fn(&mut OpenAiConfig)| {
+            let mut config = OpenAiConfig::new("http://x/v1", "m");
+            f(&mut config);
+            OpenAiVlm::new(config)
+        };
+        for bad in [-0.1, 2.5, f32::NAN, f32::INFINITY] {
+            let err = with(&|c| c.temperature = Some(bad)).unwrap_err();
+            assert!(
+                matches!(
+                    err,
+                    OpenAiError::InvalidSetting {
+                        setting: "temperature",
+                        ..
+                    }
+                ),
+                "{bad}: {err}"
+            );
+        }
+        for good in [0.0, 1.0, 2.0] {
+            assert!(with(&|c| c.temperature = Some(good)).is_ok());
+        }
+        let err = with(&|c| c.max_tokens = Some(0)).unwrap_err();
+        assert!(matches!(
+            err,
+            OpenAiError::InvalidSetting {
+                setting: "max_tokens",
+                ..
+            }
+        ));
+        let vlm = with(&|c| {
+            c.temperature = None;
+            c.max_tokens = Some(256);
+            c.token_limit_field = TokenLimitField::MaxCompletionTokens;
+        })
+        .unwrap();
+        assert_eq!(vlm.settings(), "detail=low;seed=42;max_completion_tokens=256");
+        assert_eq!(
+            "MAX_completion_tokens".parse::<TokenLimitField>(),
+            Ok(TokenLimitField::MaxCompletionTokens)
+        );
+        assert!(
+            "max_output_tokens"
+                .parse::<TokenLimitField>()
+                .unwrap_err()
+                .contains("max_tokens")
+        );
     }
 
     #[test]

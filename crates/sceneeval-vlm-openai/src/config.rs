@@ -93,6 +93,45 @@ impl std::str::FromStr for ImageDetail {
     }
 }
 
+/// The request field that carries the reply's token limit ([`OpenAiConfig::max_tokens`]).
+///
+/// `max_tokens` is the field every OpenAI-compatible server knows (vLLM, Ollama, LM Studio,
+/// OpenAI's GPT-4o); OpenAI's reasoning models (the o-series, GPT-5) refuse it and take
+/// `max_completion_tokens`, which also counts their hidden reasoning tokens.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TokenLimitField {
+    /// `max_tokens`.
+    #[default]
+    MaxTokens,
+    /// `max_completion_tokens`.
+    MaxCompletionTokens,
+}
+
+impl TokenLimitField {
+    /// The field's name in the request.
+    pub fn name(self) -> &'static str {
+        match self {
+            TokenLimitField::MaxTokens => "max_tokens",
+            TokenLimitField::MaxCompletionTokens => "max_completion_tokens",
+        }
+    }
+}
+
+impl std::str::FromStr for TokenLimitField {
+    type Err = String;
+
+    /// `max_tokens` or `max_completion_tokens`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "max_tokens" => Ok(TokenLimitField::MaxTokens),
+            "max_completion_tokens" => Ok(TokenLimitField::MaxCompletionTokens),
+            other => Err(format!(
+                "token limit field {other:?} is not one of max_tokens, max_completion_tokens"
+            )),
+        }
+    }
+}
+
 /// When and how long to wait before retrying a failed request.
 ///
 /// Retried: HTTP 408, 409, 429 and 5xx, connection failures and timeouts. The wait before
@@ -155,8 +194,9 @@ impl RetryPolicy {
 /// | `api_key` | none | read with [`ApiKey::from_env`]; local servers need none |
 /// | `detail` | `low` | as the reference |
 /// | `seed` | 42 | as the reference; OpenAI treats it as best effort |
-/// | `temperature` | 0 | the reference sent none (API default 1.0); 0 makes answers as repeatable as the server allows |
+/// | `temperature` | 0 | the reference sent none (API default 1.0); 0 makes answers as repeatable as the server allows; `None` sends none (OpenAI's reasoning models accept only their default) |
 /// | `max_tokens` | none | the server's limit; a reply cut off there is reported as truncated |
+/// | `token_limit_field` | `max_tokens` | the field `max_tokens` is sent in ([`TokenLimitField`]) |
 /// | `timeout` | 120 s | per attempt, including reading the reply |
 /// | `connect_timeout` | 10 s | |
 /// | `retry` | [`RetryPolicy::default`] | |
@@ -173,11 +213,13 @@ pub struct OpenAiConfig {
     pub detail: ImageDetail,
     /// The sampling seed, if any.
     pub seed: Option<u64>,
-    /// The sampling temperature, if any.
+    /// The sampling temperature, if any: finite, from 0 to 2.
     pub temperature: Option<f32>,
-    /// The token limit of a reply, if any (sent as `max_tokens`, which OpenAI, vLLM, Ollama and
-    /// LM Studio all accept).
+    /// The token limit of a reply, if any (at least 1), sent in the field
+    /// `token_limit_field` names.
     pub max_tokens: Option<u32>,
+    /// The request field of `max_tokens`.
+    pub token_limit_field: TokenLimitField,
     /// The timeout of one attempt.
     pub timeout: Duration,
     /// The timeout of connecting.
@@ -199,6 +241,7 @@ impl OpenAiConfig {
             seed: Some(42),
             temperature: Some(0.0),
             max_tokens: None,
+            token_limit_field: TokenLimitField::MaxTokens,
             timeout: Duration::from_secs(120),
             connect_timeout: Duration::from_secs(10),
             retry: RetryPolicy::default(),

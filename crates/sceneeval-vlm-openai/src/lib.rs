@@ -46,5 +46,5 @@ mod error;
 mod wire;
 
 pub use client::{ClientStats, OpenAiVlm};
-pub use config::{ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, RetryPolicy};
+pub use config::{ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, RetryPolicy, TokenLimitField};
 pub use error::OpenAiError;

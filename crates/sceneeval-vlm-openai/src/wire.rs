@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use sceneeval_vlm::schema::{Ordered, ordered};
 use sceneeval_vlm::{AnswerContent, TokenUsage, VlmRequest};
 
-use crate::ImageDetail;
+use crate::{ImageDetail, TokenLimitField};
 
 #[derive(Serialize)]
 pub(crate) struct ChatRequest<'a> {
@@ -20,6 +20,8 @@ pub(crate) struct ChatRequest<'a> {
     temperature: Option<f32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     max_tokens: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_completion_tokens: Option<u32>,
 }
 
 #[derive(Serialize)]
@@ -63,6 +65,7 @@ pub(crate) struct Sampling {
     pub seed: Option<u64>,
     pub temperature: Option<f32>,
     pub max_tokens: Option<u32>,
+    pub token_limit_field: TokenLimitField,
 }
 
 impl Sampling {
@@ -83,7 +86,7 @@ impl Sampling {
             parts.push(format!("temperature={t}"));
         }
         if let Some(n) = self.max_tokens {
-            parts.push(format!("max_tokens={n}"));
+            parts.push(format!("{}={n}", self.token_limit_field.name()));
         }
         parts.join(";")
     }
@@ -127,7 +130,12 @@ pub(crate) fn request_body(
         },
         seed: s.seed,
         temperature: s.temperature,
-        max_tokens: s.max_tokens,
+        max_tokens: s
+            .max_tokens
+            .filter(|_| s.token_limit_field == TokenLimitField::MaxTokens),
+        max_completion_tokens: s
+            .max_tokens
+            .filter(|_| s.token_limit_field == TokenLimitField::MaxCompletionTokens),
     };
     serde_json::to_vec(&body)
 }
@@ -236,6 +244,7 @@ mod tests {
             seed: Some(42),
             temperature: Some(0.0),
             max_tokens: None,
+            token_limit_field: TokenLimitField::MaxTokens,
         };
         assert_eq!(s.canonical(), "detail=low;seed=42;temperature=0");
         s.detail = ImageDetail::High;
@@ -244,6 +253,11 @@ mod tests {
         assert_eq!(
             s.canonical(),
             "detail=high;seed=42;temperature=0.7;max_tokens=300"
+        );
+        s.token_limit_field = TokenLimitField::MaxCompletionTokens;
+        assert_eq!(
+            s.canonical(),
+            "detail=high;seed=42;temperature=0.7;max_completion_tokens=300"
         );
         s.seed = None;
         s.temperature = None;

@@ -17,7 +17,7 @@ use sceneeval_vlm::tasks::{
     SupportTypeTask,
 };
 use sceneeval_vlm::{Cached, Outcome, Session, Single, UnansweredKind, VlmError};
-use sceneeval_vlm_openai::{ApiKey, OpenAiError, OpenAiVlm};
+use sceneeval_vlm_openai::{ApiKey, OpenAiError, OpenAiVlm, TokenLimitField};
 use serde_json::{Value, json};
 use support::{bodies, completion, config, json_completion, mount_sequence, user_text};
 use wiremock::{MockServer, ResponseTemplate};
@@ -90,6 +90,33 @@ async fn request_has_the_documented_shape() {
         (usage.tokens.prompt_tokens, usage.tokens.completion_tokens),
         (100, 20)
     );
+}
+
+#[tokio::test]
+async fn token_limit_goes_in_the_chosen_field_and_unset_settings_are_not_sent() {
+    let server = MockServer::start().await;
+    mount_sequence(&server, |_, _| json_completion(&support_ok())).await;
+    let task = SupportTypeTask::new(test_image(), test_image());
+    for field in [TokenLimitField::MaxTokens, TokenLimitField::MaxCompletionTokens] {
+        let mut c = config(&server);
+        c.temperature = None;
+        c.seed = None;
+        c.max_tokens = Some(321);
+        c.token_limit_field = field;
+        let vlm = OpenAiVlm::new(c).unwrap();
+        Session::new(&vlm).ask(&task).await.unwrap();
+    }
+    let requests = server.received_requests().await.unwrap();
+    assert_eq!(requests.len(), 2);
+    let bodies: Vec<Value> = requests.iter().map(|r| r.body_json().unwrap()).collect();
+    for body in &bodies {
+        assert!(body.get("temperature").is_none(), "{body}");
+        assert!(body.get("seed").is_none(), "{body}");
+    }
+    assert_eq!(bodies[0]["max_tokens"], 321);
+    assert!(bodies[0].get("max_completion_tokens").is_none());
+    assert_eq!(bodies[1]["max_completion_tokens"], 321);
+    assert!(bodies[1].get("max_tokens").is_none());
 }
 
 #[tokio::test]

@@ -15,15 +15,19 @@ pub fn fixtures() -> PathBuf {
 
 /// `sceneeval evaluate SCENES --assets fixture=ASSETS --no-progress --out OUT EXTRA...`.
 pub fn evaluate(scenes: &Path, assets: &Path, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
+    evaluate_command(scenes, assets, out, extra).assert()
+}
+
+/// The command [`evaluate`] runs, to add environment variables before running it.
+pub fn evaluate_command(scenes: &Path, assets: &Path, out: &Path, extra: &[&str]) -> Command {
     let spec = format!("fixture={}", assets.display());
-    Command::cargo_bin("sceneeval")
-        .unwrap()
-        .arg("evaluate")
+    let mut cmd = Command::cargo_bin("sceneeval").unwrap();
+    cmd.arg("evaluate")
         .arg(scenes)
         .args(["--assets", &spec, "--no-progress", "--out"])
         .arg(out)
-        .args(extra)
-        .assert()
+        .args(extra);
+    cmd
 }
 
 /// The `eval.json` of `scene` under `out`.
