@@ -1,5 +1,6 @@
 //! Exact helpers on point loops in the plane (world x, y): orientation, areas, convex hulls,
-//! convex clipping and subtraction, point distances. Unlike [`crate::Polygon2`] they take plain
+//! convex clipping and subtraction, point distances; and clipping of polygons in the plane or
+//! in space by a half space ([`clip_half_space`]). Unlike [`crate::Polygon2`] they take plain
 //! slices and do not validate: "convex polygon" means a counter-clockwise loop without reflex
 //! corners, and degenerate loops (fewer than three points) are handled as points or segments
 //! where the function says so.
@@ -148,11 +149,29 @@ pub fn convex_distance(poly: &[Point2], p: &Point2) -> Real {
         .fold(Real::INFINITY, Real::min)
 }
 
-/// Keeps the part of `poly` where `f(p) >= 0` for the affine function `f` (one
-/// Sutherland-Hodgman step).
-pub fn clip_half_plane(poly: &[Point2], f: impl Fn(&Point2) -> Real) -> Vec<Point2> {
+/// Keeps the part of the polygon `poly` (its vertices in order, in the plane or in space)
+/// where `f(p) >= 0` for the affine function `f`: one Sutherland-Hodgman step. Each edge that
+/// crosses the boundary contributes its crossing point. A vertex on the boundary (`f = 0`) is
+/// kept, and again as the crossing point of an edge between it and a vertex outside, so the
+/// result may repeat points or be degenerate (callers test its size or area).
+pub fn clip_half_space<const D: usize>(
+    poly: &[nalgebra::Point<Real, D>],
+    f: impl Fn(&nalgebra::Point<Real, D>) -> Real,
+) -> Vec<nalgebra::Point<Real, D>> {
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    clip_half_space_into(poly, f, &mut out);
+    out
+}
+
+/// [`clip_half_space`] into `out` (cleared first), so that a caller clipping repeatedly can
+/// reuse its buffers and allocate nothing once they have grown.
+pub fn clip_half_space_into<const D: usize>(
+    poly: &[nalgebra::Point<Real, D>],
+    f: impl Fn(&nalgebra::Point<Real, D>) -> Real,
+    out: &mut Vec<nalgebra::Point<Real, D>>,
+) {
+    out.clear();
     let n = poly.len();
-    let mut out = Vec::with_capacity(n + 2);
     for i in 0..n {
         let (cur, next) = (poly[i], poly[(i + 1) % n]);
         let (fc, fn_) = (f(&cur), f(&next));
@@ -164,7 +183,6 @@ pub fn clip_half_plane(poly: &[Point2], f: impl Fn(&Point2) -> Real) -> Vec<Poin
             out.push(cur + (next - cur) * t);
         }
     }
-    out
 }
 
 /// The intersection of a convex `subject` with the convex counter-clockwise `clip`.
@@ -176,7 +194,7 @@ pub fn clip_convex(subject: &[Point2], clip: &[Point2]) -> Vec<Point2> {
             return Vec::new();
         }
         let (a, b) = (clip[k], clip[(k + 1) % m]);
-        out = clip_half_plane(&out, |p| orient(&a, &b, p));
+        out = clip_half_space(&out, |p| orient(&a, &b, p));
     }
     if out.len() < 3 { Vec::new() } else { out }
 }
@@ -195,11 +213,11 @@ pub fn subtract_convex(subject: &[Point2], hole: &[Point2]) -> Vec<Vec<Point2>> 
             break;
         }
         let (a, b) = (hole[k], hole[(k + 1) % m]);
-        let outside = clip_half_plane(&rest, |p| -orient(&a, &b, p));
+        let outside = clip_half_space(&rest, |p| -orient(&a, &b, p));
         if outside.len() >= 3 && area(&outside) > 0.0 {
             pieces.push(outside);
         }
-        rest = clip_half_plane(&rest, |p| orient(&a, &b, p));
+        rest = clip_half_space(&rest, |p| orient(&a, &b, p));
     }
     pieces
 }
@@ -234,6 +252,43 @@ mod tests {
 
     fn p(x: f64, y: f64) -> Point2 {
         Point2::new(x, y)
+    }
+
+    #[test]
+    fn clipping_by_a_half_space_in_the_plane_and_in_space() {
+        // The unit square cut at x = 0.25: the right part, starting where the first kept
+        // vertex is, with the two crossing points.
+        let square = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)];
+        let right = clip_half_space(&square, |q| q.x - 0.25);
+        assert_eq!(right, vec![p(0.25, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.25, 1.0)]);
+        assert!((area(&right) - 0.75).abs() < 1e-15);
+        // Everything kept, nothing kept, a vertex on the boundary.
+        assert_eq!(clip_half_space(&square, |q| q.x + 1.0), square.to_vec());
+        assert!(clip_half_space(&square, |q| q.x - 2.0).is_empty());
+        assert_eq!(
+            clip_half_space(&square, |q| -q.x - q.y),
+            vec![p(0.0, 0.0); 3],
+            "only the corner where f = 0, kept and twice as a crossing point"
+        );
+        // A triangle standing across the floor z = 0, cut to its part above: the apex and the
+        // two points where its sides cross z = 0, a third of the way from (3, 0, -1) up to
+        // the apex (x = 3 - 3 / 3) and two thirds of the way from the apex down to (0, 0, -1)
+        // (z = 2 - 3 * 2 / 3).
+        let tri = [
+            crate::Point3::new(0.0, 0.0, -1.0),
+            crate::Point3::new(3.0, 0.0, -1.0),
+            crate::Point3::new(0.0, 0.0, 2.0),
+        ];
+        let mut out = vec![crate::Point3::origin(); 7];
+        clip_half_space_into(&tri, |q| q.z, &mut out);
+        assert_eq!(
+            out,
+            vec![
+                crate::Point3::new(2.0, 0.0, 0.0),
+                crate::Point3::new(0.0, 0.0, 2.0),
+                crate::Point3::new(0.0, 0.0, 0.0),
+            ]
+        );
     }
 
     fn square(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Point2> {

@@ -1,38 +1,13 @@
-//! The floors as disjoint convex pieces, their exposed outline, and 3-D polygon clipping; the
-//! 2-D loop helpers come from `sceneeval_geom::planar`.
+//! The floors as disjoint convex pieces and their exposed outline; the loop helpers and
+//! polygon clipping come from `sceneeval_geom::planar`.
 
 pub(crate) use sceneeval_geom::planar::{
-    area, bounds, boxes_overlap, ccw, clip_convex, convex_contains, convex_hull, convex_hull_fast, is_convex,
-    orient, subtract_convex,
+    area, bounds, boxes_overlap, ccw, clip_convex, clip_half_space, clip_half_space_into, convex_contains,
+    convex_hull, convex_hull_fast, is_convex, orient, subtract_convex,
 };
 use std::collections::HashMap;
 
 use sceneeval_geom::{Point2, Point3, Polygon2, Real, Vector2};
-
-/// Keeps the part of a 3-D polygon where `f(p) >= 0`.
-pub(crate) fn clip_half_space(poly: &[Point3], f: impl Fn(&Point3) -> Real) -> Vec<Point3> {
-    let mut out = Vec::with_capacity(poly.len() + 2);
-    clip_half_space_into(poly, f, &mut out);
-    out
-}
-
-/// [`clip_half_space`] into `out` (cleared first), so that a caller clipping repeatedly can
-/// reuse its buffers and allocate nothing once they have grown.
-pub(crate) fn clip_half_space_into(poly: &[Point3], f: impl Fn(&Point3) -> Real, out: &mut Vec<Point3>) {
-    out.clear();
-    let n = poly.len();
-    for i in 0..n {
-        let (cur, next) = (poly[i], poly[(i + 1) % n]);
-        let (fc, fn_) = (f(&cur), f(&next));
-        if fc >= 0.0 {
-            out.push(cur);
-        }
-        if (fc >= 0.0) != (fn_ >= 0.0) {
-            let t = fc / (fc - fn_);
-            out.push(cur + (next - cur) * t);
-        }
-    }
-}
 
 /// Area of a planar 3-D polygon.
 pub(crate) fn area3(poly: &[Point3]) -> Real {
