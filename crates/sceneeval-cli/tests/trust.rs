@@ -52,6 +52,10 @@ fn results_are_reused_only_while_everything_they_depend_on_is_unchanged() {
         .success()
         .stderr(predicate::str::contains("0 evaluated, 2 kept"));
     assert!(std::fs::read(out.join("scene_5/eval.json")).unwrap() == first);
+    // The same asset folder spelled another way is the same folder.
+    evaluate(&scenes, &scenes.join("..").join(".").join("assets"), &out, &[])
+        .success()
+        .stderr(predicate::str::contains("0 evaluated, 2 kept"));
 
     // Edit scene 0 (move its first object by 1 mm): only it is evaluated again.
     let path = scenes.join("scene_0.json");

@@ -46,8 +46,8 @@ pub struct Fingerprint {
     /// [`crate::EvaluationPlan::result_digest`]: the metrics and every parameter.
     pub plan: String,
     /// Hex BLAKE3 of the scene's annotation row (as JSON), when annotations were given and
-    /// have a row for it. Compared only for metrics that read it (the text-fidelity metrics,
-    /// being built); the plausibility metrics do not.
+    /// have a row for it. Compared only for metrics that read it (the text-fidelity metrics);
+    /// the plausibility metrics do not.
     pub annotation: Option<String>,
     /// Every asset the scene's objects were loaded from, by model id.
     pub assets: Vec<AssetDigest>,
@@ -154,9 +154,8 @@ impl Fingerprints {
                 Ok(l) => l,
                 Err(e) => return Some(format!("asset {}: {e}", asset.model_id)),
             };
-            let listed: Vec<&str> = asset.files.iter().map(|f| f.path.as_str()).collect();
             for p in std::iter::once(&location.path).chain(&location.metadata) {
-                if !listed.contains(&p.display().to_string().as_str()) {
+                if !asset.files.iter().any(|f| same_file(Path::new(&f.path), p)) {
                     return Some(format!(
                         "asset {} now resolves to {}",
                         asset.model_id,
@@ -172,6 +171,16 @@ impl Fingerprints {
         }
         None
     }
+}
+
+/// Whether `a` and `b` name the same file: the same text, or the same canonical path (an asset
+/// folder given as `assets`, `./assets` or through a symbolic link is one folder).
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b
+        || match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+            (Ok(x), Ok(y)) => x == y,
+            _ => false,
+        }
 }
 
 /// Hex BLAKE3 of a file's bytes, `None` when it cannot be opened (absent).
