@@ -98,6 +98,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         progress.inc(1);
     }
     progress.finish_and_clear();
-    eprintln!("{} images written to {}", views.len(), args.out.display());
+    let n = views.len();
+    eprintln!(
+        "{n} image{} written to {}",
+        if n == 1 { "" } else { "s" },
+        args.out.display()
+    );
     Ok(ExitCode::SUCCESS)
 }

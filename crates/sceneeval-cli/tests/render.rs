@@ -59,6 +59,14 @@ fn writes_the_requested_views_with_inspect_ids_as_file_names() {
         assert_eq!((img.width(), img.height()), (65, 65), "{name}");
         assert_eq!(img.color(), image::ColorType::Rgba8, "{name}");
     }
+    let one = tempfile::tempdir().unwrap();
+    render()
+        .args(["--out"])
+        .arg(one.path())
+        .args(["--views", "top", "--size", "8"])
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("1 image written to"));
 }
 
 #[test]
