@@ -282,27 +282,29 @@ async fn mock_server(budget: usize, nth: Arc<Nth>) -> wiremock::MockServer {
 }
 
 fn cli_run(scenes: &Path, csv: &Path, out: &Path, url: &str) -> assert_cmd::assert::Assert {
-    common::evaluate(
-        scenes,
-        &fixtures().join("assets"),
-        out,
-        &[
-            "--annotations",
-            csv.to_str().unwrap(),
-            "--plan",
-            "full",
-            "--vlm-base-url",
-            url,
-            "--vlm-model",
-            "test-model",
-            "--relation-mapping",
-            "lexicon",
-            "--render-size",
-            "64",
-            "--threads",
-            "1",
-        ],
-    )
+    cli_command(scenes, csv, out, url, &[]).assert()
+}
+
+/// `sceneeval evaluate` with the full plan, the VLM at `url`, and `extra` options.
+fn cli_command(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> assert_cmd::Command {
+    let mut args = vec![
+        "--annotations",
+        csv.to_str().unwrap(),
+        "--plan",
+        "full",
+        "--vlm-base-url",
+        url,
+        "--vlm-model",
+        "test-model",
+        "--relation-mapping",
+        "lexicon",
+        "--render-size",
+        "64",
+        "--threads",
+        "1",
+    ];
+    args.extend_from_slice(extra);
+    common::evaluate_command(scenes, &fixtures().join("assets"), out, &args)
 }
 
 #[tokio::test]
@@ -470,26 +472,12 @@ async fn sampling_options_reach_every_request_and_the_key_variable_is_used() {
     let url = format!("{}/v1", server.uri());
     let (s, c, o) = (scenes.clone(), csv.clone(), out.path().to_owned());
     let run = tokio::task::spawn_blocking(move || {
-        let (csv, scenes_dir) = (c.to_str().unwrap(), &s);
-        let mut cmd = common::evaluate_command(
-            scenes_dir,
-            &fixtures().join("assets"),
+        let mut cmd = cli_command(
+            &s,
+            &c,
             &o,
+            &url,
             &[
-                "--annotations",
-                csv,
-                "--plan",
-                "full",
-                "--vlm-base-url",
-                &url,
-                "--vlm-model",
-                "test-model",
-                "--relation-mapping",
-                "lexicon",
-                "--render-size",
-                "64",
-                "--threads",
-                "1",
                 "--vlm-temperature",
                 "none",
                 "--vlm-seed",
