@@ -279,36 +279,24 @@ impl SolidTables {
             None => (max_dist, false, None, None),
         };
         let clear = distance > rho;
+        let class = |inside| PointClass {
+            distance,
+            exact,
+            inside,
+            triangle,
+        };
         if found.is_none() && self.normals.is_some() {
             // A simple solid with no surface within the ball: one side throughout.
             let inside = self.far_inside(mesh, c);
-            let class = PointClass {
-                distance,
-                exact,
-                inside,
-                triangle,
-            };
-            return (class, Some(inside));
+            return (class(inside), Some(inside));
         }
         if let Some(inside) = pseudo {
-            let class = PointClass {
-                distance,
-                exact,
-                inside,
-                triangle,
-            };
-            return (class, clear.then_some(inside));
+            return (class(inside), clear.then_some(inside));
         }
         if clear && self.has_parts {
             // No boundary: the side is constant on a ball that misses the surface.
             let inside = self.winding_inside(mesh, c);
-            let class = PointClass {
-                distance,
-                exact,
-                inside,
-                triangle,
-            };
-            return (class, Some(inside));
+            return (class(inside), Some(inside));
         }
         // How far the winding number can move within the ball, if the ball misses the surface.
         let drift = if clear {
@@ -317,13 +305,7 @@ impl SolidTables {
             Real::INFINITY
         };
         let (w, err) = self.winding(mesh, c, if drift.is_finite() { drift } else { 0.0 });
-        let inside = bx.contains_point(c) && w.abs() >= 0.5;
-        let class = PointClass {
-            distance,
-            exact,
-            inside,
-            triangle,
-        };
+        let class = class(bx.contains_point(c) && w.abs() >= 0.5);
         let spread = err + drift;
         let side = if !spread.is_finite() {
             None
