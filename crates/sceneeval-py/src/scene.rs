@@ -610,7 +610,11 @@ struct Failure {
 /// metrics: run only these
 /// geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
 /// by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
-/// one, and say so with a UserWarning and the run's note. A re-run into the same out reuses
+/// one, and say so with a UserWarning and the run's note. matching: "labels" or a matching
+/// file or folder in the reference's obj_matching_result.json shape (`<folder>/<scene>/
+/// obj_matching_result.json`), as --matching; relation_mapping: "lexicon" ("vlm" falls back
+/// to it), as --relation-mapping. time_budget: seconds per scene, as --time-budget (a scene
+/// over it is recorded as failed; 0: no budget). A re-run into the same out reuses
 /// a scene's result while nothing it depends on changed (force=True evaluates every scene
 /// again). threads: worker threads (default one per core). Runs with the GIL released.
 ///
@@ -621,7 +625,7 @@ struct Failure {
 /// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
 /// ValueError for a bad plan, preset, metric or assets mapping.
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, force=false, threads=None))]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, force=false, threads=None))]
 #[allow(clippy::too_many_arguments)] // The Python signature is fixed by issue 15.
 pub fn evaluate<'py>(
     py: Python<'py>,
@@ -632,9 +636,26 @@ pub fn evaluate<'py>(
     plan: Option<&str>,
     preset: Option<&str>,
     metrics: Option<Vec<String>>,
+    matching: Option<PathBuf>,
+    relation_mapping: Option<&str>,
+    time_budget: Option<f64>,
     force: bool,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    if let Some(b) = time_budget
+        && !(b.is_finite() && b >= 0.0)
+    {
+        return Err(value_error(format!(
+            "time_budget must be a number of seconds from 0 (0: no budget), not {b}"
+        )));
+    }
+    let matching = matching
+        .map(|m| {
+            m.into_os_string()
+                .into_string()
+                .map_err(|m| value_error(format!("matching {m:?} is not valid Unicode")))
+        })
+        .transpose()?;
     let set = find_scenes(&scenes_dir).map_err(|e| eval_error(&e))?;
     if set.scenes.is_empty() {
         return Err(crate::errors::SceneEvalError::new_err(format!(
@@ -647,6 +668,9 @@ pub fn evaluate<'py>(
     choice.plan = plan;
     choice.preset = preset;
     choice.metrics = metrics_of(metrics)?;
+    choice.matching = matching.as_deref();
+    choice.relation_mapping = relation_mapping;
+    choice.time_budget_seconds = time_budget;
     choice.annotations = annotations.is_some();
     let chosen = choice.resolve().map_err(|e| eval_error(&e))?;
     let note = chosen

@@ -113,3 +113,51 @@ def test_failures_are_recorded_and_unusable_input_raises(scenes_dir, tmp_path):
         sceneeval.evaluate(tmp_path / "out", assets=None, out=tmp_path / "o2")
     with pytest.raises(sceneeval.SceneEvalError):
         sceneeval.evaluate(tmp_path / "missing", assets=None, out=tmp_path / "o3")
+
+
+def test_matching_relation_mapping_and_time_budget_as_the_cli(sceneeval_bin, scenes_dir, tmp_path):
+    annotations = FIXTURES / "annotations" / "fixture_scenes.csv"
+    assets = {"fixture": FIXTURES / "assets"}
+    # A reference-shaped matching folder for scene 1 that calls the chair a sofa: CNT sees two
+    # sofas (eq,1,sofa fails) and no chair (eq,1,chair fails). Scenes 0 and 3 have no file.
+    scene1 = sceneeval.load_scene(FIXTURES / "scenes" / "scene_1.json", assets=assets)
+    per_category = {}
+    for o in scene1.objects:
+        category = o["category"].replace(" ", "_")
+        per_category.setdefault(category, {})[o["id"]] = ""
+    per_category["sofa"]["idx8_fixture.chair"] = per_category.pop("chair")["idx8_fixture.chair"]
+    per_category["chair"] = {}
+    matching = tmp_path / "matching"
+    (matching / "scene_1").mkdir(parents=True)
+    (matching / "scene_1" / "obj_matching_result.json").write_text(json.dumps(
+        {"per_category": per_category, "not_matched_objs": {}, "actual_categories": {}}))
+    cli_out, py_out = tmp_path / "cli", tmp_path / "py"
+    subprocess.run(
+        [str(sceneeval_bin), "evaluate", str(scenes_dir), "--assets", f"fixture={FIXTURES / 'assets'}",
+         "--out", str(cli_out), "--annotations", str(annotations), "--plan", "full", "--matching", str(matching),
+         "--relation-mapping", "lexicon", "--no-progress"],
+        capture_output=True, text=True,
+    )
+    with pytest.warns(UserWarning, match=r"fidelity runs with matching from .*matching and the lexicon relation mapping; ATR is not judged\.$"):
+        run = sceneeval.evaluate(scenes_dir, assets=assets, out=py_out, annotations=annotations, plan="full",
+                                 matching=matching, relation_mapping="lexicon")
+    for name in SCENES:
+        stem = name[:-5]
+        assert (py_out / stem / "eval.json").read_bytes() == (cli_out / stem / "eval.json").read_bytes(), stem
+    record = json.loads((py_out / "scene_1" / "eval.json").read_text())
+    assert record["status"] == "ok"
+    assert record["report"]["fidelity"]["cnt"]["score"] == pytest.approx(8 / 10)
+    # Scenes without a matching file fail, naming it.
+    assert run["failed"] == 2
+    assert all("obj_matching_result.json" in f["error"] + " ".join(f["causes"]) for f in run["failures"])
+    with pytest.raises(ValueError, match=r'relation_mapping "vlm2": expected vlm or lexicon'):
+        sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "e", annotations=annotations, plan="full",
+                           relation_mapping="vlm2")
+
+    # A scene over its time budget is recorded as failed; the run goes on.
+    run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "budget", time_budget=1e-9)
+    assert run["failed"] == 3
+    assert "time budget" in run["failures"][0]["error"]
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="time_budget must be a number of seconds from 0"):
+            sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "e", time_budget=bad)

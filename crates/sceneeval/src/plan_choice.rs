@@ -144,11 +144,13 @@ pub struct NoVlmFallback {
 
 impl fmt::Display for NoVlmFallback {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "fidelity runs with {} matching and the {} relation mapping",
-            self.matching, self.relation_mapping
-        )?;
+        match &self.matching {
+            MatchingMethod::File { path } => {
+                write!(f, "fidelity runs with matching from {}", path.display())?
+            }
+            other => write!(f, "fidelity runs with {other} matching")?,
+        }
+        write!(f, " and the {} relation mapping", self.relation_mapping)?;
         if !self.replaced.is_empty() {
             write!(f, " ({} instead of the VLM)", self.replaced.join(", "))?;
         }
@@ -382,6 +384,13 @@ mod tests {
         assert_eq!(
             fallback.to_string(),
             "fidelity runs with labels matching and the lexicon relation mapping; ATR is not judged."
+        );
+        // A matching file is named as such.
+        let mut c = choice("full");
+        c.matching = Some("runs/matching");
+        assert_eq!(
+            c.resolve().unwrap().fallback.unwrap().to_string(),
+            "fidelity runs with matching from runs/matching and the lexicon relation mapping; ATR is not judged."
         );
         // The reference preset asks the VLM for both: both are replaced.
         let mut c = choice("full");

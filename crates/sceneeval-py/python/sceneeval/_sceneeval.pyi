@@ -220,6 +220,9 @@ def evaluate(
     plan: Optional[str] = None,
     preset: Optional[str] = None,
     metrics: Optional[Sequence[str]] = None,
+    matching: Optional[PathLike] = None,
+    relation_mapping: Optional[str] = None,
+    time_budget: Optional[float] = None,
     force: bool = False,
     threads: Optional[int] = None,
 ) -> Dict[str, Any]:
@@ -236,7 +239,11 @@ def evaluate(
     metrics: run only these
     geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
     by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
-    one, and say so with a UserWarning and the run's note. A re-run into the same out reuses
+    one, and say so with a UserWarning and the run's note. matching: "labels" or a matching
+    file or folder in the reference's obj_matching_result.json shape (`<folder>/<scene>/
+    obj_matching_result.json`), as --matching; relation_mapping: "lexicon" ("vlm" falls back
+    to it), as --relation-mapping. time_budget: seconds per scene, as --time-budget (a scene
+    over it is recorded as failed; 0: no budget). A re-run into the same out reuses
     a scene's result while nothing it depends on changed (force=True evaluates every scene
     again). threads: worker threads (default one per core). Runs with the GIL released.
 
