@@ -4,7 +4,6 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{Context, bail};
@@ -12,8 +11,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sceneeval::annotation::Annotations;
 use sceneeval::io::AssetLibrary;
 use sceneeval::render::{RenderSettings, Renderer};
-use sceneeval::vlm::{Answer, Cached, Vlm, VlmError, VlmRequest};
-use sceneeval::vlm_openai::{OpenAiConfig, OpenAiVlm};
+use sceneeval::vlm::Cached;
+use sceneeval::vlm_openai::{OpenAiConfig, OpenAiVlm, RuntimeVlm};
 use sceneeval::{
     ChosenPlan, Evaluator, FolderOutcome, FolderRun, Metric, Outcome, PlanChoice, Preset, SceneRecord,
     SceneStatus, SharedVlm, check_output_dir, find_scenes,
@@ -146,7 +145,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         eprintln!("note: no VLM configured (--vlm-base-url, --vlm-model): {fallback}");
     }
     let mut evaluator = Evaluator::new(plan)?;
-    let mut runtime_stop = None;
     if let (Some(url), Some(model), true) = (
         &args.vlm_base_url,
         &args.vlm_model,
@@ -157,8 +155,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         args.vlm_sampling.apply(&mut config);
         config.max_concurrent_requests = args.vlm_concurrency.max(1);
         let client = OpenAiVlm::new(config).context("cannot set up the VLM client")?;
-        let (vlm, stop) = RuntimeVlm::start(client)?;
-        runtime_stop = Some(stop);
+        let vlm = RuntimeVlm::start(client)?;
         let cache = args
             .vlm_cache
             .clone()
@@ -241,7 +238,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         summary,
     } = pool.install(|| run.run(&scenes, &evaluator, &assets, &on_done))?;
     progress.finish_and_clear();
-    drop(runtime_stop);
 
     print!("{}", summary.to_markdown());
     eprintln!(
@@ -288,76 +284,4 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
         return Err(format!("shard {k}/{n}: need 1 <= K <= N"));
     }
     Ok((k, n))
-}
-
-/// The HTTP client driven by a tokio runtime on its own thread, so that the evaluator's worker
-/// threads can await its answers without a runtime of their own. The CLI owns the runtime;
-/// dropping the returned guard stops it.
-struct RuntimeVlm {
-    inner: Arc<OpenAiVlm>,
-    handle: tokio::runtime::Handle,
-}
-
-struct RuntimeStop(Option<tokio::sync::oneshot::Sender<()>>);
-
-impl Drop for RuntimeStop {
-    fn drop(&mut self) {
-        if let Some(tx) = self.0.take() {
-            let _ = tx.send(());
-        }
-    }
-}
-
-impl RuntimeVlm {
-    fn start(client: OpenAiVlm) -> anyhow::Result<(RuntimeVlm, RuntimeStop)> {
-        let rt = tokio::runtime::Builder::new_current_thread()
-            .enable_all()
-            .build()
-            .context("cannot start the async runtime")?;
-        let handle = rt.handle().clone();
-        let (tx, rx) = tokio::sync::oneshot::channel::<()>();
-        std::thread::Builder::new()
-            .name("vlm-runtime".into())
-            .spawn(move || {
-                let _ = rt.block_on(rx);
-            })
-            .context("cannot start the VLM thread")?;
-        Ok((
-            RuntimeVlm {
-                inner: Arc::new(client),
-                handle,
-            },
-            RuntimeStop(Some(tx)),
-        ))
-    }
-}
-
-impl Vlm for RuntimeVlm {
-    fn model(&self) -> &str {
-        self.inner.model()
-    }
-
-    fn settings(&self) -> &str {
-        self.inner.settings()
-    }
-
-    fn answer(
-        &self,
-        request: &VlmRequest,
-    ) -> impl std::future::Future<Output = Result<Answer, VlmError>> + Send {
-        let (inner, request, handle) = (self.inner.clone(), request.clone(), self.handle.clone());
-        async move {
-            let task = request.task.clone();
-            let model = inner.model().to_owned();
-            handle
-                .spawn(async move { inner.answer(&request).await })
-                .await
-                .map_err(|e| VlmError::Backend {
-                    task,
-                    model,
-                    permanent: true,
-                    source: Box::new(e),
-                })?
-        }
-    }
 }

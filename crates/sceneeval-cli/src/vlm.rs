@@ -13,7 +13,7 @@ use anyhow::{Context, bail};
 use sceneeval_vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
 use sceneeval_vlm::{Outcome, Session};
 use sceneeval_vlm_openai::{
-    ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, OpenAiVlm, TokenLimitField,
+    ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, OpenAiVlm, RuntimeVlm, TokenLimitField,
 };
 
 /// `sceneeval vlm` subcommands.
@@ -176,24 +176,17 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     args.sampling.apply(&mut config);
     config.timeout = Duration::from_secs_f64(args.timeout);
     config.retry.max_retries = args.retries;
-    let vlm = OpenAiVlm::new(config).context("cannot set up the client")?;
-
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .context("cannot start the async runtime")?;
+    let vlm = RuntimeVlm::start(OpenAiVlm::new(config).context("cannot set up the client")?)?;
     let session = Session::new(&vlm);
-    let answers = runtime
-        .block_on(session.ask(&EndpointCheck::new()))
-        .with_context(|| {
-            format!(
-                "the endpoint check failed for model {:?} at {}",
-                args.model,
-                vlm.url()
-            )
-        })?;
+    let answers = pollster::block_on(session.ask(&EndpointCheck::new())).with_context(|| {
+        format!(
+            "the endpoint check failed for model {:?} at {}",
+            args.model,
+            vlm.inner().url()
+        )
+    })?;
     let usage = session.usage();
-    let stats = vlm.stats();
+    let stats = vlm.inner().stats();
     let summary = format!(
         "tokens: {} prompt, {} completion; {} HTTP request(s), {} retr{}",
         usage.tokens.prompt_tokens,
@@ -206,7 +199,7 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         Some(Outcome::Answered { answer, attempt }) if answer.correct => {
             println!(
                 "ok: {} answers model {:?} with structured output and sees images (it called the {TEST_IMAGE_COLOUR} square {:?}{}).",
-                vlm.url(),
+                vlm.inner().url(),
                 args.model,
                 answer.colour,
                 if attempt > 1 {
@@ -222,14 +215,14 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             eprintln!(
                 "failed: {} answered, but called the {TEST_IMAGE_COLOUR} square {:?}: the model does not seem to get \
                  the image (a text-only model, or a server that drops images).",
-                vlm.url(),
+                vlm.inner().url(),
                 answer.colour
             );
             eprintln!("{summary}");
             Ok(ExitCode::FAILURE)
         }
         Some(Outcome::Unanswered(why)) => {
-            eprintln!("failed: {} answered, but not usably: {why}", vlm.url());
+            eprintln!("failed: {} answered, but not usably: {why}", vlm.inner().url());
             eprintln!("{summary}");
             Ok(ExitCode::FAILURE)
         }

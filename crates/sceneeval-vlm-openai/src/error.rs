@@ -96,6 +96,13 @@ pub enum OpenAiError {
         /// The configured maximum.
         max: Duration,
     },
+    /// The tokio runtime of a [`crate::RuntimeVlm`], or its thread, could not be started.
+    #[error("could not start the runtime of the VLM client")]
+    Runtime {
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
     /// The server's success reply is not a chat completion.
     #[error("unexpected reply from {url}: {message}")]
     InvalidResponse {
@@ -126,6 +133,7 @@ impl OpenAiError {
             | OpenAiError::ApiKeyVariable { .. }
             | OpenAiError::InvalidSetting { .. }
             | OpenAiError::Client { .. }
+            | OpenAiError::Runtime { .. }
             | OpenAiError::KeyRefused { .. } => true,
             OpenAiError::Status { status, .. } => *status == 404,
             _ => false,

@@ -16,7 +16,9 @@
 //! - [`ClientStats`] counts attempts, retries and waits; token usage is summed by
 //!   [`sceneeval_vlm::Session`].
 //!
-//! The futures must run inside a tokio runtime; in this workspace the `sceneeval` CLI owns it.
+//! The futures must run inside a tokio runtime: in async code, the caller's; for synchronous
+//! callers (such as `sceneeval::Evaluator`'s worker threads), [`RuntimeVlm`] wraps the client
+//! with a runtime on a thread of its own.
 //!
 //! # Example
 //! ```no_run
@@ -43,8 +45,10 @@
 mod client;
 mod config;
 mod error;
+mod runtime;
 mod wire;
 
 pub use client::{ClientStats, OpenAiVlm};
 pub use config::{ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, RetryPolicy, TokenLimitField};
 pub use error::OpenAiError;
+pub use runtime::RuntimeVlm;
