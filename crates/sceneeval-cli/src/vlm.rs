@@ -13,7 +13,8 @@ use anyhow::{Context, bail};
 use sceneeval_vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
 use sceneeval_vlm::{Outcome, Session};
 use sceneeval_vlm_openai::{
-    ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, OpenAiVlm, RuntimeVlm, TokenLimitField,
+    ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, OpenAiVlm, RuntimeVlm, TEMPERATURE_RANGE,
+    TokenLimitField,
 };
 
 /// `sceneeval vlm` subcommands.
@@ -133,8 +134,12 @@ fn sent<T>(s: &str, value: impl FnOnce(&str) -> Result<T, String>) -> Result<Sen
 
 fn parse_temperature(s: &str) -> Result<Sent<f32>, String> {
     sent(s, |t| match t.parse::<f32>() {
-        Ok(v) if v.is_finite() && (0.0..=2.0).contains(&v) => Ok(v),
-        _ => Err(format!("{t:?} is not a temperature from 0 to 2 or \"none\"")),
+        Ok(v) if TEMPERATURE_RANGE.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{t:?} is not a temperature from {} to {} or \"none\"",
+            TEMPERATURE_RANGE.start(),
+            TEMPERATURE_RANGE.end()
+        )),
     })
 }
 

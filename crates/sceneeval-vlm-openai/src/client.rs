@@ -11,7 +11,7 @@ use tokio::sync::Semaphore;
 use sceneeval_vlm::{Answer, Vlm, VlmError, VlmRequest};
 
 use crate::wire::{ChatResponse, ErrorBody, Sampling, request_body};
-use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy};
+use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy, TEMPERATURE_RANGE};
 
 /// A [`Vlm`] backed by an OpenAI-compatible `POST {base_url}/chat/completions` endpoint:
 /// OpenAI, vLLM, Ollama (`/v1`), LM Studio.
@@ -145,11 +145,15 @@ impl OpenAiVlm {
             });
         }
         if let Some(t) = config.temperature
-            && !(t.is_finite() && (0.0..=2.0).contains(&t))
+            && !TEMPERATURE_RANGE.contains(&t)
         {
             return Err(OpenAiError::InvalidSetting {
                 setting: "temperature",
-                message: format!("{t} is not a number from 0 to 2"),
+                message: format!(
+                    "{t} is not a number from {} to {}",
+                    TEMPERATURE_RANGE.start(),
+                    TEMPERATURE_RANGE.end()
+                ),
             });
         }
         if config.max_tokens == Some(0) {

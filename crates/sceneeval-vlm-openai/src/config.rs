@@ -8,6 +8,9 @@ use serde::Serialize;
 
 use crate::OpenAiError;
 
+/// The sampling temperatures [`OpenAiConfig::temperature`] may take (OpenAI's range).
+pub const TEMPERATURE_RANGE: std::ops::RangeInclusive<f32> = 0.0..=2.0;
+
 /// The environment variable the API key is read from unless another one is named.
 pub const DEFAULT_API_KEY_VAR: &str = "OPENAI_API_KEY";
 
@@ -213,7 +216,7 @@ pub struct OpenAiConfig {
     pub detail: ImageDetail,
     /// The sampling seed, if any.
     pub seed: Option<u64>,
-    /// The sampling temperature, if any: finite, from 0 to 2.
+    /// The sampling temperature, if any: in [`TEMPERATURE_RANGE`].
     pub temperature: Option<f32>,
     /// The token limit of a reply, if any (at least 1), sent in the field
     /// `token_limit_field` names.

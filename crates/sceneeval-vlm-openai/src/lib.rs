@@ -49,6 +49,8 @@ mod runtime;
 mod wire;
 
 pub use client::{ClientStats, OpenAiVlm};
-pub use config::{ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, RetryPolicy, TokenLimitField};
+pub use config::{
+    ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, RetryPolicy, TEMPERATURE_RANGE, TokenLimitField,
+};
 pub use error::OpenAiError;
 pub use runtime::RuntimeVlm;
