@@ -642,13 +642,6 @@ pub fn evaluate<'py>(
     force: bool,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    if let Some(b) = time_budget
-        && !(b.is_finite() && b >= 0.0)
-    {
-        return Err(value_error(format!(
-            "time_budget must be a number of seconds from 0 (0: no budget), not {b}"
-        )));
-    }
     let matching = matching
         .map(|m| {
             m.into_os_string()
