@@ -89,10 +89,11 @@ impl<V: Vlm + 'static> Vlm for RuntimeVlm<V> {
     }
 
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
-        let (inner, request) = (Arc::clone(&self.inner), request.clone());
-        let (task, model) = (request.task.clone(), self.inner.model().to_owned());
-        let spawned = self.handle.spawn(async move { inner.answer(&request).await });
+        let (inner, request, handle) = (Arc::clone(&self.inner), request.clone(), self.handle.clone());
         async move {
+            // Spawned when first polled, like any future.
+            let (task, model) = (request.task.clone(), inner.model().to_owned());
+            let spawned = handle.spawn(async move { inner.answer(&request).await });
             spawned.await.map_err(|e| VlmError::Backend {
                 task,
                 model,
