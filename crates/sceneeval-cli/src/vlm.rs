@@ -13,8 +13,7 @@ use anyhow::{Context, bail};
 use sceneeval_vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
 use sceneeval_vlm::{Outcome, Session};
 use sceneeval_vlm_openai::{
-    ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, OpenAiVlm, RuntimeVlm, TEMPERATURE_RANGE,
-    TokenLimitField,
+    ApiKey, ImageDetail, OpenAiConfig, OpenAiVlm, RuntimeVlm, TEMPERATURE_RANGE, TokenLimitField,
 };
 
 /// `sceneeval vlm` subcommands.
@@ -150,19 +149,13 @@ fn parse_seed(s: &str) -> Result<Sent<u64>, String> {
     })
 }
 
-/// The API key from the variable `named` (which must then be set), or else from
-/// `OPENAI_API_KEY` if set.
+/// The API key from the variable `named` by `option` (which must then be set), or else from
+/// `OPENAI_API_KEY` if set ([`ApiKey::from_env_or_default`]).
 ///
 /// # Errors
 /// When the named variable is unset or empty, or a variable is not valid Unicode.
 pub fn api_key(named: Option<&str>, option: &str) -> anyhow::Result<Option<ApiKey>> {
-    Ok(match named {
-        Some(var) => Some(
-            ApiKey::from_env(var)?
-                .with_context(|| format!("environment variable {var} ({option}) is not set or empty"))?,
-        ),
-        None => ApiKey::from_env(DEFAULT_API_KEY_VAR)?,
-    })
+    ApiKey::from_env_or_default(named).with_context(|| format!("the API key ({option})"))
 }
 
 /// Runs a `sceneeval vlm` subcommand.

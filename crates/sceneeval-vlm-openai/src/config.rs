@@ -44,6 +44,25 @@ impl ApiKey {
         }
     }
 
+    /// The key in the variable `named`, which must then be set, or else in
+    /// [`DEFAULT_API_KEY_VAR`] if that is set (`None` when it is not: local servers need no
+    /// key). How the CLI's `--api-key-env` and the Python package's `api_key_env` read it.
+    ///
+    /// # Errors
+    /// [`OpenAiError::ApiKeyVariable`] when the named variable is unset or empty, or a
+    /// variable is not valid Unicode.
+    pub fn from_env_or_default(named: Option<&str>) -> Result<Option<ApiKey>, OpenAiError> {
+        let Some(var) = named else {
+            return ApiKey::from_env(DEFAULT_API_KEY_VAR);
+        };
+        ApiKey::from_env(var)?
+            .map(Some)
+            .ok_or_else(|| OpenAiError::ApiKeyVariable {
+                var: var.to_owned(),
+                message: "is not set or empty, but was named to hold the API key".to_owned(),
+            })
+    }
+
     /// A key given directly; `source` says where it came from (for messages).
     pub fn new(key: impl Into<String>, source: impl Into<String>) -> ApiKey {
         ApiKey {
@@ -262,6 +281,16 @@ impl OpenAiConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_named_key_variable_must_be_set() {
+        let err = ApiKey::from_env_or_default(Some("SCENEEVAL_TEST_UNSET_KEY_VARIABLE")).unwrap_err();
+        assert!(
+            matches!(&err, OpenAiError::ApiKeyVariable { var, .. } if var == "SCENEEVAL_TEST_UNSET_KEY_VARIABLE"),
+            "{err}"
+        );
+        assert!(err.to_string().contains("is not set or empty"), "{err}");
+    }
 
     #[test]
     fn debug_never_shows_the_key() {
