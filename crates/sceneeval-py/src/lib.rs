@@ -16,9 +16,10 @@
 //! - `Scene.from_boxes(boxes, room, *, rooms, ...)`, `load_scene(path, assets={prefix:
 //!   folder})`, `Scene.objects` / `rooms` / `info()` / `boxes()` / `set_pose()` /
 //!   `set_boxes()` / `plausibility()` / `relation()`.
-//! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, ...)`:
-//!   the plan read by the facade's [`sceneeval::PlanChoice`] and run by
-//!   [`sceneeval::FolderRun`], the same plans, run and files as `sceneeval evaluate`.
+//! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, ...,
+//!   vlm=None)`: the plan read by the facade's [`sceneeval::PlanChoice`] and run by
+//!   [`sceneeval::FolderRun`], the same plans, run and files as `sceneeval evaluate`; `vlm` (a
+//!   dict of the `--vlm-*` settings, [`vlm`]) asks an OpenAI-compatible endpoint.
 //!
 //! Every computation runs with the GIL released; bad arguments raise `ValueError`, files that
 //! cannot be read or evaluated raise `sceneeval.SceneEvalError`, with the Rust error's message
@@ -38,6 +39,7 @@ pub mod convert;
 pub mod errors;
 pub mod relations;
 pub mod scene;
+pub mod vlm;
 
 /// SceneEval's predicates, scenes, plausibility metrics and evaluation, implemented in Rust.
 #[pyo3::pymodule]

@@ -608,24 +608,30 @@ struct Failure {
 /// the parameters start from it (it replaces a plan file's preset; a preset name given as
 /// plan=, the spelling of earlier versions, is read as preset= with a DeprecationWarning).
 /// metrics: run only these
-/// geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
-/// by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
-/// one, and say so with a UserWarning and the run's note. matching: "labels" or a matching
-/// file or folder in the reference's obj_matching_result.json shape (`<folder>/<scene>/
-/// obj_matching_result.json`), as --matching; relation_mapping: "lexicon" ("vlm" falls back
-/// to it), as --relation-mapping. time_budget: seconds per scene, as --time-budget (a scene
-/// over it is recorded as failed; 0: no budget). A re-run into the same out reuses
-/// a scene's result while nothing it depends on changed (force=True evaluates every scene
-/// again). threads: worker threads (default one per core). Runs with the GIL released.
+/// geometry metrics, as --metrics. matching: "vlm", "labels" or a matching file or folder in
+/// the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
+/// as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget:
+/// seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
+/// vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
+/// dict with base_url and model (required), api_key_env (the variable holding the key, which
+/// must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
+/// concurrency (4), render_size (512, the object views shown), detail ("low"), temperature (0;
+/// None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens
+/// and token_limit_field ("max_tokens" or "max_completion_tokens"). Without a VLM the
+/// text-fidelity metrics match objects by labels (or a matching file) and map relations with the
+/// lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
+/// the run's note. A re-run into the same out reuses a scene's result while nothing it depends
+/// on changed (force=True evaluates every scene again). threads: worker threads (default one
+/// per core). Runs with the GIL released.
 ///
 /// Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
 /// scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
 /// text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
 /// summary.csv as a dict). A scene that fails is recorded, not raised.
 /// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
-/// ValueError for a bad plan, preset, metric or assets mapping.
+/// ValueError for a bad plan, preset, metric, assets mapping or vlm dict.
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, force=false, threads=None))]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None))]
 #[allow(clippy::too_many_arguments)] // The Python signature is fixed by issue 15.
 pub fn evaluate<'py>(
     py: Python<'py>,
@@ -639,6 +645,7 @@ pub fn evaluate<'py>(
     matching: Option<PathBuf>,
     relation_mapping: Option<&str>,
     time_budget: Option<f64>,
+    vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -665,6 +672,7 @@ pub fn evaluate<'py>(
     choice.relation_mapping = relation_mapping;
     choice.time_budget_seconds = time_budget;
     choice.annotations = annotations.is_some();
+    choice.vlm_configured = vlm.is_some();
     let chosen = choice.resolve().map_err(|e| eval_error(&e))?;
     let note = chosen
         .fallback
@@ -674,7 +682,12 @@ pub fn evaluate<'py>(
         let message = std::ffi::CString::new(note.as_str()).map_err(|e| value_error(e.to_string()))?;
         PyErr::warn(py, &category, &message, 1)?;
     }
-    let evaluator = Evaluator::new(chosen.plan).map_err(|e| eval_error(&e))?;
+    let mut evaluator = Evaluator::new(chosen.plan).map_err(|e| eval_error(&e))?;
+    if let Some(vlm) = &vlm
+        && evaluator.plan().has_fidelity()
+    {
+        evaluator = crate::vlm::with_vlm(evaluator, vlm, &out)?;
+    }
     let library = asset_library(assets)?.with_limits(evaluator.plan().limits);
     let annotations = annotations
         .map(|p| sceneeval::annotation::Annotations::read(&p).map_err(|e| scene_error(&e)))

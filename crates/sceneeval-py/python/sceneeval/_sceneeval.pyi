@@ -223,6 +223,7 @@ def evaluate(
     matching: Optional[PathLike] = None,
     relation_mapping: Optional[str] = None,
     time_budget: Optional[float] = None,
+    vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
 ) -> Dict[str, Any]:
@@ -237,20 +238,26 @@ def evaluate(
     the parameters start from it (it replaces a plan file's preset; a preset name given as
     plan=, the spelling of earlier versions, is read as preset= with a DeprecationWarning).
     metrics: run only these
-    geometry metrics, as --metrics. There is no VLM here: text-fidelity metrics match objects
-    by labels and map relations with the lexicon (ATR is not judged), as the CLI does without
-    one, and say so with a UserWarning and the run's note. matching: "labels" or a matching
-    file or folder in the reference's obj_matching_result.json shape (`<folder>/<scene>/
-    obj_matching_result.json`), as --matching; relation_mapping: "lexicon" ("vlm" falls back
-    to it), as --relation-mapping. time_budget: seconds per scene, as --time-budget (a scene
-    over it is recorded as failed; 0: no budget). A re-run into the same out reuses
-    a scene's result while nothing it depends on changed (force=True evaluates every scene
-    again). threads: worker threads (default one per core). Runs with the GIL released.
+    geometry metrics, as --metrics. matching: "vlm", "labels" or a matching file or folder in
+    the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
+    as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget:
+    seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
+    vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
+    dict with base_url and model (required), api_key_env (the variable holding the key, which
+    must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
+    concurrency (4), render_size (512, the object views shown), detail ("low"), temperature (0;
+    None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens
+    and token_limit_field ("max_tokens" or "max_completion_tokens"). Without a VLM the
+    text-fidelity metrics match objects by labels (or a matching file) and map relations with the
+    lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
+    the run's note. A re-run into the same out reuses a scene's result while nothing it depends
+    on changed (force=True evaluates every scene again). threads: worker threads (default one
+    per core). Runs with the GIL released.
 
     Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
     scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
     text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
     summary.csv as a dict). A scene that fails is recorded, not raised.
     Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
-    ValueError for a bad plan, preset, metric or assets mapping.
+    ValueError for a bad plan, preset, metric, assets mapping or vlm dict.
     """

@@ -1,0 +1,182 @@
+"""sceneeval.evaluate(vlm=...) asks an OpenAI-compatible endpoint as `sceneeval evaluate --vlm-*`
+does: against a mock server started here on 127.0.0.1, the same requests and the same eval.json
+as the CLI."""
+
+import json
+import shutil
+import subprocess
+import threading
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+
+import pytest
+
+import sceneeval
+from conftest import FIXTURES
+
+# Scene 8 (fixture): wardrobe, bed, nightstand, ceiling lamp, in this order.
+CSV = (
+    "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n"
+    '8,easy,A small bedroom.,"eq,1,wardrobe; eq,1,bed; eq,1,nightstand; eq,1,ceiling_lamp; eq,0,tv; eq,2,chair",'
+    '"eq,1,wardrobe,tall","eq,1,next_to,0,bed,nightstand; eq,1,in_harmony_with,0,bed,wardrobe",'
+    '"eq,1,against,bed,wall; eq,1,next_to,wardrobe,door"\n'
+)
+SCENE_8 = ["wardrobe", "bed", "nightstand", "ceiling_lamp"]
+
+
+def answer(task, user_text, nth):
+    """What the model answers: the nightstand is not recognised, the wardrobe is tall,
+    "in_harmony_with" is not spatial, every object is used from the front. `nth` is the
+    position of a matching request in the run (one object after the other)."""
+    if task == "obj_matching":
+        category = SCENE_8[nth]
+        matched = category != "nightstand"
+        return {"provided_categories": [], "matched": matched, "matched_category": category if matched else "",
+                "actual_category": category, "reason": f"looks like a {category}"}
+    if task == "obj_attribute":
+        return {"category": "wardrobe", "num_instances": 1,
+                "assessments": [{"instance": 0, "attribute": "tall", "satisfied": True, "reason": "2 m"}]}
+    if task == "obj_functional_sides":
+        ids = [part.split('"', 1)[0] for part in user_text.split('obj_id: "')[1:]]
+        return {"assessments": [{"obj_id": i, "obj_description": "", "functional_sides": ["front"],
+                                 "reason": "used from the front"} for i in ids]}
+    if task == "obj_support_type":
+        return {"support_type": "ground", "reason": "on the floor"}
+    if task == "obj_relationship_mapping":
+        return {"assessments": [{"key": "1", "relationship": "in_harmony_with", "anchor_object": "bed",
+                                 "other_objects": ["wardrobe"], "other_object_counts": [1],
+                                 "relationship_types": None, "sides": [], "reason": "not spatial"}]}
+    raise AssertionError(f"unexpected task {task}")
+
+
+class MockServer:
+    """A chat-completions endpoint on 127.0.0.1 answering with `answer`; records what it got."""
+
+    def __init__(self):
+        self.requests = []  # (headers with lower-case names, body)
+        self.lock = threading.Lock()
+        server = self
+
+        class Handler(BaseHTTPRequestHandler):
+            def do_POST(self):
+                body = json.loads(self.rfile.read(int(self.headers["Content-Length"])))
+                task = body["response_format"]["json_schema"]["name"]
+                text = body["messages"][1]["content"][0]["text"]
+                with server.lock:
+                    nth = sum(1 for _, b in server.requests
+                              if b["response_format"]["json_schema"]["name"] == "obj_matching")
+                    server.requests.append(({k.lower(): v for k, v in self.headers.items()}, body))
+                content = json.dumps(answer(task, text, nth))
+                reply = json.dumps({
+                    "choices": [{"index": 0, "message": {"role": "assistant", "content": content},
+                                 "finish_reason": "stop"}],
+                    "usage": {"prompt_tokens": 100, "completion_tokens": 20, "total_tokens": 120},
+                }).encode()
+                self.send_response(200)
+                self.send_header("Content-Type", "application/json")
+                self.send_header("Content-Length", str(len(reply)))
+                self.end_headers()
+                self.wfile.write(reply)
+
+            def log_message(self, *args):
+                pass
+
+        self.httpd = ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+        self.thread = threading.Thread(target=self.httpd.serve_forever, daemon=True)
+        self.thread.start()
+        self.url = f"http://127.0.0.1:{self.httpd.server_address[1]}/v1"
+
+    def close(self):
+        self.httpd.shutdown()
+        self.httpd.server_close()
+
+
+@pytest.fixture
+def server():
+    s = MockServer()
+    yield s
+    s.close()
+
+
+@pytest.fixture
+def scene_8(tmp_path):
+    scenes = tmp_path / "scenes"
+    scenes.mkdir()
+    shutil.copy(FIXTURES / "scenes" / "scene_8.json", scenes / "scene_8.json")
+    csv = tmp_path / "annotations.csv"
+    csv.write_text(CSV)
+    return scenes, csv
+
+
+def test_evaluate_asks_the_vlm_as_the_cli_does(sceneeval_bin, scene_8, tmp_path, monkeypatch):
+    scenes, csv = scene_8
+    monkeypatch.setenv("MY_TEST_VLM_KEY", "sk-python-test")
+    monkeypatch.delenv("OPENAI_API_KEY", raising=False)
+    cli_server, py_server = MockServer(), MockServer()
+    try:
+        subprocess.run(
+            [str(sceneeval_bin), "evaluate", str(scenes), "--assets", f"fixture={FIXTURES / 'assets'}",
+             "--out", str(tmp_path / "cli"), "--annotations", str(csv), "--plan", "full", "--no-progress",
+             "--relation-mapping", "lexicon", "--threads", "1", "--render-size", "64",
+             "--vlm-base-url", cli_server.url, "--vlm-model", "test-model", "--vlm-api-key-env", "MY_TEST_VLM_KEY",
+             "--vlm-temperature", "none", "--vlm-seed", "7"],
+            check=True, capture_output=True,
+        )
+        run = sceneeval.evaluate(
+            scenes, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "py", annotations=csv, plan="full",
+            relation_mapping="lexicon", threads=1,
+            vlm={"base_url": py_server.url, "model": "test-model", "api_key_env": "MY_TEST_VLM_KEY",
+                 "temperature": None, "seed": 7, "render_size": 64},
+        )
+    finally:
+        cli_server.close()
+        py_server.close()
+    assert (run["evaluated"], run["failed"], run["note"]) == (1, 0, None)
+    py_record = (tmp_path / "py" / "scene_8" / "eval.json").read_bytes()
+    assert py_record == (tmp_path / "cli" / "scene_8" / "eval.json").read_bytes()
+    # Functional sides, four matchings, one attribute, one relation mapping; the settings given.
+    assert len(py_server.requests) == len(cli_server.requests) == 7
+    for headers, body in py_server.requests:
+        assert headers["authorization"] == "Bearer sk-python-test"
+        assert "temperature" not in body and body["seed"] == 7 and body["model"] == "test-model"
+    summary = json.loads(py_record)["report"]["summary"]
+    assert [summary[m] for m in ("cnt", "atr", "oor", "oar")] == [pytest.approx(4 / 6), 1.0, 0.0, 1.0]
+    # The answers are cached under out/vlm-cache: a forced re-run asks nothing.
+    again = MockServer()
+    try:
+        sceneeval.evaluate(
+            scenes, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "py", annotations=csv, plan="full",
+            relation_mapping="lexicon", force=True,
+            vlm={"base_url": again.url, "model": "test-model", "api_key_env": "MY_TEST_VLM_KEY",
+                 "temperature": None, "seed": 7, "render_size": 64},
+        )
+    finally:
+        again.close()
+    assert again.requests == []
+    report = json.loads((tmp_path / "py" / "scene_8" / "eval.json").read_text())["report"]
+    assert report["summary"] == summary
+    usage = report["fidelity"]["vlm_usage"]
+    assert (usage["requests"], usage["cache_hits"]) == (7, 7)
+
+
+def test_bad_vlm_settings_raise_before_any_request(scene_8, tmp_path, server, monkeypatch):
+    scenes, csv = scene_8
+    monkeypatch.delenv("SCENEEVAL_UNSET_KEY_VAR", raising=False)
+
+    def evaluate(vlm):
+        return sceneeval.evaluate(scenes, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "out",
+                                  annotations=csv, plan="full", vlm=vlm)
+
+    base = {"base_url": server.url, "model": "m"}
+    for vlm, message in [
+        ({"base_url": server.url}, "vlm: missing field `model`"),
+        ({**base, "temperatur": 0.5}, "vlm: unknown field `temperatur`"),
+        ({**base, "temperature": 3.0}, r"vlm: invalid setting temperature: 3 is not a number from 0 to 2"),
+        ({**base, "detail": "medium"}, r'vlm\["detail"\]: image detail "medium" is not one of low, high, auto'),
+        ({**base, "token_limit_field": "max_output_tokens"}, r'vlm\["token_limit_field"\]'),
+        ({**base, "api_key_env": "SCENEEVAL_UNSET_KEY_VAR"}, "SCENEEVAL_UNSET_KEY_VAR: is not set or empty"),
+        ({**base, "base_url": "localhost:9"}, "vlm: base URL"),
+        ({**base, "cache": 3}, r'vlm\["cache"\] must be a path'),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            evaluate(vlm)
+    assert server.requests == []
