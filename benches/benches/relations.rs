@@ -262,13 +262,8 @@ fn scene_level_and_batch(c: &mut Criterion) {
     g.finish();
 
     // 1,000 pairs of boxes from a fixed linear congruential sequence.
-    let mut state: u64 = 0x5EED_5EED;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as Real / (1u64 << 53) as Real
-    };
+    let mut rng = sceneeval_test_support::Lcg(0x5EED_5EED);
+    let mut next = || rng.next();
     let boxes: Vec<Obb> = (0..2000)
         .map(|_| {
             bx(

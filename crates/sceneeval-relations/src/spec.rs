@@ -897,13 +897,8 @@ mod tests {
     fn yaw_boxes_are_the_boxes_the_checked_path_makes() {
         // The shortcut for a yaw builds the same box, bit for bit, as the path through
         // Obb::new; and every invalid box gets the checked path's error.
-        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as Real / (1u64 << 53) as Real
-        };
+        let mut rng = sceneeval_test_support::Lcg(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next();
         for i in 0..2000 {
             let c = [next() * 10.0 - 5.0, next() * 10.0 - 5.0, next() * 2.0];
             let h = [next(), next() * 0.5, next() * 2.0];

@@ -21,6 +21,32 @@ pub mod scenes;
 use sceneeval_geom::{CUBOID_TRIANGLES, Point2, cuboid_corner};
 use sceneeval_scene::RoomBuilder;
 
+/// A deterministic sequence of numbers in `[0, 1)` (a 64-bit linear congruential generator
+/// with Knuth's constants, the top 53 bits of each state), for tests and benchmarks that need
+/// the same "random" inputs on every run.
+///
+/// ```
+/// use sceneeval_test_support::Lcg;
+/// let (mut a, mut b) = (Lcg(7), Lcg(7));
+/// let x = a.next();
+/// assert!((0.0..1.0).contains(&x));
+/// assert_eq!(x, b.next());
+/// ```
+#[derive(Debug, Clone)]
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    /// The next number, in `[0, 1)`.
+    #[allow(clippy::should_implement_trait)] // Not an iterator: it never ends.
+    pub fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// The standard test bedroom: floor x in [0, 4], y in [0, 5] at z = 0, walls 2.8 m high and
 /// 0.1 m thick (wall 0 along y = 0, wall 1 along x = 4, wall 2 along y = 5, wall 3 along
 /// x = 0), and a door in wall 0 spanning x in [1.0, 1.9], 2.1 m high. Tests add their windows

@@ -3,6 +3,7 @@
 //! deterministic jittered grid with a few deliberate collisions, lamps on tables, paintings on
 //! walls and lamps on the ceiling, so that every metric does real work.
 
+use crate::Lcg;
 use std::sync::Arc;
 
 use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point2, Point3, Vector3};
@@ -38,19 +39,6 @@ pub fn meshes() -> BenchMeshes {
         cabinet: Arc::new(cabinet),
         lamp: Arc::new(lamp),
         painting: Arc::new(painting),
-    }
-}
-
-/// A deterministic generator (64-bit LCG, Knuth's constants) for the jitter.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
 }
 
