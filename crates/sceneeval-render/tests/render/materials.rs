@@ -5,13 +5,30 @@ use std::sync::Arc;
 use sceneeval_geom::na::Translation3;
 use sceneeval_geom::{Isometry3, Mesh, Point3, Vector3};
 use sceneeval_io::GlbMaterial;
-use sceneeval_render::{Camera, RenderSettings, View};
+use sceneeval_render::{Camera, PreparedScene, RenderSettings, View};
 use sceneeval_scene::{Scene, SceneObject};
 
 use crate::common::*;
 
 fn at(x: f64, y: f64, z: f64) -> Isometry3 {
     Isometry3::from_parts(Translation3::new(x, y, z), Default::default())
+}
+
+/// A 64 x 64 view of everything, without architecture, from 3 m in front of the origin
+/// (looking along +y at 0.2 m height).
+fn from_the_front(prepared: &PreparedScene) -> image::RgbaImage {
+    let camera = Camera::looking_at(
+        Point3::new(0.0, -3.0, 0.2),
+        Point3::new(0.0, 0.0, 0.2),
+        Vector3::z(),
+    )
+    .unwrap();
+    let view = View::Custom {
+        camera,
+        objects: None,
+        architecture: false,
+    };
+    prepared.render(&view, &RenderSettings::square(64)).unwrap()
 }
 
 #[test]
@@ -37,18 +54,7 @@ fn blended_surfaces_mix_with_what_lies_behind_them() {
         .build()
         .unwrap();
     let prepared = renderer().prepare(&scene, &lib).unwrap();
-    let camera = Camera::looking_at(
-        Point3::new(0.0, -3.0, 0.2),
-        Point3::new(0.0, 0.0, 0.2),
-        Vector3::z(),
-    )
-    .unwrap();
-    let view = View::Custom {
-        camera,
-        objects: None,
-        architecture: false,
-    };
-    let img = prepared.render(&view, &RenderSettings::square(64)).unwrap();
+    let img = from_the_front(&prepared);
     // Through the pane: the red box tinted blue, fully opaque.
     let centre = img.get_pixel(32, 32).0;
     assert_eq!(centre[3], 255);
@@ -76,18 +82,7 @@ fn multisampled_edges_keep_the_surface_colour() {
         .build()
         .unwrap();
     let prepared = renderer().prepare(&scene, &lib).unwrap();
-    let camera = Camera::looking_at(
-        Point3::new(0.0, -3.0, 0.2),
-        Point3::new(0.0, 0.0, 0.2),
-        Vector3::z(),
-    )
-    .unwrap();
-    let view = View::Custom {
-        camera,
-        objects: None,
-        architecture: false,
-    };
-    let img = prepared.render(&view, &RenderSettings::square(64)).unwrap();
+    let img = from_the_front(&prepared);
     let inside = img.get_pixel(32, 32).0;
     assert_eq!(inside[3], 255);
     let edges: Vec<[u8; 4]> = img
