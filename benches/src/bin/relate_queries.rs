@@ -22,6 +22,8 @@ use std::fmt::Write as _;
 use std::io::{self, BufWriter, Write};
 use std::process::ExitCode;
 
+use sceneeval_test_support::Lcg;
+
 /// The benchmark bedroom: 4 x 5 m, a door on wall 0, a window on wall 1 (x = 4).
 const ROOM: &str = r#"{"floor":[[0,0],[4,0],[4,5],[0,5]],"height":2.8,"wall_thickness":0.1,"openings":[{"kind":"door","wall":0,"along":[1.0,1.9],"height":[0.0,2.1]},{"kind":"window","wall":1,"along":[1.5,3.5],"height":[0.9,2.0]}]}"#;
 
@@ -58,21 +60,13 @@ const ARCH: [&str; 10] = [
     r#""relation":"hang_from_ceiling""#,
 ];
 
-/// SplitMix64: a small, fixed-seed generator.
-struct Rng(u64);
+/// Random boxes from the repository's fixed-seed generator.
+struct Rng(Lcg);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
     /// Uniform in `[lo, hi)`, rounded to millimetres (short lines, like a client's).
     fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
+        let u = self.0.next();
         ((lo + u * (hi - lo)) * 1000.0).round() / 1000.0
     }
 
@@ -87,7 +81,11 @@ impl Rng {
         let c = [
             self.range(0.3, 3.7),
             self.range(0.3, 4.7),
-            h[2] + self.range(0.0, 1.0).max(0.0) * (self.next() % 2) as f64,
+            h[2] + if self.0.next() < 0.5 {
+                0.0
+            } else {
+                self.range(0.0, 1.0)
+            },
         ];
         let yaw = self.range(-std::f64::consts::PI, std::f64::consts::PI);
         format!(
@@ -101,7 +99,7 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let arg = |i: usize| args.get(i).map(String::as_str);
     let count = |i: usize| arg(i).and_then(|s| s.parse::<usize>().ok());
-    let mut rng = Rng(0x5CE4_E7A1);
+    let mut rng = Rng(Lcg(0x5CE4_E7A1));
     let mut text = String::new();
     match (arg(0), count(1)) {
         (Some("pairs"), Some(n)) => {

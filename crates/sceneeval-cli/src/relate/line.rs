@@ -1,26 +1,31 @@
 //! One input line of `sceneeval relate`, parsed in one pass into borrowed, typed fields (no
 //! intermediate `serde_json::Value`): a query, or a declaration of a named object or room.
+//!
+//! [`Line::parse`] reads the commonest lines, flat objects of plain strings and an integer id
+//! (a query by name), with a scanner of its own ([`super::flat`]) and every other line with
+//! serde_json; both give the same [`Line`].
 
 use std::borrow::Cow;
 use std::fmt;
 use std::marker::PhantomData;
 
 use sceneeval::relations::spec::ObjectSpec;
-use serde::Deserialize;
 use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::ser::{self, Serializer};
+use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 
 /// Every key a line may have. Which combinations are allowed is checked after parsing
 /// ([`Line::kind`]); unknown keys are errors here.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct Line<'a> {
     /// Schema version, as written.
     #[serde(default, borrow)]
-    pub version: Option<&'a RawValue>,
+    pub version: Option<RawText<'a>>,
     /// The client's id, echoed byte for byte.
     #[serde(default, borrow)]
-    pub id: Option<&'a RawValue>,
+    pub id: Option<RawText<'a>>,
     /// A declaration: the name being declared.
     #[serde(default, borrow)]
     pub declare: Option<Text<'a>>,
@@ -61,6 +66,19 @@ pub(crate) enum LineKind<'l, 'a> {
 }
 
 impl<'a> Line<'a> {
+    /// The line in `text` (one JSON object), built in the caller's `slot` (a line is a few
+    /// hundred bytes: it is not moved once per call): through the fast path when it is a flat
+    /// object of plain strings and integers, else through serde_json, whose errors are the
+    /// answer's.
+    #[inline]
+    pub fn parse<'s>(text: &'a str, slot: &'s mut Option<Line<'a>>) -> serde_json::Result<&'s Self> {
+        let line = slot.insert(Line::default());
+        if super::flat::read(text, line).is_none() {
+            *line = serde_json::from_str(text)?;
+        }
+        Ok(line)
+    }
+
     /// The line's kind, or why its keys do not make one.
     pub fn kind(&self) -> Result<LineKind<'_, 'a>, String> {
         let Some(name) = &self.declare else {
@@ -97,6 +115,32 @@ impl<'a> Line<'a> {
             )),
             (None, None) => Err(format!("declaration of {name:?} needs \"object\" or \"room\"")),
         }
+    }
+}
+
+/// A JSON value's text as written, without the whitespace around it: an id or a version,
+/// echoed byte for byte (a 30-digit integer stays a 30-digit integer). Valid JSON by
+/// construction: read by serde_json as a `RawValue`, or by the fast path as a string without
+/// escapes or an integer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RawText<'a>(pub &'a str);
+
+impl RawText<'static> {
+    /// JSON `null`.
+    pub const NULL: Self = RawText("null");
+}
+
+impl<'de: 'a, 'a> Deserialize<'de> for RawText<'a> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        <&'a RawValue>::deserialize(deserializer).map(|raw| RawText(raw.get()))
+    }
+}
+
+impl Serialize for RawText<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serde_json::from_str::<&RawValue>(self.0)
+            .map_err(ser::Error::custom)?
+            .serialize(serializer)
     }
 }
 
@@ -204,7 +248,7 @@ impl<'de: 'a, 'a> Deserialize<'de> for RoomOperand<'a> {
 #[derive(Debug, Deserialize)]
 pub(crate) struct IdOnly<'a> {
     #[serde(default, borrow)]
-    pub id: Option<&'a RawValue>,
+    pub id: Option<RawText<'a>>,
 }
 
 #[cfg(test)]

@@ -9,12 +9,14 @@
 //! without error, 2 when some line got an error answer, 1 when the input could not be read at
 //! all.
 //!
-//! Speed: each line is parsed once into borrowed, typed fields ([`line`]); rooms are prepared
+//! Speed: each line is parsed once into borrowed, typed fields ([`line`]; a query by name
+//! through a scanner of its own, [`flat`]); rooms are prepared
 //! once per distinct room text and kept in a bounded cache
 //! (`sceneeval::relations::spec::RoomCache`, the one the Python package uses), so an inline
 //! room costs what a declared one costs; answers are buffered and flushed only when the input
 //! has nothing more to read at once (see [`answer_all`]).
 
+mod flat;
 mod line;
 mod session;
 
@@ -28,9 +30,8 @@ use sceneeval::geom::Real;
 use sceneeval::io::AssetLibrary;
 use sceneeval::relations::RelationParams;
 use serde::Serialize;
-use serde_json::value::RawValue;
 
-use line::{IdOnly, Line, LineKind};
+use line::{IdOnly, Line, LineKind, RawText};
 use session::{Outcome, Session};
 
 /// The only line-schema version this build understands.
@@ -92,43 +93,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 ///
 /// `out` is flushed whenever the next read would have to wait for more input (the input
 /// buffer is empty), and at the end: a client that writes a line and waits gets its answer,
-/// and a file or a fast producer is answered in large writes.
+/// and a file or a fast producer is answered in large writes. A line that lies whole in the
+/// input buffer is answered where it lies; one split across reads is gathered first.
 fn answer_all(input: impl Read, out: &mut impl Write, session: &mut Session) -> anyhow::Result<usize> {
     let mut input = BufReader::with_capacity(BUFFER_BYTES, input);
-    let mut failed = 0;
-    let mut line = Vec::new();
-    let mut number = 0usize;
-    while next_line(&mut input, &mut line, out)? {
-        number += 1;
-        let answer = match std::str::from_utf8(&line) {
-            Ok(text) if text.trim_ascii().is_empty() => continue,
-            Ok(text) => answer_line(text, number, session),
-            Err(e) => Answer::error(null_id(), format!("not UTF-8: {e}")),
-        };
-        let answer = match answer {
-            Answer::Error { id, error } => {
-                failed += 1;
-                Answer::Error {
-                    id,
-                    error: format!("line {number}: {error}"),
-                }
-            }
-            ok => ok,
-        };
-        write_answer(out, &answer)?;
-    }
-    out.flush()?;
-    Ok(failed)
-}
-
-/// Reads the next line (with its newline, if any) into `line`; `false` at the end of the
-/// input. Flushes `out` before every read that may wait.
-fn next_line<R: Read>(
-    input: &mut BufReader<R>,
-    line: &mut Vec<u8>,
-    out: &mut impl Write,
-) -> io::Result<bool> {
-    line.clear();
+    let mut stream = Stream {
+        session,
+        number: 0,
+        failed: 0,
+    };
+    let mut split = Vec::new();
     loop {
         if input.buffer().is_empty() {
             out.flush()?;
@@ -136,23 +110,66 @@ fn next_line<R: Read>(
         let available = match input.fill_buf() {
             Ok(available) => available,
             Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
+            Err(e) => return Err(e.into()),
         };
         if available.is_empty() {
-            return Ok(!line.is_empty());
+            break;
         }
-        match memchr::memchr(b'\n', available) {
+        let used = match memchr::memchr(b'\n', available) {
+            Some(end) if split.is_empty() => {
+                stream.answer(&available[..=end], out)?;
+                end + 1
+            }
             Some(end) => {
-                line.extend_from_slice(&available[..=end]);
-                input.consume(end + 1);
-                return Ok(true);
+                split.extend_from_slice(&available[..=end]);
+                stream.answer(&split, out)?;
+                split.clear();
+                end + 1
             }
             None => {
-                let n = available.len();
-                line.extend_from_slice(available);
-                input.consume(n);
+                split.extend_from_slice(available);
+                available.len()
             }
-        }
+        };
+        input.consume(used);
+    }
+    if !split.is_empty() {
+        stream.answer(&split, out)?;
+    }
+    out.flush()?;
+    Ok(stream.failed)
+}
+
+/// The session of a stream, and its count of lines and of error answers.
+struct Stream<'s> {
+    session: &'s mut Session,
+    /// Lines read so far.
+    number: usize,
+    /// Lines answered with an error.
+    failed: usize,
+}
+
+impl Stream<'_> {
+    /// Answers the next line (its bytes, with its newline if any) into `out`.
+    fn answer(&mut self, line: &[u8], out: &mut impl Write) -> io::Result<()> {
+        self.number += 1;
+        let number = self.number;
+        let answer = match std::str::from_utf8(line) {
+            Ok(text) if text.trim_ascii().is_empty() => return Ok(()),
+            Ok(text) => answer_line(text, number, self.session),
+            Err(e) => Answer::error(RawText::NULL, format!("not UTF-8: {e}")),
+        };
+        let answer = match answer {
+            Answer::Error { id, error } => {
+                self.failed += 1;
+                Answer::Error {
+                    id,
+                    error: format!("line {number}: {error}"),
+                }
+            }
+            ok => ok,
+        };
+        write_answer(out, &answer)
     }
 }
 
@@ -163,16 +180,16 @@ fn next_line<R: Read>(
 #[serde(untagged)]
 enum Answer<'a> {
     Score {
-        id: &'a RawValue,
+        id: RawText<'a>,
         score: Real,
         holds: bool,
     },
     Declared {
-        id: &'a RawValue,
+        id: RawText<'a>,
         declared: String,
     },
     Error {
-        id: &'a RawValue,
+        id: RawText<'a>,
         error: String,
     },
 }
@@ -184,7 +201,7 @@ fn write_answer(out: &mut impl Write, answer: &Answer<'_>) -> io::Result<()> {
     match answer {
         Answer::Score { id, score, holds } => {
             out.write_all(b"{\"id\":")?;
-            out.write_all(id.get().as_bytes())?;
+            out.write_all(id.0.as_bytes())?;
             out.write_all(b",\"score\":")?;
             serde_json::to_writer(&mut *out, score)?;
             out.write_all(if *holds {
@@ -201,7 +218,7 @@ fn write_answer(out: &mut impl Write, answer: &Answer<'_>) -> io::Result<()> {
 }
 
 impl<'a> Answer<'a> {
-    fn error(id: &'a RawValue, error: impl Into<String>) -> Self {
+    fn error(id: RawText<'a>, error: impl Into<String>) -> Self {
         Answer::Error {
             id,
             error: error.into(),
@@ -209,16 +226,11 @@ impl<'a> Answer<'a> {
     }
 }
 
-/// JSON `null`.
-fn null_id() -> &'static RawValue {
-    RawValue::NULL
-}
-
 /// The id of a line that did not parse as a whole, verbatim, or `null`.
-fn raw_id(text: &str) -> &RawValue {
+fn raw_id(text: &str) -> RawText<'_> {
     match serde_json::from_str::<IdOnly<'_>>(text) {
         Ok(IdOnly { id: Some(id) }) => id,
-        _ => null_id(),
+        _ => RawText::NULL,
     }
 }
 
@@ -227,11 +239,12 @@ fn answer_line<'t>(text: &'t str, number: usize, session: &mut Session) -> Answe
     // Checked first: serde would also read a struct from an array of its fields.
     if !text.trim_ascii_start().starts_with('{') {
         return match serde_json::from_str::<serde::de::IgnoredAny>(text) {
-            Ok(_) => Answer::error(null_id(), "a line must be a JSON object"),
-            Err(e) => Answer::error(null_id(), format!("invalid JSON: {e}")),
+            Ok(_) => Answer::error(RawText::NULL, "a line must be a JSON object"),
+            Err(e) => Answer::error(RawText::NULL, format!("invalid JSON: {e}")),
         };
     }
-    let line: Line<'t> = match serde_json::from_str(text) {
+    let mut slot = None;
+    let line = match Line::parse(text, &mut slot) {
         Ok(line) => line,
         Err(e) => {
             // The line may be well-formed JSON whose id can be read even when the rest cannot
@@ -244,18 +257,15 @@ fn answer_line<'t>(text: &'t str, number: usize, session: &mut Session) -> Answe
             return Answer::error(raw_id(text), format!("{what}: {e}"));
         }
     };
-    let id: &'t RawValue = match line.id {
-        Some(id) => id,
-        None => null_id(),
-    };
+    let id = line.id.unwrap_or(RawText::NULL);
     if let Some(version) = line.version
-        && version.get() != "1"
+        && version.0 != "1"
     {
         return Answer::error(
             id,
             format!(
                 "unsupported schema version {} (this build reads version {SCHEMA_VERSION})",
-                version.get()
+                version.0
             ),
         );
     }

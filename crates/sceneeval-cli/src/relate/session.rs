@@ -2,6 +2,7 @@
 //! rooms (`sceneeval::relations::spec::RoomCache`, shared with the Python package), the asset
 //! library, and scoring one parsed line against them.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -187,12 +188,12 @@ impl Session {
         }
     }
 
-    /// The object an operand stands for (a clone of a declared one: a box copy or an `Arc`).
-    fn object(&self, operand: &Operand<'_>, what: &str) -> Result<Object, String> {
+    /// The object an operand stands for: built when written in place, borrowed when declared.
+    fn object(&self, operand: &Operand<'_>, what: &str) -> Result<Cow<'_, Object>, String> {
         match operand {
-            Operand::Inline(spec) => self.build(spec, what),
+            Operand::Inline(spec) => self.build(spec, what).map(Cow::Owned),
             Operand::Name(name) => match self.names.get(name.as_ref()) {
-                Some(Declared::Object(object)) => Ok(object.clone()),
+                Some(Declared::Object(object)) => Ok(Cow::Borrowed(object)),
                 Some(Declared::Room(_)) => Err(format!("{what}: {name:?} is a room, not an object")),
                 Some(Declared::Failed { line }) => Err(format!(
                     "{what}: {name:?} is unusable: its declaration on line {line} failed"
@@ -211,18 +212,16 @@ impl Session {
         })
     }
 
-    /// The room an operand stands for.
-    fn room(&mut self, operand: &RoomOperand<'_>) -> Result<Arc<Room>, String> {
-        match operand {
-            RoomOperand::Inline(text) => self.inline_room(text.get()),
-            RoomOperand::Name(name) => match self.names.get(name.as_ref()) {
-                Some(Declared::Room(room)) => Ok(Arc::clone(room)),
-                Some(Declared::Object(_)) => Err(format!("room: {name:?} is an object, not a room")),
-                Some(Declared::Failed { line }) => Err(format!(
-                    "room: {name:?} is unusable: its declaration on line {line} failed"
-                )),
-                None => Err(format!("room: no room named {name:?} has been declared")),
-            },
+    /// The declared room a name stands for (borrowed: no reference count is touched per
+    /// query).
+    fn declared_room(&self, name: &str) -> Result<&Room, String> {
+        match self.names.get(name) {
+            Some(Declared::Room(room)) => Ok(room),
+            Some(Declared::Object(_)) => Err(format!("room: {name:?} is an object, not a room")),
+            Some(Declared::Failed { line }) => Err(format!(
+                "room: {name:?} is unusable: its declaration on line {line} failed"
+            )),
+            None => Err(format!("room: no room named {name:?} has been declared")),
         }
     }
 
@@ -256,16 +255,25 @@ impl Session {
     /// The score of a query line.
     pub fn score(&mut self, line: &Line<'_>) -> Result<Outcome, String> {
         let relation = self.relation(line)?;
-        let room = line.room.as_ref().map(|r| self.room(r)).transpose()?;
+        let inline_room = match &line.room {
+            Some(RoomOperand::Inline(text)) => Some(self.inline_room(text.get())?),
+            _ => None,
+        };
+        // The rest only reads the session: declared rooms and objects are borrowed, not copied.
+        let session = &*self;
+        let room = match &line.room {
+            Some(RoomOperand::Name(name)) => Some(session.declared_room(name)?),
+            _ => inline_room.as_deref(),
+        };
         let target = line
             .target
             .as_ref()
-            .map(|o| self.object(o, "target"))
+            .map(|o| session.object(o, "target"))
             .transpose()?;
         let anchor = line
             .anchor
             .as_ref()
-            .map(|o| self.object(o, "anchor"))
+            .map(|o| session.object(o, "anchor"))
             .transpose()?;
         let targets = line
             .targets
@@ -273,19 +281,19 @@ impl Session {
             .map(|ts| {
                 ts.iter()
                     .enumerate()
-                    .map(|(i, o)| self.object(o, &format!("targets[{i}]")))
-                    .collect::<Result<Vec<Object>, String>>()
+                    .map(|(i, o)| session.object(o, &format!("targets[{i}]")))
+                    .collect::<Result<Vec<_>, String>>()
             })
             .transpose()?;
         let views: Option<Vec<ObjectGeom<'_>>> =
-            targets.as_ref().map(|ts| ts.iter().map(Object::geom).collect());
+            targets.as_ref().map(|ts| ts.iter().map(|t| t.geom()).collect());
         score_geoms(
             relation,
             &GeomOperands {
-                target: target.as_ref().map(Object::geom),
-                anchor: anchor.as_ref().map(Object::geom),
+                target: target.as_ref().map(|t| t.geom()),
+                anchor: anchor.as_ref().map(|a| a.geom()),
                 targets: views.as_deref(),
-                room: room.as_deref(),
+                room,
             },
             &self.params,
         )

@@ -77,14 +77,10 @@ fn answers_are_written_as_serialising_them_writes_them() {
         f64::NAN,
     ];
     for id in ids {
-        let id = RawValue::from_string(id.to_owned()).unwrap();
+        let id = RawText(id);
         for score in scores {
             for holds in [false, true] {
-                let answer = Answer::Score {
-                    id: &id,
-                    score,
-                    holds,
-                };
+                let answer = Answer::Score { id, score, holds };
                 let mut written = Vec::new();
                 write_answer(&mut written, &answer).unwrap();
                 let mut expected = serde_json::to_vec(&answer).unwrap();
@@ -96,9 +92,9 @@ fn answers_are_written_as_serialising_them_writes_them() {
             }
         }
         for answer in [
-            Answer::error(&id, "line 3: \"quoted\" and \u{1} escaped"),
+            Answer::error(id, "line 3: \"quoted\" and \u{1} escaped"),
             Answer::Declared {
-                id: &id,
+                id,
                 declared: "bed".into(),
             },
         ] {
@@ -294,4 +290,40 @@ fn declared_and_inline_rooms_give_the_same_bits_and_are_prepared_once() {
     }
     // The declaration and the inline copies share one prepared room.
     assert_eq!(s.rooms_built(), 1);
+}
+
+#[test]
+fn lines_split_across_reads_are_answered_as_whole_ones() {
+    // Blank lines, an error, bytes that are not UTF-8, a CRLF line and a last line without a
+    // newline: read in chunks of every size from 1 byte, the answers are the bytes of one read.
+    let mut input = Vec::new();
+    for i in 0..6 {
+        input.extend_from_slice(box_query(i).as_bytes());
+        input.extend_from_slice(if i == 2 { b"\r\n\n  \n" } else { b"\n" });
+    }
+    input.extend_from_slice(b"{\"id\":\"x\xff\"}\n{\"id\":9,\"relation\":\"beside\"}\n");
+    input.extend_from_slice(box_query(6).as_bytes());
+    let run = |chunk: usize| {
+        let written = Shared::default();
+        let mut reader = Chunks {
+            chunks: input.chunks(chunk).map(<[u8]>::to_vec).collect(),
+            pending: Vec::new(),
+            written: written.clone(),
+            answers_seen: Vec::new(),
+        };
+        let mut out = BufWriter::with_capacity(BUFFER_BYTES, written.clone());
+        let failed = answer_all(&mut reader, &mut out, &mut session()).unwrap();
+        drop(out);
+        let bytes = written.0.borrow().bytes.clone();
+        (failed, String::from_utf8(bytes).unwrap())
+    };
+    let (failed, whole) = run(input.len());
+    assert_eq!(failed, 2);
+    assert_eq!(whole.lines().count(), 9, "{whole}");
+    assert!(whole.contains(r#""error":"line 9: not UTF-8"#), "{whole}");
+    assert!(whole.contains(r#"{"id":9,"error":"line 10: "#), "{whole}");
+    assert!(whole.ends_with("\n") && whole.lines().last().unwrap().starts_with(r#"{"id":6,"#));
+    for chunk in 1..=13 {
+        assert_eq!(run(chunk), (failed, whole.clone()), "chunks of {chunk} bytes");
+    }
 }
