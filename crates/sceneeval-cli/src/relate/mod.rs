@@ -10,11 +10,10 @@
 //! all.
 //!
 //! Speed: each line is parsed once into borrowed, typed fields ([`line`]; a query by name
-//! through a scanner of its own, [`flat`]); rooms are prepared
-//! once per distinct room text and kept in a bounded cache
-//! (`sceneeval::relations::spec::RoomCache`, the one the Python package uses), so an inline
-//! room costs what a declared one costs; answers are buffered and flushed only when the input
-//! has nothing more to read at once (see [`answer_all`]).
+//! through a scanner of its own, [`flat`]); rooms are prepared once per distinct room text and
+//! kept in a bounded cache (`sceneeval::relations::spec::RoomCache`, the one the Python package
+//! uses), so an inline room costs what a declared one costs; answers are buffered and flushed
+//! only when the input has nothing more to read at once (see [`answer_all`]).
 
 mod flat;
 mod line;
