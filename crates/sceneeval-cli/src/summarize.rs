@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use sceneeval::annotation::Annotations;
-use sceneeval::{RECORD_FILE, SUMMARY_CSV, SUMMARY_MD, SceneRecord, Summary, write_atomic};
+use sceneeval::{RECORD_FILE, SceneRecord, Summary, scene_annotation_row};
 
 /// Arguments of `sceneeval summarize`.
 #[derive(Debug, clap::Args)]
@@ -70,10 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .map(|p| Annotations::read(p).with_context(|| format!("reading annotations {}", p.display())))
         .transpose()?;
     let difficulty = |r: &SceneRecord| {
-        let ann = annotations.as_ref()?;
-        let id = r.scene_id.as_deref()?;
-        ann.get(id)
-            .or_else(|| ann.get(id.trim_start_matches('0')))
+        scene_annotation_row(annotations.as_ref()?, r.scene_id.as_deref()?)
             .map(|row| row.difficulty.as_str().to_owned())
     };
     let list: Vec<&SceneRecord> = records.values().map(|(_, r)| r).collect();
@@ -82,8 +79,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let markdown = summary.to_markdown();
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        write_atomic(&out.join(SUMMARY_CSV), summary.to_csv()?.as_bytes())?;
-        write_atomic(&out.join(SUMMARY_MD), markdown.as_bytes())?;
+        summary.write_to(out)?;
     }
     print!("{markdown}");
     eprintln!("{} scenes from {} folder(s)", records.len(), args.dirs.len());

@@ -13,14 +13,24 @@ use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::AssetLibrary;
 use crate::{
     BatchOptions, BatchOutcome, EvalError, Evaluator, SceneFile, SceneRecord, SceneStatus, Summary,
-    annotation_digest, matching_file_digest, run_batch, write_atomic,
+    annotation_digest, matching_file_digest, run_batch,
 };
 
-/// The name of the CSV summary written into the output folder.
-pub const SUMMARY_CSV: &str = "summary.csv";
-
-/// The name of the Markdown summary written into the output folder.
-pub const SUMMARY_MD: &str = "summary.md";
+/// The annotation row of a scene: by its id (`12`), or by the number it writes with leading
+/// zeros (scene files are often numbered `012`, or `000` for row `0`). One rule for every front
+/// end: a run's fingerprints, fidelity rows and summary, and `sceneeval summarize`.
+pub fn scene_annotation_row<'a>(annotations: &'a Annotations, scene_id: &str) -> Option<&'a AnnotationRow> {
+    annotations.get(scene_id).or_else(|| {
+        let number = scene_id.trim_start_matches('0');
+        // All zeros is the number 0, not an empty id.
+        let number = if number.is_empty() && !scene_id.is_empty() {
+            "0"
+        } else {
+            number
+        };
+        annotations.get(number)
+    })
+}
 
 /// How to run a folder of scenes (see [`FolderRun::run`]).
 #[derive(Debug, Clone, Default)]
@@ -46,12 +56,9 @@ pub struct FolderOutcome {
 }
 
 impl FolderRun<'_> {
-    /// The annotation row of a scene: by its id (`12`), or without leading zeros (`012`).
+    /// The annotation row of a scene ([`scene_annotation_row`] in the run's annotations).
     pub fn annotation_row(&self, scene_id: &str) -> Option<&AnnotationRow> {
-        let annotations = self.annotations?;
-        annotations
-            .get(scene_id)
-            .or_else(|| annotations.get(scene_id.trim_start_matches('0')))
+        scene_annotation_row(self.annotations?, scene_id)
     }
 
     /// Evaluates `scenes` on the current rayon pool with [`run_batch`] (calling `on_done`
@@ -100,8 +107,31 @@ impl FolderRun<'_> {
                 .map(|row| row.difficulty.as_str().to_owned())
         };
         let summary = Summary::from_records(&batch.records, difficulty).with_plan(evaluator.plan());
-        write_atomic(&self.out_dir.join(SUMMARY_CSV), summary.to_csv()?.as_bytes())?;
-        write_atomic(&self.out_dir.join(SUMMARY_MD), summary.to_markdown().as_bytes())?;
+        summary.write_to(&self.out_dir)?;
         Ok(FolderOutcome { batch, summary })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scenes_numbered_with_leading_zeros_read_their_row() {
+        let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+                   12,easy,A bedroom.,,,,\n\
+                   0,hard,A kitchen.,,,,\n\
+                   007,medium,A study.,,,,\n";
+        let annotations = Annotations::from_csv_reader(csv.as_bytes()).unwrap();
+        let difficulty = |id| scene_annotation_row(&annotations, id).map(|r| r.difficulty.as_str());
+        assert_eq!(difficulty("12"), Some("easy"));
+        assert_eq!(difficulty("012"), Some("easy"));
+        assert_eq!(difficulty("0"), Some("hard"));
+        assert_eq!(difficulty("000"), Some("hard"));
+        // An id written with zeros in the annotations is found as written.
+        assert_eq!(difficulty("007"), Some("medium"));
+        assert_eq!(difficulty("7"), None);
+        assert_eq!(difficulty("13"), None);
+        assert_eq!(difficulty(""), None);
     }
 }

@@ -96,9 +96,9 @@ pub use files::{check_output_dir, write_atomic, write_atomic_with};
 pub use fingerprint::{
     AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest, matching_file_digest,
 };
-pub use folder::{FolderOutcome, FolderRun, SUMMARY_CSV, SUMMARY_MD};
+pub use folder::{FolderOutcome, FolderRun, scene_annotation_row};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
 pub use plan_choice::{ChosenPlan, NoVlmFallback, OptionNames, PlanChoice, PlanSpec};
 pub use plausibility::{Deadline, Metric, MetricTiming, PlausibilitySummary};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage, benchmark_id};
-pub use summary::{ALL_SCENES, GroupSummary, LEGEND, Summary, UNANNOTATED};
+pub use summary::{ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, Summary, UNANNOTATED};

@@ -1,10 +1,17 @@
 use std::fmt::Write as _;
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
 use crate::fidelity::FidelitySummary;
 use crate::plausibility::PlausibilitySummary;
-use crate::{EvalError, EvaluationPlan, SceneRecord};
+use crate::{EvalError, EvaluationPlan, SceneRecord, write_atomic};
+
+/// The name of the CSV summary written into an output folder.
+pub const SUMMARY_CSV: &str = "summary.csv";
+
+/// The name of the Markdown summary written into an output folder.
+pub const SUMMARY_MD: &str = "summary.md";
 
 /// The name of the group holding every scene.
 pub const ALL_SCENES: &str = "all";
@@ -168,6 +175,16 @@ impl Summary {
         self.preset = Some(plan.preset.name().to_owned());
         self.plan_digest = Some(plan.result_digest());
         self
+    }
+
+    /// Writes the table into `dir` as [`SUMMARY_CSV`] and [`SUMMARY_MD`], each replaced
+    /// atomically.
+    ///
+    /// # Errors
+    /// [`EvalError::File`] when a file cannot be written; [`EvalError::Csv`] as [`Self::to_csv`].
+    pub fn write_to(&self, dir: &Path) -> Result<(), EvalError> {
+        write_atomic(&dir.join(SUMMARY_CSV), self.to_csv()?.as_bytes())?;
+        write_atomic(&dir.join(SUMMARY_MD), self.to_markdown().as_bytes())
     }
 
     /// The table as CSV (header row, numbers with four decimals, empty cells for missing values).
