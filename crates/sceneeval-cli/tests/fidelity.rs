@@ -397,6 +397,55 @@ fn offline_full_plan_says_so_and_tables_show_ten_metrics() {
 }
 
 #[test]
+fn zero_padded_scene_files_read_the_rows_of_their_numbers() {
+    // Scene 2 renamed `scene_000.json` and given row 0; scene 8 as `scene_008.json`. The run
+    // (fidelity sections) and the summary (difficulty rows), and `summarize` after it, find
+    // the same rows as with plain names: the summary equals the plain run's.
+    let (_keep, plain, csv) = setup();
+    let ann = csv.to_str().unwrap();
+    let whole = tempfile::tempdir().unwrap();
+    common::evaluate(
+        &plain,
+        &fixtures().join("assets"),
+        whole.path(),
+        &["--annotations", ann, "--plan", "full"],
+    )
+    .success();
+    let padded = tempfile::tempdir().unwrap();
+    std::fs::copy(plain.join("scene_2.json"), padded.path().join("scene_000.json")).unwrap();
+    std::fs::copy(plain.join("scene_8.json"), padded.path().join("scene_008.json")).unwrap();
+    let padded_csv = padded.path().join("annotations.csv");
+    std::fs::write(&padded_csv, CSV.replace("\n2,hard,", "\n0,hard,")).unwrap();
+    let padded_ann = padded_csv.to_str().unwrap();
+    let out = tempfile::tempdir().unwrap();
+    common::evaluate(
+        padded.path(),
+        &fixtures().join("assets"),
+        out.path(),
+        &["--annotations", padded_ann, "--plan", "full"],
+    )
+    .success();
+    for scene in ["scene_000", "scene_008"] {
+        let record = common::record(out.path(), scene);
+        assert!(record["report"]["fidelity"].is_object(), "{scene}: {record}");
+    }
+    let read = |p: &Path| std::fs::read_to_string(p.join("summary.csv")).unwrap();
+    let summary = read(out.path());
+    assert!(!summary.contains("unannotated"), "{summary}");
+    assert_eq!(summary, read(whole.path()));
+    let merged = tempfile::tempdir().unwrap();
+    assert_cmd::Command::cargo_bin("sceneeval")
+        .unwrap()
+        .arg("summarize")
+        .arg(out.path())
+        .args(["--annotations", padded_ann, "--out"])
+        .arg(merged.path())
+        .assert()
+        .success();
+    assert_eq!(read(merged.path()), summary);
+}
+
+#[test]
 fn shards_merged_by_summarize_equal_a_single_run() {
     let (_keep, scenes, csv) = setup();
     let ann = csv.to_str().unwrap();

@@ -13,7 +13,7 @@ use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::AssetLibrary;
 use crate::{
     BatchOptions, BatchOutcome, EvalError, Evaluator, SceneFile, SceneRecord, SceneStatus, Summary,
-    annotation_digest, matching_file_digest, run_batch,
+    annotation_digest, benchmark_id, matching_file_digest, run_batch,
 };
 
 /// The annotation row of a scene: by its id (`12`), or by the number it writes with leading
@@ -83,7 +83,10 @@ impl FolderRun<'_> {
         let mut digests = BTreeMap::new();
         let mut rows = BTreeMap::new();
         for s in scenes {
-            if let Some(row) = self.annotation_row(&s.id.to_string()) {
+            // The id as the file writes it (`scene_007` -> `007`), as the summary reads it from
+            // the record: both find the same row.
+            let number = s.id.to_string();
+            if let Some(row) = self.annotation_row(benchmark_id(&s.name).unwrap_or(&number)) {
                 let mut digest = annotation_digest(row);
                 if let Some(path) = matching_file {
                     digest = matching_file_digest(&digest, &matching_file_for(path, &s.name));
