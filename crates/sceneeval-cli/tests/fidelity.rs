@@ -396,21 +396,38 @@ fn offline_full_plan_says_so_and_tables_show_ten_metrics() {
     );
 }
 
+/// `sceneeval evaluate SCENES --plan full --annotations ANN` into `out`, with `extra` options.
+fn evaluate_full(scenes: &Path, ann: &str, out: &Path, extra: &[&str]) {
+    let args = [&["--annotations", ann, "--plan", "full"], extra].concat();
+    common::evaluate(scenes, &fixtures().join("assets"), out, &args).success();
+}
+
+/// `sceneeval summarize DIRS... --annotations ANN --out OUT` (with both when given).
+fn summarize(dirs: &[&Path], ann: Option<&str>, out: Option<&Path>) -> assert_cmd::assert::Assert {
+    let mut cmd = assert_cmd::Command::cargo_bin("sceneeval").unwrap();
+    cmd.arg("summarize").args(dirs);
+    if let Some(ann) = ann {
+        cmd.args(["--annotations", ann]);
+    }
+    if let Some(out) = out {
+        cmd.arg("--out").arg(out);
+    }
+    cmd.assert()
+}
+
+/// The `summary.csv` in `dir`.
+fn summary_csv(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("summary.csv")).unwrap()
+}
+
 #[test]
 fn zero_padded_scene_files_read_the_rows_of_their_numbers() {
     // Scene 2 renamed `scene_000.json` and given row 0; scene 8 as `scene_008.json`. The run
     // (fidelity sections) and the summary (difficulty rows), and `summarize` after it, find
     // the same rows as with plain names: the summary equals the plain run's.
     let (_keep, plain, csv) = setup();
-    let ann = csv.to_str().unwrap();
     let whole = tempfile::tempdir().unwrap();
-    common::evaluate(
-        &plain,
-        &fixtures().join("assets"),
-        whole.path(),
-        &["--annotations", ann, "--plan", "full"],
-    )
-    .success();
+    evaluate_full(&plain, csv.to_str().unwrap(), whole.path(), &[]);
     let padded = tempfile::tempdir().unwrap();
     std::fs::copy(plain.join("scene_2.json"), padded.path().join("scene_000.json")).unwrap();
     std::fs::copy(plain.join("scene_8.json"), padded.path().join("scene_008.json")).unwrap();
@@ -418,31 +435,17 @@ fn zero_padded_scene_files_read_the_rows_of_their_numbers() {
     std::fs::write(&padded_csv, CSV.replace("\n2,hard,", "\n0,hard,")).unwrap();
     let padded_ann = padded_csv.to_str().unwrap();
     let out = tempfile::tempdir().unwrap();
-    common::evaluate(
-        padded.path(),
-        &fixtures().join("assets"),
-        out.path(),
-        &["--annotations", padded_ann, "--plan", "full"],
-    )
-    .success();
+    evaluate_full(padded.path(), padded_ann, out.path(), &[]);
     for scene in ["scene_000", "scene_008"] {
         let record = common::record(out.path(), scene);
         assert!(record["report"]["fidelity"].is_object(), "{scene}: {record}");
     }
-    let read = |p: &Path| std::fs::read_to_string(p.join("summary.csv")).unwrap();
-    let summary = read(out.path());
+    let summary = summary_csv(out.path());
     assert!(!summary.contains("unannotated"), "{summary}");
-    assert_eq!(summary, read(whole.path()));
+    assert_eq!(summary, summary_csv(whole.path()));
     let merged = tempfile::tempdir().unwrap();
-    assert_cmd::Command::cargo_bin("sceneeval")
-        .unwrap()
-        .arg("summarize")
-        .arg(out.path())
-        .args(["--annotations", padded_ann, "--out"])
-        .arg(merged.path())
-        .assert()
-        .success();
-    assert_eq!(read(merged.path()), summary);
+    summarize(&[out.path()], Some(padded_ann), Some(merged.path())).success();
+    assert_eq!(summary_csv(merged.path()), summary);
 }
 
 #[test]
@@ -450,23 +453,10 @@ fn shards_merged_by_summarize_equal_a_single_run() {
     let (_keep, scenes, csv) = setup();
     let ann = csv.to_str().unwrap();
     let whole = tempfile::tempdir().unwrap();
-    common::evaluate(
-        &scenes,
-        &fixtures().join("assets"),
-        whole.path(),
-        &["--annotations", ann, "--plan", "full"],
-    )
-    .success();
+    evaluate_full(&scenes, ann, whole.path(), &[]);
     let shards: Vec<tempfile::TempDir> = (1..=2).map(|_| tempfile::tempdir().unwrap()).collect();
     for (k, dir) in shards.iter().enumerate() {
-        let shard = format!("{}/2", k + 1);
-        common::evaluate(
-            &scenes,
-            &fixtures().join("assets"),
-            dir.path(),
-            &["--annotations", ann, "--plan", "full", "--shard", &shard],
-        )
-        .success();
+        evaluate_full(&scenes, ann, dir.path(), &["--shard", &format!("{}/2", k + 1)]);
         // Each shard evaluated one of the two scenes.
         let n = std::fs::read_dir(dir.path())
             .unwrap()
@@ -475,25 +465,15 @@ fn shards_merged_by_summarize_equal_a_single_run() {
         assert_eq!(n, 1);
     }
     let merged = tempfile::tempdir().unwrap();
-    assert_cmd::Command::cargo_bin("sceneeval")
-        .unwrap()
-        .arg("summarize")
-        .arg(shards[0].path())
-        .arg(shards[1].path())
-        .args(["--annotations", ann, "--out"])
-        .arg(merged.path())
-        .assert()
-        .success();
-    let read = |p: &Path| std::fs::read_to_string(p.join("summary.csv")).unwrap();
-    assert_eq!(read(merged.path()), read(whole.path()));
+    summarize(
+        &[shards[0].path(), shards[1].path()],
+        Some(ann),
+        Some(merged.path()),
+    )
+    .success();
+    assert_eq!(summary_csv(merged.path()), summary_csv(whole.path()));
     // The same folder twice overlaps: an error.
-    assert_cmd::Command::cargo_bin("sceneeval")
-        .unwrap()
-        .arg("summarize")
-        .arg(shards[0].path())
-        .arg(shards[0].path())
-        .assert()
-        .failure();
+    summarize(&[shards[0].path(), shards[0].path()], None, None).failure();
 }
 
 #[test]
