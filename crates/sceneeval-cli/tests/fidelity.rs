@@ -364,13 +364,7 @@ async fn interrupted_run_resumes_without_asking_again() {
 fn offline_full_plan_says_so_and_tables_show_ten_metrics() {
     let (_keep, scenes, csv) = setup();
     let out = tempfile::tempdir().unwrap();
-    let a = common::evaluate(
-        &scenes,
-        &fixtures().join("assets"),
-        out.path(),
-        &["--annotations", csv.to_str().unwrap(), "--plan", "full"],
-    )
-    .success();
+    let a = evaluate_full(&scenes, csv.to_str().unwrap(), out.path(), &[]);
     let stderr = String::from_utf8_lossy(&a.get_output().stderr).into_owned();
     assert!(stderr.contains("no VLM configured"), "{stderr}");
     let csv_out = std::fs::read_to_string(out.path().join("summary.csv")).unwrap();
@@ -396,10 +390,11 @@ fn offline_full_plan_says_so_and_tables_show_ten_metrics() {
     );
 }
 
-/// `sceneeval evaluate SCENES --plan full --annotations ANN` into `out`, with `extra` options.
-fn evaluate_full(scenes: &Path, ann: &str, out: &Path, extra: &[&str]) {
+/// `sceneeval evaluate SCENES --plan full --annotations ANN` into `out`, with `extra` options;
+/// it must succeed.
+fn evaluate_full(scenes: &Path, ann: &str, out: &Path, extra: &[&str]) -> assert_cmd::assert::Assert {
     let args = [&["--annotations", ann, "--plan", "full"], extra].concat();
-    common::evaluate(scenes, &fixtures().join("assets"), out, &args).success();
+    common::evaluate(scenes, &fixtures().join("assets"), out, &args).success()
 }
 
 /// `sceneeval summarize DIRS... --annotations ANN --out OUT` (with both when given).
