@@ -111,6 +111,49 @@ pub fn check_output_dir(dir: &Path) -> Result<(), EvalError> {
     })
 }
 
+/// The lock file of an output folder (see [`OutputLock`]).
+pub const LOCK_FILE: &str = ".sceneeval.lock";
+
+/// An output folder held by one run: [`LOCK_FILE`] in it, locked (an advisory lock of the
+/// operating system, released when the run ends or its process dies) while the run lasts, so
+/// that a second run on the same folder stops at once with a clear error instead of racing
+/// the first one for its files. The file itself stays (empty) after the run.
+#[derive(Debug)]
+pub struct OutputLock {
+    _file: std::fs::File,
+}
+
+impl OutputLock {
+    /// Locks `dir` (which must exist) for this run.
+    ///
+    /// ```
+    /// let dir = tempfile::tempdir().unwrap();
+    /// let first = sceneeval::OutputLock::acquire(dir.path()).unwrap();
+    /// let err = sceneeval::OutputLock::acquire(dir.path()).unwrap_err();
+    /// assert!(err.to_string().contains("another sceneeval run"), "{err}");
+    /// drop(first);
+    /// assert!(sceneeval::OutputLock::acquire(dir.path()).is_ok());
+    /// ```
+    ///
+    /// # Errors
+    /// [`EvalError::OutputInUse`] when another run holds it; [`EvalError::File`] when the lock
+    /// file cannot be opened or locked.
+    pub fn acquire(dir: &Path) -> Result<Self, EvalError> {
+        let path = dir.join(LOCK_FILE);
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| EvalError::file(&path, e))?;
+        match file.try_lock() {
+            Ok(()) => Ok(OutputLock { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(EvalError::OutputInUse { path: dir.to_owned() }),
+            Err(std::fs::TryLockError::Error(e)) => Err(EvalError::file(&path, e)),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
