@@ -6,6 +6,7 @@ use std::collections::HashSet;
 use super::obj_count::Counts;
 use super::{EntryCtx, FindingCode, work};
 use crate::quantifier::CountSpec;
+use crate::quote::{excerpt, list, ticked};
 use crate::row::Field;
 use crate::vocab;
 
@@ -20,11 +21,12 @@ pub(super) fn check_names<'n>(e: &mut EntryCtx<'_, '_>, names: impl IntoIterator
         }
     }
     if !bad.is_empty() {
-        let fixed: Vec<String> = bad.iter().map(|n| n.replace([' ', '-'], "_")).collect();
+        let names = list(&bad, ", ", |n| format!("{:?}", excerpt(n)));
+        let fixed = list(&bad, ", ", |n| excerpt(&n.replace([' ', '-'], "_")).into_owned());
         e.push(
             FindingCode::NameFormat,
-            format!("{bad:?} contain(s) a space or hyphen; the authors' guidelines use `_` in all names"),
-            Some(fixed.join(", ")),
+            format!("{names} contain(s) a space or hyphen; the authors' guidelines use `_` in all names"),
+            Some(fixed),
         );
     }
 }
@@ -62,8 +64,11 @@ pub(super) fn check_defined(e: &mut EntryCtx<'_, '_>, counts: &Counts, category:
     } else {
         e.push(
             FindingCode::UndefinedCategory,
-            format!("{role} `{category}` has no ObjCount entry in this row"),
-            Some(format!("add an ObjCount entry such as ge,1,{category}")),
+            format!("{role} {} has no ObjCount entry in this row", ticked(category)),
+            Some(format!(
+                "add an ObjCount entry such as ge,1,{}",
+                excerpt(category)
+            )),
         );
     }
     false

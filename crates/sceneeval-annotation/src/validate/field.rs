@@ -1,10 +1,12 @@
-//! The checks every field shares: a repeated entry is reported once as a repeat, a malformed
-//! entry by its grammar problems, and a parsed entry by its kind's semantic checks.
+//! The checks every field shares: the repeats of an entry are reported once, with their
+//! number, a malformed entry by its grammar problems, and a parsed entry by its kind's semantic
+//! checks.
 
 use std::collections::HashMap;
 
 use super::{EntryCtx, FindingCode, RowCtx, work};
 use crate::entry::{Entry, EntryKind, EntryProblem};
+use crate::quote::{excerpt, list};
 use crate::row::Field;
 
 /// Grammar problems of malformed entries, duplicates, then `check` on each parsed entry.
@@ -15,16 +17,20 @@ pub(super) fn check_field<T: EntryKind>(
 ) {
     let texts: Vec<String> = entries.iter().map(ToString::to_string).collect();
     let mut first_of: HashMap<&str, usize> = HashMap::with_capacity(texts.len());
+    // The `duplicate-entry` finding of each repeated entry (by its first index), in the output.
+    let mut repeats: HashMap<usize, usize> = HashMap::new();
     for (i, entry) in entries.iter().enumerate() {
         work::tick();
         let first = *first_of.entry(texts[i].as_str()).or_insert(i);
-        let mut e = EntryCtx {
-            ctx: &mut *ctx,
-            field: T::FIELD,
-            index: i,
-            text: texts[i].clone(),
-        };
+        if first < i
+            && let Some(&k) = repeats.get(&first)
+        {
+            ctx.out[k].occurrences += 1;
+            continue;
+        }
+        let mut e = EntryCtx::new(&mut *ctx, T::FIELD, i, &texts[i]);
         if first < i {
+            repeats.insert(first, e.ctx.out.len());
             e.push(
                 FindingCode::DuplicateEntry,
                 format!(
@@ -51,23 +57,23 @@ fn problem_code(p: &EntryProblem, text: &str, field: Field) -> (FindingCode, Opt
     match p {
         EntryProblem::UnknownQuantifier { text: q } => (
             FindingCode::UnknownQuantifier,
-            crate::Quantifier::suggest(q).map(|s| text.replacen(q.as_str(), s.as_str(), 1)),
+            crate::Quantifier::suggest(q)
+                .map(|s| excerpt(&text.replacen(q.as_str(), s.as_str(), 1)).into_owned()),
         ),
         EntryProblem::BadQuantity { .. } => (FindingCode::BadQuantity, None),
         EntryProblem::WrongFieldCount { found, .. } => {
             let parts: Vec<&str> = text.split(',').map(str::trim).collect();
             let suggestion = match field {
-                Field::ObjAttr if *found > 4 => Some(
-                    parts[3..]
-                        .iter()
-                        .map(|a| format!("{},{},{},{a}", parts[0], parts[1], parts[2]))
-                        .collect::<Vec<_>>()
-                        .join("; "),
+                Field::ObjAttr if *found > 4 => Some(list(&parts[3..], "; ", |a| {
+                    excerpt(&format!("{},{},{},{a}", parts[0], parts[1], parts[2])).into_owned()
+                })),
+                Field::OoRel if *found == 5 && parts[3].parse::<i64>().is_err() => Some(
+                    excerpt(&format!(
+                        "{},{},{},0,{},{}",
+                        parts[0], parts[1], parts[2], parts[3], parts[4]
+                    ))
+                    .into_owned(),
                 ),
-                Field::OoRel if *found == 5 && parts[3].parse::<i64>().is_err() => Some(format!(
-                    "{},{},{},0,{},{}",
-                    parts[0], parts[1], parts[2], parts[3], parts[4]
-                )),
                 _ => None,
             };
             (FindingCode::WrongFieldCount, suggestion)

@@ -95,7 +95,8 @@ finding_codes! {
     NonAtomicAttribute = "non-atomic-attribute", Warning;
     /// An `ObjAttr` entry has attribute and category swapped (`eq,1,red,bed`).
     AttributeCategorySwapped = "attribute-category-swapped", Error;
-    /// The same entry appears twice in a field (the reference collapses them, Q21).
+    /// The same entry appears twice in a field (the reference collapses them, Q21); reported
+    /// once, at the first repeat, with the number of repeats as its occurrences.
     DuplicateEntry = "duplicate-entry", Warning;
     /// `ObjCount` entries of one category allow no common count (`eq,0,x` with `ge,1,x`), or
     /// an entry can never hold (`lt,0`).
@@ -127,20 +128,33 @@ pub struct Finding {
     pub code: FindingCode,
     /// How serious (fixed per code, see [`FindingCode::severity`]).
     pub severity: Severity,
-    /// The row's ID (empty for `missing-id`).
+    /// The row's ID (empty for `missing-id`), cut to [`MAX_QUOTE_CHARS`](crate::MAX_QUOTE_CHARS)
+    /// characters like every quote of input text.
     pub row: String,
     /// The row's position among the data rows, 0-based (the header is not a row).
     pub row_index: usize,
     /// The column the problem is in.
     pub field: Field,
-    /// The entry text, for problems in one entry.
+    /// The entry text, for problems in one entry, cut to
+    /// [`MAX_QUOTE_CHARS`](crate::MAX_QUOTE_CHARS) characters (`entry_index` locates it).
     pub entry: Option<String>,
     /// The entry's position in its field, 0-based.
     pub entry_index: Option<usize>,
-    /// What is wrong, in words.
+    /// What is wrong, in words. Names, cells and entries in it are cut to
+    /// [`MAX_QUOTE_CHARS`](crate::MAX_QUOTE_CHARS) characters and lists to
+    /// [`MAX_QUOTED_ITEMS`](crate::MAX_QUOTED_ITEMS) items.
     pub message: String,
-    /// A likely fix, when one is known.
+    /// A likely fix, when one is known (quoted with the same bounds as `message`).
     pub suggestion: Option<String>,
+    /// How many times the problem occurs where the finding points: 1, or for a problem
+    /// repeated over the items of one entry (references, architecture references, names) or
+    /// an entry repeated in one field, their number. The finding describes the first of them.
+    #[serde(default = "one")]
+    pub occurrences: usize,
+}
+
+fn one() -> usize {
+    1
 }
 
 impl fmt::Display for Finding {
@@ -158,6 +172,9 @@ impl fmt::Display for Finding {
             write!(f, " {entry:?}")?;
         }
         write!(f, ": {}", self.message)?;
+        if self.occurrences > 1 {
+            write!(f, " (and {} more like it)", self.occurrences - 1)?;
+        }
         if let Some(s) = &self.suggestion {
             write!(f, " (suggestion: {s})")?;
         }
@@ -165,7 +182,7 @@ impl fmt::Display for Finding {
     }
 }
 
-/// Counts of findings by severity.
+/// Counts of findings by severity (a finding of several occurrences counts once).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub struct Summary {
     /// Findings with [`Severity::Error`].

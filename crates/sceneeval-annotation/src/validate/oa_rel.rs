@@ -5,6 +5,7 @@ use super::checks::{check_defined, check_names, check_satisfiable};
 use super::obj_count::Counts;
 use super::{EntryCtx, FindingCode};
 use crate::entry::{ArchRef, OaRel};
+use crate::quote::{excerpt, ticked};
 use crate::vocab::{self, ArchSuggestion};
 
 pub(super) fn check_oa_rel(e: &mut EntryCtx<'_, '_>, rel: &OaRel, counts: &Counts) {
@@ -17,28 +18,38 @@ pub(super) fn check_oa_rel(e: &mut EntryCtx<'_, '_>, rel: &OaRel, counts: &Count
     );
     check_names(e, names);
     let satisfiable = check_satisfiable(e, &rel.count);
+    // The parts of the OORel entry suggested for an object in an architecture reference's
+    // place, quoted once for all of them.
+    let relationship = excerpt(&rel.relationship);
+    let object = rel.object.to_string();
+    let object = excerpt(&object);
     for arch in &rel.arch {
         let ArchRef::Unknown(name) = arch else { continue };
+        let quoted = ticked(name);
         let (message, suggestion) = if counts.is_declared(name) {
             (
-                format!("`{name}` is an object category of this row, not architecture"),
-                Some(format!(
-                    "{},{},0,{name},{}",
-                    rel.count, rel.relationship, rel.object
-                )),
+                format!("{quoted} is an object category of this row, not architecture"),
+                Some(
+                    excerpt(&format!(
+                        "{},{relationship},0,{},{object}",
+                        rel.count,
+                        excerpt(name)
+                    ))
+                    .into_owned(),
+                ),
             )
         } else {
             match vocab::suggest_arch(name) {
                 Some(ArchSuggestion::InstanceId(stem)) => (
-                    format!("`{name}` names one instance; the authors' guidelines allow only types"),
-                    Some(stem),
+                    format!("{quoted} names one instance; the authors' guidelines allow only types"),
+                    Some(excerpt(&stem).into_owned()),
                 ),
                 Some(ArchSuggestion::Spelling(known)) => {
-                    (format!("unknown architecture reference `{name}`"), Some(known))
+                    (format!("unknown architecture reference {quoted}"), Some(known))
                 }
                 None => (
                     format!(
-                        "unknown architecture reference `{name}` (expected wall, floor, ceiling, \
+                        "unknown architecture reference {quoted} (expected wall, floor, ceiling, \
                          window, door, room or a room type)"
                     ),
                     None,
@@ -57,8 +68,9 @@ pub(super) fn check_oa_rel(e: &mut EntryCtx<'_, '_>, rel: &OaRel, counts: &Count
             e.push(
                 FindingCode::RelationshipExceedsCount,
                 format!(
-                    "`{}` needs at least {need} `{cat}`, but ObjCount allows at most {max}",
-                    rel.count
+                    "`{}` needs at least {need} {}, but ObjCount allows at most {max}",
+                    rel.count,
+                    ticked(cat)
                 ),
                 None,
             );

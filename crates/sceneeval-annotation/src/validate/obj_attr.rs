@@ -5,6 +5,7 @@ use super::checks::{check_defined, check_names, check_satisfiable};
 use super::obj_count::Counts;
 use super::{EntryCtx, FindingCode};
 use crate::entry::ObjAttr;
+use crate::quote::{excerpt, list, ticked};
 use crate::vocab;
 
 pub(super) fn check_obj_attr(e: &mut EntryCtx<'_, '_>, a: &ObjAttr, counts: &Counts) {
@@ -17,11 +18,12 @@ pub(super) fn check_obj_attr(e: &mut EntryCtx<'_, '_>, a: &ObjAttr, counts: &Cou
             e.push(
                 FindingCode::AttributeCategorySwapped,
                 format!(
-                    "`{}` looks like the attribute and `{}` like the category (the schema is \
+                    "{} looks like the attribute and {} like the category (the schema is \
                      q,n,category,attribute)",
-                    a.category, a.attribute
+                    ticked(&a.category),
+                    ticked(&a.attribute)
                 ),
-                Some(format!("{},{},{}", a.count, a.attribute, a.category)),
+                Some(excerpt(&format!("{},{},{}", a.count, a.attribute, a.category)).into_owned()),
             );
         } else {
             check_defined(e, counts, &a.category, "category");
@@ -33,17 +35,14 @@ pub(super) fn check_obj_attr(e: &mut EntryCtx<'_, '_>, a: &ObjAttr, counts: &Cou
         e.push(
             FindingCode::NonAtomicAttribute,
             format!(
-                "attribute `{}` combines {} attributes {adjectives:?}; use one entry per attribute",
-                a.attribute,
-                adjectives.len()
+                "attribute {} combines {} attributes ({}); use one entry per attribute",
+                ticked(&a.attribute),
+                adjectives.len(),
+                list(&adjectives, ", ", |w| format!("{:?}", excerpt(w)))
             ),
-            Some(
-                adjectives
-                    .iter()
-                    .map(|w| format!("{},{},{w}", a.count, a.category))
-                    .collect::<Vec<_>>()
-                    .join("; "),
-            ),
+            Some(list(&adjectives, "; ", |w| {
+                excerpt(&format!("{},{},{w}", a.count, a.category)).into_owned()
+            })),
         );
     }
     if satisfiable && let Ok(Some(max)) = counts.max(&a.category) {
@@ -52,8 +51,9 @@ pub(super) fn check_obj_attr(e: &mut EntryCtx<'_, '_>, a: &ObjAttr, counts: &Cou
             e.push(
                 FindingCode::AttributeExceedsCount,
                 format!(
-                    "`{}` needs at least {need} `{}` with the attribute, but ObjCount allows at most {max}",
-                    a.count, a.category
+                    "`{}` needs at least {need} {} with the attribute, but ObjCount allows at most {max}",
+                    a.count,
+                    ticked(&a.category)
                 ),
                 None,
             );

@@ -7,6 +7,7 @@ use super::checks::{check_names, check_satisfiable};
 use super::{EntryCtx, FindingCode, work};
 use crate::entry::{Entry, ObjCount};
 use crate::quantifier::CountRange;
+use crate::quote::{list, ticked};
 use crate::row::AnnotationRow;
 use crate::vocab;
 
@@ -25,8 +26,8 @@ impl Counts {
     pub(super) fn of(row: &AnnotationRow) -> Counts {
         let mut declared = HashSet::new();
         let mut ranges: HashMap<String, CountRange> = HashMap::new();
-        // Per category: the range so far and the entries that made it, in order.
-        let mut running: HashMap<&str, (CountRange, Vec<String>)> = HashMap::new();
+        // Per category: the range so far and the entries that made it (indices), in order.
+        let mut running: HashMap<&str, (CountRange, Vec<usize>)> = HashMap::new();
         let mut contradictions = HashMap::new();
         for (i, entry) in row.obj_count.iter().enumerate() {
             work::tick();
@@ -39,20 +40,19 @@ impl Counts {
                         .or_insert((CountRange::ANY, Vec::new()));
                     let next = range.intersect(&c.count.allowed());
                     if next.is_empty() && !range.is_empty() {
-                        let list: Vec<String> = before.iter().map(|t| format!("`{t}`")).collect();
+                        let earlier = list(before.iter(), ", ", |&k| ticked(&row.obj_count[k].to_string()));
                         contradictions.insert(
                             i,
                             format!(
-                                "no count of `{}` satisfies both this entry and {}",
-                                c.category,
-                                list.join(", ")
+                                "no count of {} satisfies both this entry and {earlier}",
+                                ticked(&c.category),
                             ),
                         );
                         // The range stays empty from here on: later entries report nothing,
                         // so the texts are no longer needed.
                         before.clear();
                     } else if !range.is_empty() {
-                        before.push(c.to_string());
+                        before.push(i);
                     }
                     *range = next;
                     c.category.clone()

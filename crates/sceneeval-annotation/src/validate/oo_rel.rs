@@ -7,6 +7,7 @@ use super::checks::{check_defined, check_names, check_satisfiable};
 use super::obj_count::Counts;
 use super::{EntryCtx, FindingCode, work};
 use crate::entry::OoRel;
+use crate::quote::{excerpt, list};
 
 /// C(n, k), saturating at `u128::MAX`.
 fn binomial(n: u64, k: u64) -> u128 {
@@ -126,17 +127,19 @@ pub(super) fn check_oo_rel(e: &mut EntryCtx<'_, '_>, rel: &OoRel, counts: &Count
     if let Ok(Some(max)) = max_groups(rel, counts)
         && max < need
     {
-        let limits: Vec<String> = reported
-            .iter()
-            .filter_map(|c| counts.max(c).ok().flatten().map(|m| format!("{c} at most {m}")))
-            .collect();
+        let limits = list(
+            reported
+                .iter()
+                .filter_map(|c| counts.max(c).ok().flatten().map(|m| (c, m))),
+            ", ",
+            |(c, m)| format!("{} at most {m}", excerpt(c)),
+        );
         e.push(
             FindingCode::RelationshipExceedsCount,
             format!(
                 "`{}` needs at least {need} distinct group(s) of objects, but the object counts \
                  allow at most {max} ({})",
-                rel.count,
-                limits.join(", ")
+                rel.count, limits
             ),
             None,
         );

@@ -7,6 +7,7 @@ use super::obj_attr::check_obj_attr;
 use super::obj_count::{Counts, check_obj_count};
 use super::oo_rel::check_oo_rel;
 use super::{FindingCode, RowCtx};
+use crate::quote::{excerpt, list};
 use crate::row::{Difficulty, Field};
 
 pub(super) fn check_row(ctx: &mut RowCtx<'_>) {
@@ -26,7 +27,7 @@ pub(super) fn check_row(ctx: &mut RowCtx<'_>) {
             None,
             format!(
                 "ID {:?} is not a non-negative integer; scene files are named scene_<ID>.json",
-                row.id
+                ctx.id
             ),
             None,
         );
@@ -36,7 +37,7 @@ pub(super) fn check_row(ctx: &mut RowCtx<'_>) {
             FindingCode::UnknownDifficulty,
             Field::Difficulty,
             None,
-            format!("difficulty {text:?} is not easy, medium or hard"),
+            format!("difficulty {:?} is not easy, medium or hard", excerpt(text)),
             None,
         );
     }
@@ -65,10 +66,10 @@ pub(super) fn check_row(ctx: &mut RowCtx<'_>) {
             Field::Row,
             None,
             format!(
-                "the row has {} cell(s) beyond the header's last column ({:?}); an unquoted comma \
+                "the row has {} cell(s) beyond the header's last column ({}); an unquoted comma \
                  in a cell shifts every later column",
                 row.overflow.len(),
-                row.overflow
+                list(&row.overflow, ", ", |c| format!("{:?}", excerpt(c)))
             ),
             Some("quote cells that contain commas".into()),
         );
