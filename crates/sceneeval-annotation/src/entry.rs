@@ -23,6 +23,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::quantifier::{CountSpec, Quantifier};
+use crate::quote::excerpt;
 use crate::vocab;
 use crate::{AnnotationError, Field};
 
@@ -287,7 +288,8 @@ impl OaRel {
     }
 }
 
-/// A problem that stops an entry from following its grammar.
+/// A problem that stops an entry from following its grammar. Its text (`Display`) quotes at
+/// most [`MAX_QUOTE_CHARS`](crate::MAX_QUOTE_CHARS) characters of what was found.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum EntryProblem {
@@ -331,14 +333,18 @@ impl fmt::Display for EntryProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             EntryProblem::UnknownQuantifier { text } => {
-                write!(f, "unknown quantifier {text:?} (expected eq, lt, gt, le or ge)")?;
+                write!(
+                    f,
+                    "unknown quantifier {:?} (expected eq, lt, gt, le or ge)",
+                    excerpt(text)
+                )?;
                 if let Some(q) = Quantifier::suggest(text) {
                     write!(f, "; did you mean {q:?}?", q = q.as_str())?;
                 }
                 Ok(())
             }
             EntryProblem::BadQuantity { text } => {
-                write!(f, "quantity {text:?} is not a non-negative integer")
+                write!(f, "quantity {:?} is not a non-negative integer", excerpt(text))
             }
             EntryProblem::WrongFieldCount {
                 found,
@@ -355,13 +361,15 @@ impl fmt::Display for EntryProblem {
             EntryProblem::BadAnchorIndex { text } => {
                 write!(
                     f,
-                    "anchor index {text:?} is not an integer >= -1 (-1 = unspecified)"
+                    "anchor index {:?} is not an integer >= -1 (-1 = unspecified)",
+                    excerpt(text)
                 )
             }
             EntryProblem::BadReference { text } => {
                 write!(
                     f,
-                    "object reference {text:?} is not `category` or `category:k` with an integer k"
+                    "object reference {:?} is not `category` or `category:k` with an integer k",
+                    excerpt(text)
                 )
             }
         }
