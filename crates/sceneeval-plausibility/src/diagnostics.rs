@@ -7,11 +7,9 @@ use image::{ImageFormat, Rgb, RgbImage};
 use sceneeval_scene::Scene;
 
 use crate::clearance::{OcclusionMap, OpeningFrame, intruding_parts};
-use crate::raster::Grid;
+use crate::raster::{Grid, Storage, check_raster};
 use crate::{PlausibilityError, PlausibilityParams, Sources};
 
-/// Largest diagnostic image side, pixels (the navigability raster's own limit is far larger).
-const MAX_IMAGE_SIDE: usize = 8192;
 const OFF_FLOOR: Rgb<u8> = Rgb([40, 40, 40]);
 const BLOCKED: Rgb<u8> = Rgb([200, 70, 60]);
 const FREE_OTHER: Rgb<u8> = Rgb([240, 200, 60]);
@@ -51,14 +49,8 @@ pub fn write_diagnostics(
     let mut written = Vec::new();
     let map = crate::occupancy_map(scene, &params.navigability)?;
     let grid = map.grid;
-    if grid.width > MAX_IMAGE_SIDE || grid.height > MAX_IMAGE_SIDE {
-        return Err(PlausibilityError::RasterTooLarge {
-            metric: "diagnostics",
-            width: grid.width,
-            height: grid.height,
-            max: MAX_IMAGE_SIDE,
-        });
-    }
+    // The images hold a value per pixel, unlike the navigability raster's runs.
+    check_raster("diagnostics", grid.width, grid.height, Storage::Dense)?;
     let (run_labels, sizes) = map.components();
     let largest = (0..sizes.len()).max_by(|&a, &b| sizes[a].cmp(&sizes[b]).then(b.cmp(&a)));
     // Per pixel: on a floor, and the free region's label (u32::MAX where not free).
@@ -150,7 +142,7 @@ pub fn write_diagnostics(
                 side.depth,
                 params.opening_clearance.touch_tolerance,
             );
-            let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre);
+            let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre)?;
             let mut mask = vec![false; occ.nu * occ.nw];
             for (_, parts) in intruding_parts(scene, &candidates, &frame) {
                 for part in &parts {
