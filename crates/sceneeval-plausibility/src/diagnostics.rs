@@ -31,7 +31,8 @@ const OCCLUDED: Rgb<u8> = Rgb([220, 50, 50]);
 /// - `opening_<opening>_<side>.png` for every blocked side of a door or window: the opening
 ///   seen from the checked side, occluded pixels red.
 ///
-/// The bytes are deterministic (same scene and parameters, same files).
+/// The bytes are deterministic (same scene and parameters, same files). Each file is written
+/// through a unique temporary file and an atomic rename.
 ///
 /// # Errors
 /// The metrics' parameter errors, [`PlausibilityError::Io`] when a file cannot be written,
@@ -176,18 +177,19 @@ fn image_from(grid: &Grid, colour: impl Fn(usize) -> Rgb<u8>) -> RgbImage {
     })
 }
 
+/// Encodes `img` as PNG and writes it atomically ([`sceneeval_files::write_atomic`]): a full
+/// disk or a second writer never leaves an empty or partial image.
 fn save(img: &RgbImage, path: &Path) -> Result<PathBuf, PlausibilityError> {
-    img.save_with_format(path, ImageFormat::Png)
-        .map_err(|e| match e {
-            image::ImageError::IoError(source) => PlausibilityError::Io {
-                path: path.to_owned(),
-                source,
-            },
-            other => PlausibilityError::Image {
-                path: path.to_owned(),
-                message: other.to_string(),
-            },
+    let mut bytes = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut bytes), ImageFormat::Png)
+        .map_err(|e| PlausibilityError::Image {
+            path: path.to_owned(),
+            message: e.to_string(),
         })?;
+    sceneeval_files::write_atomic(path, &bytes).map_err(|source| PlausibilityError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
     Ok(path.to_owned())
 }
 
