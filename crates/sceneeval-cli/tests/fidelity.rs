@@ -208,6 +208,9 @@ fn full_plan_with_labels_and_the_lexicon() {
 
 #[test]
 fn full_plan_with_a_scripted_vlm() {
+    if common::renderer().is_none() {
+        return;
+    }
     let out = tempfile::tempdir().unwrap();
     let nth = Nth::default();
     let vlm = Scripted::from_fn("scripted", move |req: &VlmRequest| {
@@ -309,6 +312,9 @@ fn cli_command(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str])
 
 #[tokio::test]
 async fn interrupted_run_resumes_without_asking_again() {
+    if common::renderer().is_none() {
+        return;
+    }
     let (_keep, scenes, csv) = setup();
     std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
     let out = tempfile::tempdir().unwrap();
@@ -489,6 +495,9 @@ fn a_changed_annotation_row_invalidates_only_its_record() {
 
 #[tokio::test]
 async fn sampling_options_reach_every_request_and_the_key_variable_is_used() {
+    if common::renderer().is_none() {
+        return;
+    }
     let (_keep, scenes, csv) = setup();
     std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
     let out = tempfile::tempdir().unwrap();
