@@ -330,7 +330,9 @@ mod tests {
         let mut matching = Matching::default();
         matching.per_category.insert(
             category.to_owned(),
-            (0..500).map(|k| (format!("o{k}"), "its label".to_owned())).collect(),
+            (0..500)
+                .map(|k| (format!("o{k}"), "its label".to_owned()))
+                .collect(),
         );
         MatchingRecord {
             schema: MATCHING_SCHEMA.into(),
@@ -381,6 +383,9 @@ mod tests {
         let err = rx
             .recv_timeout(std::time::Duration::from_secs(20))
             .expect("blocked on a named pipe");
-        assert!(err.contains("is a named pipe (FIFO), not a regular file"), "{err}");
+        assert!(
+            err.contains("is a named pipe (FIFO), not a regular file"),
+            "{err}"
+        );
     }
 }

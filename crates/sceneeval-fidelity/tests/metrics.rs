@@ -126,7 +126,10 @@ fn labels_and_lexicon_without_vlm() {
     assert_eq!((atr.satisfied, atr.score), (None, None));
     let json = serde_json::to_value(atr).unwrap();
     assert!(json["satisfied"].is_null() && json["score"].is_null(), "{json}");
-    assert!(json["specs"][0]["satisfied"].is_null() && json["specs"][0]["count_satisfied"].is_null(), "{json}");
+    assert!(
+        json["specs"][0]["satisfied"].is_null() && json["specs"][0]["count_satisfied"].is_null(),
+        "{json}"
+    );
     // OOR: surround: 1 anchor x C(4,4) = 1 group, four chairs evenly around: 1 satisfied (yes);
     // next_to: 1 x C(4,1) = 4 groups, each gap 0.1 m: 4 (eq,4 yes); on: the lamp rests on the
     // table: 1 (yes); left: the lamp is over the table, not beyond its -x face: 0 (no);

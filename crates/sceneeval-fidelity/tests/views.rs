@@ -16,7 +16,11 @@ use sceneeval_test_support::system::{GPU, available};
 /// A room with one desk of half-width `w`.
 fn desk_scene(w: f64) -> Scene {
     Scene::builder()
-        .room_builder(RoomBuilder::rectangle("r", Point2::new(0.0, 0.0), Point2::new(4.0, 3.0)))
+        .room_builder(RoomBuilder::rectangle(
+            "r",
+            Point2::new(0.0, 0.0),
+            Point2::new(4.0, 3.0),
+        ))
         .add_box(
             "desk",
             Category::new("desk"),
@@ -62,5 +66,9 @@ fn two_runs_writing_one_view_never_fail_and_leave_one_whole_image() {
     assert_ne!(images[0], images[1], "the two desks look different");
     let written = std::fs::read(views.join("front_desk.png")).unwrap();
     assert!(written == images[0] || written == images[1]);
-    assert_eq!(std::fs::read_dir(&views).unwrap().count(), 1, "no temporary file left");
+    assert_eq!(
+        std::fs::read_dir(&views).unwrap().count(),
+        1,
+        "no temporary file left"
+    );
 }

@@ -148,7 +148,10 @@ impl OpenAiVlm {
             shown.set_query(None);
             shown.set_fragment(None);
             return Err(OpenAiError::InvalidBaseUrl {
-                url: format!("{} (its query or fragment not shown)", shown.as_str().trim_end_matches('/')),
+                url: format!(
+                    "{} (its query or fragment not shown)",
+                    shown.as_str().trim_end_matches('/')
+                ),
                 message: "a query string or fragment would be logged and stored with the results, and \
                           `/chat/completions` would be appended after it; give the base URL without \
                           them and the key through the environment"
@@ -442,7 +445,9 @@ impl OpenAiVlm {
         fn scrub_value(v: Value, scrub: &dyn Fn(String) -> String) -> Value {
             match v {
                 Value::String(s) => Value::String(scrub(s)),
-                Value::Array(items) => Value::Array(items.into_iter().map(|i| scrub_value(i, scrub)).collect()),
+                Value::Array(items) => {
+                    Value::Array(items.into_iter().map(|i| scrub_value(i, scrub)).collect())
+                }
                 Value::Object(map) => Value::Object(
                     map.into_iter()
                         .map(|(k, v)| (scrub(k), scrub_value(v, scrub)))
@@ -580,11 +585,20 @@ mod tests {
             let text = format!("{err} {err:?}");
             assert!(!text.contains("S3CRET") && !text.contains("api-key"), "{text}");
             assert!(matches!(err, OpenAiError::InvalidBaseUrl { .. }), "{text}");
-            assert!(text.contains("https://x.example/v1 (its query or fragment not shown)"), "{text}");
+            assert!(
+                text.contains("https://x.example/v1 (its query or fragment not shown)"),
+                "{text}"
+            );
         }
         // Nor when the URL does not parse or has another scheme.
-        for url in ["ftp://x/v1?key=S3CRET", "http//x/v1?key=S3CRET", "not a url#S3CRET"] {
-            let err = OpenAiVlm::new(OpenAiConfig::new(url, "m")).unwrap_err().to_string();
+        for url in [
+            "ftp://x/v1?key=S3CRET",
+            "http//x/v1?key=S3CRET",
+            "not a url#S3CRET",
+        ] {
+            let err = OpenAiVlm::new(OpenAiConfig::new(url, "m"))
+                .unwrap_err()
+                .to_string();
             assert!(!err.contains("S3CRET") && err.contains("not shown"), "{err}");
         }
         let mut zero = OpenAiConfig::new("http://x/v1", "m");

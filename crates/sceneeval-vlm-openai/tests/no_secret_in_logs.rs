@@ -92,7 +92,11 @@ async fn the_key_never_reaches_logs_errors_or_files() {
     // What was sent back: the re-ask quotes the previous answer, redacted.
     let sent = bodies(&server).await;
     assert_eq!(sent.len(), 5);
-    assert!(user_text(&sent[1]).contains("[redacted]"), "{}", user_text(&sent[1]));
+    assert!(
+        user_text(&sent[1]).contains("[redacted]"),
+        "{}",
+        user_text(&sent[1])
+    );
     for body in &sent {
         assert_no_key("a request body", &body.to_string());
     }
