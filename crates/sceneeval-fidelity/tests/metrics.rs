@@ -184,12 +184,16 @@ fn scripted_vlm_judges_attributes_and_maps_unknown_words() {
     // ATR: wooden table 1 of 1 (eq,1 yes); red chairs 3 of 4 (eq,4 no); tv absent and lt,1
     // allows 0 (yes, not asked) -> 2/3.
     let atr = r.atr.as_ref().unwrap();
-    let got: Vec<(Option<u64>, bool)> = atr
+    let got: Vec<(Option<u64>, Option<bool>)> = atr
         .specs
         .iter()
         .map(|s| (s.count_satisfied, s.satisfied))
         .collect();
-    assert_eq!(got, [(Some(1), true), (Some(3), false), (Some(0), true)]);
+    assert_eq!(
+        got,
+        [(Some(1), Some(true)), (Some(3), Some(false)), (Some(0), Some(true))]
+    );
+    assert_eq!(atr.satisfied, Some(2));
     assert_eq!(r.summary.atr, Some(2.0 / 3.0));
     assert_eq!(atr.specs[1].assessments[3].reason, "chair 3");
     // OOR: the unknown word went to the VLM, which found no predicate: unmapped, unsatisfied.
