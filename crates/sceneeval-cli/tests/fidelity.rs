@@ -96,6 +96,9 @@ fn cli_command(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str])
 
 #[tokio::test]
 async fn interrupted_run_resumes_without_asking_again() {
+    if common::renderer().is_none() {
+        return;
+    }
     let (_keep, scenes, csv) = setup();
     std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
     let out = tempfile::tempdir().unwrap();
@@ -260,6 +263,9 @@ fn shards_merged_by_summarize_equal_a_single_run() {
 
 #[tokio::test]
 async fn sampling_options_reach_every_request_and_the_key_variable_is_used() {
+    if common::renderer().is_none() {
+        return;
+    }
     let (_keep, scenes, csv) = setup();
     std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
     let out = tempfile::tempdir().unwrap();

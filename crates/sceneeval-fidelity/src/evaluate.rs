@@ -287,15 +287,16 @@ impl FidelityEvaluator {
                 assessments: Vec::new(),
                 unanswered: None,
                 note: None,
-                satisfied: false,
+                satisfied: None,
             };
             if objs.is_empty() {
                 if self.params.presence_gate_respects_quantifier {
                     spec.count_satisfied = Some(0);
-                    spec.satisfied = a.count.holds(0);
+                    spec.satisfied = Some(a.count.holds(0));
                     spec.note =
                         Some("no object of the category: decided by the quantifier on a count of 0".into());
                 } else {
+                    spec.satisfied = Some(false);
                     spec.note =
                         Some("no object of the category: unsatisfied (reference presence gate, Q5)".into());
                 }
@@ -354,13 +355,13 @@ impl FidelityEvaluator {
                 spec.unanswered = Some(problems.join("; "));
             }
             spec.count_satisfied = Some(count);
-            spec.satisfied = a.count.holds(count);
+            spec.satisfied = Some(a.count.holds(count));
             specs.push(spec);
         }
         Ok(if judged || specs.is_empty() {
             MetricResult::new(
                 specs,
-                |s| s.satisfied,
+                |s| s.satisfied == Some(true),
                 "No object attribute requirements to evaluate.",
             )
         } else {

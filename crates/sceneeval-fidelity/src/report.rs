@@ -104,8 +104,8 @@ impl From<sceneeval_vlm::Usage> for VlmUsage {
 pub struct MetricResult<T> {
     /// "s/t requirements are satisfied.", or why nothing was evaluated.
     pub message: String,
-    /// Satisfied specs.
-    pub satisfied: usize,
+    /// Satisfied specs; `null` when the specs were not judged (ATR without a VLM).
+    pub satisfied: Option<usize>,
     /// Specs.
     pub total: usize,
     /// `satisfied / total`; `null` without specs or when not judged.
@@ -127,7 +127,7 @@ impl<T> MetricResult<T> {
             } else {
                 format!("{s}/{total} requirements are satisfied.")
             },
-            satisfied: s,
+            satisfied: Some(s),
             total,
             score: (total > 0).then(|| s as f64 / total as f64),
             not_judged: None,
@@ -138,7 +138,7 @@ impl<T> MetricResult<T> {
     pub(crate) fn not_judged(specs: Vec<T>, why: &str) -> Self {
         MetricResult {
             message: why.to_owned(),
-            satisfied: 0,
+            satisfied: None,
             total: specs.len(),
             score: None,
             not_judged: Some(why.to_owned()),
@@ -212,8 +212,9 @@ pub struct AtrSpec {
     /// Why the spec was decided without asking, if so.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
-    /// The verdict.
-    pub satisfied: bool,
+    /// The verdict; `null` when the spec was not judged (no VLM to ask). A spec decided
+    /// without asking (no object of its category) has a verdict either way.
+    pub satisfied: Option<bool>,
 }
 
 /// How a relationship was mapped.

@@ -115,9 +115,21 @@ fn labels_and_lexicon_without_vlm() {
     assert_eq!(verdicts, [true, true, true, true, false]);
     assert_eq!(r.summary.cnt, Some(0.8));
     assert_eq!(cnt.message, "4/5 requirements are satisfied.");
-    // ATR: not judged without a VLM.
+    // ATR: not judged without a VLM. The table and the chairs are present, so their specs
+    // have no verdict (not "false"); the absent tv is decided by its quantifier (lt,1 holds
+    // on a count of 0) without asking.
     assert_eq!(r.summary.atr, None);
-    assert!(r.atr.as_ref().unwrap().not_judged.is_some());
+    let atr = r.atr.as_ref().unwrap();
+    assert!(atr.not_judged.is_some());
+    let verdicts: Vec<Option<bool>> = atr.specs.iter().map(|s| s.satisfied).collect();
+    assert_eq!(verdicts, [None, None, Some(true)]);
+    assert_eq!((atr.satisfied, atr.score), (None, None));
+    let json = serde_json::to_value(atr).unwrap();
+    assert!(json["satisfied"].is_null() && json["score"].is_null(), "{json}");
+    assert!(
+        json["specs"][0]["satisfied"].is_null() && json["specs"][0]["count_satisfied"].is_null(),
+        "{json}"
+    );
     // OOR: surround: 1 anchor x C(4,4) = 1 group, four chairs evenly around: 1 satisfied (yes);
     // next_to: 1 x C(4,1) = 4 groups, each gap 0.1 m: 4 (eq,4 yes); on: the lamp rests on the
     // table: 1 (yes); left: the lamp is over the table, not beyond its -x face: 0 (no);
@@ -172,12 +184,16 @@ fn scripted_vlm_judges_attributes_and_maps_unknown_words() {
     // ATR: wooden table 1 of 1 (eq,1 yes); red chairs 3 of 4 (eq,4 no); tv absent and lt,1
     // allows 0 (yes, not asked) -> 2/3.
     let atr = r.atr.as_ref().unwrap();
-    let got: Vec<(Option<u64>, bool)> = atr
+    let got: Vec<(Option<u64>, Option<bool>)> = atr
         .specs
         .iter()
         .map(|s| (s.count_satisfied, s.satisfied))
         .collect();
-    assert_eq!(got, [(Some(1), true), (Some(3), false), (Some(0), true)]);
+    assert_eq!(
+        got,
+        [(Some(1), Some(true)), (Some(3), Some(false)), (Some(0), Some(true))]
+    );
+    assert_eq!(atr.satisfied, Some(2));
     assert_eq!(r.summary.atr, Some(2.0 / 3.0));
     assert_eq!(atr.specs[1].assessments[3].reason, "chair 3");
     // OOR: the unknown word went to the VLM, which found no predicate: unmapped, unsatisfied.
@@ -252,7 +268,7 @@ fn all_invalid_answers_still_give_a_result() {
         .report;
     let atr = r.atr.as_ref().unwrap();
     for s in &atr.specs[..2] {
-        assert!(s.unanswered.is_some() && !s.satisfied, "{s:?}");
+        assert!(s.unanswered.is_some() && s.satisfied == Some(false), "{s:?}");
         assert!(s.assessments.iter().all(|a| a.satisfied.is_none()));
     }
     assert_eq!(
@@ -400,7 +416,7 @@ fn malformed_entries_are_errors_and_several_attributes_are_one_spec() {
         .report;
     let spec = &r.atr.as_ref().unwrap().specs[0];
     assert_eq!(spec.attributes, ["wooden", "round"]);
-    assert_eq!((spec.count_satisfied, spec.satisfied), (Some(0), false));
+    assert_eq!((spec.count_satisfied, spec.satisfied), (Some(0), Some(false)));
     // Q18: an unknown quantifier is an error naming the row, column and entry.
     let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n7,easy,x,\"about,1,table\",,,\n";
     let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);

@@ -99,6 +99,16 @@ fn full_plan_with_labels_and_the_lexicon() {
 
 #[test]
 fn full_plan_with_a_scripted_vlm() {
+    // Skipped, saying so, on a machine without a Vulkan driver (unless SCENEEVAL_REQUIRE_GPU).
+    if sceneeval_test_support::system::available(
+        &sceneeval_test_support::system::GPU,
+        Renderer::new(),
+        sceneeval::render::RenderError::is_missing_driver,
+    )
+    .is_none()
+    {
+        return;
+    }
     let out = tempfile::tempdir().unwrap();
     let nth = Nth::default();
     let vlm = Scripted::from_fn("scripted", move |req: &VlmRequest| {

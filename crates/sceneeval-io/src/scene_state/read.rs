@@ -17,7 +17,7 @@ use crate::frames::{
     FrameError, PlacedObject, asset_pose_from_sstk, box_pose_from_sstk, sstk_from_asset_pose,
     sstk_from_box_pose,
 };
-use crate::{AssetLibrary, IoError};
+use crate::{AssetLibrary, IoError, MissingAsset};
 
 /// What to do about architecture when reading a sceneState file.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -146,9 +146,17 @@ fn read_objects(
     let list = doc.array(list, "/scene/object")?;
     let mut seen: HashMap<String, String> = HashMap::with_capacity(list.len());
     let mut objects = Vec::with_capacity(list.len());
+    let mut missing = Vec::new();
     for (i, entry) in list.iter().enumerate() {
         let ptr = ptr_index("/scene/object", i);
-        let object = read_object(doc, entry, &ptr, i, assets)?;
+        let object = match read_object(doc, entry, &ptr, i, assets) {
+            Ok(object) => object,
+            // Every missing asset is listed, not only the first: read on.
+            Err(e) => {
+                missing_asset(e, &mut missing)?;
+                continue;
+            }
+        };
         if let Some(first) = seen.insert(object.id().to_string(), ptr.clone()) {
             return Err(IoError::DuplicateObjectId {
                 path: doc.path_buf(),
@@ -159,7 +167,47 @@ fn read_objects(
         }
         objects.push(object);
     }
+    if !missing.is_empty() {
+        return Err(IoError::MissingAssets {
+            path: doc.path_buf(),
+            missing,
+        });
+    }
     Ok(objects)
+}
+
+/// Records `e` in `missing` when it is an object's asset that was not found; returns any other
+/// error.
+fn missing_asset(e: IoError, missing: &mut Vec<MissingAsset>) -> Result<(), IoError> {
+    let IoError::ObjectAsset {
+        path,
+        pointer,
+        model_id,
+        source,
+    } = e
+    else {
+        return Err(e);
+    };
+    let tried = match *source {
+        IoError::AssetNotFound { tried, .. } => tried,
+        other => {
+            return Err(IoError::ObjectAsset {
+                path,
+                pointer,
+                model_id,
+                source: Box::new(other),
+            });
+        }
+    };
+    match missing.iter_mut().find(|m| m.model_id == model_id) {
+        Some(m) => m.objects.push(pointer),
+        None => missing.push(MissingAsset {
+            model_id,
+            objects: vec![pointer],
+            tried,
+        }),
+    }
+    Ok(())
 }
 
 fn bad_transform(doc: &Doc<'_>, data_ptr: &str, e: &FrameError) -> IoError {
