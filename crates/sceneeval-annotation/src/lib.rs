@@ -113,4 +113,4 @@ pub use error::AnnotationError;
 pub use quantifier::{CountRange, CountSpec, Quantifier};
 pub use row::{AnnotationRow, Difficulty, Field, format_cell, parse_cell, split_cell};
 pub use stats::{GroupStats, Stats};
-pub use validate::{Finding, FindingCode, Severity, Summary, validate, validate_row};
+pub use validate::{Finding, FindingCode, Severity, Summary, binomial, validate, validate_row};

@@ -683,7 +683,7 @@ fn check_obj_attr(e: &mut EntryCtx<'_, '_>, a: &ObjAttr, counts: &Counts) {
 }
 
 /// C(n, k), saturating at `u128::MAX`.
-fn binomial(n: u64, k: u64) -> u128 {
+pub fn binomial(n: u64, k: u64) -> u128 {
     if k > n {
         return 0;
     }
