@@ -413,3 +413,52 @@ fn malformed_entries_are_errors_and_several_attributes_are_one_spec() {
         "{err}"
     );
 }
+
+/// Objects of HSSD assets state their WordNet synset as category (`bed.n.01`, `chair.n.01`):
+/// matching by labels reads them as `bed` and `chair`, as the plausibility tables do (before,
+/// no synset matched any annotated category and both specs failed).
+#[test]
+fn labels_read_synset_categories() {
+    let scene = Scene::builder()
+        .room_builder(RoomBuilder::rectangle(
+            "r0",
+            Point2::new(0.0, 0.0),
+            Point2::new(4.0, 4.0),
+        ))
+        .add_box(
+            "b",
+            Category::new("bed.n.01"),
+            Vector3::new(1.0, 0.8, 0.3),
+            pose_from_yaw(Point3::new(2.0, 2.0, 0.3), 0.0),
+        )
+        .add_box(
+            "c",
+            Category::new("Chair.n.01"),
+            Vector3::new(0.2, 0.2, 0.45),
+            pose_from_yaw(Point3::new(0.5, 0.5, 0.45), 0.0),
+        )
+        .build()
+        .unwrap();
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        3,easy,A bed and a chair,\"eq,1,bed; eq,1,chair\",,,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let res = Resources::<Scripted> {
+        session: None,
+        views: None,
+        scene_name: "scene_3",
+    };
+    let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
+    // CNT: one bed (bed.n.01) and one chair (Chair.n.01): 2/2.
+    let cnt = out.report.cnt.unwrap();
+    let found: Vec<(&str, &[String])> = cnt
+        .specs
+        .iter()
+        .map(|s| (s.category.as_str(), s.objects.as_slice()))
+        .collect();
+    assert_eq!(
+        found,
+        [("bed", &["b".to_owned()][..]), ("chair", &["c".to_owned()][..])]
+    );
+    assert_eq!(out.report.summary.cnt, Some(1.0));
+}
