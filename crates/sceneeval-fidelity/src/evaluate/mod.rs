@@ -167,7 +167,7 @@ impl FidelityEvaluator {
             oor,
             oar,
             summary,
-            vlm_usage: res.session.map(|s| s.usage().into()),
+            vlm_usage: res.session.map(|s| s.usage()),
             views_rendered: res.views.map_or(0, |v| v.made()),
             warnings,
         };
