@@ -8,8 +8,8 @@ use sceneeval_relations::Relation;
 use sceneeval_scene::ArchElement;
 
 use super::{
-    KeyedRelation, base_category, check_labels, check_relations, json_list, keyed_lines, norm, pair_by_key,
-    relation_keys,
+    KeyedAnswer, KeyedRelation, base_category, check_labels, check_relations, json_list, keyed_lines, norm,
+    pair_by_key, relation_keys,
 };
 use crate::TaskKind;
 use crate::VlmError;
@@ -75,6 +75,12 @@ fn offered_element(name: &str) -> Result<ArchElement, String> {
             let names: Vec<&str> = OFFERED_ELEMENTS.iter().map(|t| t.name()).collect();
             format!("{name:?} is not one of {}", names.join(", "))
         })
+}
+
+impl KeyedAnswer for ArchRelationshipAssessment {
+    fn key(&self) -> &str {
+        &self.key
+    }
 }
 
 /// One object-architecture relation of the annotation (an OARel entry without its count).
@@ -235,13 +241,7 @@ impl Task for ArchRelationTask {
         r: ArchRelationshipMappingResponse,
         out: &mut Validation<String, ArchRelationMapping>,
     ) {
-        pair_by_key(
-            &self.relations,
-            r.assessments,
-            |a| &a.key,
-            |s, a| self.check(s, a),
-            out,
-        );
+        pair_by_key(&self.relations, r.assessments, |s, a| self.check(s, a), out);
     }
 }
 

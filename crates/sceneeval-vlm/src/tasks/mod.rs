@@ -163,20 +163,26 @@ pub(crate) fn keyed_lines<R: KeyedRelation>(relations: &[R]) -> String {
     lines.join("\n")
 }
 
+/// An assessment of a relationship-mapping answer: the key of the relation it answers, as the
+/// model copied it.
+pub(crate) trait KeyedAnswer {
+    /// The key.
+    fn key(&self) -> &str;
+}
+
 /// Pairs keyed assessments with their relations (keys compared after trimming) and records
 /// each checked mapping, or its problem, under the relation's key.
-pub(crate) fn pair_by_key<R: KeyedRelation, A, I>(
+pub(crate) fn pair_by_key<R: KeyedRelation, A: KeyedAnswer, I>(
     relations: &[R],
     assessments: Vec<A>,
-    answer_key: impl Fn(&A) -> &str,
     check: impl Fn(&R, A) -> Result<I, String>,
     out: &mut crate::Validation<String, I>,
 ) {
     for a in assessments {
-        let Some(relation) = relations.iter().find(|r| r.key().trim() == answer_key(&a).trim()) else {
+        let Some(relation) = relations.iter().find(|r| r.key().trim() == a.key().trim()) else {
             out.general_problem(format!(
                 "an assessment has key {:?}, which is not one of the relation keys",
-                answer_key(&a)
+                a.key()
             ));
             continue;
         };

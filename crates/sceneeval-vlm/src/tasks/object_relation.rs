@@ -8,7 +8,9 @@ use serde::{Deserialize, Serialize};
 
 use sceneeval_relations::Relation;
 
-use super::{KeyedRelation, base_category, check_relations, keyed_lines, norm, pair_by_key, relation_keys};
+use super::{
+    KeyedAnswer, KeyedRelation, base_category, check_relations, keyed_lines, norm, pair_by_key, relation_keys,
+};
 use crate::TaskKind;
 use crate::VlmError;
 use crate::names::{ObjectRelationName, SideArgumentName};
@@ -48,6 +50,12 @@ pub struct ObjRelationshipAssessment {
     pub sides: Vec<Option<String>>,
     /// Why.
     pub reason: String,
+}
+
+impl KeyedAnswer for ObjRelationshipAssessment {
+    fn key(&self) -> &str {
+        &self.key
+    }
 }
 
 /// One object-object relation of the annotation (an OORel entry without its count).
@@ -262,13 +270,7 @@ impl Task for ObjectRelationTask {
         r: ObjRelationshipMappingResponse,
         out: &mut Validation<String, ObjectRelationMapping>,
     ) {
-        pair_by_key(
-            &self.relations,
-            r.assessments,
-            |a| &a.key,
-            |s, a| self.check(s, a),
-            out,
-        );
+        pair_by_key(&self.relations, r.assessments, |s, a| self.check(s, a), out);
     }
 }
 
