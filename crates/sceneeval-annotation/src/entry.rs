@@ -92,46 +92,9 @@ impl fmt::Display for ObjRef {
     }
 }
 
-/// One of the six architectural element types of the schema.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ArchElement {
-    /// `wall`
-    Wall,
-    /// `floor`
-    Floor,
-    /// `ceiling`
-    Ceiling,
-    /// `window`
-    Window,
-    /// `door`
-    Door,
-    /// `room` (the room the object is in).
-    Room,
-}
-
-impl ArchElement {
-    /// All six, in the paper's order.
-    pub const ALL: [ArchElement; 6] = [
-        ArchElement::Wall,
-        ArchElement::Floor,
-        ArchElement::Ceiling,
-        ArchElement::Window,
-        ArchElement::Door,
-        ArchElement::Room,
-    ];
-
-    /// The text form (`wall`, `floor`, ...).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            ArchElement::Wall => "wall",
-            ArchElement::Floor => "floor",
-            ArchElement::Ceiling => "ceiling",
-            ArchElement::Window => "window",
-            ArchElement::Door => "door",
-            ArchElement::Room => "room",
-        }
-    }
-}
+/// The six architectural element types of the schema are the scene model's
+/// [`ArchElement`](sceneeval_scene::ArchElement), with the same names.
+pub use sceneeval_scene::ArchElement;
 
 /// The architecture side of an object-architecture relationship.
 ///
@@ -152,7 +115,7 @@ impl ArchRef {
     /// Classifies an architecture reference (never fails).
     pub fn parse(text: &str) -> ArchRef {
         let text = text.trim();
-        if let Some(e) = ArchElement::ALL.into_iter().find(|e| e.as_str() == text) {
+        if let Some(e) = ArchElement::from_name(text) {
             ArchRef::Element(e)
         } else if vocab::is_room_type(text) {
             ArchRef::RoomType(text.to_owned())
@@ -161,10 +124,27 @@ impl ArchRef {
         }
     }
 
+    /// The kind of element the reference names: its element, [`ArchElement::Room`] for a room
+    /// type (`bedroom` is a room), `None` for an unknown reference.
+    ///
+    /// ```
+    /// use sceneeval_annotation::{ArchElement, ArchRef};
+    /// assert_eq!(ArchRef::parse("window").element(), Some(ArchElement::Window));
+    /// assert_eq!(ArchRef::parse("bedroom").element(), Some(ArchElement::Room));
+    /// assert_eq!(ArchRef::parse("wall_1").element(), None);
+    /// ```
+    pub fn element(&self) -> Option<ArchElement> {
+        match self {
+            ArchRef::Element(e) => Some(*e),
+            ArchRef::RoomType(_) => Some(ArchElement::Room),
+            ArchRef::Unknown(_) => None,
+        }
+    }
+
     /// The text form.
     pub fn as_str(&self) -> &str {
         match self {
-            ArchRef::Element(e) => e.as_str(),
+            ArchRef::Element(e) => e.name(),
             ArchRef::RoomType(s) | ArchRef::Unknown(s) => s,
         }
     }

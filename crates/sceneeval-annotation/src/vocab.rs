@@ -7,8 +7,9 @@
 //! and are deliberately short: a word missing here makes the heuristic miss a case, it never
 //! makes a valid entry an error.
 
-/// Architectural element names accepted as architecture references, in the paper's order.
-pub const ARCH_ELEMENTS: [&str; 6] = ["wall", "floor", "ceiling", "window", "door", "room"];
+/// Architectural element names accepted as architecture references, in the paper's order
+/// (the names of [`sceneeval_scene::ArchElement::ALL`]).
+pub const ARCH_ELEMENTS: [&str; 6] = sceneeval_scene::ArchElement::NAMES;
 
 /// Room types accepted as architecture references (for scenes with several rooms).
 ///

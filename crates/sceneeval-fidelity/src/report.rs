@@ -27,9 +27,11 @@ pub struct FidelityReport {
     pub oar: Option<MetricResult<OarSpec>>,
     /// The satisfied share of each metric.
     pub summary: FidelitySummary,
-    /// The VLM's usage for this scene, when one is configured.
+    /// The VLM's usage for this scene, when one is configured (the session's
+    /// [`Usage`](sceneeval_vlm::Usage): requests, cache hits, failed requests, re-asks,
+    /// answered and unanswered questions, prompt and completion tokens).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub vlm_usage: Option<VlmUsage>,
+    pub vlm_usage: Option<sceneeval_vlm::Usage>,
     /// Views rendered for this scene.
     #[serde(default)]
     pub views_rendered: u64,
@@ -61,42 +63,6 @@ pub struct MatchingSummary {
     pub message: String,
     /// Objects the VLM gave no valid answer for.
     pub unanswered: usize,
-}
-
-/// A VLM's usage (requests, cache hits, tokens) for one scene.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct VlmUsage {
-    /// Requests answered (fresh and from the cache).
-    pub requests: u64,
-    /// Requests answered from the cache.
-    pub cache_hits: u64,
-    /// Requests that failed.
-    pub failed_requests: u64,
-    /// Tasks asked a second time because of an invalid answer.
-    pub re_asks: u64,
-    /// Questions answered validly.
-    pub answered: u64,
-    /// Questions left unanswered.
-    pub unanswered: u64,
-    /// Prompt tokens of fresh answers.
-    pub prompt_tokens: u64,
-    /// Completion tokens of fresh answers.
-    pub completion_tokens: u64,
-}
-
-impl From<sceneeval_vlm::Usage> for VlmUsage {
-    fn from(u: sceneeval_vlm::Usage) -> Self {
-        VlmUsage {
-            requests: u.requests,
-            cache_hits: u.cache_hits,
-            failed_requests: u.failed_requests,
-            re_asks: u.re_asks,
-            answered: u.answered,
-            unanswered: u.unanswered,
-            prompt_tokens: u.tokens.prompt_tokens,
-            completion_tokens: u.tokens.completion_tokens,
-        }
-    }
 }
 
 /// One metric's result: the reference's message, the counts, and every spec.

@@ -11,7 +11,7 @@ use sceneeval_fidelity::{
 };
 use sceneeval_geom::{Point2, Point3, Vector3, conventions::pose_from_yaw};
 use sceneeval_relations::RelationParams;
-use sceneeval_scene::{Category, RoomBuilder, Scene};
+use sceneeval_scene::{Category, RoomBuilder, Scene, SceneBuilder};
 use sceneeval_vlm::{AnswerContent, Scripted, Session, check::test_image};
 use serde_json::json;
 
@@ -26,12 +26,7 @@ fn scene() -> Scene {
             pose_from_yaw(Point3::new(x, y, 0.45), 0.0),
         )
     };
-    let mut b = Scene::builder()
-        .room_builder(RoomBuilder::rectangle(
-            "r0",
-            Point2::new(0.0, 0.0),
-            Point2::new(4.0, 4.0),
-        ))
+    let mut b = room()
         .add_box(
             "t",
             Category::new("table"),
@@ -65,6 +60,24 @@ fn row() -> AnnotationRow {
         eq,0,next_to,0,table,tv\",\
         \"eq,1,middle,table,room; eq,1,against,table,wall\"\n";
     Annotations::from_csv_str(csv).unwrap().rows.remove(0)
+}
+
+/// A 4 x 4 m room to add objects to.
+fn room() -> SceneBuilder {
+    Scene::builder().room_builder(RoomBuilder::rectangle(
+        "r0",
+        Point2::new(0.0, 0.0),
+        Point2::new(4.0, 4.0),
+    ))
+}
+
+/// Neither a VLM nor views: labels and the lexicon only.
+fn offline() -> Resources<'static, Scripted> {
+    Resources {
+        session: None,
+        views: None,
+        scene_name: "scene_7",
+    }
 }
 
 fn params() -> FidelityParams {
@@ -101,11 +114,7 @@ fn scripted() -> Scripted {
 fn labels_and_lexicon_without_vlm() {
     let (scene, row) = (scene(), row());
     let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
-    let res = Resources::<Scripted> {
-        session: None,
-        views: None,
-        scene_name: "scene_7",
-    };
+    let res = offline();
     let out = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
     let r = &out.report;
     // CNT: table 1 (eq,1 yes), chairs 4 (labelled "chairs": plural), lamp 1 ("Lamp"),
@@ -301,11 +310,7 @@ fn candidate_group_cap_warns() {
         RelationParams::default(),
     )
     .unwrap();
-    let res = Resources::<Scripted> {
-        session: None,
-        views: None,
-        scene_name: "scene_7",
-    };
+    let res = offline();
     let r = ev
         .evaluate(&scene, &row, &[FidelityMetric::Oor], &res)
         .unwrap()
@@ -354,11 +359,7 @@ fn matching_from_a_reference_file() {
         RelationParams::default(),
     )
     .unwrap();
-    let res = Resources::<Scripted> {
-        session: None,
-        views: None,
-        scene_name: "scene_7",
-    };
+    let res = offline();
     let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
     assert_eq!(out.report.summary.cnt, Some(0.4));
     assert_eq!(out.matching.file.as_deref(), Some(file.as_path()));
@@ -428,4 +429,44 @@ fn malformed_entries_are_errors_and_several_attributes_are_one_spec() {
         err.contains("row \"7\", ObjCount") && err.contains("about,1,table"),
         "{err}"
     );
+}
+
+/// Objects of HSSD assets state their WordNet synset as category (`bed.n.01`, `chair.n.01`):
+/// matching by labels reads them as `bed` and `chair`, as the plausibility tables do (before,
+/// no synset matched any annotated category and both specs failed).
+#[test]
+fn labels_read_synset_categories() {
+    let scene = room()
+        .add_box(
+            "b",
+            Category::new("bed.n.01"),
+            Vector3::new(1.0, 0.8, 0.3),
+            pose_from_yaw(Point3::new(2.0, 2.0, 0.3), 0.0),
+        )
+        .add_box(
+            "c",
+            Category::new("Chair.n.01"),
+            Vector3::new(0.2, 0.2, 0.45),
+            pose_from_yaw(Point3::new(0.5, 0.5, 0.45), 0.0),
+        )
+        .build()
+        .unwrap();
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        7,easy,A bed and a chair,\"eq,1,bed; eq,1,chair\",,,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let res = offline();
+    let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
+    // CNT: one bed (bed.n.01) and one chair (Chair.n.01): 2/2.
+    let cnt = out.report.cnt.unwrap();
+    let found: Vec<(&str, &[String])> = cnt
+        .specs
+        .iter()
+        .map(|s| (s.category.as_str(), s.objects.as_slice()))
+        .collect();
+    assert_eq!(
+        found,
+        [("bed", &["b".to_owned()][..]), ("chair", &["c".to_owned()][..])]
+    );
+    assert_eq!(out.report.summary.cnt, Some(1.0));
 }

@@ -2,10 +2,11 @@
 
 use rayon::prelude::*;
 use sceneeval_geom::{Aabb, DepthSearch, Overlap, PenetrationQuery, Real};
+use sceneeval_scene::label::{Synset, normalise};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::category::{has_word, normalize_category};
+use crate::category::has_word;
 use crate::error::{check_non_negative, check_range};
 use crate::index::{BoxIndex, WorkCounter};
 use crate::{Deadline, PlausibilityError};
@@ -340,7 +341,7 @@ pub(crate) fn floor_coverings(objects: &[SceneObject], exclude: bool, words: &[S
     if !exclude {
         return vec![false; objects.len()];
     }
-    let words: Vec<String> = words.iter().map(|w| normalize_category(w)).collect();
+    let words: Vec<String> = words.iter().map(|w| normalise(w, Synset::Strip)).collect();
     // Scenes repeat a few categories many times: decide each text once.
     let mut seen: std::collections::HashMap<&str, bool> = std::collections::HashMap::new();
     objects

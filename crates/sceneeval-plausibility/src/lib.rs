@@ -131,7 +131,6 @@ pub use accessibility::{
     AccessibilityParams, AccessibilityReport, ObjectAccess, SideAccess, accessibility,
     accessibility_with_work,
 };
-pub use category::normalize_category;
 pub use clearance::{
     BlockingObject, OpeningClearance, OpeningClearanceParams, OpeningClearanceReport, OpeningSide,
     SideClearance, opening_clearance,

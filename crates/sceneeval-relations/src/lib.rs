@@ -160,5 +160,10 @@ pub use params::{
     CornerWalls, DistanceBand, DistanceFrom, FaceToHeights, OnTopPlane, RelationParams, RoomCentre,
     SurroundVariant,
 };
-pub use relation::{ArchElement, LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES, Relation, RelationKind};
+pub use relation::{
+    DISTANCE_ELEMENTS, LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES, Relation, RelationKind,
+};
 pub use scene_eval::{Evaluation, Query, SURROUND_REFERENCE_MAX_TARGETS, SceneRelations};
+/// The kinds of architectural element (the scene model's vocabulary); the distance relations
+/// take [`DISTANCE_ELEMENTS`].
+pub use sceneeval_scene::ArchElement;

@@ -4,6 +4,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use sceneeval_geom::Side;
+use sceneeval_scene::ArchElement;
 
 use crate::RelationError;
 
@@ -27,32 +28,12 @@ impl LongShort {
     }
 }
 
-/// The kind of architectural element the four object-architecture distance relations measure
-/// against. The mapping prompt also offers `floor`, `ceiling` and `room`; for the distance
-/// relations those are rejected (the reference asserts, quirk Q19).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ArchElement {
-    /// Any wall (its solid slab with doors and windows cut out).
-    Wall,
-    /// Any door opening.
-    Door,
-    /// Any window opening.
-    Window,
-}
-
-impl ArchElement {
-    /// `"wall"`, `"door"` or `"window"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            ArchElement::Wall => "wall",
-            ArchElement::Door => "door",
-            ArchElement::Window => "window",
-        }
-    }
-
-    /// All three element kinds.
-    pub const ALL: [ArchElement; 3] = [ArchElement::Wall, ArchElement::Door, ArchElement::Window];
-}
+/// The kinds of architectural element the four object-architecture distance relations
+/// (`next_to`, `near`, `across_from`, `far`) measure against: walls, doors and windows. The
+/// mapping prompt also offers `floor`, `ceiling` and `room`; for the distance relations those
+/// are rejected by every parser (the reference asserts, quirk Q19), and a relation built with
+/// one directly scores 0 (the room has no wall or opening of that kind).
+pub const DISTANCE_ELEMENTS: [ArchElement; 3] = [ArchElement::Wall, ArchElement::Door, ArchElement::Window];
 
 /// What a relation relates, which decides the API that evaluates it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -501,11 +482,11 @@ impl Base {
     }
 }
 
-/// An element type (`wall`, `door`, `window`, or their plurals).
+/// An element type of [`DISTANCE_ELEMENTS`] (`wall`, `door`, `window`, or their plurals).
 fn parse_element(relation: &'static str, a: &str) -> Result<ArchElement, RelationError> {
     let wanted = a.trim().to_ascii_lowercase();
     let singular = wanted.strip_suffix('s').unwrap_or(&wanted);
-    ArchElement::ALL
+    DISTANCE_ELEMENTS
         .into_iter()
         .find(|e| e.name() == wanted || e.name() == singular)
         .ok_or_else(|| RelationError::BadArgument {
@@ -619,7 +600,7 @@ impl Relation {
                 Relation::AcrossFrom,
                 Relation::Far,
             ]);
-        let elements = ArchElement::ALL;
+        let elements = DISTANCE_ELEMENTS;
         let arch = elements
             .into_iter()
             .map(Relation::NextToArch)

@@ -26,6 +26,7 @@ mod test_support;
 use std::collections::HashMap;
 
 pub use finding::{Finding, FindingCode, Severity, Summary};
+pub use oo_rel::binomial;
 
 use crate::Annotations;
 use crate::quote::excerpt;

@@ -10,7 +10,7 @@ use crate::entry::OoRel;
 use crate::quote::{excerpt, list};
 
 /// C(n, k), saturating at `u128::MAX`.
-fn binomial(n: u64, k: u64) -> u128 {
+pub fn binomial(n: u64, k: u64) -> u128 {
     if k > n {
         return 0;
     }

@@ -18,11 +18,13 @@
 //! point toward its end, `height` above the wall's base.
 
 mod builder;
+mod kind;
 mod opening;
 mod room;
 mod wall;
 
 pub use builder::RoomBuilder;
+pub use kind::ArchElement;
 pub use opening::{Opening, OpeningKind, PlacedOpening};
 pub use room::{Ceiling, Floor, Room};
 pub use wall::{InwardEvidence, Wall, WallSpec};
