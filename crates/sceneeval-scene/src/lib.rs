@@ -69,7 +69,8 @@ mod object;
 mod scene;
 
 pub use arch::{
-    Ceiling, Floor, InwardEvidence, Opening, OpeningKind, PlacedOpening, Room, RoomBuilder, Wall, WallSpec,
+    Ceiling, Floor, InwardEvidence, Opening, OpeningKind, OpeningSpec, PlacedOpening, Room, RoomBuilder,
+    RoomSpec, RoomSpecError, Wall, WallSpec,
 };
 pub use element::Element;
 pub use error::SceneError;
