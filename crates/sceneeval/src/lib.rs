@@ -83,6 +83,7 @@ pub mod inspect;
 mod plan;
 mod plan_choice;
 mod record;
+pub mod relate;
 mod summary;
 
 pub use batch::{
