@@ -13,14 +13,13 @@ use sceneeval::geom::conventions::pose_from_yaw;
 use sceneeval::geom::{Point3, Vector3};
 use sceneeval::inspect::{ObjectInfo, RoomInfo, SceneInfo};
 use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
-use sceneeval::relations::spec::relation_from_spec;
-use sceneeval::relations::{Query, SceneRelations};
+use sceneeval::relations::{Query, Relation, SceneRelations};
 use sceneeval::scene::{Category, Room, Scene, SceneObject};
 use sceneeval::{EvaluationPlan, Evaluator, PlanRequest};
 
 use crate::convert::{rows, to_json, to_python};
 use crate::errors::{chain, detached, eval_error, relation_error, scene_error, value_error};
-use crate::relations::{BOX_COLUMNS, obbs_from_rows, relation_params, room_spec};
+use crate::relations::{BOX_COLUMNS, obbs_from_rows, relation_params, room_from_json, room_spec};
 use crate::run::{asset_specs, metrics_of, plan_and_preset, request_error};
 
 /// A scene: objects (boxes or meshes) and rooms with walls, doors and windows.
@@ -123,13 +122,13 @@ fn scene_room(obj: &Bound<'_, PyAny>, what: &str, default_id: &str) -> PyResult<
                 .ok_or_else(|| value_error(format!("{what}.id must be a string, got {given}")))?
                 .to_owned();
         }
-        serde_json::from_value(value).map_err(|e| value_error(format!("{what}: {e}")))?
+        room_from_json(value, what)?
     } else {
         room_spec(obj, what)?
     };
     spec.build_with_id(&id).map_err(|e| {
         if what == "room" {
-            relation_error(&e)
+            value_error(chain(&e))
         } else {
             value_error(format!("{what}: {}", chain(&e)))
         }
@@ -476,7 +475,7 @@ impl PyScene {
         reference: bool,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<f64> {
-        let relation = relation_from_spec(name, side, arch).map_err(|e| relation_error(&e))?;
+        let relation = Relation::from_fields(name, side, arch).map_err(|e| relation_error(&e))?;
         let relations =
             SceneRelations::new(relation_params(reference, params)?).map_err(|e| relation_error(&e))?;
         let mut query = Query::new(relation);

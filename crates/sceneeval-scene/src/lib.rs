@@ -76,8 +76,8 @@ mod object;
 mod scene;
 
 pub use arch::{
-    ArchElement, Ceiling, Floor, InwardEvidence, Opening, OpeningKind, PlacedOpening, Room, RoomBuilder,
-    Wall, WallSpec,
+    ArchElement, Ceiling, Floor, InwardEvidence, Opening, OpeningKind, OpeningSpec, PlacedOpening, Room,
+    RoomBuilder, RoomSpec, RoomSpecError, Wall, WallSpec,
 };
 pub use element::Element;
 pub use error::SceneError;

@@ -89,6 +89,7 @@ pub mod inspect;
 mod metric;
 mod plan;
 mod record;
+pub mod relate;
 mod report;
 mod request;
 mod scene_file;
