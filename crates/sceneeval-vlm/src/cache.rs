@@ -20,11 +20,18 @@
 //! several processes can share one cache: two processes that answer the same request at once
 //! both write a complete file, and the last rename wins. Only regular files are read back (a
 //! named pipe in the cache folder is an error, not a blocked reader).
-//! Everything a model replied is cached, refusals included; errors (timeouts, HTTP failures)
-//! are not.
+//! Only usable answers are cached: [`Cached`] stores an answer when [`crate::Session`] found
+//! it usable ([`Vlm::judged`]: at least one question got a valid answer from it). A refusal, a
+//! reply cut off at the token limit, a reply that is not JSON or names only categories that were
+//! not offered is never stored, so a re-run asks exactly the questions that got no usable
+//! answer; errors (timeouts, HTTP failures) are not stored either. Entries of earlier versions
+//! holding such answers are passed over (and a cached JSON answer that turns out unusable is
+//! removed and asked afresh).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde::{Deserialize, Serialize};
 
@@ -227,14 +234,18 @@ impl DiskCache {
 }
 
 /// A [`Vlm`] with a disk cache in front: answers from the cache when it can, otherwise asks
-/// the inner model and stores its answer.
+/// the inner model; stores an answer once [`crate::Session`] has found it usable
+/// ([`Vlm::judged`]; see the [module docs](self)).
 ///
 /// A cache file that cannot be read as a record is logged as a warning and replaced by a fresh
-/// answer (a run never stops for a damaged cache entry); [`Replay`] reports it as an error.
+/// answer (a run never stops for a damaged cache entry); [`Replay`] reports it as an error. A
+/// cache folder that cannot be written costs a warning (once) and the cache, not the answers.
 #[derive(Debug, Clone)]
 pub struct Cached<V> {
     inner: V,
     cache: DiskCache,
+    /// Whether a failed write was reported already.
+    warned: Arc<AtomicBool>,
 }
 
 impl<V: Vlm> Cached<V> {
@@ -243,6 +254,7 @@ impl<V: Vlm> Cached<V> {
         Cached {
             inner,
             cache: DiskCache::new(dir),
+            warned: Arc::new(AtomicBool::new(false)),
         }
     }
 
@@ -269,7 +281,7 @@ impl<V: Vlm> Vlm for Cached<V> {
     async fn answer(&self, request: &VlmRequest) -> Result<Answer, VlmError> {
         let key = cache_key(self.model(), self.settings(), request);
         match self.cache.load(&key) {
-            Ok(Some(record)) => {
+            Ok(Some(record)) if matches!(record.answer, AnswerContent::Json { .. }) => {
                 tracing::debug!(task = %request.task, key = %key, "answer read from the cache");
                 return Ok(Answer {
                     content: record.answer,
@@ -277,14 +289,46 @@ impl<V: Vlm> Vlm for Cached<V> {
                     from_cache: true,
                 });
             }
+            Ok(Some(_)) => {
+                tracing::debug!(task = %request.task, key = %key, "cached reply not usable (an earlier version stored it); asking again");
+            }
             Ok(None) => {}
             Err(e) => tracing::warn!(error = %e, "unusable cache entry; asking the model again"),
         }
-        let answer = self.inner.answer(request).await?;
-        let record = DiskCache::record(self.model(), self.settings(), request, &answer);
-        let path = self.cache.store(&record)?;
-        tracing::debug!(task = %request.task, path = %path.display(), "answer stored in the cache");
-        Ok(answer)
+        self.inner.answer(request).await
+    }
+
+    fn judged(&self, request: &VlmRequest, answer: &Answer, usable: bool) {
+        self.inner.judged(request, answer, usable);
+        match (usable, answer.from_cache) {
+            (true, false) => {
+                let record = DiskCache::record(self.model(), self.settings(), request, answer);
+                match self.cache.store(&record) {
+                    Ok(path) => {
+                        tracing::debug!(task = %request.task, path = %path.display(), "answer stored in the cache");
+                    }
+                    Err(e) if !self.warned.swap(true, Ordering::Relaxed) => {
+                        tracing::warn!(error = %e, "the response cache cannot be written; answers are used but not kept");
+                    }
+                    Err(e) => tracing::debug!(error = %e, "answer not stored in the cache"),
+                }
+            }
+            (false, true) => {
+                let path = self
+                    .cache
+                    .path_of(&cache_key(self.model(), self.settings(), request));
+                match std::fs::remove_file(&path) {
+                    Ok(()) => {
+                        tracing::info!(task = %request.task, path = %path.display(), "unusable cached answer removed")
+                    }
+                    Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                    Err(e) => {
+                        tracing::warn!(path = %path.display(), error = %e, "unusable cached answer not removed")
+                    }
+                }
+            }
+            _ => {}
+        }
     }
 }
 

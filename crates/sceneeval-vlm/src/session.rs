@@ -14,12 +14,18 @@ use crate::{Answer, AnswerContent, Vlm, VlmError, VlmRequest};
 ///
 /// 1. The task's request is sent (system prompt, filled template, images, strict schema).
 /// 2. The answer is parsed into the task's response type and validated; each part is paired
-///    with its question by key.
-/// 3. If some question has no valid answer, the task is asked **once** more, with the list of
-///    problems and the previous answer appended to the text (the [`Template::Reask`] note).
-///    Each question keeps its first valid answer.
-/// 4. A question still without a valid answer is recorded as [`Unanswered`] with the reason. A
-///    refused or truncated answer is recorded at once (asking the same again would not help).
+///    with its question by key, or by position when the model left the keys empty in an
+///    answer with one item per question ([`Validation::pair_items`]; noted and counted).
+/// 3. If some question has no valid answer, it is asked **once** more, with the list of
+///    problems and the previous answer appended to the text (the [`Template::Reask`] note);
+///    when the task can be narrowed ([`Task::narrowed`]) only the questions without a valid
+///    answer are asked. Each question keeps its first valid answer.
+/// 4. A question still without a valid answer is recorded as [`Unanswered`] with the reason,
+///    except a category that was not offered, named again: that question is answered "none of
+///    the offered categories" with the reason as its note. A refused or truncated answer is
+///    recorded at once (asking the same again would not help).
+/// 5. The model is told whether each answer was usable ([`Vlm::judged`]), so that a cache
+///    keeps only usable answers; a cached answer that is not usable is asked afresh once.
 ///
 /// Only a failure to obtain any answer (network, key refused, cache miss in replay) is an
 /// error; the caller decides whether to go on (see [`VlmError::is_permanent`]).
@@ -104,24 +110,46 @@ impl<V: Vlm> Session<V> {
     pub async fn ask<T: Task>(&self, task: &T) -> Result<Answers<T::Key, T::Item>, VlmError> {
         let keys = task.keys();
         let request = self.request(task)?;
-        let first = self.send(&request, 1).await?;
-        let mut v1 = match check(task, &first.content, &keys) {
+        let (first, checked) = self.send_checked(task, &request, &keys, 1).await?;
+        let mut v1 = match checked {
             Checked::Unusable(why) => {
                 tracing::warn!(task = %task.kind(), reason = %why, "no usable answer");
-                return Ok(self.collect(task, keys, 1, |_| Outcome::Unanswered(why.clone())));
+                let outcomes = keys
+                    .into_iter()
+                    .map(|k| (k, Outcome::Unanswered(why.clone())))
+                    .collect();
+                return Ok(self.collect(task, outcomes, 1, Recoveries::default()));
             }
             Checked::Validated(v) => v,
         };
+        let mut recoveries = Recoveries::default();
         if v1.complete(&keys) {
-            return Ok(self.collect(task, keys, 1, |key| match v1.take_item(key) {
-                Some(answer) => Outcome::Answered { answer, attempt: 1 },
-                None => invalid(v1.reason_for(key)),
-            }));
+            let outcomes = keys
+                .into_iter()
+                .map(|key| {
+                    let o = match v1.take_item(&key) {
+                        Some(answer) => Outcome::Answered {
+                            answer,
+                            attempt: 1,
+                            note: recoveries.by_position(&v1, &key),
+                        },
+                        None => invalid(v1.reason_for(&key)),
+                    };
+                    (key, o)
+                })
+                .collect();
+            return Ok(self.collect(task, outcomes, 1, recoveries));
         }
 
+        // Ask again, for the questions still without a valid answer only when the task can be
+        // narrowed to them.
+        let missing = v1.missing(&keys);
         let problems = v1.problem_lines();
-        tracing::warn!(task = %task.kind(), ?problems, "invalid answer; asking again once");
-        self.meter.re_ask();
+        tracing::warn!(task = %task.kind(), ?problems, questions = missing.len(), "invalid answer; asking again once");
+        self.meter.re_ask(missing.len() as u64);
+        let narrowed = (missing.len() < keys.len())
+            .then(|| task.narrowed(&missing))
+            .flatten();
         let problem_list: Vec<String> = problems.iter().map(|p| format!("- {p}")).collect();
         let note = self.prompts.fill(
             Template::Reask,
@@ -130,26 +158,71 @@ impl<V: Vlm> Session<V> {
                 ("PREVIOUS_ANSWER", &previous_answer_text(&first.content)),
             ],
         )?;
-        let mut again = request;
+        let (mut again, second) = match &narrowed {
+            Some(n) => {
+                let r = self.request(n)?;
+                let keys2 = n.keys();
+                (r, (n, keys2))
+            }
+            None => (request, (task, keys.clone())),
+        };
         again.user_text = format!("{}\n\n{note}", again.user_text);
-        let second = self.send(&again, 2).await?;
-        let mut second = check(task, &second.content, &keys);
-        Ok(self.collect(task, keys, 2, |key| {
-            if let Some(answer) = v1.take_item(key) {
-                return Outcome::Answered { answer, attempt: 1 };
-            }
-            match &mut second {
-                Checked::Unusable(why) => Outcome::Unanswered(why.clone()),
-                Checked::Validated(v2) => match v2.take_item(key) {
-                    Some(answer) => Outcome::Answered { answer, attempt: 2 },
-                    None => invalid(format!(
-                        "asked twice; second answer: {}; first answer: {}",
-                        v2.reason_for(key),
-                        v1.reason_for(key)
-                    )),
-                },
-            }
-        }))
+        let (second_task, second_keys) = second;
+        let (_, mut checked2) = self.send_checked(second_task, &again, &second_keys, 2).await?;
+        let outcomes = keys
+            .into_iter()
+            .map(|key| {
+                if let Some(answer) = v1.take_item(&key) {
+                    let note = recoveries.by_position(&v1, &key);
+                    return (
+                        key,
+                        Outcome::Answered {
+                            answer,
+                            attempt: 1,
+                            note,
+                        },
+                    );
+                }
+                let (second_reason, second_unmatched) = match &mut checked2 {
+                    Checked::Unusable(why) => (why.to_string(), None),
+                    Checked::Validated(v2) => {
+                        if let Some(answer) = v2.take_item(&key) {
+                            let note = recoveries.by_position(v2, &key);
+                            return (
+                                key,
+                                Outcome::Answered {
+                                    answer,
+                                    attempt: 2,
+                                    note,
+                                },
+                            );
+                        }
+                        (v2.reason_for(&key), v2.take_not_offered(&key))
+                    }
+                };
+                // A category not offered, named again (or the second answer unusable): the
+                // question is answered "none of the offered categories", with the reason.
+                if let Some((answer, problem)) = second_unmatched.or_else(|| v1.take_not_offered(&key)) {
+                    let note =
+                        format!("recorded as none of the offered categories after asking twice: {problem}");
+                    recoveries.unmatched_not_offered += 1;
+                    return (
+                        key,
+                        Outcome::Answered {
+                            answer,
+                            attempt: 2,
+                            note: Some(note),
+                        },
+                    );
+                }
+                let o = invalid(format!(
+                    "asked twice; second answer: {second_reason}; first answer: {}",
+                    v1.reason_for(&key)
+                ));
+                (key, o)
+            })
+            .collect();
+        Ok(self.collect(task, outcomes, 2, recoveries))
     }
 
     async fn send(&self, request: &VlmRequest, attempt: u8) -> Result<Answer, VlmError> {
@@ -173,31 +246,79 @@ impl<V: Vlm> Session<V> {
         }
     }
 
-    /// The outcome of every question, in question order; counts them.
+    /// Sends `request` (asking `task`'s questions `keys`), checks the answer and tells the
+    /// model whether it was usable ([`Vlm::judged`]: a cache keeps only usable answers). A
+    /// cached answer that is not usable (a cache of an earlier version) is asked afresh once.
+    async fn send_checked<T: Task>(
+        &self,
+        task: &T,
+        request: &VlmRequest,
+        keys: &[T::Key],
+        attempt: u8,
+    ) -> Result<(Answer, Checked<T::Key, T::Item>), VlmError> {
+        let mut answer = self.send(request, attempt).await?;
+        let mut checked = check(task, &answer.content, keys);
+        let usable = |c: &Checked<T::Key, T::Item>| matches!(c, Checked::Validated(v) if v.has_items());
+        self.vlm.judged(request, &answer, usable(&checked));
+        if answer.from_cache && !usable(&checked) {
+            tracing::info!(task = %request.task, "the cached answer is not usable; asking afresh");
+            answer = self.send(request, attempt).await?;
+            checked = check(task, &answer.content, keys);
+            self.vlm.judged(request, &answer, usable(&checked));
+        }
+        Ok((answer, checked))
+    }
+
+    /// The answers of a task from the outcome of every question, in question order; counts
+    /// them.
     fn collect<T: Task>(
         &self,
         task: &T,
-        keys: Vec<T::Key>,
+        outcomes: Vec<(T::Key, Outcome<T::Item>)>,
         requests: u8,
-        mut outcome: impl FnMut(&T::Key) -> Outcome<T::Item>,
+        recoveries: Recoveries,
     ) -> Answers<T::Key, T::Item> {
-        let outcomes: Vec<(T::Key, Outcome<T::Item>)> = keys
-            .into_iter()
-            .map(|key| {
-                let o = outcome(&key);
-                if let Outcome::Unanswered(why) = &o {
+        let mut answered = 0;
+        for (key, o) in &outcomes {
+            match o {
+                Outcome::Unanswered(why) => {
                     tracing::warn!(task = %task.kind(), question = %key, reason = %why, "question unanswered");
                 }
-                (key, o)
-            })
-            .collect();
-        let answered = outcomes.iter().filter(|(_, o)| o.is_answered()).count() as u64;
+                Outcome::Answered { note: Some(note), .. } => {
+                    answered += 1;
+                    tracing::info!(task = %task.kind(), question = %key, %note, "imperfect answer recovered");
+                }
+                Outcome::Answered { .. } => answered += 1,
+            }
+        }
         self.meter.outcomes(answered, outcomes.len() as u64 - answered);
+        self.meter
+            .recoveries(recoveries.paired_by_position, recoveries.unmatched_not_offered);
         Answers {
             task: task.kind(),
             outcomes,
             requests,
         }
+    }
+}
+
+/// The recoveries of one task's answers, counted as its outcomes are decided.
+#[derive(Debug, Default)]
+struct Recoveries {
+    paired_by_position: u64,
+    unmatched_not_offered: u64,
+}
+
+impl Recoveries {
+    /// The note of the item for `key` of `v` when it was paired by position (counted).
+    fn by_position<K: Ord + Clone + std::fmt::Display, I>(
+        &mut self,
+        v: &Validation<K, I>,
+        key: &K,
+    ) -> Option<String> {
+        let note = v.paired_by_position(key).map(str::to_owned);
+        self.paired_by_position += u64::from(note.is_some());
+        note
     }
 }
 

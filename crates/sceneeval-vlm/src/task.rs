@@ -11,6 +11,9 @@ use crate::PngImage;
 use crate::TaskKind;
 use crate::prompt::Template;
 
+/// How the note of an answer paired by position starts.
+pub(crate) const PAIRED_BY_POSITION: &str = "paired by position";
+
 /// A typed task: the questions it asks, how its prompt is filled, the wire type of the answer
 /// (whose strict JSON Schema is sent) and how an answer is validated and paired with the
 /// questions.
@@ -18,8 +21,10 @@ use crate::prompt::Template;
 /// A task asks one or more *questions*, each identified by a key (an object id, a relation key,
 /// an (instance, attribute) pair; `()` for single-question tasks). Validation turns the wire
 /// answer into one validated item per key and reports problems per key; answers are paired with
-/// questions by key, never by position. [`crate::Session::ask`] runs the whole protocol (ask,
-/// validate, re-ask once, record the rest as unanswered).
+/// questions by key; by position only for items whose key is empty or missing in an answer with
+/// exactly one item per question ([`Validation::pair_items`]). [`crate::Session::ask`] runs the
+/// whole protocol (ask, validate, re-ask once for the questions still without a valid answer,
+/// record the rest as unanswered).
 pub trait Task: Sync {
     /// The answer as the model writes it (the reference's field names).
     type Response: DeserializeOwned + JsonSchema;
@@ -48,6 +53,17 @@ pub trait Task: Sync {
     fn keys(&self) -> Vec<Self::Key>;
     /// Checks an answer and pairs its parts with the questions.
     fn validate(&self, response: Self::Response, out: &mut Validation<Self::Key, Self::Item>);
+
+    /// The same task asking only `keys` (some of its questions, in question order), with the
+    /// same keys: what [`crate::Session::ask`] asks again when an answer left only these
+    /// questions without a valid answer. `None` (the default) asks the whole task again.
+    fn narrowed(&self, keys: &[Self::Key]) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        let _ = keys;
+        None
+    }
 }
 
 /// What validating one answer found: the valid items by key, and the problems, by key or for
@@ -57,6 +73,11 @@ pub struct Validation<K: Ord, I> {
     items: BTreeMap<K, I>,
     problems: BTreeMap<K, Vec<String>>,
     general: Vec<String>,
+    /// Questions whose item was paired by position, with the note for the evidence.
+    by_position: BTreeMap<K, String>,
+    /// What to record for a question whose answer named a category that was not offered, if
+    /// it is still invalid after the re-ask: the unmatched item and the note.
+    not_offered: BTreeMap<K, (I, String)>,
 }
 
 impl<K: Ord + Clone + fmt::Display, I> Default for Validation<K, I> {
@@ -72,7 +93,63 @@ impl<K: Ord + Clone + fmt::Display, I> Validation<K, I> {
             items: BTreeMap::new(),
             problems: BTreeMap::new(),
             general: Vec::new(),
+            by_position: BTreeMap::new(),
+            not_offered: BTreeMap::new(),
         }
+    }
+
+    /// Pairs the items of a list answer with the questions `keys`: an item whose echoed key
+    /// (`echoed`; `None` or blank when the model left it empty or out) names a question goes
+    /// to that question (`find`: the question an echoed key names); an item without a key goes
+    /// to the question at its position, but only when the answer has exactly one item per
+    /// question (the model kept the prompt's order but did not copy the keys). An echoed key
+    /// that names no question, or an item without a key in an answer of another length, is a
+    /// problem with the answer as a whole (`field` names the key field in the message). Items
+    /// paired by position are noted, and counted in [`crate::Usage::paired_by_position`].
+    ///
+    /// ```
+    /// use sceneeval_vlm::Validation;
+    /// let keys = vec!["a".to_owned(), "b".to_owned()];
+    /// let mut v: Validation<String, u32> = Validation::new();
+    /// let items = vec![(None, 1), (Some("  "), 2)];
+    /// let pairs = v.pair_items(&keys, items, |i| i.0, |k| keys.iter().find(|q| q.as_str() == k).cloned(), "key");
+    /// assert_eq!(pairs.iter().map(|(k, i)| (k.as_str(), i.1)).collect::<Vec<_>>(), [("a", 1), ("b", 2)]);
+    /// // An unknown key stays an error, and without one item per question nothing is paired by position.
+    /// let pairs = v.pair_items(&keys, vec![(Some("c"), 3), (None, 4), (None, 5)], |i| i.0, |_| None, "key");
+    /// assert!(pairs.is_empty());
+    /// assert_eq!(v.general_problems().len(), 3);
+    /// ```
+    pub fn pair_items<A>(
+        &mut self,
+        keys: &[K],
+        items: Vec<A>,
+        echoed: impl Fn(&A) -> Option<&str>,
+        find: impl Fn(&str) -> Option<K>,
+        field: &str,
+    ) -> Vec<(K, A)> {
+        let n = items.len();
+        let by_position = n == keys.len();
+        let mut pairs = Vec::with_capacity(items.len());
+        for (i, item) in items.into_iter().enumerate() {
+            match echoed(&item).map(str::trim).filter(|k| !k.is_empty()) {
+                Some(k) => match find(k) {
+                    Some(key) => pairs.push((key, item)),
+                    None => self.general_problem(format!(
+                        "an item has {field} {k:?}, which is not one of the {field}s asked about"
+                    )),
+                },
+                None if by_position => {
+                    self.note_paired_by_position(keys[i].clone(), i, field);
+                    pairs.push((keys[i].clone(), item));
+                }
+                None => self.general_problem(format!(
+                    "item {i} has no {field}, and the answer has {n} items for {} questions, so it \
+                     cannot be paired by position; copy each {field} from the prompt",
+                    keys.len()
+                )),
+            }
+        }
+        pairs
     }
 
     /// A valid answer to question `key`. A second answer to the same question makes both
@@ -105,6 +182,15 @@ impl<K: Ord + Clone + fmt::Display, I> Validation<K, I> {
         self.general.push(message);
     }
 
+    /// An answer to question `key` that names a category that was not offered: a problem (the
+    /// question is asked again), and `unmatched`, the answer "none of the offered categories",
+    /// to record with `problem` as its note if the answer to the re-asked question is no better
+    /// (counted in [`crate::Usage::unmatched_not_offered`]).
+    pub fn not_offered(&mut self, key: K, problem: String, unmatched: I) {
+        self.problem(key.clone(), problem.clone());
+        self.not_offered.insert(key, (unmatched, problem));
+    }
+
     /// The valid item for `key`, if any.
     pub fn item(&self, key: &K) -> Option<&I> {
         self.items.get(key)
@@ -118,6 +204,38 @@ impl<K: Ord + Clone + fmt::Display, I> Validation<K, I> {
     /// The problems with the answer as a whole.
     pub fn general_problems(&self) -> &[String] {
         &self.general
+    }
+
+    /// Notes that the item for `key` was item `position` of the answer, paired by position
+    /// because it had no `field`.
+    pub(crate) fn note_paired_by_position(&mut self, key: K, position: usize, field: &str) {
+        self.by_position.insert(
+            key,
+            format!("{PAIRED_BY_POSITION}: item {position} of the answer had no {field}"),
+        );
+    }
+
+    /// How the item for `key` was paired, when by position.
+    pub fn paired_by_position(&self, key: &K) -> Option<&str> {
+        self.by_position.get(key).map(String::as_str)
+    }
+
+    /// Whether some question has a valid item: the answer is usable (and worth caching).
+    pub(crate) fn has_items(&self) -> bool {
+        !self.items.is_empty()
+    }
+
+    /// The keys of `keys` without a valid item, in order.
+    pub(crate) fn missing(&self, keys: &[K]) -> Vec<K> {
+        keys.iter()
+            .filter(|k| !self.items.contains_key(k))
+            .cloned()
+            .collect()
+    }
+
+    /// What to record for `key` when its answer named a category that was not offered.
+    pub(crate) fn take_not_offered(&mut self, key: &K) -> Option<(I, String)> {
+        self.not_offered.remove(key)
     }
 
     /// Marks every key of `keys` that has neither an item nor a problem as not answered.
@@ -203,6 +321,11 @@ pub enum Outcome<I> {
         answer: I,
         /// 1 when the first answer was valid, 2 when the re-asked one was.
         attempt: u8,
+        /// How an imperfect answer was recovered, when it was: paired by position (the model
+        /// left the key empty), or recorded as unmatched after naming a category that was not
+        /// offered twice.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        note: Option<String>,
     },
     /// No usable answer.
     Unanswered(Unanswered),
@@ -288,6 +411,7 @@ mod tests {
         let answered: Outcome<u32> = Outcome::Answered {
             answer: 7,
             attempt: 2,
+            note: None,
         };
         assert_eq!(
             serde_json::to_value(&answered).unwrap(),

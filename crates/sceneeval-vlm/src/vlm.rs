@@ -32,6 +32,16 @@ pub trait Vlm: Send + Sync {
     /// A reply that cannot be used (not JSON, refused, truncated) is an [`Answer`] with the
     /// matching [`crate::AnswerContent`]; an error means no reply was obtained.
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send;
+
+    /// What [`crate::Session`] made of `answer`, this model's answer to `request`: `usable`
+    /// when at least one of its questions got a valid answer from it (a refusal, a reply cut
+    /// off at the token limit, a reply that is not JSON or names only categories that were not
+    /// offered is not usable). A cache ([`crate::Cached`]) stores a usable fresh answer and
+    /// drops an unusable one it served; other models ignore it (the default). A model that
+    /// wraps another forwards it.
+    fn judged(&self, request: &VlmRequest, answer: &Answer, usable: bool) {
+        let _ = (request, answer, usable);
+    }
 }
 
 /// Implements [`Vlm`] for a pointer to a model by forwarding every method to the model.
@@ -48,6 +58,10 @@ macro_rules! forward_vlm {
 
             fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
                 (**self).answer(request)
+            }
+
+            fn judged(&self, request: &VlmRequest, answer: &Answer, usable: bool) {
+                (**self).judged(request, answer, usable)
             }
         }
     )*};

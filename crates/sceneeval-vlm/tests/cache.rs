@@ -9,7 +9,7 @@ use std::sync::Arc;
 use proptest::prelude::*;
 use sceneeval_vlm::cache::{CACHE_FORMAT, CacheRecord, cache_key};
 use sceneeval_vlm::check::{EndpointCheck, test_image};
-use sceneeval_vlm::tasks::SupportTypeTask;
+use sceneeval_vlm::tasks::{ObjectMatchingTask, ObjectRelationSpec, ObjectRelationTask, SupportTypeTask};
 use sceneeval_vlm::{
     AnswerContent, Cached, DiskCache, Replay, ResponseSchema, Scripted, Session, Single, TokenUsage, Vlm,
     VlmError, VlmRequest, encode_rgb_png,
@@ -136,21 +136,218 @@ fn cache_files_are_readable_records() {
     assert_eq!(loaded.request.schema, request.schema);
 }
 
-#[test]
-fn refusals_are_cached_too() {
-    let dir = tempfile::tempdir().unwrap();
-    let refusal = AnswerContent::Refusal { text: "no".into() };
-    let task = SupportTypeTask::new(test_image(), test_image());
-    let session = Session::new(Cached::new(Scripted::queue("m", [refusal]), dir.path()));
-    pollster::block_on(session.ask(&task)).unwrap();
-    let replay = Session::new(Replay::new(dir.path(), "m"));
-    let why = pollster::block_on(replay.ask(&task))
+/// A one-pixel image of grey level `n`: a distinct request per object.
+fn pixel(n: u8) -> sceneeval_vlm::PngImage {
+    encode_rgb_png(1, 1, &[n, n, n]).unwrap()
+}
+
+/// What the model answers in the first run of [`only_usable_answers_are_cached`], by the
+/// support task's image (grey level) or the task: objects 1-3 and the matching get no usable
+/// answer, objects 4 and 5 and the relation mapping do.
+fn first_run(req: &VlmRequest) -> Result<AnswerContent, VlmError> {
+    let grey = req.images.first().map(|i| i.blake3_hex());
+    let is = |n: u8| grey.as_deref() == Some(pixel(n).blake3_hex().as_str());
+    Ok(match req.task.as_str() {
+        "obj_support_type" if is(1) => AnswerContent::Refusal {
+            text: "I can't.".into(),
+        },
+        "obj_support_type" if is(2) => AnswerContent::Truncated {
+            text: "{\"support_".into(),
+        },
+        "obj_support_type" if is(3) => AnswerContent::from_text("It stands on the floor."),
+        "obj_support_type" => support_answer(),
+        // A category that was not offered, twice: recorded as unmatched, not cached.
+        "obj_matching" => AnswerContent::Json {
+            value: json!({"provided_categories": [], "matched": true, "matched_category": "sofa",
+                          "actual_category": "sofa", "reason": "a sofa"}),
+        },
+        // The first answer maps one relation of two; the re-ask (the other alone) maps it.
+        "obj_relationship_mapping" => AnswerContent::Json {
+            value: json!({"assessments": [relation_item("a")]}),
+        },
+        other => panic!("unexpected task {other}"),
+    })
+}
+
+fn relation_item(key: &str) -> serde_json::Value {
+    json!({"key": key, "relationship": "near", "anchor_object": "bed", "other_objects": ["lamp"],
+           "other_object_counts": [1], "relationship_types": ["near"], "sides": [null], "reason": "r"})
+}
+
+/// Every question of [`only_usable_answers_are_cached`], asked in one session.
+fn ask_all(session: &Session<impl Vlm>) -> Vec<bool> {
+    let mut answered = Vec::new();
+    for n in 1..=5 {
+        let task = SupportTypeTask::new(pixel(n), pixel(n));
+        let a = pollster::block_on(session.ask(&task)).unwrap();
+        answered.push(a.into_single().unwrap().is_answered());
+    }
+    let matching = ObjectMatchingTask::new(pixel(6), ["bed", "chair"]).unwrap();
+    let m = pollster::block_on(session.ask(&matching))
         .unwrap()
         .into_single()
+        .unwrap();
+    answered.push(m.answer().is_some_and(|a| a.category.is_some()));
+    let spec = |key: &str| ObjectRelationSpec {
+        key: key.into(),
+        relationship: "near".into(),
+        objects: vec!["bed".into(), "lamp".into()],
+        anchor_index: Some(0),
+    };
+    let relations = ObjectRelationTask::new(vec![spec("a"), spec("b")]).unwrap();
+    let r = pollster::block_on(session.ask(&relations)).unwrap();
+    answered.extend(r.outcomes.iter().map(|(_, o)| o.is_answered()));
+    answered
+}
+
+#[test]
+fn only_usable_answers_are_cached() {
+    let dir = tempfile::tempdir().unwrap();
+    // First run: a refusal, a reply cut off at the token limit, a reply that is not JSON
+    // (twice: asked again once), a category not offered (twice), one valid support type, and
+    // a relation mapping answered in two parts.
+    let first = Arc::new(Scripted::from_fn("m", |req| {
+        if req.task == "obj_relationship_mapping" && req.user_text.contains("could not be used") {
+            return Ok(AnswerContent::Json {
+                value: json!({"assessments": [relation_item("b")]}),
+            });
+        }
+        first_run(req)
+    }));
+    let session = Session::new(Cached::new(first.clone(), dir.path()));
+    assert_eq!(
+        ask_all(&session),
+        [false, false, false, true, true, false, true, true],
+        "objects 1-3 unanswered, 4 and 5 answered, the matching unmatched, both relations mapped"
+    );
+    assert_eq!(first.requests().len(), 10);
+    // Stored: the support types of objects 4 and 5 and both relation answers, nothing else
+    // (an earlier version stored every reply).
+    let stored: Vec<String> = files(dir.path())
+        .iter()
+        .map(|p| {
+            let r: CacheRecord = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+            assert!(matches!(r.answer, AnswerContent::Json { .. }), "{r:?}");
+            r.task
+        })
+        .collect();
+    let count = |t: &str| stored.iter().filter(|s| s.as_str() == t).count();
+    assert_eq!(
+        (
+            count("obj_support_type"),
+            count("obj_relationship_mapping"),
+            count("obj_matching")
+        ),
+        (2, 2, 0)
+    );
+
+    // Second run, against a model that answers everything: exactly the questions that got no
+    // usable answer are asked (one request each, valid at once), nothing else.
+    let second = Arc::new(Scripted::from_fn("m", |req| {
+        Ok(match req.task.as_str() {
+            "obj_matching" => AnswerContent::Json {
+                value: json!({"provided_categories": [], "matched": true, "matched_category": "bed",
+                              "actual_category": "bed", "reason": "a bed"}),
+            },
+            _ => support_answer(),
+        })
+    }));
+    let session = Session::new(Cached::new(second.clone(), dir.path()));
+    assert_eq!(ask_all(&session), [true; 8]);
+    let asked: Vec<String> = second.requests().iter().map(|r| r.task.clone()).collect();
+    assert_eq!(
+        asked,
+        [
+            "obj_support_type",
+            "obj_support_type",
+            "obj_support_type",
+            "obj_matching"
+        ]
+    );
+    assert_eq!((session.usage().requests, session.usage().cache_hits), (8, 4));
+    // A third run asks nothing.
+    let third = Arc::new(Scripted::queue("m", []));
+    let session = Session::new(Cached::new(third.clone(), dir.path()));
+    assert_eq!(ask_all(&session), [true; 8]);
+    assert!(third.requests().is_empty());
+}
+
+#[test]
+fn unusable_entries_of_earlier_versions_are_asked_afresh() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = DiskCache::new(dir.path());
+    let support = SupportTypeTask::new(pixel(1), pixel(1));
+    let matching = ObjectMatchingTask::new(pixel(2), ["bed", "chair"]).unwrap();
+    let probe = Session::new(Scripted::queue("m", []));
+    // An earlier version cached a refusal and a category that was not offered.
+    for (request, content) in [
+        (
+            probe.request(&support).unwrap(),
+            AnswerContent::Refusal { text: "no".into() },
+        ),
+        (
+            probe.request(&matching).unwrap(),
+            AnswerContent::Json {
+                value: json!({"provided_categories": [], "matched": true, "matched_category": "sofa",
+                              "actual_category": "sofa", "reason": ""}),
+            },
+        ),
+    ] {
+        let answer = sceneeval_vlm::Answer::new(content, TokenUsage::default());
+        cache
+            .store(&DiskCache::record("m", "", &request, &answer))
+            .unwrap();
+    }
+    let vlm = Arc::new(Scripted::from_fn("m", |req| {
+        Ok(match req.task.as_str() {
+            "obj_matching" => AnswerContent::Json {
+                value: json!({"provided_categories": [], "matched": true, "matched_category": "chair",
+                              "actual_category": "chair", "reason": ""}),
+            },
+            _ => support_answer(),
+        })
+    }));
+    let session = Session::new(Cached::new(vlm.clone(), dir.path()));
+    let s = pollster::block_on(session.ask(&support))
         .unwrap()
-        .into_result()
-        .unwrap_err();
-    assert_eq!(why.reason, "no");
+        .into_single()
+        .unwrap();
+    assert!(s.is_answered());
+    let m = pollster::block_on(session.ask(&matching))
+        .unwrap()
+        .into_single()
+        .unwrap();
+    assert_eq!(m.answer().unwrap().category.as_deref(), Some("chair"));
+    // One fresh request each (the unusable cached matching answer was dropped, then asked
+    // afresh), and both entries now hold the usable answers.
+    assert_eq!(vlm.requests().len(), 2);
+    let replay = Session::new(Replay::new(dir.path(), "m"));
+    let m = pollster::block_on(replay.ask(&matching))
+        .unwrap()
+        .into_single()
+        .unwrap();
+    assert_eq!(m.answer().unwrap().category.as_deref(), Some("chair"));
+}
+
+#[test]
+fn a_cache_that_cannot_be_written_costs_the_cache_not_the_answers() {
+    let dir = tempfile::tempdir().unwrap();
+    // The cache folder is a file: nothing can be stored under it.
+    let blocked = dir.path().join("cache");
+    std::fs::write(&blocked, "not a folder").unwrap();
+    let vlm = Arc::new(Scripted::from_fn("m", |_| Ok(support_answer())));
+    let session = Session::new(Cached::new(vlm.clone(), &blocked));
+    for n in 1..=2 {
+        let task = SupportTypeTask::new(pixel(n), pixel(n));
+        assert!(
+            pollster::block_on(session.ask(&task))
+                .unwrap()
+                .into_single()
+                .unwrap()
+                .is_answered()
+        );
+    }
+    assert_eq!(vlm.requests().len(), 2);
 }
 
 #[test]

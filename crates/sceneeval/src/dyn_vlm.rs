@@ -13,6 +13,7 @@ trait ErasedVlm: Send + Sync {
     fn model(&self) -> &str;
     fn settings(&self) -> &str;
     fn answer_boxed<'a>(&'a self, request: &'a VlmRequest) -> BoxedAnswer<'a>;
+    fn judged(&self, request: &VlmRequest, answer: &Answer, usable: bool);
 }
 
 impl<T: Vlm> ErasedVlm for T {
@@ -26,6 +27,10 @@ impl<T: Vlm> ErasedVlm for T {
 
     fn answer_boxed<'a>(&'a self, request: &'a VlmRequest) -> BoxedAnswer<'a> {
         Box::pin(self.answer(request))
+    }
+
+    fn judged(&self, request: &VlmRequest, answer: &Answer, usable: bool) {
+        Vlm::judged(self, request, answer, usable);
     }
 }
 
@@ -73,5 +78,9 @@ impl Vlm for SharedVlm {
         // Owned copies (the images are shared, not copied): the future borrows nothing.
         let (inner, request) = (self.inner.clone(), request.clone());
         async move { inner.answer_boxed(&request).await }
+    }
+
+    fn judged(&self, request: &VlmRequest, answer: &Answer, usable: bool) {
+        self.inner.judged(request, answer, usable);
     }
 }

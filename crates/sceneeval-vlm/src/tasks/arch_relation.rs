@@ -8,8 +8,8 @@ use sceneeval_relations::Relation;
 use sceneeval_scene::ArchElement;
 
 use super::{
-    KeyedAnswer, KeyedRelation, base_category, check_labels, check_relations, json_list, keyed_lines, norm,
-    pair_by_key, relation_keys,
+    KeyedAnswer, KeyedRelation, base_category, check_labels, check_relations, json_list, keyed_lines,
+    narrowed_relations, norm, pair_by_key, relation_keys,
 };
 use crate::TaskKind;
 use crate::VlmError;
@@ -31,8 +31,11 @@ pub struct ArchRelationshipMappingResponse {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct ArchRelationshipAssessment {
     /// *Added*: the key of the relation this assessment answers, copied from the prompt. Pairs
-    /// the assessment with its relation (the reference pairs them by position).
-    pub key: String,
+    /// the assessment with its relation (the reference pairs them by position). Required by the
+    /// schema; an empty or missing key (`None`) is paired by position when the answer has one
+    /// assessment per relation.
+    #[schemars(with = "String")]
+    pub key: Option<String>,
     /// The relation text, echoed (not checked).
     pub relationship: String,
     /// The object's category (without a `:k` suffix).
@@ -78,8 +81,8 @@ fn offered_element(name: &str) -> Result<ArchElement, String> {
 }
 
 impl KeyedAnswer for ArchRelationshipAssessment {
-    fn key(&self) -> &str {
-        &self.key
+    fn key(&self) -> Option<&str> {
+        self.key.as_deref()
     }
 }
 
@@ -243,6 +246,13 @@ impl Task for ArchRelationTask {
     ) {
         pair_by_key(&self.relations, r.assessments, |s, a| self.check(s, a), out);
     }
+
+    fn narrowed(&self, keys: &[String]) -> Option<Self> {
+        Some(ArchRelationTask {
+            relations: narrowed_relations(&self.relations, keys),
+            floor_ids: self.floor_ids.clone(),
+        })
+    }
 }
 
 #[cfg(test)]
@@ -278,7 +288,7 @@ mod tests {
         floors: &[&str],
     ) -> ArchRelationshipAssessment {
         ArchRelationshipAssessment {
-            key: key.into(),
+            key: Some(key.into()),
             relationship: String::new(),
             target_object: object.into(),
             architectural_element_type: element.into(),

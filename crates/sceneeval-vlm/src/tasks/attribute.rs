@@ -29,8 +29,11 @@ pub struct ObjAttributeResponse {
 pub struct ObjAttributeAssessment {
     /// The instance, counting the pictured objects from 0 in image order.
     pub instance: i64,
-    /// The attribute, echoed from the list of requirements.
-    pub attribute: String,
+    /// The attribute, echoed from the list of requirements. Required by the schema; an empty or
+    /// missing attribute (`None`) is paired by position when the answer has one assessment per
+    /// instance and attribute, in the prompt's order (instances, then attributes).
+    #[schemars(with = "String")]
+    pub attribute: Option<String>,
     /// Whether the instance has the attribute.
     pub satisfied: bool,
     /// Why.
@@ -55,6 +58,9 @@ pub struct AttributeTask {
     category: String,
     attributes: Vec<String>,
     instances: Vec<InstanceViews>,
+    /// The number of each pictured instance in the task's keys: `0..n`, or the instances kept
+    /// when the task was narrowed.
+    numbers: Vec<usize>,
 }
 
 /// The question "does instance `instance` have attribute `attribute`?".
@@ -102,10 +108,12 @@ impl AttributeTask {
         if instances.is_empty() {
             return Err(VlmError::invalid_task(TASK, "no instance pictured"));
         }
+        let numbers = (0..instances.len()).collect();
         Ok(AttributeTask {
             category,
             attributes,
             instances,
+            numbers,
         })
     }
 }
@@ -135,8 +143,9 @@ impl Task for AttributeTask {
     }
 
     fn keys(&self) -> Vec<AttributeKey> {
-        (0..self.instances.len())
-            .flat_map(|instance| {
+        self.numbers
+            .iter()
+            .flat_map(|&instance| {
                 self.attributes.iter().map(move |a| AttributeKey {
                     instance,
                     attribute: a.clone(),
@@ -145,22 +154,40 @@ impl Task for AttributeTask {
             .collect()
     }
 
+    /// The instances and attributes of `keys` (the task asks every attribute of every instance
+    /// kept; answers to questions already answered are ignored).
+    fn narrowed(&self, keys: &[AttributeKey]) -> Option<Self> {
+        let mut kept = Vec::new();
+        for (views, &number) in self.instances.iter().zip(&self.numbers) {
+            if keys.iter().any(|k| k.instance == number) {
+                kept.push((views.clone(), number));
+            }
+        }
+        let attributes = self
+            .attributes
+            .iter()
+            .filter(|a| keys.iter().any(|k| &k.attribute == *a))
+            .cloned()
+            .collect();
+        let (instances, numbers) = kept.into_iter().unzip();
+        Some(AttributeTask {
+            category: self.category.clone(),
+            attributes,
+            instances,
+            numbers,
+        })
+    }
+
     fn validate(&self, r: ObjAttributeResponse, out: &mut Validation<AttributeKey, AttributeVerdict>) {
         let n = self.instances.len();
         if r.num_instances != n as i64 {
             tracing::warn!(category = %self.category, said = r.num_instances, pictured = n, "num_instances differs");
         }
-        for a in r.assessments {
-            let Some(attribute) = find_label(&self.attributes, &a.attribute) else {
-                out.general_problem(format!(
-                    "an assessment names attribute {:?}, which is not one of {}",
-                    a.attribute,
-                    json_list(&self.attributes)
-                ));
-                continue;
-            };
+        let keys = self.keys();
+        let by_position = r.assessments.len() == keys.len();
+        for (position, a) in r.assessments.into_iter().enumerate() {
             let instance = match usize::try_from(a.instance) {
-                Ok(i) if i < n => i,
+                Ok(i) if i < n => self.numbers[i],
                 _ => {
                     out.general_problem(format!(
                         "an assessment names instance {}, but the instances are numbered 0 to {}",
@@ -170,9 +197,32 @@ impl Task for AttributeTask {
                     continue;
                 }
             };
-            let key = AttributeKey {
-                instance,
-                attribute: attribute.to_owned(),
+            let key = match a.attribute.as_deref().map(str::trim).filter(|s| !s.is_empty()) {
+                Some(named) => {
+                    let Some(attribute) = find_label(&self.attributes, named) else {
+                        out.general_problem(format!(
+                            "an assessment names attribute {named:?}, which is not one of {}",
+                            json_list(&self.attributes)
+                        ));
+                        continue;
+                    };
+                    AttributeKey {
+                        instance,
+                        attribute: attribute.to_owned(),
+                    }
+                }
+                // No attribute: the question at this position, if it is about this instance.
+                None if by_position && keys[position].instance == instance => {
+                    out.note_paired_by_position(keys[position].clone(), position, "attribute");
+                    keys[position].clone()
+                }
+                None => {
+                    out.general_problem(format!(
+                        "assessment {position} (instance {}) names no attribute and cannot be paired by position; copy each attribute from the prompt",
+                        a.instance
+                    ));
+                    continue;
+                }
             };
             out.answer(
                 key,
@@ -200,7 +250,7 @@ mod tests {
     fn assessment(instance: i64, attribute: &str, satisfied: bool) -> ObjAttributeAssessment {
         ObjAttributeAssessment {
             instance,
-            attribute: attribute.into(),
+            attribute: Some(attribute.into()),
             satisfied,
             reason: String::new(),
         }

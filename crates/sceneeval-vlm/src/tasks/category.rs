@@ -22,8 +22,11 @@ pub struct CategoryMatchingResponse {
 /// One assessment of a `category_matching_for_semantic_color` answer.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct CategoryMatchingAssessment {
-    /// The input category, echoed: pairs the assessment with its question.
-    pub input_category: String,
+    /// The input category, echoed: pairs the assessment with its question. Required by the
+    /// schema; an empty or missing category (`None`) is paired by position when the answer has
+    /// one assessment per input category.
+    #[schemars(with = "String")]
+    pub input_category: Option<String>,
     /// Whether it matches a reference category.
     pub matched: bool,
     /// The reference category when `matched`, else `""`.
@@ -92,28 +95,37 @@ impl Task for CategoryMatchingTask {
         self.input.clone()
     }
 
+    fn narrowed(&self, keys: &[String]) -> Option<Self> {
+        Some(CategoryMatchingTask {
+            reference: self.reference.clone(),
+            input: self.input.iter().filter(|c| keys.contains(c)).cloned().collect(),
+        })
+    }
+
     fn validate(&self, r: CategoryMatchingResponse, out: &mut Validation<String, ReferenceMatch>) {
-        for a in r.assessments {
-            let Some(input) = find_label(&self.input, &a.input_category) else {
-                out.general_problem(format!(
-                    "an assessment has input_category {:?}, which is not one of {}",
-                    a.input_category,
-                    json_list(&self.input)
-                ));
-                continue;
-            };
+        let find = |k: &str| find_label(&self.input, k).map(str::to_owned);
+        let pairs = out.pair_items(
+            &self.input,
+            r.assessments,
+            |a| a.input_category.as_deref(),
+            find,
+            "input_category",
+        );
+        for (input, a) in pairs {
             let reference_category = if a.matched {
                 match find_label(&self.reference, &a.matched_reference_category) {
                     Some(r) => Some(r.to_owned()),
                     None => {
-                        out.problem(
-                            input.to_owned(),
-                            format!(
-                                "matched_reference_category {:?} is not one of the reference categories {}",
-                                a.matched_reference_category,
-                                json_list(&self.reference)
-                            ),
+                        let problem = format!(
+                            "matched_reference_category {:?} is not one of the reference categories {}",
+                            a.matched_reference_category,
+                            json_list(&self.reference)
                         );
+                        let unmatched = ReferenceMatch {
+                            reference_category: None,
+                            reason: a.reason,
+                        };
+                        out.not_offered(input, problem, unmatched);
                         continue;
                     }
                 }
@@ -121,7 +133,7 @@ impl Task for CategoryMatchingTask {
                 None
             };
             out.answer(
-                input.to_owned(),
+                input,
                 ReferenceMatch {
                     reference_category,
                     reason: a.reason,
@@ -137,7 +149,7 @@ mod tests {
 
     fn assessment(input: &str, matched: bool, reference: &str) -> CategoryMatchingAssessment {
         CategoryMatchingAssessment {
-            input_category: input.into(),
+            input_category: Some(input.into()),
             matched,
             matched_reference_category: reference.into(),
             reason: String::new(),

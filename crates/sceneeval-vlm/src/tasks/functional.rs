@@ -23,8 +23,11 @@ pub struct FunctionalSidesResponse {
 /// One assessment of an `obj_functional_sides` answer.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct FunctionalSidesAssessment {
-    /// The object id, echoed: pairs the assessment with its object.
-    pub obj_id: String,
+    /// The object id, echoed: pairs the assessment with its object. Required by the schema; an
+    /// empty or missing id (`None`) is paired by position when the answer has one assessment
+    /// per object.
+    #[schemars(with = "String")]
+    pub obj_id: Option<String>,
     /// The object description, echoed (not checked).
     pub obj_description: String,
     /// Sides among `front`, `back`, `left`, `right`; empty for small objects.
@@ -103,15 +106,26 @@ impl Task for FunctionalSidesTask {
         self.objects.iter().map(|o| o.id.clone()).collect()
     }
 
+    fn narrowed(&self, keys: &[String]) -> Option<Self> {
+        let objects = self
+            .objects
+            .iter()
+            .filter(|o| keys.contains(&o.id))
+            .cloned()
+            .collect();
+        Some(FunctionalSidesTask { objects })
+    }
+
     fn validate(&self, r: FunctionalSidesResponse, out: &mut Validation<String, FunctionalSidesAnswer>) {
-        for a in r.assessments {
-            let Some(object) = self.objects.iter().find(|o| o.id.trim() == a.obj_id.trim()) else {
-                out.general_problem(format!(
-                    "an assessment has obj_id {:?}, which is not one of the listed objects",
-                    a.obj_id
-                ));
-                continue;
-            };
+        let keys = self.keys();
+        let find = |k: &str| {
+            self.objects
+                .iter()
+                .find(|o| o.id.trim() == k)
+                .map(|o| o.id.clone())
+        };
+        let pairs = out.pair_items(&keys, r.assessments, |a| a.obj_id.as_deref(), find, "obj_id");
+        for (id, a) in pairs {
             let mut sides = Vec::new();
             let mut bad = Vec::new();
             for name in &a.functional_sides {
@@ -122,7 +136,7 @@ impl Task for FunctionalSidesTask {
             }
             if !bad.is_empty() {
                 out.problem(
-                    object.id.clone(),
+                    id,
                     format!("functional_sides {bad:?} are not among front, back, left, right"),
                 );
                 continue;
@@ -130,7 +144,7 @@ impl Task for FunctionalSidesTask {
             sides.sort();
             sides.dedup();
             out.answer(
-                object.id.clone(),
+                id,
                 FunctionalSidesAnswer {
                     sides,
                     reason: a.reason,
@@ -153,7 +167,7 @@ mod tests {
 
     fn assessment(id: &str, sides: &[&str]) -> FunctionalSidesAssessment {
         FunctionalSidesAssessment {
-            obj_id: id.into(),
+            obj_id: Some(id.into()),
             obj_description: String::new(),
             functional_sides: sides.iter().map(|s| s.to_string()).collect(),
             reason: String::new(),
@@ -182,7 +196,11 @@ mod tests {
             [Side::Left, Side::Right, Side::Front]
         );
         assert!(v.problems_for(&"cup_1".to_owned())[0].contains("\"up\""));
-        assert!(v.general_problems()[0].contains("lamp_9"));
+        assert!(
+            v.general_problems()[0].contains("lamp_9"),
+            "{:?}",
+            v.general_problems()
+        );
         let lines = &task.placeholders()[0].1;
         assert_eq!(lines.lines().count(), 3);
         assert!(lines.starts_with("obj_id: \"bed_0\", obj_description: \"bed_0 description\""));

@@ -147,14 +147,17 @@ impl Task for ObjectMatchingTask {
             match find_label(&self.categories, &r.matched_category) {
                 Some(c) => Some(c.to_owned()),
                 None => {
-                    out.problem(
-                        Single,
-                        format!(
-                            "matched_category {:?} is not one of the offered categories {}",
-                            r.matched_category,
-                            json_list(&self.categories)
-                        ),
+                    let problem = format!(
+                        "matched_category {:?} is not one of the offered categories {}",
+                        r.matched_category,
+                        json_list(&self.categories)
                     );
+                    let unmatched = ObjectMatch {
+                        category: None,
+                        actual_category: r.actual_category,
+                        reason: r.reason,
+                    };
+                    out.not_offered(Single, problem, unmatched);
                     return;
                 }
             }

@@ -164,34 +164,46 @@ pub(crate) fn keyed_lines<R: KeyedRelation>(relations: &[R]) -> String {
 }
 
 /// An assessment of a relationship-mapping answer: the key of the relation it answers, as the
-/// model copied it.
+/// model copied it (`None` when it left it out).
 pub(crate) trait KeyedAnswer {
     /// The key.
-    fn key(&self) -> &str;
+    fn key(&self) -> Option<&str>;
 }
 
-/// Pairs keyed assessments with their relations (keys compared after trimming) and records
-/// each checked mapping, or its problem, under the relation's key.
+/// Pairs keyed assessments with their relations (keys compared after trimming; an empty or
+/// missing key by position, see [`crate::Validation::pair_items`]) and records each checked
+/// mapping, or its problem, under the relation's key.
 pub(crate) fn pair_by_key<R: KeyedRelation, A: KeyedAnswer, I>(
     relations: &[R],
     assessments: Vec<A>,
     check: impl Fn(&R, A) -> Result<I, String>,
     out: &mut crate::Validation<String, I>,
 ) {
-    for a in assessments {
-        let Some(relation) = relations.iter().find(|r| r.key().trim() == a.key().trim()) else {
-            out.general_problem(format!(
-                "an assessment has key {:?}, which is not one of the relation keys",
-                a.key()
-            ));
+    let keys = relation_keys(relations);
+    let find = |k: &str| {
+        relations
+            .iter()
+            .find(|r| r.key().trim() == k)
+            .map(|r| r.key().to_owned())
+    };
+    for (key, a) in out.pair_items(&keys, assessments, KeyedAnswer::key, find, "key") {
+        let Some(relation) = relations.iter().find(|r| r.key() == key) else {
             continue;
         };
-        let key = relation.key().to_owned();
         match check(relation, a) {
             Ok(item) => out.answer(key, item),
             Err(problem) => out.problem(key, problem),
         }
     }
+}
+
+/// The relations whose keys are among `keys`, in their order (a narrowed mapping task).
+pub(crate) fn narrowed_relations<R: KeyedRelation + Clone>(relations: &[R], keys: &[String]) -> Vec<R> {
+    relations
+        .iter()
+        .filter(|r| keys.iter().any(|k| k == r.key()))
+        .cloned()
+        .collect()
 }
 
 #[cfg(test)]

@@ -9,7 +9,8 @@ use serde::{Deserialize, Serialize};
 use sceneeval_relations::Relation;
 
 use super::{
-    KeyedAnswer, KeyedRelation, base_category, check_relations, keyed_lines, norm, pair_by_key, relation_keys,
+    KeyedAnswer, KeyedRelation, base_category, check_relations, keyed_lines, narrowed_relations, norm,
+    pair_by_key, relation_keys,
 };
 use crate::TaskKind;
 use crate::VlmError;
@@ -31,8 +32,11 @@ pub struct ObjRelationshipMappingResponse {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct ObjRelationshipAssessment {
     /// *Added*: the key of the relation this assessment answers, copied from the prompt. Pairs
-    /// the assessment with its relation (the reference pairs them by position).
-    pub key: String,
+    /// the assessment with its relation (the reference pairs them by position). Required by the
+    /// schema; an empty or missing key (`None`) is paired by position when the answer has one
+    /// assessment per relation.
+    #[schemars(with = "String")]
+    pub key: Option<String>,
     /// The relation text, echoed (not checked).
     pub relationship: String,
     /// The anchor's category (without a `:k` suffix).
@@ -53,8 +57,8 @@ pub struct ObjRelationshipAssessment {
 }
 
 impl KeyedAnswer for ObjRelationshipAssessment {
-    fn key(&self) -> &str {
-        &self.key
+    fn key(&self) -> Option<&str> {
+        self.key.as_deref()
     }
 }
 
@@ -272,6 +276,12 @@ impl Task for ObjectRelationTask {
     ) {
         pair_by_key(&self.relations, r.assessments, |s, a| self.check(s, a), out);
     }
+
+    fn narrowed(&self, keys: &[String]) -> Option<Self> {
+        Some(ObjectRelationTask {
+            relations: narrowed_relations(&self.relations, keys),
+        })
+    }
 }
 
 #[cfg(test)]
@@ -296,7 +306,7 @@ mod tests {
         sides: &[Option<&str>],
     ) -> ObjRelationshipAssessment {
         ObjRelationshipAssessment {
-            key: key.into(),
+            key: Some(key.into()),
             relationship: String::new(),
             anchor_object: anchor.into(),
             other_objects: others.iter().map(|(c, _)| c.to_string()).collect(),
