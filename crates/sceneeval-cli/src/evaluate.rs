@@ -316,11 +316,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     print!("{}", summary.to_markdown());
     eprintln!(
-        "{} scenes: {} evaluated, {} kept from an earlier run, {} failed; preset {}; results in {}",
+        "{} scenes: {} evaluated, {} kept from an earlier run, {} failed, {} partial; preset {}; results in {}",
         scenes.len(),
         outcome.evaluated,
         outcome.reused,
         outcome.failed,
+        outcome.partial,
         preset,
         args.out.display()
     );
@@ -342,7 +343,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .collect();
         eprintln!("  time over the evaluated scenes: {}", parts.join(", "));
     }
-    Ok(if outcome.failed > 0 {
+    // A partial scene's results are incomplete too: a re-run completes them.
+    Ok(if outcome.failed + outcome.partial > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

@@ -178,7 +178,7 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         if stats.retries == 1 { "y" } else { "ies" }
     );
     match answers.into_single() {
-        Some(Outcome::Answered { answer, attempt }) if answer.correct => {
+        Some(Outcome::Answered { answer, attempt, .. }) if answer.correct => {
             println!(
                 "ok: {} answers model {:?} with structured output and sees images (it called the {TEST_IMAGE_COLOUR} square {:?}{}).",
                 vlm.inner().url(),

@@ -71,7 +71,7 @@ mod report;
 mod views;
 
 pub use error::FidelityError;
-pub use evaluate::{FidelityEvaluator, FidelityOutcome, MAX_RECORDED_GROUPS, Resources};
+pub use evaluate::{FidelityEvaluator, FidelityOutcome, MAX_RECORDED_GROUPS, MetricFailure, Resources};
 pub use matching::{
     MATCHING_FILE, MATCHING_SCHEMA, Matching, MatchingRecord, MatchingSource, REFERENCE_MATCHING_FILE,
     matching_file_for,

@@ -9,6 +9,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use futures_util::future::join_all;
 use serde::{Deserialize, Serialize};
 
 use sceneeval_scene::Scene;
@@ -89,7 +90,8 @@ pub struct MatchingRecord {
     /// The matching.
     #[serde(flatten)]
     pub matching: Matching,
-    /// Objects without a valid VLM answer, and why (they are in `not_matched_objs` too).
+    /// Objects without a valid VLM answer, and why (they are in `not_matched_objs` too). They
+    /// could be of any category: a spec whose verdict they could change has none.
     #[serde(default)]
     pub unanswered: BTreeMap<String, String>,
 }
@@ -160,13 +162,16 @@ pub fn match_by_labels(scene: &Scene, categories: &[String]) -> MatchingRecord {
 }
 
 /// Matches with the VLM: one `obj_matching` request per object with its front view (and its
-/// dimensions when `size_aware`). An object without a valid answer is not matched and listed
-/// in `unanswered`.
+/// dimensions when `size_aware`), all asked together (the results are in scene order whatever
+/// order the answers arrive in). An object without a valid answer is not matched and listed in
+/// `unanswered`; an object whose answer named a category that was not offered, twice, is not
+/// matched, with the reason.
 ///
 /// # Errors
 /// [`FidelityError::View`] when a view cannot be made, [`FidelityError::Vlm`] when a request
-/// gets no answer at all.
-pub fn match_by_vlm<V: Vlm>(
+/// gets no answer at all (the first such object in scene order; every other request is still
+/// made, so that a cache keeps its answer).
+pub async fn match_by_vlm<V: Vlm>(
     scene: &Scene,
     categories: &[String],
     session: &Session<V>,
@@ -176,9 +181,9 @@ pub fn match_by_vlm<V: Vlm>(
     let mut m = empty_matching(categories);
     let mut unanswered = BTreeMap::new();
     if !categories.is_empty() {
-        for o in scene.objects() {
-            let id = o.id().as_str().to_owned();
-            let front = views.view(&id, ViewKind::Front)?;
+        let asks = scene.objects().iter().map(|o| async move {
+            let id = o.id().as_str();
+            let front = views.view(id, ViewKind::Front)?;
             let mut task = ObjectMatchingTask::new(front, categories.iter().cloned())
                 .map_err(|e| vlm_err("obj_matching", e))?;
             if size_aware {
@@ -186,19 +191,25 @@ pub fn match_by_vlm<V: Vlm>(
                     extents_m: o.obb().extents(),
                 });
             }
-            let answers = pollster::block_on(session.ask(&task)).map_err(|e| vlm_err("obj_matching", e))?;
-            match answers.into_single() {
-                Some(Outcome::Answered { answer, .. }) => {
+            let answers = session.ask(&task).await.map_err(|e| vlm_err("obj_matching", e))?;
+            Ok::<_, FidelityError>(answers.into_single())
+        });
+        let outcomes = join_all(asks).await;
+        for (o, outcome) in scene.objects().iter().zip(outcomes) {
+            let id = o.id().as_str().to_owned();
+            match outcome? {
+                Some(Outcome::Answered { answer, note, .. }) => {
                     m.actual_categories
                         .insert(id.clone(), answer.actual_category.clone());
+                    let reason = with_note(answer.reason, note);
                     match answer.category {
                         Some(c) => {
                             if let Some(objs) = m.per_category.get_mut(&c) {
-                                objs.insert(id, answer.reason);
+                                objs.insert(id, reason);
                             }
                         }
                         None => {
-                            m.not_matched_objs.insert(id, answer.reason);
+                            m.not_matched_objs.insert(id, reason);
                         }
                     }
                 }
@@ -221,6 +232,14 @@ pub fn match_by_vlm<V: Vlm>(
         matching: m,
         unanswered,
     })
+}
+
+/// A model's reason, with the note of how its imperfect answer was recovered, if it was.
+pub(crate) fn with_note(reason: String, note: Option<String>) -> String {
+    match note {
+        Some(n) => format!("{reason} ({n})"),
+        None => reason,
+    }
 }
 
 pub(crate) fn vlm_err(task: &str, source: sceneeval_vlm::VlmError) -> FidelityError {

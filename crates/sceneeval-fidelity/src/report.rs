@@ -8,8 +8,10 @@ use crate::params::RelationMapping;
 /// What the fidelity metrics found in one scene.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FidelityReport {
-    /// The matching used (the full matching is in the scene's `matching.json`).
-    pub matching: MatchingSummary,
+    /// The matching used (the full matching is in the scene's `matching.json`); absent when
+    /// no matching could be made (the metrics are then listed as failed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matching: Option<MatchingSummary>,
     /// How relationships were mapped onto predicates (individual specs record their own
     /// mapping source: a lexicon run may have asked the VLM for unknown words).
     pub relation_mapping: RelationMapping,
@@ -28,8 +30,9 @@ pub struct FidelityReport {
     /// The satisfied share of each metric.
     pub summary: FidelitySummary,
     /// The VLM's usage for this scene, when one is configured (the session's
-    /// [`Usage`](sceneeval_vlm::Usage): requests, cache hits, failed requests, re-asks,
-    /// answered and unanswered questions, prompt and completion tokens).
+    /// [`Usage`](sceneeval_vlm::Usage): requests, failed requests, re-asks and the recoveries
+    /// of imperfect answers, answered and unanswered questions, the tokens of every answer
+    /// used).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vlm_usage: Option<sceneeval_vlm::Usage>,
     /// Views rendered for this scene.
@@ -40,17 +43,18 @@ pub struct FidelityReport {
     pub warnings: Vec<String>,
 }
 
-/// The satisfied share of specs per metric: `null` when the scene has no such specs, or (ATR)
-/// when they could not be judged (no VLM).
+/// The satisfied share of specs per metric: satisfied specs over the specs with a verdict;
+/// `null` when the scene has no such specs, none has a verdict, or (ATR) they could not be
+/// judged (no VLM). Specs without a verdict are counted in their [`MetricResult::unanswered`].
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct FidelitySummary {
-    /// CNT: satisfied ObjCount specs / specs.
+    /// CNT: satisfied ObjCount specs / specs with a verdict.
     pub cnt: Option<f64>,
-    /// ATR: satisfied ObjAttr specs / specs.
+    /// ATR: satisfied ObjAttr specs / specs with a verdict.
     pub atr: Option<f64>,
-    /// OOR: satisfied OORel specs / specs.
+    /// OOR: satisfied OORel specs / specs with a verdict.
     pub oor: Option<f64>,
-    /// OAR: satisfied OARel specs / specs.
+    /// OAR: satisfied OARel specs / specs with a verdict.
     pub oar: Option<f64>,
 }
 
@@ -68,13 +72,21 @@ pub struct MatchingSummary {
 /// One metric's result: the reference's message, the counts, and every spec.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MetricResult<T> {
-    /// "s/t requirements are satisfied.", or why nothing was evaluated.
+    /// "s/t requirements are satisfied.", or why nothing was evaluated; with specs left
+    /// undecided, "s/d requirements are satisfied; u not decided ...".
     pub message: String,
     /// Satisfied specs; `null` when the specs were not judged (ATR without a VLM).
     pub satisfied: Option<usize>,
     /// Specs.
     pub total: usize,
-    /// `satisfied / total`; `null` without specs or when not judged.
+    /// Specs without a verdict because an answer they need is missing (the VLM gave no valid
+    /// answer for a relation's mapping, an attribute, or an object's category, and the missing
+    /// answer could change the verdict). They are left out of the score, never counted as
+    /// unsatisfied; each says why in its own `unanswered`.
+    #[serde(default)]
+    pub unanswered: usize,
+    /// `satisfied / (total - unanswered)`; `null` without specs with a verdict or when not
+    /// judged.
     pub score: Option<f64>,
     /// Why the specs were not judged (ATR without a VLM), if so.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -84,18 +96,25 @@ pub struct MetricResult<T> {
 }
 
 impl<T> MetricResult<T> {
-    pub(crate) fn new(specs: Vec<T>, satisfied: impl Fn(&T) -> bool, empty_message: &str) -> Self {
+    /// The result of `specs`, each with its verdict (`verdict`: `None` when it has none
+    /// because an answer is missing).
+    pub(crate) fn new(specs: Vec<T>, verdict: impl Fn(&T) -> Option<bool>, empty_message: &str) -> Self {
         let total = specs.len();
-        let s = specs.iter().filter(|x| satisfied(x)).count();
+        let s = specs.iter().filter(|x| verdict(x) == Some(true)).count();
+        let unanswered = specs.iter().filter(|x| verdict(x).is_none()).count();
+        let decided = total - unanswered;
         MetricResult {
-            message: if total == 0 {
-                empty_message.to_owned()
-            } else {
-                format!("{s}/{total} requirements are satisfied.")
+            message: match (total, unanswered) {
+                (0, _) => empty_message.to_owned(),
+                (_, 0) => format!("{s}/{total} requirements are satisfied."),
+                _ => format!(
+                    "{s}/{decided} requirements are satisfied; {unanswered} of {total} not decided (an answer they need is missing)."
+                ),
             },
             satisfied: Some(s),
             total,
-            score: (total > 0).then(|| s as f64 / total as f64),
+            unanswered,
+            score: (decided > 0).then(|| s as f64 / decided as f64),
             not_judged: None,
             specs,
         }
@@ -106,6 +125,7 @@ impl<T> MetricResult<T> {
             message: why.to_owned(),
             satisfied: None,
             total: specs.len(),
+            unanswered: 0,
             score: None,
             not_judged: Some(why.to_owned()),
             specs,
@@ -136,8 +156,12 @@ pub struct CntSpec {
     pub objects: Vec<String>,
     /// How many.
     pub count_in_scene: u64,
-    /// Whether the count satisfies the quantifier.
-    pub satisfied: bool,
+    /// Why the spec has no verdict: objects without a matching answer could be of the
+    /// category and change the count.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unanswered: Option<String>,
+    /// Whether the count satisfies the quantifier; `null` when undecided (see `unanswered`).
+    pub satisfied: Option<bool>,
 }
 
 /// The VLM's verdict on one instance and attribute.
@@ -171,15 +195,16 @@ pub struct AtrSpec {
     pub count_satisfied: Option<u64>,
     /// Per instance and attribute.
     pub assessments: Vec<AttributeAssessment>,
-    /// Set when some question got no valid answer (those instances count as not having the
-    /// attributes).
+    /// Set when some question got no valid answer (or some object has no matching answer); the
+    /// verdict is `null` when those answers could change it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unanswered: Option<String>,
     /// Why the spec was decided without asking, if so.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
-    /// The verdict; `null` when the spec was not judged (no VLM to ask). A spec decided
-    /// without asking (no object of its category) has a verdict either way.
+    /// The verdict; `null` when the spec was not judged (no VLM to ask) or a missing answer
+    /// could change it (see `unanswered`). A spec decided without asking (no object of its
+    /// category) has a verdict either way.
     pub satisfied: Option<bool>,
 }
 
@@ -191,7 +216,7 @@ pub enum MappingStatus {
     Mapped,
     /// No predicate expresses it (counts as unsatisfied unless `unmapped_is_satisfied`).
     Unmapped,
-    /// The VLM gave no valid mapping (counts as unsatisfied).
+    /// The VLM gave no valid mapping (the spec has no verdict unless its objects are absent).
     Unanswered,
     /// Not mapped because the spec failed its presence gate.
     NotNeeded,
@@ -279,8 +304,12 @@ pub struct OorSpec {
     pub groups: Vec<CandidateGroup>,
     /// Satisfied groups.
     pub count_satisfied: u64,
-    /// The verdict.
-    pub satisfied: bool,
+    /// Why the spec has no verdict (its mapping is unanswered, or objects without a matching
+    /// answer could change it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unanswered: Option<String>,
+    /// The verdict; `null` when undecided (see `unanswered`).
+    pub satisfied: Option<bool>,
 }
 
 /// Who takes part in a relation.
@@ -327,6 +356,10 @@ pub struct OarSpec {
     pub candidates: Vec<ArchCandidate>,
     /// Satisfied candidates.
     pub count_satisfied: u64,
-    /// The verdict.
-    pub satisfied: bool,
+    /// Why the spec has no verdict (its mapping is unanswered, or objects without a matching
+    /// answer could change it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unanswered: Option<String>,
+    /// The verdict; `null` when undecided (see `unanswered`).
+    pub satisfied: Option<bool>,
 }

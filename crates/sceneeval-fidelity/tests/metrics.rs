@@ -120,8 +120,12 @@ fn labels_and_lexicon_without_vlm() {
     // CNT: table 1 (eq,1 yes), chairs 4 (labelled "chairs": plural), lamp 1 ("Lamp"),
     // tv 0 (eq,0 yes), sofa 0 (eq,2 no) -> 4/5.
     let cnt = r.cnt.as_ref().unwrap();
-    let verdicts: Vec<bool> = cnt.specs.iter().map(|s| s.satisfied).collect();
-    assert_eq!(verdicts, [true, true, true, true, false]);
+    let verdicts: Vec<Option<bool>> = cnt.specs.iter().map(|s| s.satisfied).collect();
+    assert_eq!(
+        verdicts,
+        [Some(true), Some(true), Some(true), Some(true), Some(false)]
+    );
+    assert_eq!(cnt.unanswered, 0);
     assert_eq!(r.summary.cnt, Some(0.8));
     assert_eq!(cnt.message, "4/5 requirements are satisfied.");
     // ATR: not judged without a VLM. The table and the chairs are present, so their specs
@@ -145,7 +149,7 @@ fn labels_and_lexicon_without_vlm() {
     // in_harmony_with: not in the lexicon, no VLM: unmapped (no); eq,0 next_to tv: the tv is
     // absent, the quantifier allows 0 (yes) -> 4/6.
     let oor = r.oor.as_ref().unwrap();
-    let counts: Vec<(u64, u64, bool)> = oor
+    let counts: Vec<(u64, u64, Option<bool>)> = oor
         .specs
         .iter()
         .map(|s| (s.num_candidate_groups, s.count_satisfied, s.satisfied))
@@ -153,12 +157,12 @@ fn labels_and_lexicon_without_vlm() {
     assert_eq!(
         counts,
         [
-            (1, 1, true),
-            (4, 4, true),
-            (1, 1, true),
-            (1, 0, false),
-            (0, 0, false),
-            (0, 0, true)
+            (1, 1, Some(true)),
+            (4, 4, Some(true)),
+            (1, 1, Some(true)),
+            (1, 0, Some(false)),
+            (0, 0, Some(false)),
+            (0, 0, Some(true))
         ]
     );
     assert_eq!(oor.specs[0].groups[0].others, ["c1", "c2", "c3", "c4"]);
@@ -173,7 +177,10 @@ fn labels_and_lexicon_without_vlm() {
     assert_eq!(oar.specs[1].mapping.relations, ["against_wall"]);
     assert_eq!(r.summary.oar, Some(0.5));
     // The matching: 6 of 6 objects, 3 of 5 categories.
-    assert_eq!(r.matching.message, "Matched 3/5 categories. Matched 6/6 objects.");
+    assert_eq!(
+        r.matching.as_ref().unwrap().message,
+        "Matched 3/5 categories. Matched 6/6 objects."
+    );
 }
 
 #[test]
@@ -200,7 +207,11 @@ fn scripted_vlm_judges_attributes_and_maps_unknown_words() {
         .collect();
     assert_eq!(
         got,
-        [(Some(1), Some(true)), (Some(3), Some(false)), (Some(0), Some(true))]
+        [
+            (Some(1), Some(true)),
+            (Some(3), Some(false)),
+            (Some(0), Some(true))
+        ]
     );
     assert_eq!(atr.satisfied, Some(2));
     assert_eq!(r.summary.atr, Some(2.0 / 3.0));
@@ -241,7 +252,7 @@ fn reference_switches() {
     // Q5: the absent tv fails its specs (ATR lt,1 and OOR eq,0). Q4: the unmapped relation
     // counts as satisfied. ATR 1/3; OOR: surround, next_to, on, unmapped = 4/6.
     assert_eq!(r.summary.atr, Some(1.0 / 3.0));
-    let v: Vec<bool> = r
+    let v: Vec<Option<bool>> = r
         .oor
         .as_ref()
         .unwrap()
@@ -249,13 +260,14 @@ fn reference_switches() {
         .iter()
         .map(|s| s.satisfied)
         .collect();
-    assert_eq!(v, [true, true, true, false, true, false]);
+    let (t, f) = (Some(true), Some(false));
+    assert_eq!(v, [t, t, t, f, t, f]);
     // Q22: with the anchor allowed as target nothing changes here (different categories).
     assert_eq!(r.summary.oor, Some(4.0 / 6.0));
 }
 
 #[test]
-fn all_invalid_answers_still_give_a_result() {
+fn unanswered_questions_are_never_scored_as_unsatisfied() {
     let (scene, row) = (scene(), row());
     let vlm = Scripted::from_fn("broken", |_| {
         Ok(AnswerContent::Json {
@@ -275,16 +287,46 @@ fn all_invalid_answers_still_give_a_result() {
         .evaluate(&scene, &row, &FidelityMetric::ALL, &res)
         .unwrap()
         .report;
+    // ATR: the table (eq,1) could have 0 or 1 wooden instance, the chairs (eq,4) 0 to 4 red
+    // ones: no verdict, left out of the score; the absent tv (lt,1) is decided without asking
+    // -> 1/1, 2 unanswered.
     let atr = r.atr.as_ref().unwrap();
     for s in &atr.specs[..2] {
-        assert!(s.unanswered.is_some() && s.satisfied == Some(false), "{s:?}");
+        assert!(s.unanswered.is_some() && s.satisfied.is_none(), "{s:?}");
         assert!(s.assessments.iter().all(|a| a.satisfied.is_none()));
+        assert_eq!(s.count_satisfied, Some(0));
     }
     assert_eq!(
-        r.oor.as_ref().unwrap().specs[4].mapping.status,
-        MappingStatus::Unanswered
+        (atr.satisfied, atr.unanswered, atr.total, atr.score),
+        (Some(1), 2, 3, Some(1.0))
     );
-    // VLM matching: every object unanswered, none matched: CNT only eq,0,tv holds -> 1/5.
+    assert_eq!(
+        atr.message,
+        "1/1 requirements are satisfied; 2 of 3 not decided (an answer they need is missing)."
+    );
+    // OOR: in_harmony_with has no valid mapping: no verdict (before: unsatisfied); the other
+    // five are the lexicon's: 4 of 5.
+    let oor = r.oor.as_ref().unwrap();
+    let unmapped = &oor.specs[4];
+    assert_eq!(unmapped.mapping.status, MappingStatus::Unanswered);
+    assert_eq!(unmapped.satisfied, None);
+    assert!(
+        unmapped
+            .unanswered
+            .as_deref()
+            .unwrap()
+            .starts_with("the VLM gave no valid mapping"),
+        "{unmapped:?}"
+    );
+    assert_eq!((oor.unanswered, r.summary.oor), (1, Some(0.8)));
+    let json = serde_json::to_value(oor).unwrap();
+    assert!(
+        json["specs"][4]["satisfied"].is_null() && json["unanswered"] == 1,
+        "{json}"
+    );
+
+    // VLM matching: no object has a valid answer, any could be of any category: no CNT spec
+    // has a verdict (before: every object unmatched, CNT 1/5).
     let ev = FidelityEvaluator::new(
         FidelityParams {
             matching: MatchingMethod::Vlm,
@@ -294,9 +336,173 @@ fn all_invalid_answers_still_give_a_result() {
     )
     .unwrap();
     let out = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
-    assert_eq!(out.matching.unanswered.len(), 6);
-    assert_eq!(out.report.matching.unanswered, 6);
-    assert_eq!(out.report.summary.cnt, Some(0.2));
+    assert_eq!(out.matching.as_ref().unwrap().unanswered.len(), 6);
+    assert_eq!(out.report.matching.as_ref().unwrap().unanswered, 6);
+    let cnt = out.report.cnt.as_ref().unwrap();
+    assert_eq!((cnt.unanswered, out.report.summary.cnt), (5, None));
+    assert!(
+        cnt.specs[0]
+            .unanswered
+            .as_deref()
+            .unwrap()
+            .contains("6 object(s) without a matching answer")
+    );
+}
+
+/// Matched 1 table of eq,1 and one object unanswered: eq,1 could become 2 (no verdict);
+/// ge,1 holds whatever the unknown object is.
+#[test]
+fn an_unanswered_object_leaves_only_the_specs_it_could_change_undecided() {
+    let scene = room()
+        .add_box(
+            "t",
+            Category::new("table"),
+            Vector3::new(0.5, 0.5, 0.4),
+            pose_from_yaw(Point3::new(2.0, 2.0, 0.4), 0.0),
+        )
+        .add_box(
+            "x",
+            Category::new("thing"),
+            Vector3::new(0.2, 0.2, 0.2),
+            pose_from_yaw(Point3::new(1.0, 1.0, 0.2), 0.0),
+        )
+        .build()
+        .unwrap();
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        7,easy,A table,\"eq,1,table; ge,1,table; lt,1,sofa; ge,3,chair\",,,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    // The table is recognised; the other object's answers are refusals.
+    let vlm = Scripted::from_fn("m", |req| {
+        Ok(if req.images[0].blake3_hex() == test_image().blake3_hex() {
+            AnswerContent::Json {
+                value: json!({"provided_categories": [], "matched": true, "matched_category": "table",
+                              "actual_category": "table", "reason": "a table"}),
+            }
+        } else {
+            AnswerContent::Refusal { text: "no".into() }
+        })
+    });
+    let session = Session::new(&vlm);
+    let views = MemoViews::new(|id, _| {
+        Ok(if id == "t" {
+            test_image()
+        } else {
+            sceneeval_vlm::encode_rgb_png(1, 1, &[0, 0, 0]).unwrap()
+        })
+    });
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    let ev = FidelityEvaluator::new(
+        FidelityParams {
+            matching: MatchingMethod::Vlm,
+            ..params()
+        },
+        RelationParams::default(),
+    )
+    .unwrap();
+    let r = ev
+        .evaluate(&scene, &row, &[FidelityMetric::Cnt], &res)
+        .unwrap()
+        .report;
+    let cnt = r.cnt.unwrap();
+    // eq,1 table: 1 or 2 -> none; ge,1 table: yes either way; lt,1 sofa: 0 or 1 -> none;
+    // ge,3 chair: at most 1 -> no either way. 1/2 decided, 2 unanswered.
+    let v: Vec<Option<bool>> = cnt.specs.iter().map(|s| s.satisfied).collect();
+    assert_eq!(v, [None, Some(true), None, Some(false)]);
+    assert_eq!((cnt.unanswered, cnt.score), (2, Some(0.5)));
+}
+
+/// The relation-mapping answers of a model that keeps the prompt's order but leaves every key
+/// empty, or copies them: the mapping prompt lists the specs `- key "<k>": ...`.
+fn mapping_model(copy_keys: bool) -> Scripted {
+    Scripted::from_fn("m", move |req| {
+        let keys: Vec<String> = req
+            .user_text
+            .split("- key \"")
+            .skip(1)
+            .filter_map(|rest| rest.split('"').next().map(str::to_owned))
+            .collect();
+        let key = |k: &str| if copy_keys { k.to_owned() } else { String::new() };
+        let value = match req.task.as_str() {
+            // OOR specs 0-5 of `row()`, in order.
+            "obj_relationship_mapping" => {
+                let items = [
+                    ("table", vec![("chair", 4)], json!(["surround"]), json!([null])),
+                    ("table", vec![("chair", 1)], json!(["next_to"]), json!([null])),
+                    ("table", vec![("lamp", 1)], json!(["on_top"]), json!([null])),
+                    ("table", vec![("lamp", 1)], json!(["side_of"]), json!(["left"])),
+                    ("table", vec![("chair", 1)], json!(null), json!([])),
+                    ("table", vec![("tv", 1)], json!(["next_to"]), json!([null])),
+                ];
+                let assessments: Vec<_> = items
+                    .iter()
+                    .zip(&keys)
+                    .map(|((anchor, others, types, sides), k)| {
+                        json!({"key": key(k), "relationship": "", "anchor_object": anchor,
+                               "other_objects": others.iter().map(|(c, _)| *c).collect::<Vec<_>>(),
+                               "other_object_counts": others.iter().map(|(_, n)| *n).collect::<Vec<_>>(),
+                               "relationship_types": types, "sides": sides, "reason": "r"})
+                    })
+                    .collect();
+                json!({ "assessments": assessments })
+            }
+            "arch_relationship_mapping" => json!({"assessments": [
+                {"key": key(&keys[0]), "relationship": "", "target_object": "table",
+                 "architectural_element_type": "room", "relationship_type": "middle_of_room",
+                 "specific_floors": [], "reason": "r"},
+                {"key": key(&keys[1]), "relationship": "", "target_object": "table",
+                 "architectural_element_type": "wall", "relationship_type": "against_wall",
+                 "specific_floors": [], "reason": "r"},
+            ]}),
+            other => panic!("unexpected task {other}"),
+        };
+        Ok(AnswerContent::Json { value })
+    })
+}
+
+#[test]
+fn a_model_that_leaves_every_key_empty_scores_as_one_that_copies_them() {
+    let (scene, row) = (scene(), row());
+    let ev = FidelityEvaluator::new(
+        FidelityParams {
+            relation_mapping: RelationMapping::Vlm,
+            ..params()
+        },
+        RelationParams::default(),
+    )
+    .unwrap();
+    let run = |vlm: &Scripted| {
+        let session = Session::new(vlm);
+        let res = Resources {
+            session: Some(&session),
+            views: None,
+            scene_name: "scene_7",
+        };
+        let metrics = [FidelityMetric::Oor, FidelityMetric::Oar];
+        ev.evaluate(&scene, &row, &metrics, &res).unwrap().report
+    };
+    let copied = run(&mapping_model(true));
+    let blank = run(&mapping_model(false));
+    // As the lexicon run: OOR 4/6 (the sixth, eq,0 next_to tv, holds: the tv is absent), OAR
+    // 1/2. Before, blank keys gave OOR = OAR = 0 with no warning.
+    assert_eq!(copied.summary.oor, Some(4.0 / 6.0));
+    assert_eq!(copied.summary.oar, Some(0.5));
+    assert_eq!(blank.summary, copied.summary);
+    let verdicts = |r: &sceneeval_fidelity::FidelityReport| {
+        let oor = r.oor.as_ref().unwrap().specs.iter().map(|s| s.satisfied);
+        let oar = r.oar.as_ref().unwrap().specs.iter().map(|s| s.satisfied);
+        oor.chain(oar).collect::<Vec<_>>()
+    };
+    assert_eq!(verdicts(&blank), verdicts(&copied));
+    // The recovery is counted and noted in the evidence.
+    let (b, c) = (blank.vlm_usage.unwrap(), copied.vlm_usage.unwrap());
+    assert_eq!((b.paired_by_position, c.paired_by_position), (8, 0));
+    assert_eq!((b.requests, c.requests), (2, 2));
+    let reason = &blank.oor.as_ref().unwrap().specs[0].mapping.reason;
+    assert_eq!(reason, "r (paired by position: item 0 of the answer had no key)");
 }
 
 #[test]
@@ -318,7 +524,7 @@ fn candidate_group_cap_warns() {
     let next_to = &r.oor.as_ref().unwrap().specs[1];
     // 4 groups, 2 evaluated (both satisfied): 2 of eq,4 -> no.
     assert_eq!((next_to.num_candidate_groups, next_to.groups_evaluated), (4, 2));
-    assert!(!next_to.satisfied);
+    assert_eq!(next_to.satisfied, Some(false));
     assert!(
         r.warnings.iter().any(|w| w.contains("max_candidate_groups")),
         "{:?}",
@@ -362,7 +568,10 @@ fn matching_from_a_reference_file() {
     let res = offline();
     let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
     assert_eq!(out.report.summary.cnt, Some(0.4));
-    assert_eq!(out.matching.file.as_deref(), Some(file.as_path()));
+    assert_eq!(
+        out.matching.as_ref().unwrap().file.as_deref(),
+        Some(file.as_path())
+    );
     // An object the scene does not have is an error naming it.
     std::fs::write(
         &file,
@@ -469,4 +678,61 @@ fn labels_read_synset_categories() {
         [("bed", &["b".to_owned()][..]), ("chair", &["c".to_owned()][..])]
     );
     assert_eq!(out.report.summary.cnt, Some(1.0));
+}
+
+/// The endpoint fails the relation-mapping request (503 on every attempt, say) and the OARel
+/// column has a malformed entry: OOR and OAR are listed as failed with the reason; CNT and ATR
+/// are computed as without the failures.
+#[test]
+fn a_failed_metric_never_erases_another() {
+    let scene = scene();
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        7,medium,x,\"eq,1,table; eq,4,chair\",\"eq,1,table,wooden\",\
+        \"eq,1,in_harmony_with,0,table,chair\",\"about,1,middle,table,room\"\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let inner = scripted();
+    let vlm = Scripted::from_fn("scripted", move |req| {
+        if req.task == "obj_relationship_mapping" {
+            return Err(sceneeval_vlm::VlmError::Backend {
+                task: req.task.clone(),
+                model: "scripted".into(),
+                permanent: false,
+                source: "503 Service Unavailable".into(),
+            });
+        }
+        pollster::block_on(sceneeval_vlm::Vlm::answer(&inner, req)).map(|a| a.content)
+    });
+    let session = Session::new(&vlm);
+    let views = MemoViews::new(|_, _| Ok(test_image()));
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let out = pollster::block_on(ev.evaluate_async(&scene, &row, &FidelityMetric::ALL, &res));
+    let failed: Vec<(FidelityMetric, bool)> = out.failures.iter().map(|f| (f.metric, f.is_vlm())).collect();
+    assert_eq!(
+        failed,
+        [(FidelityMetric::Oor, true), (FidelityMetric::Oar, false)]
+    );
+    assert!(
+        out.failures[1]
+            .error
+            .to_string()
+            .contains("about,1,middle,table,room"),
+        "{}",
+        out.failures[1].error
+    );
+    // CNT 2/2 and ATR 1/1 (the wooden table) as ever; OOR and OAR absent.
+    let r = &out.report;
+    assert_eq!((r.summary.cnt, r.summary.atr), (Some(1.0), Some(1.0)));
+    assert!(r.oor.is_none() && r.oar.is_none());
+    assert_eq!((r.summary.oor, r.summary.oar), (None, None));
+    // The all-or-nothing call reports the first failure.
+    let err = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap_err();
+    assert!(
+        matches!(err, sceneeval_fidelity::FidelityError::Vlm { .. }),
+        "{err}"
+    );
 }

@@ -6,9 +6,12 @@
 //! The answers: the nightstand of scene 8 is not recognised; the wardrobe is tall; five of the
 //! six chairs are wooden; "in_harmony_with" maps to no predicate; every object's functional
 //! side is its front (the fixture scenes state every support type, so none is asked).
+//!
+//! A scene's questions are asked together, so a matching request is recognised by its image,
+//! not by its place in a sequence: [`pictured_category`] finds the object whose front view the
+//! run wrote with the same bytes.
 
-use std::collections::HashMap;
-use std::sync::{Mutex, PoisonError};
+use std::path::Path;
 
 use serde_json::{Value, json};
 
@@ -23,39 +26,18 @@ pub const CSV: &str = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
 \"eq,6,chair,wooden\",\"eq,1,surround,0,dining_table,chair:0,chair:1,chair:2,chair:3,chair:4,chair:5; eq,6,next_to,0,dining_table,chair\",\
 \"eq,1,corner,plant,room; eq,1,hang,ceiling_lamp,ceiling\"\n";
 
-/// Scene 8's objects in scene order (the order of its matching requests).
-pub const SCENE_8: [&str; 4] = ["wardrobe", "bed", "nightstand", "ceiling_lamp"];
-
-/// Scene 2's objects in scene order.
-pub const SCENE_2: [&str; 12] = [
-    "dining_table",
-    "chair",
-    "chair",
-    "chair",
-    "chair",
-    "chair",
-    "chair",
-    "ceiling_lamp",
-    "bookshelf",
-    "plant",
-    "floor_lamp",
-    "painting",
-];
-
 /// What the model answers to `task` (the schema name) given the prompt's `user_text`;
-/// `nth_matching` is the object's position in its scene (see [`Nth`]).
+/// `pictured` is the category of the object a matching request shows ([`pictured_category`]).
 ///
 /// # Panics
-/// On a task the fixtures never ask (the test is then wrong).
-#[allow(clippy::panic)] // Test scaffolding: an unexpected task is a broken test.
-pub fn answer(task: &str, user_text: &str, nth_matching: usize) -> Value {
+/// On a task the fixtures never ask, or a matching request without `pictured` (the test is
+/// then wrong).
+#[allow(clippy::panic)] // Test scaffolding: an unexpected request is a broken test.
+pub fn answer(task: &str, user_text: &str, pictured: Option<&str>) -> Value {
     match task {
         "obj_matching" => {
-            let scene8 = user_text.contains("\"wardrobe\"");
-            let category = if scene8 {
-                SCENE_8[nth_matching]
-            } else {
-                SCENE_2[nth_matching]
+            let Some(category) = pictured else {
+                panic!("a matching request whose image is no front view the run wrote")
             };
             let matched = category != "nightstand";
             json!({"provided_categories": [], "matched": matched,
@@ -85,20 +67,25 @@ pub fn answer(task: &str, user_text: &str, nth_matching: usize) -> Value {
     }
 }
 
-/// Counts matching requests per category list (one list per scene), so that the n-th request
-/// of a scene is its n-th object whatever the order scenes run in.
-#[derive(Debug, Default)]
-pub struct Nth(Mutex<HashMap<String, usize>>);
-
-impl Nth {
-    /// The position of this matching request in its scene (0 for other tasks).
-    pub fn next(&self, task: &str, user_text: &str) -> usize {
-        if task != "obj_matching" {
-            return 0;
+/// The category of the object whose front view the run wrote under `out` with the bytes
+/// `image` (`<out>/<scene>/views/front_idx<k>_fixture.<category>.png`: the fixture assets are
+/// named after their category), or `None` when no view has these bytes.
+pub fn pictured_category(out: &Path, image: &[u8]) -> Option<String> {
+    for scene in std::fs::read_dir(out).ok()?.flatten() {
+        let Ok(views) = std::fs::read_dir(scene.path().join("views")) else {
+            continue;
+        };
+        for view in views.flatten() {
+            let name = view.file_name().to_string_lossy().into_owned();
+            let Some(id) = name.strip_prefix("front_").and_then(|n| n.strip_suffix(".png")) else {
+                continue;
+            };
+            if std::fs::read(view.path()).ok().as_deref() == Some(image) {
+                return id
+                    .rsplit_once("fixture.")
+                    .map(|(_, category)| category.to_owned());
+            }
         }
-        let mut m = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        let n = m.entry(user_text.to_owned()).or_default();
-        *n += 1;
-        *n - 1
     }
+    None
 }

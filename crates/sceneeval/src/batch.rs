@@ -81,6 +81,8 @@ pub enum Reason {
     Forced,
     /// The earlier record is a failure.
     FailedBefore,
+    /// The earlier record is partial: some metric could not be computed.
+    Incomplete,
     /// The earlier record cannot be read (or has no fingerprint).
     Unreadable(String),
     /// Something the result depends on changed.
@@ -93,6 +95,7 @@ impl std::fmt::Display for Reason {
             Reason::New => f.write_str("no earlier result"),
             Reason::Forced => f.write_str("forced"),
             Reason::FailedBefore => f.write_str("failed before"),
+            Reason::Incomplete => f.write_str("incomplete before"),
             Reason::Unreadable(why) => write!(f, "earlier result unreadable: {why}"),
             Reason::Changed(why) => write!(f, "{why}"),
         }
@@ -133,6 +136,8 @@ pub struct BatchOutcome {
     pub reused: usize,
     /// Scenes that failed.
     pub failed: usize,
+    /// Scenes evaluated in this run whose record is partial (counted in `evaluated` too).
+    pub partial: usize,
 }
 
 impl BatchOutcome {
@@ -169,9 +174,11 @@ impl BatchOutcome {
 ///
 /// An earlier record is reused only when its fingerprint still matches (the scene file, every
 /// asset and metadata file it was built from, the plan, the tool version and the record
-/// schema; see [`Fingerprints::why_stale`]) and unless `options.force`; failed scenes are
-/// always retried. A scene that fails to load or evaluate, or runs past the plan's time
-/// budget, is recorded as failed and the run goes on. The output folder is checked for
+/// schema; see [`Fingerprints::why_stale`]) and unless `options.force`; failed and partial
+/// scenes are always retried. A scene that fails to load, or runs past the plan's time budget
+/// while loading, is recorded as failed; a metric that fails (a VLM request without an answer,
+/// the time budget passed while it runs, ...) makes the scene partial, its other results kept
+/// ([`crate::Evaluator::evaluate_scene`]); the run goes on. The output folder is checked for
 /// writing before any scene is evaluated.
 ///
 /// Results do not depend on the number of threads: each scene is evaluated independently and
@@ -217,9 +224,16 @@ pub fn run_batch(
         evaluated: 0,
         reused: 0,
         failed: 0,
+        partial: 0,
     };
     for r in results {
         let (record, status, timing) = r?;
+        if matches!(
+            (&status, &record.outcome),
+            (SceneStatus::Evaluated { .. }, Outcome::Partial { .. })
+        ) {
+            outcome.partial += 1;
+        }
         match status {
             SceneStatus::Evaluated { .. } => outcome.evaluated += 1,
             SceneStatus::Reused => outcome.reused += 1,
@@ -267,8 +281,10 @@ impl Batch<'_> {
             return Err(Reason::New);
         }
         let record = SceneRecord::read(path).map_err(|e| Reason::Unreadable(e.to_string()))?;
-        if !matches!(record.outcome, Outcome::Ok { .. }) {
-            return Err(Reason::FailedBefore);
+        match record.outcome {
+            Outcome::Ok { .. } => {}
+            Outcome::Partial { .. } => return Err(Reason::Incomplete),
+            Outcome::Failed { .. } => return Err(Reason::FailedBefore),
         }
         let Some(old) = &record.fingerprint else {
             return Err(Reason::Unreadable("it has no fingerprint".into()));
@@ -382,10 +398,10 @@ impl Batch<'_> {
         })?;
         text.push('\n');
         crate::write_atomic(&scene.timing_path(&self.options.out_dir), text.as_bytes())?;
-        let status = if matches!(record.outcome, Outcome::Ok { .. }) {
-            SceneStatus::Evaluated { why }
-        } else {
+        let status = if matches!(record.outcome, Outcome::Failed { .. }) {
             SceneStatus::Failed { why }
+        } else {
+            SceneStatus::Evaluated { why }
         };
         Ok((record, status, Some(timing), failure))
     }

@@ -3,16 +3,25 @@
 //! [`Evaluator::evaluate_scene`]: the one place that says in which order a scene's metrics
 //! run.
 
+use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
+use futures_util::future::join;
+
 use crate::annotation::AnnotationRow;
-use crate::fidelity::{FidelityEvaluator, FidelityReport, MatchingRecord, ObjectViews, Resources};
+use crate::fidelity::placement::{Asked, ask_functional_sides, ask_support_types};
+use crate::fidelity::{FidelityError, FidelityEvaluator, MatchingRecord, ObjectViews, Resources, ViewKind};
+use crate::geom::Side;
 use crate::io::AssetLibrary;
-use crate::plausibility::{self, Deadline, MetricTiming, Sources};
-use crate::scene::Scene;
+use crate::plausibility::{self, Deadline, FunctionalSidesSource, MetricTiming, Sources, SupportTypeSource};
+use crate::scene::{Scene, SupportType};
 use crate::vlm::Session;
-use crate::{EvalError, EvaluationPlan, Metric, SceneReport, SharedVlm};
+use crate::{
+    EvalError, EvaluationPlan, IncompleteMetric, Metric, ObjectPlacement, PlacementSource, Provenance,
+    SceneReport, SharedVlm,
+};
 
 /// Runs an [`EvaluationPlan`] on scenes.
 ///
@@ -188,20 +197,32 @@ impl Evaluator {
     /// 1. With a VLM, and a scene that needs it (text-fidelity metrics with a row, or support
     ///    or accessibility with the default sources), a [`Session`] for the scene and its
     ///    object views (rendered into `inputs.views_dir` when given).
-    /// 2. With a VLM and the default sources, the support types and functional sides the
-    ///    objects do not state are asked of the VLM; they go between what the scene states and
-    ///    the category tables (an object the VLM does not answer for takes the table's).
-    /// 3. The geometry metrics ([`plausibility::evaluate_metrics`], under the deadline).
-    /// 4. When the plan runs text-fidelity metrics and the scene has an annotation row, CNT,
-    ///    ATR, OOR, OAR ([`FidelityEvaluator::evaluate`]). A fidelity plan without a row
-    ///    reports no fidelity section (a warning is logged): a batch run gives every scene
-    ///    the row the annotations have for it, if any.
-    /// 5. The report, built once ([`SceneReport::new`]).
+    /// 2. Every VLM question of the scene that does not wait on another is asked together,
+    ///    under one [`pollster::block_on`]: the support types and functional sides the objects
+    ///    do not state (with the default sources), the matching of every object and the
+    ///    relation mappings; then, once the matching is known, the attribute questions
+    ///    ([`FidelityEvaluator::evaluate_async`]). The VLM's limit (`--vlm-concurrency`) caps
+    ///    what is really in flight; results do not depend on the order answers arrive in.
+    /// 3. The support types and functional sides go between what the scene states and the
+    ///    category tables (an object the VLM does not answer for takes the table's); where
+    ///    each object's came from, and why, is recorded ([`SceneReport::placement`]).
+    /// 4. The geometry metrics ([`plausibility::evaluate_metrics`], under the deadline).
+    /// 5. CNT, ATR, OOR, OAR from step 2 when the plan runs text-fidelity metrics and the scene
+    ///    has an annotation row. A fidelity plan without a row reports no fidelity section (a
+    ///    warning is logged): a batch run gives every scene the row the annotations have for
+    ///    it, if any.
+    /// 6. The report, built once ([`SceneReport::new`]).
+    ///
+    /// A metric that cannot be computed, a VLM request that gets no answer at all (the
+    /// endpoint down, a refused key, a time-out), or any other error of one metric (a
+    /// malformed annotation entry, the time budget), costs only the metrics that needed it:
+    /// they are listed in [`SceneReport::incomplete`] with the reason (the record's status is
+    /// then `partial`), every other result is kept. Support and accessibility are computed
+    /// with the category tables for the objects whose question failed, and listed too.
     ///
     /// # Errors
-    /// [`EvalError::Plausibility`] when a metric rejects its parameters or the deadline passes,
-    /// [`EvalError::Fidelity`] when a view cannot be made, the VLM cannot be asked or an
-    /// annotation entry is malformed.
+    /// None today: every failure is one metric's ([`SceneReport::incomplete`]). The `Result`
+    /// is kept for errors of the scene as a whole.
     pub fn evaluate_scene(
         &self,
         scene: &Scene,
@@ -210,7 +231,7 @@ impl Evaluator {
         let name = inputs.name.or(scene.id());
         let none = Deadline::none();
         let deadline = inputs.deadline.unwrap_or(&none);
-        let fidelity_runs = self.plan.has_fidelity() && inputs.row.is_some();
+        let row = inputs.row.filter(|_| self.plan.has_fidelity());
         if self.plan.has_fidelity() && inputs.row.is_none() {
             tracing::warn!(
                 scene = name.unwrap_or_default(),
@@ -218,48 +239,153 @@ impl Evaluator {
             );
         }
         let session = self.vlm.clone().map(Session::new);
-        let views = match &session {
-            Some(_) if fidelity_runs || self.wants_vlm_sources() => {
-                self.views(scene, inputs.assets, inputs.views_dir)?
+        let views: Option<Box<dyn ObjectViews>> = match &session {
+            Some(_) if row.is_some() || self.wants_vlm_sources() => {
+                match self.views(scene, inputs.assets, inputs.views_dir) {
+                    Ok(v) => v,
+                    // Every view then fails with the reason: what needs views is incomplete.
+                    Err(e) => Some(Box::new(FailedViews(Arc::new(e)))),
+                }
             }
             _ => None,
         };
-        let vlm_sources = match &session {
-            Some(s) => self.vlm_sources(scene, s, views.as_deref())?,
+
+        // Every VLM question together: placement, then the fidelity metrics' questions.
+        let start = Instant::now();
+        let fidelity_metrics = self.plan.fidelity_metrics();
+        let res = Resources {
+            session: session.as_ref(),
+            views: views.as_deref(),
+            scene_name: name.unwrap_or_default(),
+        };
+        let placement = async {
+            match &session {
+                Some(s) if self.wants_vlm_sources() => {
+                    Some(self.ask_placement(scene, s, views.as_deref()).await)
+                }
+                _ => None,
+            }
+        };
+        let fidelity = async {
+            match row {
+                Some(row) => Some(
+                    self.fidelity
+                        .evaluate_async(scene, row, &fidelity_metrics, &res)
+                        .await,
+                ),
+                None => None,
+            }
+        };
+        let (asked, fidelity) = pollster::block_on(join(placement, fidelity));
+        let vlm_seconds = start.elapsed().as_secs_f64();
+
+        let mut incomplete = Vec::new();
+        let mut placement = None;
+        let sources = match &asked {
+            Some(asked) => {
+                let (sources, objects) = self.placement_sources(scene, asked, &mut incomplete);
+                placement = Some(objects);
+                Some(sources)
+            }
             None => None,
         };
         let mut timings = Vec::new();
-        let geometry = plausibility::evaluate_metrics(
+        let geometry = self.geometry(
             scene,
-            &self.plan.params,
-            vlm_sources.as_ref().unwrap_or(&self.sources),
-            &self.plan.geometry_metrics(),
+            sources.as_ref().unwrap_or(&self.sources),
             deadline,
             &mut timings,
-        )?;
-        let mut fidelity: Option<FidelityReport> = None;
-        let mut matching = None;
-        let mut fidelity_seconds = None;
-        if let (true, Some(row)) = (fidelity_runs, inputs.row) {
-            let start = Instant::now();
-            let res = Resources {
-                session: session.as_ref(),
-                views: views.as_deref(),
-                scene_name: name.unwrap_or_default(),
-            };
-            let outcome = self
-                .fidelity
-                .evaluate(scene, row, &self.plan.fidelity_metrics(), &res)?;
-            fidelity_seconds = Some(start.elapsed().as_secs_f64());
-            fidelity = Some(outcome.report);
-            matching = Some(outcome.matching);
+            &mut incomplete,
+        );
+        let (fidelity, matching) = match fidelity {
+            Some(mut outcome) => {
+                // The scene's whole session: placement questions included, every answer in.
+                outcome.report.vlm_usage = session.as_ref().map(Session::usage);
+                for f in &outcome.failures {
+                    incomplete.push(IncompleteMetric::new(
+                        Metric::from(f.metric),
+                        f.is_vlm(),
+                        f.error.as_ref(),
+                    ));
+                }
+                (Some(outcome.report), outcome.matching)
+            }
+            None => (None, None),
+        };
+        let fidelity_seconds = row.map(|_| vlm_seconds);
+        let mut report = SceneReport::new(name.map(str::to_owned), geometry, fidelity);
+        if let Some(p) = placement {
+            report = report.with_placement(p);
+        }
+        if !incomplete.is_empty() {
+            tracing::warn!(
+                scene = name.unwrap_or_default(),
+                metrics = ?incomplete.iter().map(|m| m.metric.name()).collect::<Vec<_>>(),
+                "scene incomplete"
+            );
         }
         Ok(SceneEvaluation {
-            report: SceneReport::new(name.map(str::to_owned), geometry, fidelity),
+            report: report.with_incomplete(incomplete),
             matching,
             timings,
             fidelity_seconds,
         })
+    }
+
+    /// The geometry metrics of the plan, each failure costing only its own metric: all at once
+    /// (they share intermediate results), and when that fails, one at a time, the failures
+    /// added to `incomplete`.
+    fn geometry(
+        &self,
+        scene: &Scene,
+        sources: &Sources,
+        deadline: &Deadline,
+        timings: &mut Vec<MetricTiming>,
+        incomplete: &mut Vec<IncompleteMetric>,
+    ) -> plausibility::PlausibilityReport {
+        let metrics = self.plan.geometry_metrics();
+        let params = &self.plan.params;
+        let mut all_timings = Vec::new();
+        match plausibility::evaluate_metrics(scene, params, sources, &metrics, deadline, &mut all_timings) {
+            Ok(report) => {
+                timings.extend(all_timings);
+                return report;
+            }
+            Err(e) => tracing::warn!(error = %e, "a geometry metric failed; computing them one by one"),
+        }
+        let mut report = plausibility::PlausibilityReport {
+            scene_id: scene.id().map(str::to_owned),
+            object_ids: scene.objects().iter().map(|o| o.id().clone()).collect(),
+            metrics: plausibility::Metric::ALL
+                .into_iter()
+                .filter(|m| metrics.contains(m))
+                .collect(),
+            summary: plausibility::PlausibilitySummary::default(),
+            collision: None,
+            support: None,
+            navigability: None,
+            accessibility: None,
+            out_of_bounds: None,
+            opening_clearance: None,
+        };
+        for metric in report.metrics.clone() {
+            match plausibility::evaluate_metrics(scene, params, sources, &[metric], deadline, timings) {
+                Ok(one) => {
+                    report.collision = report.collision.or(one.collision);
+                    report.support = report.support.or(one.support);
+                    report.navigability = report.navigability.or(one.navigability);
+                    report.accessibility = report.accessibility.or(one.accessibility);
+                    report.out_of_bounds = report.out_of_bounds.or(one.out_of_bounds);
+                    report.opening_clearance = report.opening_clearance.or(one.opening_clearance);
+                }
+                Err(e) => {
+                    tracing::warn!(%metric, error = %e, "metric not computed");
+                    incomplete.push(IncompleteMetric::new(Metric::from(metric), false, &e));
+                }
+            }
+        }
+        report.summary = plausibility::PlausibilitySummary::of(&report);
+        report
     }
 
     /// Whether the VLM answers support types or functional sides: a VLM is configured, the
@@ -301,46 +427,168 @@ impl Evaluator {
         Ok(None)
     }
 
-    /// The plausibility sources of one scene with the VLM's answers between what the scene
-    /// states and the category tables (`None`: use [`Evaluator::sources`]). Objects that state
-    /// their own values are not asked about.
-    fn vlm_sources(
+    /// Asks the VLM, together, the support types (with views) and functional sides the objects
+    /// do not state, for the metrics the plan runs.
+    async fn ask_placement(
         &self,
         scene: &Scene,
         session: &Session<SharedVlm>,
         views: Option<&dyn ObjectViews>,
-    ) -> Result<Option<Sources>, EvalError> {
-        use crate::fidelity::placement::{ask_functional_sides, ask_support_types};
-        use crate::plausibility::{Chain, FunctionalSidePriors, Stated, SupportTypePriors};
-        if !self.wants_vlm_sources() {
-            return Ok(None);
-        }
-        let support = match views {
-            Some(v) if self.plan.runs(Metric::Support) => {
-                ask_support_types(scene, session, v, |o| o.support_type().is_some())?
+    ) -> AskedPlacement {
+        let support = async {
+            match views {
+                Some(v) if self.plan.runs(Metric::Support) => {
+                    Some(ask_support_types(scene, session, v, |o| o.support_type().is_some()).await)
+                }
+                _ => None,
             }
-            _ => Default::default(),
         };
-        let sides = if self.plan.runs(Metric::Accessibility) {
-            ask_functional_sides(scene, session, |o| o.functional_sides().is_some())?
+        let sides = async {
+            match self.plan.runs(Metric::Accessibility) {
+                true => Some(ask_functional_sides(scene, session, |o| o.functional_sides().is_some()).await),
+                false => None,
+            }
+        };
+        let (support, sides) = join(support, sides).await;
+        AskedPlacement {
+            support,
+            sides,
+            views: views.is_some(),
+        }
+    }
+
+    /// The plausibility sources of one scene with the VLM's answers between what the scene
+    /// states and the category tables; where each object's values came from and why; the
+    /// metrics whose questions failed, added to `incomplete`.
+    fn placement_sources(
+        &self,
+        scene: &Scene,
+        asked: &AskedPlacement,
+        incomplete: &mut Vec<IncompleteMetric>,
+    ) -> (Sources, Vec<ObjectPlacement>) {
+        use crate::plausibility::{Chain, FunctionalSidePriors, Stated, SupportTypePriors};
+        let sources = Sources::new(
+            Chain::new(
+                Stated,
+                Chain::new(
+                    VlmAnswers(answered(asked.support.as_ref())),
+                    SupportTypePriors::default(),
+                ),
+            ),
+            Chain::new(
+                Stated,
+                Chain::new(
+                    VlmAnswers(answered(asked.sides.as_ref())),
+                    FunctionalSidePriors::default(),
+                ),
+            ),
+        );
+        for (metric, map) in [
+            (Metric::Support, asked.support.as_ref().map(failed_first)),
+            (Metric::Accessibility, asked.sides.as_ref().map(failed_first)),
+        ] {
+            if let Some(Some(e)) = map {
+                incomplete.push(IncompleteMetric::new(metric, true, e.as_ref()));
+            }
+        }
+        let not_asked_support = if asked.views {
+            "not asked"
         } else {
-            Default::default()
+            "not asked: no renderer for the object views the VLM is shown"
         };
-        Ok(Some(Sources::new(
-            Chain::new(
-                Stated,
-                Chain::new(VlmAnswers(support), SupportTypePriors::default()),
-            ),
-            Chain::new(
-                Stated,
-                Chain::new(VlmAnswers(sides), FunctionalSidePriors::default()),
-            ),
-        )))
+        let objects = scene
+            .objects()
+            .iter()
+            .map(|o| {
+                let id = o.id().as_str();
+                ObjectPlacement {
+                    object: o.id().clone(),
+                    support_type: self.plan.runs(Metric::Support).then(|| {
+                        let a = sources.support_types.support_type(scene, o);
+                        provenance(
+                            a,
+                            asked.support.as_ref().and_then(|m| m.get(id)),
+                            not_asked_support,
+                        )
+                    }),
+                    functional_sides: self.plan.runs(Metric::Accessibility).then(|| {
+                        let a = sources.functional_sides.functional_sides(scene, o);
+                        provenance(
+                            a,
+                            asked.sides.as_ref().and_then(|m| m.get(id)),
+                            "not asked: the object has no description or category to describe",
+                        )
+                    }),
+                }
+            })
+            .collect();
+        (sources, objects)
     }
 }
 
+/// What the VLM was asked about the objects' placement: per object, by id.
+struct AskedPlacement {
+    support: Option<BTreeMap<String, Asked<SupportType>>>,
+    sides: Option<BTreeMap<String, Asked<Vec<Side>>>>,
+    /// Whether there were views to show (support types are asked only with them).
+    views: bool,
+}
+
+/// The values the VLM answered, by object id.
+fn answered<T: Clone>(asked: Option<&BTreeMap<String, Asked<T>>>) -> BTreeMap<String, T> {
+    asked
+        .into_iter()
+        .flatten()
+        .filter_map(|(id, a)| a.value().map(|v| (id.clone(), v.clone())))
+        .collect()
+}
+
+/// The first failed question of `asked`, in object order.
+fn failed_first<T>(asked: &BTreeMap<String, Asked<T>>) -> Option<Arc<FidelityError>> {
+    asked.values().find_map(|a| match a {
+        Asked::Failed(e) => Some(e.clone()),
+        _ => None,
+    })
+}
+
+/// Where a value a source chain gave (`answer`) came from, and why; `asked` is what the VLM
+/// gave for the object (`None`: it was not asked, for `not_asked`).
+fn provenance<T: Clone>(
+    answer: Option<plausibility::Answer<T>>,
+    asked: Option<&Asked<T>>,
+    not_asked: &str,
+) -> Provenance<T> {
+    let source = match answer.as_ref().map(|a| a.source.as_str()) {
+        Some("scene") => PlacementSource::Scene,
+        Some(VLM_SOURCE) => PlacementSource::Vlm,
+        Some(_) => PlacementSource::CategoryPrior,
+        None => PlacementSource::None,
+    };
+    let reason = match (source, asked) {
+        (PlacementSource::Scene, _) => "stated in the scene file".to_owned(),
+        (_, Some(Asked::Answered { reason, .. })) => reason.clone(),
+        (_, Some(Asked::Unanswered(why))) => format!("the VLM gave no usable answer: {why}"),
+        (_, Some(Asked::Failed(e))) => {
+            format!("the VLM request failed: {}", crate::ErrorChain::new(e.as_ref()))
+        }
+        (_, None) => not_asked.to_owned(),
+    };
+    let reason = match source {
+        PlacementSource::None => format!("{reason}; no category table entry either"),
+        _ => reason,
+    };
+    Provenance {
+        value: answer.map(|a| a.value),
+        source,
+        reason,
+    }
+}
+
+/// The source name of the VLM's answers in the plausibility reports.
+const VLM_SOURCE: &str = "vlm";
+
 /// The VLM's answers as a plausibility source (named `vlm` in the reports).
-struct VlmAnswers<T>(std::collections::BTreeMap<String, T>);
+struct VlmAnswers<T>(BTreeMap<String, T>);
 
 impl<Q> plausibility::Source<Q> for VlmAnswers<Q::Value>
 where
@@ -353,8 +601,26 @@ where
     ) -> Option<plausibility::Answer<Q::Value>> {
         self.0.get(object.id().as_str()).map(|v| plausibility::Answer {
             value: v.clone(),
-            source: "vlm".to_owned(),
+            source: VLM_SOURCE.to_owned(),
         })
+    }
+}
+
+/// Object views that cannot be made, each failing with why (the renderer could not prepare
+/// the scene): the metrics that need views are incomplete, the others are computed.
+struct FailedViews(Arc<EvalError>);
+
+impl ObjectViews for FailedViews {
+    fn view(&self, object: &str, kind: ViewKind) -> Result<crate::vlm::PngImage, FidelityError> {
+        Err(FidelityError::View {
+            object: object.to_owned(),
+            view: kind.name(),
+            source: Box::new(self.0.clone()),
+        })
+    }
+
+    fn made(&self) -> u64 {
+        0
     }
 }
 

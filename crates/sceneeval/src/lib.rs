@@ -110,7 +110,10 @@ pub use metric::{Metric, UnknownMetric};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
 pub use plausibility::{Deadline, MetricTiming};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
-pub use report::{SCENE_REPORT_SCHEMA, SceneReport, SceneSummary};
+pub use report::{
+    IncompleteMetric, ObjectPlacement, PlacementSource, Provenance, SCENE_REPORT_SCHEMA, SceneReport,
+    SceneSummary,
+};
 pub use request::{
     ChosenPlan, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, EvaluationRequest,
     NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard,

@@ -35,6 +35,14 @@ pub enum Outcome {
         /// The report.
         report: Box<SceneReport>,
     },
+    /// Evaluated, but some metrics could not be computed ([`SceneReport::incomplete`] says
+    /// which and why: a VLM request that got no answer, any other error of one metric); every
+    /// other metric's result is kept. A re-run evaluates the scene again (with the response
+    /// cache, asking only what is missing).
+    Partial {
+        /// The report.
+        report: Box<SceneReport>,
+    },
     /// Not evaluated.
     Failed {
         /// Where it failed.
@@ -57,14 +65,18 @@ pub enum Stage {
 }
 
 impl SceneRecord {
-    /// A record of a successful evaluation.
+    /// A record of an evaluation: status `ok`, or `partial` when the report lists metrics
+    /// that could not be computed ([`SceneReport::incomplete`]).
     pub fn ok(scene: SceneName, report: SceneReport) -> Self {
+        let report = Box::new(report);
         SceneRecord {
             schema: RECORD_SCHEMA.to_owned(),
             scene,
             fingerprint: None,
-            outcome: Outcome::Ok {
-                report: Box::new(report),
+            outcome: if report.incomplete.is_empty() {
+                Outcome::Ok { report }
+            } else {
+                Outcome::Partial { report }
             },
         }
     }
@@ -89,11 +101,20 @@ impl SceneRecord {
         self
     }
 
-    /// The report, if the scene was evaluated.
+    /// The report, if the scene was evaluated (completely or partly).
     pub fn report(&self) -> Option<&SceneReport> {
         match &self.outcome {
-            Outcome::Ok { report } => Some(report),
+            Outcome::Ok { report } | Outcome::Partial { report } => Some(report),
             Outcome::Failed { .. } => None,
+        }
+    }
+
+    /// The status as `eval.json` writes it: `ok`, `partial` or `failed`.
+    pub fn status(&self) -> &'static str {
+        match &self.outcome {
+            Outcome::Ok { .. } => "ok",
+            Outcome::Partial { .. } => "partial",
+            Outcome::Failed { .. } => "failed",
         }
     }
 

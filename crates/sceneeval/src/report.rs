@@ -4,12 +4,14 @@
 
 use serde::{Deserialize, Deserializer, Serialize};
 
+use crate::Metric;
 use crate::fidelity::{FidelityReport, FidelitySummary};
+use crate::geom::Side;
 use crate::plausibility::{
     self, AccessibilityReport, CollisionReport, NavigabilityReport, OpeningClearanceReport,
     OutOfBoundsReport, PlausibilityReport, PlausibilitySummary, SupportReport,
 };
-use crate::scene::ObjectId;
+use crate::scene::{ObjectId, SupportType};
 
 /// The schema name and version written into every per-scene report.
 pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
@@ -19,7 +21,9 @@ pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
 /// The fields are the JSON fields, in order (serde derives both directions): the schema, the
 /// scene's name, its objects, the geometry metrics that ran, the scene-level [`SceneSummary`],
 /// each geometry metric's report with its per-object evidence (`None` when it did not run),
-/// then the text-fidelity report when fidelity metrics ran.
+/// then the text-fidelity report when fidelity metrics ran, where each object's support type
+/// and functional sides came from when the VLM was asked for them, and the metrics that could
+/// not be computed (the record's status is then `partial`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SceneReport {
     /// Always [`SCENE_REPORT_SCHEMA`].
@@ -51,6 +55,91 @@ pub struct SceneReport {
     /// What the text-fidelity metrics found, when they ran.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fidelity: Option<FidelityReport>,
+    /// Where each object's support type and functional sides came from, and why, when the VLM
+    /// was asked for them (support or accessibility with a VLM and the default sources).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placement: Option<Vec<ObjectPlacement>>,
+    /// The metrics that could not be computed, or not completely, and why, in metric order
+    /// (empty: the scene is complete). A metric listed here is left out of the summary
+    /// averages, and the next run evaluates the scene again.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub incomplete: Vec<IncompleteMetric>,
+}
+
+/// A metric that could not be computed, or not completely: the failure of a VLM request it
+/// needed (the endpoint down, a refused key, a time-out), or any other error it met. Its
+/// section is absent from the report, except support and accessibility, which are computed
+/// with the category tables for the objects whose question failed (see
+/// [`SceneReport::placement`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IncompleteMetric {
+    /// The metric.
+    pub metric: Metric,
+    /// Whether a VLM request failed (asking again later may complete the metric).
+    pub vlm: bool,
+    /// The error.
+    pub error: String,
+    /// The error's causes, outermost first.
+    pub causes: Vec<String>,
+}
+
+impl IncompleteMetric {
+    /// `metric` could not be computed because of `error`.
+    pub fn new(metric: Metric, vlm: bool, error: &(dyn std::error::Error + 'static)) -> Self {
+        IncompleteMetric {
+            metric,
+            vlm,
+            error: error.to_string(),
+            causes: crate::chain::causes(error).map(|c| c.to_string()).collect(),
+        }
+    }
+}
+
+/// Where one object's support type and functional sides came from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ObjectPlacement {
+    /// The object.
+    pub object: ObjectId,
+    /// Its support type, when the support metric ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub support_type: Option<Provenance<SupportType>>,
+    /// Its functional sides, when the accessibility metric ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub functional_sides: Option<Provenance<Vec<Side>>>,
+}
+
+/// A value an object's placement was checked with, where it came from and why.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Provenance<T> {
+    /// The value the metric used; `null` when no source knew it (support then checks the
+    /// object as resting on the ground; accessibility skips it).
+    pub value: Option<T>,
+    /// Where it came from.
+    pub source: PlacementSource,
+    /// Why: the model's reason, or why the category table answered instead (the VLM's answer
+    /// was not valid, its request failed, or it was not asked, with the reason).
+    pub reason: String,
+}
+
+/// Where a support type or functional sides came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlacementSource {
+    /// Stated in the scene file.
+    Scene,
+    /// Answered by the VLM.
+    Vlm,
+    /// The built-in category table, because the VLM gave no usable answer (a fallback).
+    CategoryPrior,
+    /// No source knew it (a fallback).
+    None,
+}
+
+impl PlacementSource {
+    /// Whether the value is a fallback: not stated and not answered by the VLM.
+    pub fn is_fallback(self) -> bool {
+        matches!(self, PlacementSource::CategoryPrior | PlacementSource::None)
+    }
 }
 
 /// The scene-level numbers of a [`SceneReport`]: the geometry metrics' (`null` where a metric
@@ -106,7 +195,27 @@ impl SceneReport {
             out_of_bounds,
             opening_clearance,
             fidelity,
+            placement: None,
+            incomplete: Vec::new(),
         }
+    }
+
+    /// The report with where each object's placement values came from.
+    pub fn with_placement(mut self, placement: Vec<ObjectPlacement>) -> Self {
+        self.placement = Some(placement);
+        self
+    }
+
+    /// The report with the metrics that could not be computed, sorted into metric order.
+    pub fn with_incomplete(mut self, mut incomplete: Vec<IncompleteMetric>) -> Self {
+        incomplete.sort_by_key(|m| m.metric);
+        self.incomplete = incomplete;
+        self
+    }
+
+    /// Whether `metric` could not be computed completely ([`SceneReport::incomplete`]).
+    pub fn is_incomplete(&self, metric: Metric) -> bool {
+        self.incomplete.iter().any(|m| m.metric == metric)
     }
 }
 

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use crate::annotation::Annotations;
 use crate::fidelity::FidelitySummary;
 use crate::plausibility::PlausibilitySummary;
-use crate::{EvalError, EvaluationPlan, SceneRecord, write_atomic};
+use crate::{EvalError, EvaluationPlan, Metric, SceneRecord, write_atomic};
 
 /// The name of the CSV summary written into an output folder.
 pub const SUMMARY_CSV: &str = "summary.csv";
@@ -42,6 +42,16 @@ pub const UNANNOTATED: &str = "unannotated";
 ///
 /// Higher is better for CNT, ATR, OOR, OAR, SUP, NAV and ACC; lower for the others. A column is empty when no scene
 /// of the group has a value (the metric did not run, or never applies).
+///
+/// A `partial` scene (some metric could not be computed: a VLM request that got no answer,
+/// another error of one metric; [`crate::SceneReport::incomplete`]) counts as evaluated, and
+/// only its complete metrics are averaged. Besides, per group:
+///
+/// | column | what |
+/// |---|---|
+/// | `partial` | scenes evaluated partly |
+/// | `CNT_unanswered` ... `OAR_unanswered` | specs without a verdict because an answer they need is missing (left out of the scores), summed over the scenes |
+/// | `SUP_fallback`, `ACC_fallback` | objects whose support type, functional sides came from the category table (or no source) because the VLM's question failed or got no usable answer, summed over the scenes ([`crate::SceneReport::placement`]) |
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     /// The groups: [`ALL_SCENES`] first, then easy, medium, hard, other difficulties in name
@@ -68,16 +78,18 @@ pub struct SceneRow {
     pub scene_id: Option<String>,
     /// Its difficulty, when it has an annotation row.
     pub difficulty: Option<String>,
-    /// `ok` or `failed`.
+    /// `ok`, `partial` or `failed`.
     pub status: String,
-    /// Why it failed: the stage and the error with its causes on one line.
+    /// Why it failed (the stage and the error with its causes on one line), or which metrics
+    /// of a partial scene could not be computed and why.
     pub error: Option<String>,
     /// The scene's numbers (a group of one).
     pub values: GroupSummary,
 }
 
-/// The columns of the per-scene table.
-const SCENE_COLUMNS: [&str; 17] = [
+/// The columns of the per-scene table: the scene, then the group table's numbers for the
+/// scene alone ([`GroupSummary::cell`]), then why it failed or is partial.
+const SCENE_COLUMNS: [&str; 23] = [
     "scene",
     "scene_id",
     "difficulty",
@@ -94,6 +106,12 @@ const SCENE_COLUMNS: [&str; 17] = [
     "OOB",
     "DOOR_blk",
     "WIN_blk",
+    "CNT_unanswered",
+    "ATR_unanswered",
+    "OOR_unanswered",
+    "OAR_unanswered",
+    "SUP_fallback",
+    "ACC_fallback",
     "error",
 ];
 
@@ -108,6 +126,10 @@ pub struct GroupSummary {
     pub evaluated: usize,
     /// Scenes that failed to load or evaluate.
     pub failed: usize,
+    /// Scenes evaluated partly (counted in `evaluated`): their incomplete metrics are left out
+    /// of the averages.
+    #[serde(default)]
+    pub partial: usize,
     /// Mean CNT, percent.
     #[serde(default)]
     pub cnt: Option<f64>,
@@ -123,6 +145,10 @@ pub struct GroupSummary {
     /// Scenes behind `cnt`, `atr`, `oor`, `oar`.
     #[serde(default)]
     pub fidelity_n: [usize; 4],
+    /// Specs of CNT, ATR, OOR, OAR without a verdict (an answer they need is missing; left out
+    /// of the scores), summed over the group's scenes.
+    #[serde(default)]
+    pub fidelity_unanswered: [usize; 4],
     /// Mean share of objects in collision, percent.
     pub col_ob: Option<f64>,
     /// Share of scenes with a collision, percent.
@@ -139,6 +165,13 @@ pub struct GroupSummary {
     pub door_blocked: Option<f64>,
     /// Mean share of windows blocked, percent.
     pub window_blocked: Option<f64>,
+    /// Objects whose support type is a fallback (the category table, or no source) because
+    /// the VLM's question failed or got no usable answer, summed over the group's scenes.
+    #[serde(default)]
+    pub support_fallbacks: usize,
+    /// Objects whose functional sides are a fallback, likewise.
+    #[serde(default)]
+    pub sides_fallbacks: usize,
 }
 
 /// The legend printed below the Markdown table.
@@ -147,14 +180,19 @@ pub const LEGEND: &str = "Values are percentages, macro-averaged over the group'
 COL_sc (scenes with a collision), OOB (objects out of bounds), DOOR_blk and WIN_blk (blocked \
 doors and windows); higher is better for SUP (supported objects), NAV (navigable floor) and ACC \
 (accessible functional sides), and for CNT, ATR, OOR, OAR (satisfied object-count, attribute, \
-object-object and object-architecture specs; `*_n`: scenes with such specs). `failed` scenes are \
-counted but not averaged.\n";
+object-object and object-architecture specs; `*_n`: scenes with such specs; `*_unanswered`: specs \
+without a verdict because an answer they need is missing, left out of the scores). `failed` scenes \
+are counted but not averaged; `partial` scenes (some metric could not be computed, listed below) \
+are averaged on their complete metrics only. `SUP_fallback`, `ACC_fallback`: objects whose \
+support type or functional sides came from the category table because the VLM's question failed \
+or got no usable answer.\n";
 
-const COLUMNS: [&str; 20] = [
+const COLUMNS: [&str; 27] = [
     "group",
     "scenes",
     "evaluated",
     "failed",
+    "partial",
     "CNT",
     "ATR",
     "OOR",
@@ -171,6 +209,12 @@ const COLUMNS: [&str; 20] = [
     "ATR_n",
     "OOR_n",
     "OAR_n",
+    "CNT_unanswered",
+    "ATR_unanswered",
+    "OOR_unanswered",
+    "OAR_unanswered",
+    "SUP_fallback",
+    "ACC_fallback",
 ];
 
 impl Summary {
@@ -222,7 +266,7 @@ impl Summary {
                 scene: r.scene.to_string(),
                 scene_id: r.scene.id().map(str::to_owned),
                 difficulty: difficulty.clone(),
-                status: if r.report().is_some() { "ok" } else { "failed" }.to_owned(),
+                status: r.status().to_owned(),
                 error: match &r.outcome {
                     crate::Outcome::Failed { stage, error, causes } => Some(format!(
                         "{} stage: {}",
@@ -232,6 +276,20 @@ impl Summary {
                         },
                         crate::ErrorChain::from_parts(error.as_str(), causes)
                     )),
+                    crate::Outcome::Partial { report } => {
+                        let parts: Vec<String> = report
+                            .incomplete
+                            .iter()
+                            .map(|m| {
+                                format!(
+                                    "{}: {}",
+                                    m.metric.name(),
+                                    crate::ErrorChain::from_parts(m.error.as_str(), &m.causes)
+                                )
+                            })
+                            .collect();
+                        Some(format!("incomplete: {}", parts.join("; ")))
+                    }
                     crate::Outcome::Ok { .. } => None,
                 },
                 values: GroupSummary::of(r.scene.as_str(), std::iter::once(*r)),
@@ -275,23 +333,21 @@ impl Summary {
 
     /// The per-scene table as CSV: scene, benchmark id, difficulty, status, the scene's numbers
     /// (the group table's columns, in percent with four decimals; empty where the scene has
-    /// no value), and for a failed scene its stage and error with causes.
+    /// no value), and for a failed scene its stage and error with causes, for a partial one
+    /// its incomplete metrics and why.
     pub fn scenes_csv(&self) -> Result<String, EvalError> {
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record(SCENE_COLUMNS)?;
         for row in &self.scenes {
-            let numbers = row.values.cells(4);
-            let mut cells = vec![
-                row.scene.clone(),
-                row.scene_id.clone().unwrap_or_default(),
-                row.difficulty.clone().unwrap_or_default(),
-                row.status.clone(),
-            ];
-            // The group table's columns after group, scenes, evaluated, failed and before the
-            // `_n` counts.
-            cells.extend_from_slice(&numbers[4..16]);
-            cells.push(row.error.clone().unwrap_or_default());
-            w.write_record(&cells)?;
+            let cells = SCENE_COLUMNS.iter().map(|&column| match column {
+                "scene" => row.scene.clone(),
+                "scene_id" => row.scene_id.clone().unwrap_or_default(),
+                "difficulty" => row.difficulty.clone().unwrap_or_default(),
+                "status" => row.status.clone(),
+                "error" => row.error.clone().unwrap_or_default(),
+                number => row.values.cell(number, 4),
+            });
+            w.write_record(cells)?;
         }
         let bytes = w
             .into_inner()
@@ -304,7 +360,7 @@ impl Summary {
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record(COLUMNS)?;
         for g in &self.groups {
-            w.write_record(g.cells(4))?;
+            w.write_record(COLUMNS.iter().map(|c| g.cell(c, 4)))?;
         }
         let bytes = w
             .into_inner()
@@ -319,9 +375,9 @@ impl Summary {
         let _ = writeln!(out, "| {} |", COLUMNS.join(" | "));
         let _ = writeln!(out, "|{}", "---|".repeat(COLUMNS.len()));
         for g in &self.groups {
-            let cells: Vec<String> = g
-                .cells(2)
-                .into_iter()
+            let cells: Vec<String> = COLUMNS
+                .iter()
+                .map(|c| g.cell(c, 2))
                 .map(|c| if c.is_empty() { "-".to_owned() } else { c })
                 .collect();
             let _ = writeln!(out, "| {} |", cells.join(" | "));
@@ -337,10 +393,13 @@ impl Summary {
             );
         }
         out.push_str(LEGEND);
-        let failed: Vec<&SceneRow> = self.scenes.iter().filter(|r| r.error.is_some()).collect();
-        if !failed.is_empty() {
-            let _ = writeln!(out, "\nFailed scenes ({}):\n", failed.len());
-            for row in failed {
+        for (status, title) in [("partial", "Partial scenes"), ("failed", "Failed scenes")] {
+            let rows: Vec<&SceneRow> = self.scenes.iter().filter(|r| r.status == status).collect();
+            if rows.is_empty() {
+                continue;
+            }
+            let _ = writeln!(out, "\n{title} ({}):\n", rows.len());
+            for row in rows {
                 let _ = writeln!(
                     out,
                     "- `{}`: {}",
@@ -355,16 +414,42 @@ impl Summary {
 
 impl GroupSummary {
     fn of<'a>(group: &str, records: impl Iterator<Item = &'a SceneRecord>) -> Self {
-        let mut scenes = 0;
-        let mut summaries: Vec<&PlausibilitySummary> = Vec::new();
+        let (mut scenes, mut partial) = (0, 0);
+        let mut summaries: Vec<PlausibilitySummary> = Vec::new();
         let mut fidelity: Vec<FidelitySummary> = Vec::new();
+        let mut unanswered = [0usize; 4];
+        let (mut support_fallbacks, mut sides_fallbacks) = (0, 0);
         for r in records {
             scenes += 1;
-            if let Some(report) = r.report() {
-                summaries.push(&report.summary.geometry);
-                if let Some(f) = report.summary.fidelity {
-                    fidelity.push(f);
+            let Some(report) = r.report() else { continue };
+            partial += usize::from(!report.incomplete.is_empty());
+            // Incomplete metrics are left out of the averages.
+            let mut geometry = report.summary.geometry.clone();
+            let mut scores = report.summary.fidelity;
+            for m in &report.incomplete {
+                leave_out(&mut geometry, scores.as_mut(), m.metric);
+            }
+            summaries.push(geometry);
+            fidelity.extend(scores);
+            if let Some(f) = &report.fidelity {
+                let counts = [
+                    f.cnt.as_ref().map(|r| r.unanswered),
+                    f.atr.as_ref().map(|r| r.unanswered),
+                    f.oor.as_ref().map(|r| r.unanswered),
+                    f.oar.as_ref().map(|r| r.unanswered),
+                ];
+                for (total, n) in unanswered.iter_mut().zip(counts) {
+                    *total += n.unwrap_or(0);
                 }
+            }
+            for o in report.placement.iter().flatten() {
+                support_fallbacks +=
+                    usize::from(o.support_type.as_ref().is_some_and(|p| p.source.is_fallback()));
+                sides_fallbacks += usize::from(
+                    o.functional_sides
+                        .as_ref()
+                        .is_some_and(|p| p.source.is_fallback()),
+                );
             }
         }
         let fmean = |f: &dyn Fn(&FidelitySummary) -> Option<f64>| -> (Option<f64>, usize) {
@@ -377,7 +462,7 @@ impl GroupSummary {
         let (oor, oor_n) = fmean(&|s| s.oor);
         let (oar, oar_n) = fmean(&|s| s.oar);
         let mean = |f: &dyn Fn(&PlausibilitySummary) -> Option<f64>| -> Option<f64> {
-            let values: Vec<f64> = summaries.iter().filter_map(|s| f(s)).collect();
+            let values: Vec<f64> = summaries.iter().filter_map(f).collect();
             (!values.is_empty()).then(|| 100.0 * values.iter().sum::<f64>() / values.len() as f64)
         };
         let share = |blocked: Option<usize>, total: Option<usize>| match (blocked, total) {
@@ -389,11 +474,13 @@ impl GroupSummary {
             scenes,
             evaluated: summaries.len(),
             failed: scenes - summaries.len(),
+            partial,
             cnt,
             atr,
             oor,
             oar,
             fidelity_n: [cnt_n, atr_n, oor_n, oar_n],
+            fidelity_unanswered: unanswered,
             col_ob: mean(&|s| s.col_ob),
             col_sc: mean(&|s| s.col_sc.map(|c| if c { 1.0 } else { 0.0 })),
             sup: mean(&|s| s.sup),
@@ -402,33 +489,70 @@ impl GroupSummary {
             oob: mean(&|s| s.oob),
             door_blocked: mean(&|s| share(s.doors_blocked, s.num_doors)),
             window_blocked: mean(&|s| share(s.windows_blocked, s.num_windows)),
+            support_fallbacks,
+            sides_fallbacks,
         }
     }
 
-    fn cells(&self, decimals: usize) -> Vec<String> {
+    /// The cell of `column` (one of the group table's columns), numbers with `decimals`
+    /// decimals, empty for a missing value or an unknown column.
+    pub fn cell(&self, column: &str, decimals: usize) -> String {
         let num = |v: Option<f64>| v.map(|v| format!("{v:.decimals$}")).unwrap_or_default();
-        vec![
-            self.group.clone(),
-            self.scenes.to_string(),
-            self.evaluated.to_string(),
-            self.failed.to_string(),
-            num(self.cnt),
-            num(self.atr),
-            num(self.oor),
-            num(self.oar),
-            num(self.col_ob),
-            num(self.col_sc),
-            num(self.sup),
-            num(self.nav),
-            num(self.acc),
-            num(self.oob),
-            num(self.door_blocked),
-            num(self.window_blocked),
-            self.fidelity_n[0].to_string(),
-            self.fidelity_n[1].to_string(),
-            self.fidelity_n[2].to_string(),
-            self.fidelity_n[3].to_string(),
-        ]
+        match column {
+            "group" => self.group.clone(),
+            "scenes" => self.scenes.to_string(),
+            "evaluated" => self.evaluated.to_string(),
+            "failed" => self.failed.to_string(),
+            "partial" => self.partial.to_string(),
+            "CNT" => num(self.cnt),
+            "ATR" => num(self.atr),
+            "OOR" => num(self.oor),
+            "OAR" => num(self.oar),
+            "COL_ob" => num(self.col_ob),
+            "COL_sc" => num(self.col_sc),
+            "SUP" => num(self.sup),
+            "NAV" => num(self.nav),
+            "ACC" => num(self.acc),
+            "OOB" => num(self.oob),
+            "DOOR_blk" => num(self.door_blocked),
+            "WIN_blk" => num(self.window_blocked),
+            "CNT_n" => self.fidelity_n[0].to_string(),
+            "ATR_n" => self.fidelity_n[1].to_string(),
+            "OOR_n" => self.fidelity_n[2].to_string(),
+            "OAR_n" => self.fidelity_n[3].to_string(),
+            "CNT_unanswered" => self.fidelity_unanswered[0].to_string(),
+            "ATR_unanswered" => self.fidelity_unanswered[1].to_string(),
+            "OOR_unanswered" => self.fidelity_unanswered[2].to_string(),
+            "OAR_unanswered" => self.fidelity_unanswered[3].to_string(),
+            "SUP_fallback" => self.support_fallbacks.to_string(),
+            "ACC_fallback" => self.sides_fallbacks.to_string(),
+            _ => String::new(),
+        }
+    }
+}
+
+/// Leaves `metric`'s numbers out of a scene's summary (it is incomplete).
+fn leave_out(geometry: &mut PlausibilitySummary, fidelity: Option<&mut FidelitySummary>, metric: Metric) {
+    match metric {
+        Metric::Collision => (geometry.col_ob, geometry.col_sc) = (None, None),
+        Metric::Support => geometry.sup = None,
+        Metric::Navigability => (geometry.nav, geometry.all_rooms_reachable) = (None, None),
+        Metric::Accessibility => geometry.acc = None,
+        Metric::OutOfBounds => geometry.oob = None,
+        Metric::OpeningClearance => {
+            (geometry.num_doors, geometry.doors_blocked) = (None, None);
+            (geometry.num_windows, geometry.windows_blocked) = (None, None);
+        }
+        Metric::Cnt | Metric::Atr | Metric::Oor | Metric::Oar => {
+            if let Some(f) = fidelity {
+                match metric {
+                    Metric::Cnt => f.cnt = None,
+                    Metric::Atr => f.atr = None,
+                    Metric::Oor => f.oor = None,
+                    _ => f.oar = None,
+                }
+            }
+        }
     }
 }
 
@@ -513,11 +637,11 @@ mod tests {
         assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             csv.lines().nth(1).unwrap(),
-            "all,3,2,1,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,0,0,0,0"
+            "all,3,2,1,0,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,0,0,0,0,0,0,0,0,0,0"
         );
         let md = s.to_markdown();
         assert!(
-            md.contains("| all | 3 | 2 | 1 | - | - | - | - | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - | 0 | 0 | 0 | 0 |"),
+            md.contains("| all | 3 | 2 | 1 | 0 | - | - | - | - | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 |"),
             "{md}"
         );
         assert!(md.contains("Lower is better for COL_ob"), "{md}");
@@ -537,9 +661,61 @@ mod tests {
         // windows: 0 of 0 is no value.
         assert_eq!(
             lines[1],
-            "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,"
+            "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,0,0,0,0,0,0,"
         );
-        assert_eq!(lines[3], "scene_2,2,,failed,,,,,,,,,,,,,load stage: broken");
+        assert_eq!(
+            lines[3],
+            "scene_2,2,,failed,,,,,,,,,,,,,0,0,0,0,0,0,load stage: broken"
+        );
+    }
+
+    #[test]
+    fn partial_scenes_are_averaged_on_their_complete_metrics_only() {
+        use crate::{IncompleteMetric, Metric, ObjectPlacement, PlacementSource, Provenance};
+        let mut recs = records();
+        // scene_1's support question failed (the endpoint was down): its SUP (50 %) is left
+        // out; its other numbers stay. One object took the category table's support type.
+        let Some(SceneRecord {
+            outcome: crate::Outcome::Ok { report },
+            ..
+        }) = recs.get_mut(1)
+        else {
+            panic!("scene_1 is ok")
+        };
+        let mut report = (**report).clone();
+        report.placement = Some(vec![ObjectPlacement {
+            object: "bed".into(),
+            support_type: Some(Provenance {
+                value: Some(crate::scene::SupportType::Ground),
+                source: PlacementSource::CategoryPrior,
+                reason: "the VLM request failed: 503".into(),
+            }),
+            functional_sides: None,
+        }]);
+        let err = std::io::Error::other("503 Service Unavailable");
+        let report = report.with_incomplete(vec![IncompleteMetric::new(Metric::Support, true, &err)]);
+        recs[1] = SceneRecord::ok(SceneName::new("scene_1"), report);
+        assert_eq!(recs[1].status(), "partial");
+        let s = Summary::from_records(&recs, None);
+        let all = &s.groups[0];
+        assert_eq!((all.scenes, all.evaluated, all.failed, all.partial), (3, 2, 1, 1));
+        // SUP: scene_0's 100 % alone; NAV still (0.8 + 1) / 2 = 90 %.
+        assert_eq!((all.sup, all.nav), (Some(100.0), Some(90.0)));
+        assert_eq!((all.support_fallbacks, all.sides_fallbacks), (1, 0));
+        let md = s.to_markdown();
+        assert!(
+            md.contains(
+                "\nPartial scenes (1):\n\n- `scene_1`: incomplete: support: 503 Service Unavailable\n"
+            ),
+            "{md}"
+        );
+        let scenes = s.scenes_csv().unwrap();
+        let line = scenes.lines().nth(2).unwrap();
+        assert!(line.starts_with("scene_1,1,,partial,"), "{line}");
+        assert!(
+            line.ends_with(",1,0,incomplete: support: 503 Service Unavailable"),
+            "{line}"
+        );
     }
 
     #[test]

@@ -14,7 +14,7 @@ use sceneeval::io::AssetLibrary;
 use sceneeval::render::{RenderSettings, Renderer};
 use sceneeval::vlm::{AnswerContent, Scripted, VlmRequest};
 use sceneeval::{BatchOptions, EvaluationPlan, Evaluator, Preset, SharedVlm, find_scenes, run_batch};
-use sceneeval_test_support::fidelity_model::{CSV, Nth, answer};
+use sceneeval_test_support::fidelity_model::{CSV, answer, pictured_category};
 use serde_json::{Value, json};
 
 fn fixtures() -> PathBuf {
@@ -110,11 +110,14 @@ fn full_plan_with_a_scripted_vlm() {
         return;
     }
     let out = tempfile::tempdir().unwrap();
-    let nth = Nth::default();
+    let views = out.path().to_owned();
     let vlm = Scripted::from_fn("scripted", move |req: &VlmRequest| {
-        let n = nth.next(&req.task, &req.user_text);
+        let pictured = req
+            .images
+            .first()
+            .and_then(|i| pictured_category(&views, i.bytes()));
         Ok(AnswerContent::Json {
-            value: answer(&req.task, &req.user_text, n),
+            value: answer(&req.task, &req.user_text, pictured.as_deref()),
         })
     });
     let mut plan = EvaluationPlan::full(Preset::Default);

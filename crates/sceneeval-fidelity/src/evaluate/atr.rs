@@ -1,14 +1,16 @@
 //! ATR: the VLM's verdicts on each matched instance's attributes (from its front and size
 //! views); not judged without a VLM.
 
-use sceneeval_annotation::{AnnotationRow, CountSpec, Entry, EntryProblem, Quantifier};
+use futures_util::future::join_all;
+use sceneeval_annotation::{AnnotationRow, CountRange, CountSpec, Entry, EntryProblem, Quantifier};
 use sceneeval_scene::Scene;
 use sceneeval_vlm::tasks::{AttributeKey, AttributeTask, InstanceViews};
 use sceneeval_vlm::{Outcome, Vlm};
 
+use super::undecided::{Unknown, agree, verdict_over};
 use super::{FidelityEvaluator, Resources, ids, malformed, spec_count};
 use crate::FidelityError;
-use crate::matching::{Matching, vlm_err};
+use crate::matching::{Matching, vlm_err, with_note};
 use crate::report::{AtrSpec, AttributeAssessment, MetricResult};
 use crate::views::ViewKind;
 
@@ -63,17 +65,46 @@ impl FidelityEvaluator {
     }
 
     /// The ATR result: per ObjAttr spec, the instances the VLM finds having every attribute,
-    /// against the quantifier.
-    pub(super) fn atr<V: Vlm>(
+    /// against the quantifier. The specs' questions are asked together; an instance without a
+    /// verdict on some attribute (and none false) could count or not, as could objects without
+    /// a matching answer: a spec whose verdict they could change has none.
+    ///
+    /// # Errors
+    /// A view that cannot be made, a request without any answer (the first in spec order).
+    pub(super) async fn atr<V: Vlm>(
         &self,
         scene: &Scene,
         m: &Matching,
+        unknown: Unknown<'_>,
         attrs: &[AttrSpecIn],
         res: &Resources<'_, V>,
     ) -> Result<MetricResult<AtrSpec>, FidelityError> {
-        let mut specs = Vec::new();
         let judged = res.session.is_some() && res.views.is_some();
-        for a in attrs {
+        let asks = attrs.iter().map(|a| async move {
+            let objs = m.objects_of(scene, &a.category);
+            let (Some(session), Some(views), false) = (res.session, res.views, objs.is_empty()) else {
+                return Ok(None);
+            };
+            let mut instances = Vec::with_capacity(objs.len());
+            for &i in &objs {
+                let id = scene.objects()[i].id().as_str();
+                instances.push(InstanceViews {
+                    front: views.view(id, ViewKind::Front)?,
+                    size: views.view(id, ViewKind::Size)?,
+                });
+            }
+            let task = AttributeTask::new(a.category.clone(), a.attributes.clone(), instances)
+                .map_err(|e| vlm_err("obj_attribute", e))?;
+            session
+                .ask(&task)
+                .await
+                .map(Some)
+                .map_err(|e| vlm_err("obj_attribute", e))
+        });
+        let answers: Vec<Result<_, FidelityError>> = join_all(asks).await;
+        let mut specs = Vec::new();
+        for (a, answers) in attrs.iter().zip(answers) {
+            let answers = answers?;
             let objs = m.objects_of(scene, &a.category);
             let mut spec = AtrSpec {
                 spec: a.text.clone(),
@@ -88,48 +119,48 @@ impl FidelityEvaluator {
                 satisfied: None,
             };
             if objs.is_empty() {
-                if self.params.presence_gate_respects_quantifier {
+                let gate = if self.params.presence_gate_respects_quantifier {
                     spec.count_satisfied = Some(0);
-                    spec.satisfied = Some(a.count.holds(0));
                     spec.note =
                         Some("no object of the category: decided by the quantifier on a count of 0".into());
+                    a.count.holds(0)
                 } else {
-                    spec.satisfied = Some(false);
                     spec.note =
                         Some("no object of the category: unsatisfied (reference presence gate, Q5)".into());
+                    false
+                };
+                // Objects without a matching answer could be of the category, and could have
+                // the attributes or not.
+                spec.satisfied = match unknown.count() {
+                    0 => Some(gate),
+                    u => agree(Some(gate), verdict_over(&a.count, CountRange::between(0, u))),
+                };
+                if spec.satisfied.is_none() {
+                    spec.unanswered = Some(unknown.reason());
                 }
                 specs.push(spec);
                 continue;
             }
-            let (Some(session), Some(views)) = (res.session, res.views) else {
+            let Some(answers) = answers else {
+                // Not judged: no VLM or no views.
                 specs.push(spec);
                 continue;
             };
-            let mut instances = Vec::with_capacity(objs.len());
-            for &i in &objs {
-                let id = scene.objects()[i].id().as_str();
-                instances.push(InstanceViews {
-                    front: views.view(id, ViewKind::Front)?,
-                    size: views.view(id, ViewKind::Size)?,
-                });
-            }
-            let task = AttributeTask::new(a.category.clone(), a.attributes.clone(), instances)
-                .map_err(|e| vlm_err("obj_attribute", e))?;
-            let answers = pollster::block_on(session.ask(&task)).map_err(|e| vlm_err("obj_attribute", e))?;
-            let mut count = 0u64;
+            let (mut all_true, mut maybe) = (0u64, 0u64);
             let mut problems = Vec::new();
             for (k, &i) in objs.iter().enumerate() {
                 let id = scene.objects()[i].id().as_str().to_owned();
-                let mut all = true;
+                let mut verdicts = Vec::with_capacity(a.attributes.len());
                 for attr in &a.attributes {
                     let key = AttributeKey {
                         instance: k,
                         attribute: attr.clone(),
                     };
                     let (sat, reason) = match answers.get(&key) {
-                        Some(Outcome::Answered { answer, .. }) => {
-                            (Some(answer.satisfied), answer.reason.clone())
-                        }
+                        Some(Outcome::Answered { answer, note, .. }) => (
+                            Some(answer.satisfied),
+                            with_note(answer.reason.clone(), note.clone()),
+                        ),
                         Some(Outcome::Unanswered(why)) => {
                             problems.push(format!("{id}/{attr}: {why}"));
                             (None, format!("unanswered: {why}"))
@@ -139,7 +170,7 @@ impl FidelityEvaluator {
                             (None, "unanswered".into())
                         }
                     };
-                    all &= sat == Some(true);
+                    verdicts.push(sat);
                     spec.assessments.push(AttributeAssessment {
                         object: id.clone(),
                         attribute: attr.clone(),
@@ -147,19 +178,30 @@ impl FidelityEvaluator {
                         reason,
                     });
                 }
-                count += u64::from(all);
+                if verdicts.iter().all(|v| *v == Some(true)) {
+                    all_true += 1;
+                } else if !verdicts.contains(&Some(false)) {
+                    maybe += 1;
+                }
             }
-            if !problems.is_empty() {
-                spec.unanswered = Some(problems.join("; "));
+            spec.count_satisfied = Some(all_true);
+            // Instances without a verdict on some attribute, and objects without a matching
+            // answer, could add to the count.
+            let most = all_true + maybe + unknown.count();
+            spec.satisfied = verdict_over(&a.count, CountRange::between(all_true, most));
+            let mut why = problems;
+            if spec.satisfied.is_none() && unknown.count() > 0 {
+                why.push(unknown.reason());
             }
-            spec.count_satisfied = Some(count);
-            spec.satisfied = Some(a.count.holds(count));
+            if !why.is_empty() {
+                spec.unanswered = Some(why.join("; "));
+            }
             specs.push(spec);
         }
         Ok(if judged || specs.is_empty() {
             MetricResult::new(
                 specs,
-                |s| s.satisfied == Some(true),
+                |s| s.satisfied,
                 "No object attribute requirements to evaluate.",
             )
         } else {

@@ -6,6 +6,7 @@ use sceneeval_relations::Relation;
 use sceneeval_vlm::Unanswered;
 
 use super::FidelityEvaluator;
+use super::undecided::agree;
 use crate::report::{MappingSource, MappingStatus, RelationMappingInfo};
 
 /// A mapping without predicates: its status, source and why.
@@ -60,6 +61,14 @@ pub(super) fn unanswered(why: &Unanswered) -> RelationMappingInfo {
     info(MappingStatus::Unanswered, MappingSource::Vlm, &why.to_string())
 }
 
+/// Why a spec whose mapping is unanswered has no verdict.
+pub(super) fn unanswered_reason(mapping: &RelationMappingInfo) -> String {
+    format!(
+        "the VLM gave no valid mapping of the relationship: {}",
+        mapping.reason
+    )
+}
+
 impl FidelityEvaluator {
     /// The verdict of a spec whose objects are absent: unsatisfied (the reference's presence
     /// gate, Q5), or decided by its quantifier on a count of 0 with
@@ -69,9 +78,19 @@ impl FidelityEvaluator {
     }
 
     /// The verdict of a spec whose relationship was not mapped: satisfied only when no
-    /// predicate expresses it and `unmapped_is_satisfied` (the reference, Q4); an unanswered
-    /// mapping is unsatisfied.
-    pub(super) fn unmapped_verdict(&self, mapping: &RelationMappingInfo) -> bool {
-        mapping.status == MappingStatus::Unmapped && self.params.unmapped_is_satisfied
+    /// predicate expresses it and `unmapped_is_satisfied` (the reference, Q4); none when the
+    /// VLM gave no valid mapping (it could have been any verdict).
+    pub(super) fn unmapped_verdict(&self, mapping: &RelationMappingInfo) -> Option<bool> {
+        match mapping.status {
+            MappingStatus::Unanswered => None,
+            _ => Some(mapping.status == MappingStatus::Unmapped && self.params.unmapped_is_satisfied),
+        }
+    }
+
+    /// The verdict of a spec whose objects are absent now but which objects without a matching
+    /// answer could make present: the presence gate's verdict, if every verdict the spec could
+    /// have when present (`present`) agrees with it.
+    pub(super) fn absent_or_present(&self, count: &CountSpec, present: Option<bool>) -> Option<bool> {
+        agree(Some(self.absent_verdict(count)), present)
     }
 }

@@ -3,7 +3,7 @@
 //! reference's prompt) and evaluated for every object matched to its category; the satisfied
 //! objects are counted against its quantifier.
 
-use sceneeval_annotation::{ArchRef, OaRel};
+use sceneeval_annotation::{ArchRef, CountRange, OaRel};
 use sceneeval_relations::{Relation, RelationError};
 use sceneeval_scene::Scene;
 use sceneeval_scene::label::{Synset, normalise};
@@ -11,29 +11,132 @@ use sceneeval_vlm::tasks::{ArchRelationSpec, ArchRelationTask};
 use sceneeval_vlm::{Outcome, Vlm};
 
 use super::mapping::{self, info};
+use super::undecided::{Unknown, verdict_over};
 use super::{FidelityEvaluator, Resources, spec_count};
 use crate::lexicon::{Lookup, map_arch};
-use crate::matching::{Matching, vlm_err};
-use crate::report::{ArchCandidate, MappingSource, MappingStatus, MetricResult, OarSpec};
+use crate::matching::{Matching, vlm_err, with_note};
+use crate::report::{
+    ArchCandidate, MappingSource, MappingStatus, MetricResult, OarSpec, RelationMappingInfo,
+};
 use crate::{FidelityError, RelationMapping};
 
+/// How one OARel spec's relationship maps onto a predicate, known before the matching: from
+/// the lexicon, or from the VLM (asked for every spec whose word the lexicon does not know).
+pub(super) struct OarMapping {
+    info: RelationMappingInfo,
+    relation: Option<Relation>,
+    /// The floors the VLM restricted the relation to; `None` for the lexicon's mappings (the
+    /// room types among the architecture references decide).
+    floors: Option<Vec<String>>,
+}
+
 impl FidelityEvaluator {
-    /// The OAR result: each OARel spec's relationship mapped onto a predicate (lexicon or
-    /// VLM), evaluated for every matched object, the satisfied objects counted against its
-    /// quantifier.
-    pub(super) fn oar<V: Vlm>(
+    /// The mapping of every OARel spec: the lexicon's (against the spec's first known
+    /// architecture element, with [`RelationMapping::Lexicon`]), and the VLM's for the others,
+    /// in one request (not asked when the scene has no floor to offer). Asked while the
+    /// objects are being matched, as [`Self::oor_mappings`].
+    ///
+    /// # Errors
+    /// [`FidelityError::Vlm`] when the request gets no answer at all.
+    pub(super) async fn oar_mappings<V: Vlm>(
+        &self,
+        rels: &[(String, OaRel)],
+        floor_ids: &[String],
+        res: &Resources<'_, V>,
+    ) -> Result<Vec<OarMapping>, FidelityError> {
+        let mut mappings: Vec<OarMapping> = Vec::with_capacity(rels.len());
+        let mut ask: Vec<ArchRelationSpec> = Vec::new();
+        for (k, (_, r)) in rels.iter().enumerate() {
+            let arch_references: Vec<String> = r.arch.iter().map(|a| a.as_str().to_owned()).collect();
+            let lookup = match self.params.relation_mapping {
+                RelationMapping::Lexicon => match r.arch.iter().find_map(ArchRef::element) {
+                    Some(c) => map_arch(&r.relationship, c),
+                    None => Lookup::Unmapped {
+                        reason: format!("no known architecture element among {arch_references:?}"),
+                    },
+                },
+                RelationMapping::Vlm => Lookup::Unknown,
+            };
+            let mut p = OarMapping {
+                info: info(MappingStatus::Unmapped, MappingSource::None, ""),
+                relation: None,
+                floors: None,
+            };
+            match lookup {
+                Lookup::Mapped { mapping, word } => {
+                    p.info = mapping::by_lexicon(word, &[mapping]);
+                    p.relation = Some(mapping);
+                }
+                Lookup::Unmapped { reason } => {
+                    p.info = info(MappingStatus::Unmapped, MappingSource::Lexicon, &reason);
+                }
+                Lookup::Unknown => {
+                    let asked = res.session.is_some() && !floor_ids.is_empty();
+                    if asked {
+                        ask.push(ArchRelationSpec {
+                            key: k.to_string(),
+                            relationship: r.relationship.clone(),
+                            object: r.object.to_string(),
+                            architecture: arch_references,
+                        });
+                    }
+                    p.info = mapping::not_in_lexicon(&r.relationship, asked);
+                }
+            }
+            mappings.push(p);
+        }
+        if let (Some(session), false) = (res.session, ask.is_empty()) {
+            let task = ArchRelationTask::new(ask, floor_ids.iter().cloned())
+                .map_err(|e| vlm_err("arch_relationship_mapping", e))?;
+            let answers = session
+                .ask(&task)
+                .await
+                .map_err(|e| vlm_err("arch_relationship_mapping", e))?;
+            for (key, outcome) in answers.outcomes {
+                let Some(p) = key.parse::<usize>().ok().and_then(|k| mappings.get_mut(k)) else {
+                    continue;
+                };
+                match outcome {
+                    Outcome::Answered { answer, note, .. } => {
+                        let reason = with_note(answer.reason, note);
+                        match answer.relation {
+                            Some(r) => {
+                                p.info = mapping::by_vlm(&[r], reason);
+                                p.floors = Some(answer.floors);
+                                p.relation = Some(r);
+                            }
+                            None => p.info = info(MappingStatus::Unmapped, MappingSource::Vlm, &reason),
+                        }
+                    }
+                    Outcome::Unanswered(why) => p.info = mapping::unanswered(&why),
+                }
+            }
+        }
+        Ok(mappings)
+    }
+
+    /// The OAR result: each OARel spec's relationship mapped onto a predicate (`mappings`,
+    /// from [`Self::oar_mappings`]), evaluated for every matched object, the satisfied objects
+    /// counted against its quantifier. A spec without a verdict: its mapping is unanswered, or
+    /// objects without a matching answer could change it (each could be one more candidate).
+    ///
+    /// # Errors
+    /// A predicate that cannot be evaluated (other than for a scene without the architecture,
+    /// which counts as unsatisfied with a warning).
+    pub(super) fn oar(
         &self,
         scene: &Scene,
         m: &Matching,
+        unknown: Unknown<'_>,
         rels: &[(String, OaRel)],
-        res: &Resources<'_, V>,
+        mappings: Vec<OarMapping>,
         warnings: &mut Vec<String>,
     ) -> Result<MetricResult<OarSpec>, FidelityError> {
-        let floor_ids: Vec<String> = scene.rooms().iter().map(|r| r.floor_id().to_owned()).collect();
-        let mut specs: Vec<(OarSpec, Option<Relation>)> = Vec::new();
-        let mut ask: Vec<ArchRelationSpec> = Vec::new();
-        for (k, (text, r)) in rels.iter().enumerate() {
-            let present = !m.objects_of(scene, &r.object.category).is_empty();
+        let u = unknown.count();
+        let mut out = Vec::with_capacity(rels.len());
+        for ((text, r), p) in rels.iter().zip(mappings) {
+            let objects = m.objects_of(scene, &r.object.category);
+            let present = !objects.is_empty();
             let mut spec = OarSpec {
                 spec: text.clone(),
                 count: spec_count(&r.count),
@@ -49,101 +152,65 @@ impl FidelityEvaluator {
                 floors: Vec::new(),
                 candidates: Vec::new(),
                 count_satisfied: 0,
-                satisfied: false,
+                unanswered: None,
+                satisfied: None,
             };
-            let mut relation = None;
-            if present {
-                let lookup = if self.params.relation_mapping == RelationMapping::Lexicon {
-                    match r.arch.iter().find_map(ArchRef::element) {
-                        Some(c) => map_arch(&r.relationship, c),
-                        None => Lookup::Unmapped {
-                            reason: format!("no known architecture element among {:?}", spec.arch_references),
-                        },
+            if !present {
+                spec.satisfied = match (u, p.relation) {
+                    (0, _) => Some(self.absent_verdict(&r.count)),
+                    // The unknown objects could be of the category: up to `u` candidates.
+                    (u, Some(_)) => {
+                        self.absent_or_present(&r.count, verdict_over(&r.count, CountRange::between(0, u)))
                     }
-                } else {
-                    Lookup::Unknown
+                    (_, None) => self.absent_or_present(&r.count, self.unmapped_verdict(&p.info)),
                 };
-                match lookup {
-                    Lookup::Mapped { mapping, word } => {
-                        spec.mapping = mapping::by_lexicon(word, &[mapping]);
-                        spec.floors = room_floors(scene, &r.arch, warnings, text);
-                        relation = Some(mapping);
-                    }
-                    Lookup::Unmapped { reason } => {
-                        spec.mapping = info(MappingStatus::Unmapped, MappingSource::Lexicon, &reason);
-                    }
-                    Lookup::Unknown => {
-                        let asked = res.session.is_some() && !floor_ids.is_empty();
-                        if asked {
-                            ask.push(ArchRelationSpec {
-                                key: k.to_string(),
-                                relationship: r.relationship.clone(),
-                                object: r.object.to_string(),
-                                architecture: spec.arch_references.clone(),
-                            });
-                        }
-                        spec.mapping = mapping::not_in_lexicon(&r.relationship, asked);
-                    }
+                if spec.satisfied.is_none() {
+                    spec.unanswered = Some(unknown.reason());
                 }
+                out.push(spec);
+                continue;
             }
-            specs.push((spec, relation));
-        }
-        if let (Some(session), false) = (res.session, ask.is_empty()) {
-            let task = ArchRelationTask::new(ask, floor_ids.clone())
-                .map_err(|e| vlm_err("arch_relationship_mapping", e))?;
-            let answers = pollster::block_on(session.ask(&task))
-                .map_err(|e| vlm_err("arch_relationship_mapping", e))?;
-            for (key, outcome) in answers.outcomes {
-                let Some((spec, relation)) = key.parse::<usize>().ok().and_then(|k| specs.get_mut(k)) else {
-                    continue;
-                };
-                match outcome {
-                    Outcome::Answered { answer, .. } => match answer.relation {
-                        Some(r) => {
-                            spec.mapping = mapping::by_vlm(&[r], answer.reason);
-                            spec.floors = answer.floors;
-                            *relation = Some(r);
-                        }
-                        None => {
-                            spec.mapping = info(MappingStatus::Unmapped, MappingSource::Vlm, &answer.reason)
-                        }
-                    },
-                    Outcome::Unanswered(why) => spec.mapping = mapping::unanswered(&why),
-                }
-            }
-        }
-        let mut out = Vec::with_capacity(specs.len());
-        for ((_, r), (mut spec, relation)) in rels.iter().zip(specs) {
-            if !spec.obj_present {
-                spec.satisfied = self.absent_verdict(&r.count);
-            } else if let Some(rel) = relation {
-                let floors: Vec<&str> = spec.floors.iter().map(String::as_str).collect();
-                for i in m.objects_of(scene, &r.object.category) {
-                    let id = scene.objects()[i].id().as_str().to_owned();
-                    let (score, holds) = match self.relations.arch(scene, rel, i, &floors) {
-                        Ok(e) => (e.score, e.holds),
-                        Err(e @ RelationError::NoArchitecture { .. }) => {
-                            warnings.push(format!("OAR spec {:?}: {e}; counted as unsatisfied", spec.spec));
-                            (0.0, false)
-                        }
-                        Err(source) => {
-                            return Err(FidelityError::Relation {
-                                spec: spec.spec.clone(),
-                                relation: rel.to_string(),
-                                source,
-                            });
-                        }
-                    };
-                    spec.count_satisfied += u64::from(holds);
-                    spec.candidates.push(ArchCandidate {
-                        object: id,
-                        score,
-                        holds,
-                    });
-                }
-                spec.satisfied = r.count.holds(spec.count_satisfied);
-            } else {
+            spec.mapping = p.info;
+            let Some(rel) = p.relation else {
                 spec.satisfied = self.unmapped_verdict(&spec.mapping);
+                if spec.satisfied.is_none() {
+                    spec.unanswered = Some(mapping::unanswered_reason(&spec.mapping));
+                }
+                out.push(spec);
+                continue;
+            };
+            spec.floors = match p.floors {
+                Some(floors) => floors,
+                None => room_floors(scene, &r.arch, warnings, text),
+            };
+            let floors: Vec<&str> = spec.floors.iter().map(String::as_str).collect();
+            for i in objects {
+                let id = scene.objects()[i].id().as_str().to_owned();
+                let (score, holds) = match self.relations.arch(scene, rel, i, &floors) {
+                    Ok(e) => (e.score, e.holds),
+                    Err(e @ RelationError::NoArchitecture { .. }) => {
+                        warnings.push(format!("OAR spec {:?}: {e}; counted as unsatisfied", spec.spec));
+                        (0.0, false)
+                    }
+                    Err(source) => {
+                        return Err(FidelityError::Relation {
+                            spec: spec.spec.clone(),
+                            relation: rel.to_string(),
+                            source,
+                        });
+                    }
+                };
+                spec.count_satisfied += u64::from(holds);
+                spec.candidates.push(ArchCandidate {
+                    object: id,
+                    score,
+                    holds,
+                });
+            }
+            let c = spec.count_satisfied;
+            spec.satisfied = verdict_over(&r.count, CountRange::between(c, c + u));
+            if spec.satisfied.is_none() {
+                spec.unanswered = Some(unknown.reason());
             }
             out.push(spec);
         }

@@ -5,16 +5,17 @@
 
 use std::collections::BTreeMap;
 
-use sceneeval_annotation::{OoRel, binomial};
+use sceneeval_annotation::{CountRange, OoRel, binomial};
 use sceneeval_relations::{Relation, RelationKind};
 use sceneeval_scene::Scene;
 use sceneeval_vlm::tasks::{ObjectRelationSpec, ObjectRelationTask};
 use sceneeval_vlm::{Outcome, Vlm};
 
 use super::mapping::{self, info};
+use super::undecided::{Unknown, verdict_over};
 use super::{FidelityEvaluator, Resources, ids, spec_count};
 use crate::lexicon::{Lookup, map_object};
-use crate::matching::{Matching, vlm_err};
+use crate::matching::{Matching, vlm_err, with_note};
 use crate::report::{
     CandidateGroup, MappingSource, MappingStatus, MetricResult, OorSpec, Participants, PredicateResult,
     RelationMappingInfo,
@@ -25,125 +26,182 @@ use crate::{FidelityError, RelationMapping};
 /// report (all are evaluated, up to the cap).
 pub const MAX_RECORDED_GROUPS: usize = 64;
 
+/// How one OORel spec's relationship maps onto predicates, known before the matching: from the
+/// lexicon, or from the VLM (asked for every spec whose word the lexicon does not know).
+pub(super) struct OorMapping {
+    participants: Option<Participants>,
+    relations: Vec<Relation>,
+    info: RelationMappingInfo,
+}
+
 impl FidelityEvaluator {
-    /// The OOR result: each OORel spec's relationship mapped onto predicates (lexicon or VLM),
-    /// its candidate groups scored, the satisfied groups counted against its quantifier.
-    pub(super) fn oor<V: Vlm>(
+    /// The mapping of every OORel spec: the lexicon's (with [`RelationMapping::Lexicon`]), and
+    /// the VLM's for the others, in one request. The mappings need only the annotation row, so
+    /// they are asked while the objects are being matched (the reference asks only for the
+    /// specs whose objects are present, once the matching is known).
+    ///
+    /// # Errors
+    /// [`FidelityError::Vlm`] when the request gets no answer at all.
+    pub(super) async fn oor_mappings<V: Vlm>(
         &self,
-        scene: &Scene,
-        m: &Matching,
         rels: &[(String, OoRel)],
         res: &Resources<'_, V>,
-        warnings: &mut Vec<String>,
-    ) -> Result<MetricResult<OorSpec>, FidelityError> {
-        // Presence gate and lexicon first; collect what the VLM must map.
-        struct Pending {
-            participants: Option<Participants>,
-            relations: Vec<Relation>,
-            info: RelationMappingInfo,
-            present: bool,
-        }
-        let mut pending: Vec<Pending> = Vec::new();
+    ) -> Result<Vec<OorMapping>, FidelityError> {
+        let mut mappings: Vec<OorMapping> = Vec::with_capacity(rels.len());
         let mut ask: Vec<ObjectRelationSpec> = Vec::new();
         for (k, (_, r)) in rels.iter().enumerate() {
-            let mut mentions: BTreeMap<&str, usize> = BTreeMap::new();
-            for o in &r.refs {
-                *mentions.entry(o.category.as_str()).or_default() += 1;
-            }
-            let present = mentions.iter().all(|(c, n)| m.objects_of(scene, c).len() >= *n);
-            let lexical = lexicon_participants(r);
-            let mut p = Pending {
+            let lookup = match self.params.relation_mapping {
+                RelationMapping::Lexicon => map_object(&r.relationship),
+                RelationMapping::Vlm => Lookup::Unknown,
+            };
+            let mut p = OorMapping {
                 participants: None,
                 relations: Vec::new(),
-                info: info(
-                    MappingStatus::NotNeeded,
-                    MappingSource::None,
-                    "an object of the relation is absent",
-                ),
-                present,
+                info: info(MappingStatus::Unmapped, MappingSource::None, ""),
             };
-            if present {
-                let use_lexicon = self.params.relation_mapping == RelationMapping::Lexicon;
-                let lookup = if use_lexicon {
-                    map_object(&r.relationship)
-                } else {
-                    Lookup::Unknown
-                };
-                match lookup {
-                    Lookup::Mapped { mapping, word } => {
-                        p.participants = Some(lexical);
-                        p.info = mapping::by_lexicon(word, &mapping);
-                        p.relations = mapping;
+            match lookup {
+                Lookup::Mapped { mapping, word } => {
+                    p.participants = Some(lexicon_participants(r));
+                    p.info = mapping::by_lexicon(word, &mapping);
+                    p.relations = mapping;
+                }
+                Lookup::Unmapped { reason } => {
+                    p.info = info(MappingStatus::Unmapped, MappingSource::Lexicon, &reason);
+                }
+                Lookup::Unknown => {
+                    let asked = res.session.is_some();
+                    if asked {
+                        ask.push(ObjectRelationSpec {
+                            key: k.to_string(),
+                            relationship: r.relationship.clone(),
+                            objects: r.refs.iter().map(ToString::to_string).collect(),
+                            anchor_index: r.anchor,
+                        });
                     }
-                    Lookup::Unmapped { reason } => {
-                        p.info = info(MappingStatus::Unmapped, MappingSource::Lexicon, &reason);
-                    }
-                    Lookup::Unknown => {
-                        let asked = res.session.is_some();
-                        if asked {
-                            ask.push(ObjectRelationSpec {
-                                key: k.to_string(),
-                                relationship: r.relationship.clone(),
-                                objects: r.refs.iter().map(ToString::to_string).collect(),
-                                anchor_index: r.anchor,
-                            });
-                        }
-                        p.info = mapping::not_in_lexicon(&r.relationship, asked);
-                    }
+                    p.info = mapping::not_in_lexicon(&r.relationship, asked);
                 }
             }
-            pending.push(p);
+            mappings.push(p);
         }
         if let (Some(session), false) = (res.session, ask.is_empty()) {
             let task = ObjectRelationTask::new(ask).map_err(|e| vlm_err("obj_relationship_mapping", e))?;
-            let answers =
-                pollster::block_on(session.ask(&task)).map_err(|e| vlm_err("obj_relationship_mapping", e))?;
+            let answers = session
+                .ask(&task)
+                .await
+                .map_err(|e| vlm_err("obj_relationship_mapping", e))?;
             for (key, outcome) in answers.outcomes {
-                let Some(p) = key.parse::<usize>().ok().and_then(|k| pending.get_mut(k)) else {
+                let Some(p) = key.parse::<usize>().ok().and_then(|k| mappings.get_mut(k)) else {
                     continue;
                 };
                 match outcome {
-                    Outcome::Answered { answer, .. } => {
+                    Outcome::Answered { answer, note, .. } => {
                         p.participants = Some(Participants {
                             anchor: answer.anchor_object.clone(),
                             others: answer.other_objects.clone(),
                         });
+                        let reason = with_note(answer.reason, note);
                         match answer.relations {
                             Some(rs) if !rs.is_empty() => {
-                                p.info = mapping::by_vlm(&rs, answer.reason);
+                                p.info = mapping::by_vlm(&rs, reason);
                                 p.relations = rs;
                             }
-                            _ => p.info = info(MappingStatus::Unmapped, MappingSource::Vlm, &answer.reason),
+                            _ => p.info = info(MappingStatus::Unmapped, MappingSource::Vlm, &reason),
                         }
                     }
                     Outcome::Unanswered(why) => p.info = mapping::unanswered(&why),
                 }
             }
         }
+        Ok(mappings)
+    }
+
+    /// The OOR result: each OORel spec's relationship mapped onto predicates (`mappings`,
+    /// from [`Self::oor_mappings`]), its candidate groups scored, the satisfied groups counted
+    /// against its quantifier. A spec without a verdict: its mapping is unanswered, or objects
+    /// without a matching answer could change it (more objects only add groups).
+    ///
+    /// # Errors
+    /// A predicate that cannot be evaluated.
+    pub(super) fn oor(
+        &self,
+        scene: &Scene,
+        m: &Matching,
+        unknown: Unknown<'_>,
+        rels: &[(String, OoRel)],
+        mappings: Vec<OorMapping>,
+        warnings: &mut Vec<String>,
+    ) -> Result<MetricResult<OorSpec>, FidelityError> {
         let mut specs = Vec::new();
-        for ((text, r), p) in rels.iter().zip(pending) {
+        for ((text, r), p) in rels.iter().zip(mappings) {
+            let mut mentions: BTreeMap<&str, usize> = BTreeMap::new();
+            for o in &r.refs {
+                *mentions.entry(o.category.as_str()).or_default() += 1;
+            }
+            let missing: usize = mentions
+                .iter()
+                .map(|(c, n)| n.saturating_sub(m.objects_of(scene, c).len()))
+                .sum();
+            let present = missing == 0;
             let mut spec = OorSpec {
                 spec: text.clone(),
                 count: spec_count(&r.count),
                 relationship: r.relationship.clone(),
                 anchor_index: r.anchor.map_or(-1, |a| a as i64),
                 obj_references: r.refs.iter().map(ToString::to_string).collect(),
-                all_objects_present: p.present,
-                participants: p.participants.clone(),
-                mapping: p.info,
+                all_objects_present: present,
+                participants: None,
+                mapping: info(
+                    MappingStatus::NotNeeded,
+                    MappingSource::None,
+                    "an object of the relation is absent",
+                ),
                 num_candidate_groups: 0,
                 groups_evaluated: 0,
                 groups: Vec::new(),
                 count_satisfied: 0,
-                satisfied: false,
+                unanswered: None,
+                satisfied: None,
             };
-            if !p.present {
-                spec.satisfied = self.absent_verdict(&r.count);
-            } else if spec.mapping.status != MappingStatus::Mapped {
+            // With objects without a matching answer, more groups may exist: the count of
+            // satisfied groups can only grow.
+            let more = if unknown.count() > 0 { None } else { Some(0) };
+            if !present {
+                spec.satisfied = if (missing as u64) <= unknown.count() {
+                    // The unknown objects could make the spec present.
+                    let when_present = match p.info.status {
+                        MappingStatus::Mapped => verdict_over(&r.count, CountRange::ANY),
+                        _ => self.unmapped_verdict(&p.info),
+                    };
+                    self.absent_or_present(&r.count, when_present)
+                } else {
+                    Some(self.absent_verdict(&r.count))
+                };
+                if spec.satisfied.is_none() {
+                    spec.unanswered = Some(unknown.reason());
+                }
+                specs.push(spec);
+                continue;
+            }
+            spec.participants = p.participants.clone();
+            spec.mapping = p.info;
+            if spec.mapping.status != MappingStatus::Mapped {
                 spec.satisfied = self.unmapped_verdict(&spec.mapping);
+                if spec.satisfied.is_none() {
+                    spec.unanswered = Some(mapping::unanswered_reason(&spec.mapping));
+                }
             } else if let Some(parts) = &p.participants {
                 self.groups(scene, m, parts, &p.relations, &mut spec, warnings)?;
-                spec.satisfied = r.count.holds(spec.count_satisfied);
+                let c = spec.count_satisfied;
+                spec.satisfied = verdict_over(
+                    &r.count,
+                    CountRange {
+                        min: c,
+                        max: more.map(|x| c + x),
+                    },
+                );
+                if spec.satisfied.is_none() {
+                    spec.unanswered = Some(unknown.reason());
+                }
             }
             specs.push(spec);
         }
