@@ -736,3 +736,130 @@ fn a_failed_metric_never_erases_another() {
         "{err}"
     );
 }
+
+/// A model whose answers arrive in another order than the questions were asked: each request
+/// waits a number of polls that depends on its text and images.
+struct OutOfOrder<'a>(&'a Scripted);
+
+/// Ready after `n` more polls (waking itself each time).
+struct Polls(u32);
+
+impl std::future::Future for Polls {
+    type Output = ();
+
+    fn poll(mut self: std::pin::Pin<&mut Self>, cx: &mut std::task::Context<'_>) -> std::task::Poll<()> {
+        if self.0 == 0 {
+            return std::task::Poll::Ready(());
+        }
+        self.0 -= 1;
+        cx.waker().wake_by_ref();
+        std::task::Poll::Pending
+    }
+}
+
+impl sceneeval_vlm::Vlm for OutOfOrder<'_> {
+    fn model(&self) -> &str {
+        self.0.model()
+    }
+
+    async fn answer(
+        &self,
+        request: &sceneeval_vlm::VlmRequest,
+    ) -> Result<sceneeval_vlm::Answer, sceneeval_vlm::VlmError> {
+        let mut h = request.user_text.len() as u32;
+        for i in &request.images {
+            h = h
+                .wrapping_mul(31)
+                .wrapping_add(u32::from(i.bytes()[i.bytes().len() / 2]));
+        }
+        Polls(h % 7 * 3).await;
+        self.0.answer(request).await
+    }
+}
+
+#[test]
+fn the_report_does_not_depend_on_the_order_answers_arrive_in() {
+    let (scene, row) = (scene(), row());
+    // Each object's front view is its own image; the model tells them apart by it.
+    let grey = |id: &str| match id {
+        "t" => 10,
+        "l" => 20,
+        _ => 30 + id.as_bytes()[1],
+    };
+    let views = MemoViews::new(move |id, kind| {
+        let k = if kind == sceneeval_fidelity::ViewKind::Front {
+            0
+        } else {
+            100
+        };
+        Ok(sceneeval_vlm::encode_rgb_png(1, 1, &[grey(id) + k, 0, 0]).unwrap())
+    });
+    let model = || {
+        let attributes = scripted();
+        Scripted::from_fn("m", move |req| {
+            if req.task != "obj_matching" {
+                return pollster::block_on(sceneeval_vlm::Vlm::answer(&attributes, req)).map(|a| a.content);
+            }
+            let g = req.images[0].bytes();
+            let is = |n: u8| sceneeval_vlm::encode_rgb_png(1, 1, &[n, 0, 0]).unwrap().bytes() == g;
+            let category = if is(10) {
+                "table"
+            } else if is(20) {
+                "lamp"
+            } else {
+                "chair"
+            };
+            Ok(AnswerContent::Json {
+                value: json!({"provided_categories": [], "matched": true, "matched_category": category,
+                              "actual_category": category, "reason": category}),
+            })
+        })
+    };
+    let ev = FidelityEvaluator::new(
+        FidelityParams {
+            matching: MatchingMethod::Vlm,
+            ..params()
+        },
+        RelationParams::default(),
+    )
+    .unwrap();
+    let in_order = model();
+    let session = Session::new(&in_order);
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    let a = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
+    let shuffled = model();
+    let session = Session::new(OutOfOrder(&shuffled));
+    let res = Resources {
+        session: Some(&session),
+        views: Some(&views),
+        scene_name: "scene_7",
+    };
+    let b = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
+    // The answers arrived in another order...
+    let tasks = |v: &Scripted| {
+        v.requests()
+            .iter()
+            .map(|r| (r.task.clone(), r.images.len()))
+            .collect::<Vec<_>>()
+    };
+    let order = |v: &Scripted| {
+        v.requests()
+            .iter()
+            .map(|r| r.user_text.len() + r.images.len())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(tasks(&in_order).len(), tasks(&shuffled).len());
+    assert_ne!(order(&in_order), order(&shuffled));
+    // ... and the report and the matching are the same, byte for byte.
+    assert_eq!(
+        serde_json::to_string(&a.report).unwrap(),
+        serde_json::to_string(&b.report).unwrap()
+    );
+    assert_eq!(a.matching, b.matching);
+    // As with labels: 6 objects matched, CNT 4/5.
+    assert_eq!(a.report.summary.cnt, Some(0.8));
+}

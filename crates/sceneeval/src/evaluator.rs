@@ -695,6 +695,126 @@ mod tests {
         );
     }
 
+    /// Functional sides asked of a VLM: the bed's answered, the chair's left out of both
+    /// answers; support types not asked (no renderer for the views).
+    #[test]
+    fn where_each_objects_placement_came_from_is_recorded() {
+        use crate::vlm::{AnswerContent, Scripted};
+        let vlm = Scripted::from_fn("m", |_| {
+            Ok(AnswerContent::Json {
+                value: serde_json::json!({"assessments": [{"obj_id": "bed", "obj_description": "",
+                    "functional_sides": ["left", "right"], "reason": "climbed into from the sides"}]}),
+            })
+        });
+        let evaluator = Evaluator::new(plan_of(&[Metric::Support, Metric::Accessibility]))
+            .unwrap()
+            .with_vlm(SharedVlm::new(vlm));
+        let report = evaluator.evaluate(&scene()).unwrap();
+        let p = report.placement.as_ref().unwrap();
+        let sides: Vec<(PlacementSource, &str)> = p
+            .iter()
+            .map(|o| {
+                let s = o.functional_sides.as_ref().unwrap();
+                (s.source, s.reason.as_str())
+            })
+            .collect();
+        assert_eq!(sides[0], (PlacementSource::Vlm, "climbed into from the sides"));
+        assert_eq!(sides[1].0, PlacementSource::CategoryPrior);
+        assert!(
+            sides[1]
+                .1
+                .starts_with("the VLM gave no usable answer: invalid answer: asked twice"),
+            "{}",
+            sides[1].1
+        );
+        // The chair's sides are the table's (all four); the bed's the VLM's.
+        assert_eq!(
+            p[1].functional_sides
+                .as_ref()
+                .unwrap()
+                .value
+                .as_ref()
+                .unwrap()
+                .len(),
+            4
+        );
+        assert_eq!(
+            p[0].functional_sides.as_ref().unwrap().value,
+            Some(vec![Side::Left, Side::Right])
+        );
+        for o in p {
+            let s = o.support_type.as_ref().unwrap();
+            assert_eq!(
+                (s.source, s.value),
+                (PlacementSource::CategoryPrior, Some(SupportType::Ground))
+            );
+            assert_eq!(
+                s.reason,
+                "not asked: no renderer for the object views the VLM is shown"
+            );
+        }
+        // An unanswered question is a fallback, not a failure: the scene is complete.
+        assert!(report.incomplete.is_empty());
+        let record = crate::SceneRecord::ok(crate::SceneName::new("scene_7"), report);
+        let summary = crate::Summary::from_records([&record], None);
+        assert_eq!(
+            (
+                summary.groups[0].support_fallbacks,
+                summary.groups[0].sides_fallbacks
+            ),
+            (2, 1)
+        );
+    }
+
+    /// The functional-sides request gets no answer (the endpoint is down): accessibility is
+    /// computed with the category tables, listed as incomplete, and the scene is partial;
+    /// every other metric is complete.
+    #[test]
+    fn a_failed_placement_question_makes_the_scene_partial_and_keeps_the_rest() {
+        use crate::vlm::{Scripted, VlmError};
+        let vlm = Scripted::from_fn("m", |req| {
+            Err(VlmError::Backend {
+                task: req.task.clone(),
+                model: "m".into(),
+                permanent: false,
+                source: "HTTP 503".into(),
+            })
+        });
+        let s = scene();
+        let complete = Evaluator::new(EvaluationPlan::geometry_only())
+            .unwrap()
+            .evaluate(&s)
+            .unwrap();
+        let report = Evaluator::new(EvaluationPlan::geometry_only())
+            .unwrap()
+            .with_vlm(SharedVlm::new(vlm))
+            .evaluate(&s)
+            .unwrap();
+        let incomplete: Vec<(Metric, bool)> = report.incomplete.iter().map(|m| (m.metric, m.vlm)).collect();
+        assert_eq!(incomplete, [(Metric::Accessibility, true)]);
+        assert!(
+            report.incomplete[0].causes.iter().any(|c| c.contains("HTTP 503")),
+            "{:?}",
+            report.incomplete[0]
+        );
+        // Every metric's result is the one without a VLM (the tables answered for all).
+        assert_eq!(report.summary, complete.summary);
+        assert_eq!(report.accessibility, complete.accessibility);
+        let sides = report.placement.as_ref().unwrap()[0]
+            .functional_sides
+            .as_ref()
+            .unwrap();
+        assert!(
+            sides.reason.starts_with("the VLM request failed: "),
+            "{}",
+            sides.reason
+        );
+        let record = crate::SceneRecord::ok(crate::SceneName::new("scene_7"), report);
+        assert_eq!(record.status(), "partial");
+        let text = serde_json::to_string(&record).unwrap();
+        assert!(text.contains(r#""status":"partial""#), "{text}");
+    }
+
     #[test]
     fn subset_plan_reports_only_its_metrics() {
         let plan = plan_of(&[Metric::OutOfBounds, Metric::Collision]);

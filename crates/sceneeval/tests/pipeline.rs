@@ -149,6 +149,18 @@ fn full_plan_with_a_scripted_vlm() {
         acc.as_array().unwrap().iter().all(|o| o["sides_source"] == "vlm"),
         "{acc}"
     );
+    // Where each object's placement came from: the scene states every support type, the VLM
+    // gave every object's functional sides, with its reason; nothing fell back.
+    let placement = r8["report"]["placement"].as_array().unwrap();
+    assert_eq!(placement.len(), 4);
+    for o in placement {
+        assert_eq!(o["support_type"]["source"], "scene", "{o}");
+        assert_eq!(o["support_type"]["reason"], "stated in the scene file", "{o}");
+        assert_eq!(o["functional_sides"]["source"], "vlm", "{o}");
+        assert_eq!(o["functional_sides"]["value"], json!(["front"]), "{o}");
+        assert_eq!(o["functional_sides"]["reason"], "used from the front", "{o}");
+    }
+    assert_eq!(r8["status"], "ok");
     assert_eq!(f8["views_rendered"], 5);
     assert_eq!(f8["oor"]["specs"][1]["mapping"]["source"], "vlm");
     let f2 = &record(out.path(), "scene_2")["report"]["fidelity"];
