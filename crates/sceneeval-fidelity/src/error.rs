@@ -7,7 +7,9 @@ use sceneeval_vlm::VlmError;
 /// Why the fidelity metrics of a scene could not be computed.
 ///
 /// An invalid or missing VLM answer is not an error (the item is recorded as unanswered and
-/// counts as unsatisfied); only bad input and a failure to obtain any answer are.
+/// has no verdict unless the missing answer cannot change it); only bad input and a failure
+/// to obtain any answer are. [`crate::FidelityEvaluator::evaluate_async`] records each as the
+/// failure of the metrics that needed it, never of the others.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum FidelityError {

@@ -24,8 +24,12 @@
 //! (the table there); [`FidelityParams::reference`] sets them all.
 //!
 //! VLM requests go through a [`sceneeval_vlm::Session`] (validation, one re-ask, unanswered
-//! items recorded); views come from an [`ObjectViews`] (feature `render`: `RenderedViews`,
-//! each view rendered once per object and reused by every metric).
+//! items recorded); the questions that wait on no other are asked together
+//! ([`FidelityEvaluator::evaluate_async`]). A spec whose verdict a missing answer could change
+//! has none (`satisfied: null`, counted in [`MetricResult::unanswered`], left out of the
+//! score); a metric that cannot be computed is a [`MetricFailure`] and costs no other metric.
+//! Views come from an [`ObjectViews`] (feature `render`: `RenderedViews`, each view rendered
+//! once per object and reused by every metric).
 //!
 //! # Example
 //! Labels and the lexicon, no VLM: two chairs next to a table, one lamp missing.

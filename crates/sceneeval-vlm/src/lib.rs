@@ -16,14 +16,16 @@
 //!   caller's category spelling).
 //! - [`Session::ask`]: the protocol every model gets: ask, validate (categories among those
 //!   offered, sides among front/back/left/right, predicates among the 23, every question
-//!   answered exactly once, paired by key and never by position), re-ask once with the
-//!   problems appended, and record what is still invalid as [`Unanswered`] with the reason.
-//!   [`Usage`] sums requests, cache hits, re-asks and tokens per run.
+//!   answered exactly once, paired by key; by position only for items whose key the model left
+//!   empty in an answer with one item per question), re-ask once (the questions without a valid
+//!   answer) with the problems appended, and record what is still invalid as [`Unanswered`]
+//!   with the reason (a category that was not offered, named twice: none of the offered).
+//!   [`Usage`] sums requests, cache hits, re-asks, recoveries and tokens per run.
 //! - [`prompt`]: the reference's prompts as template files shipped in the crate, overridable
 //!   from a folder. [`schema`]: strict-mode schemas generated from the wire types.
 //! - [`Cached`], [`Replay`] ([`cache`]): one readable JSON file per answer, keyed by a blake3
-//!   hash of model, messages, images and schema, written atomically; replay answers only from
-//!   the cache. [`Scripted`]: answers given in advance, for tests.
+//!   hash of model, messages, images and schema, written atomically, and only for usable
+//!   answers; replay answers only from the cache. [`Scripted`]: answers given in advance, for tests.
 //!
 //! # Example
 //! A support-type question answered by a scripted model whose first answer is not one of the

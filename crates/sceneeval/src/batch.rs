@@ -177,8 +177,8 @@ impl BatchOutcome {
 /// schema; see [`Fingerprints::why_stale`]) and unless `options.force`; failed and partial
 /// scenes are always retried. A scene that fails to load, or runs past the plan's time budget
 /// while loading, is recorded as failed; a metric that fails (a VLM request without an answer,
-/// the time budget passed while it runs, ...) makes the scene partial, its other results kept
-/// ([`crate::Evaluator::evaluate_scene`]); the run goes on. The output folder is checked for
+/// the time budget used up while the geometry metrics run, ...) makes the scene partial, its
+/// other results kept ([`crate::Evaluator::evaluate_scene`]); the run goes on. The output folder is checked for
 /// writing before any scene is evaluated.
 ///
 /// Results do not depend on the number of threads: each scene is evaluated independently and
