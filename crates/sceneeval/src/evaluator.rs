@@ -85,8 +85,9 @@ pub struct SceneEvaluation {
     pub matching: Option<MatchingRecord>,
     /// Each geometry metric's wall time, in the order they ran.
     pub timings: Vec<MetricTiming>,
-    /// The text-fidelity metrics' wall time together (matching, renders and VLM requests
-    /// included), seconds, when they ran.
+    /// The wall time of the VLM phase, seconds, when text-fidelity metrics ran: every VLM
+    /// question of the scene (fidelity and placement, asked together), the renders they need,
+    /// and the fidelity metrics' scoring.
     pub fidelity_seconds: Option<f64>,
 }
 

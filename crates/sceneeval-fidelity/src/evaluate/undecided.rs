@@ -12,7 +12,7 @@ use sceneeval_annotation::{CountRange, CountSpec};
 /// could be of any annotated category.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Unknown<'a> {
-    /// Their ids, in scene order.
+    /// Their ids, sorted.
     pub ids: &'a [String],
 }
 
