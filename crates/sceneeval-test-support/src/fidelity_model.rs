@@ -67,6 +67,19 @@ pub fn answer(task: &str, user_text: &str, pictured: Option<&str>) -> Value {
     }
 }
 
+/// Copies fixture scenes 2 and 8 (`fixtures/scenes/scene_{2,8}.json`) into `dir`.
+///
+/// # Panics
+/// When a file cannot be copied (the test cannot run).
+#[allow(clippy::expect_used)] // Test scaffolding: a missing fixture is a broken checkout.
+pub fn copy_scenes(dir: &Path) {
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
+    for n in [2, 8] {
+        let name = format!("scene_{n}.json");
+        std::fs::copy(fixtures.join(&name), dir.join(&name)).expect("fixture scene copied");
+    }
+}
+
 /// The category of the object whose front view the run wrote under `out` with the bytes
 /// `image` (`<out>/<scene>/views/front_idx<k>_fixture.<category>.png`: the fixture assets are
 /// named after their category), or `None` when no view has these bytes.

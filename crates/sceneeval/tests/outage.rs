@@ -26,7 +26,7 @@ use sceneeval::render::{RenderSettings, Renderer};
 use sceneeval::vlm::Cached;
 use sceneeval::vlm_openai::{OpenAiConfig, OpenAiVlm, RuntimeVlm};
 use sceneeval::{BatchOptions, EvaluationPlan, Evaluator, Preset, SharedVlm, find_scenes, run_batch};
-use sceneeval_test_support::fidelity_model::{CSV, answer, pictured_category};
+use sceneeval_test_support::fidelity_model::{CSV, answer, copy_scenes, pictured_category};
 use serde_json::Value;
 
 fn fixtures() -> PathBuf {
@@ -125,10 +125,7 @@ async fn an_outage_costs_only_what_needed_the_vlm_and_heals_on_re_run() {
     let dir = tempfile::tempdir().unwrap();
     let scenes = dir.path().join("scenes");
     std::fs::create_dir(&scenes).unwrap();
-    for n in [2, 8] {
-        let name = format!("scene_{n}.json");
-        std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
-    }
+    copy_scenes(&scenes);
     let (clean_out, out) = (dir.path().join("clean"), dir.path().join("out"));
     let views = vec![clean_out.clone(), out.clone()];
 

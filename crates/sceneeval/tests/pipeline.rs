@@ -14,7 +14,7 @@ use sceneeval::io::AssetLibrary;
 use sceneeval::render::{RenderSettings, Renderer};
 use sceneeval::vlm::{AnswerContent, Scripted, VlmRequest};
 use sceneeval::{BatchOptions, EvaluationPlan, Evaluator, Preset, SharedVlm, find_scenes, run_batch};
-use sceneeval_test_support::fidelity_model::{CSV, answer, pictured_category};
+use sceneeval_test_support::fidelity_model::{CSV, answer, copy_scenes, pictured_category};
 use serde_json::{Value, json};
 
 fn fixtures() -> PathBuf {
@@ -43,10 +43,7 @@ fn run(plan: EvaluationPlan, vlm: Option<SharedVlm>, out: &Path) -> sceneeval::B
 /// [`run`] with these annotation rows.
 fn run_with(csv: &str, plan: EvaluationPlan, vlm: Option<SharedVlm>, out: &Path) -> sceneeval::BatchOutcome {
     let dir = tempfile::tempdir().unwrap();
-    for n in [2, 8] {
-        let name = format!("scene_{n}.json");
-        std::fs::copy(fixtures().join("scenes").join(&name), dir.path().join(&name)).unwrap();
-    }
+    copy_scenes(dir.path());
     let annotations = Annotations::from_csv_str(csv).unwrap();
     let set = find_scenes(dir.path()).unwrap();
     let options = BatchOptions {
