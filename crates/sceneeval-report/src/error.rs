@@ -12,9 +12,12 @@ pub enum ReportError {
         /// The folder.
         dir: PathBuf,
     },
-    /// A scene's record could not be read.
+    /// A record could not be read, or a file written (the facade's error names the file).
     #[error(transparent)]
-    Record(#[from] sceneeval::EvalError),
+    Eval(#[from] sceneeval::EvalError),
+    /// An `--assets` specification is wrong.
+    #[error("--assets: {0}")]
+    Assets(#[source] sceneeval::io::IoError),
     /// A file or folder could not be read or written.
     #[error("{}: {source}", path.display())]
     File {

@@ -41,11 +41,16 @@
 //! assert!(table.to_latex().contains("\\textbf{0.00}"));
 //! ```
 
+mod assets;
 pub mod compare;
 mod error;
 pub mod escape;
+mod html;
+mod report;
 mod run;
 
+pub use assets::recorded_assets;
 pub use compare::{CompareOptions, Comparison, compare};
 pub use error::ReportError;
+pub use report::{DEFAULT_DIR, FILES_DIR, INDEX, ReportOptions, SCENES_DIR, Written, write_report};
 pub use run::{Run, groups, metrics_in, scene_values, summary_columns};

@@ -31,7 +31,7 @@ impl Run {
     /// [`Run::with_annotations`] replaces them).
     ///
     /// # Errors
-    /// [`ReportError::File`] when the folder cannot be listed, [`ReportError::Record`] for a
+    /// [`ReportError::File`] when the folder cannot be listed, [`ReportError::Eval`] for a
     /// record that cannot be read, [`ReportError::NoRecords`] when there is none,
     /// [`ReportError::Csv`] for a malformed `summary_scenes.csv`.
     pub fn open(dir: &Path) -> Result<Run, ReportError> {
