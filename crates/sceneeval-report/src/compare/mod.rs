@@ -237,9 +237,14 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
                 Some((Outcome::Failed { .. }, _)) => why.push(format!("failed in {}", run.name)),
                 Some((Outcome::Ok { report }, r)) => {
                     let have = metrics_in(report);
+                    // A scene without an annotation row has no fidelity specs, hence no
+                    // fidelity section: that is not a partial result.
+                    let row = r.fingerprint.as_ref().is_some_and(|f| f.annotation.is_some());
                     let lacking: Vec<&str> = run_metrics
                         .iter()
-                        .filter(|m| shared.contains(m) && !have.contains(m))
+                        .filter(|m| {
+                            shared.contains(m) && !have.contains(m) && (m.geometry().is_some() || row)
+                        })
                         .map(|m| m.name())
                         .collect();
                     if !lacking.is_empty() {

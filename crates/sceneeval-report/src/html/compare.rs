@@ -70,7 +70,7 @@ impl Comparison {
                 }
                 b.push_str("</tr>");
             }
-            b.push_str("</tbody></table></div><table class=\"standings\"><thead><tr><th class=\"num\">place</th><th>run</th><th class=\"num\">points</th><th class=\"num\">average rank</th><th class=\"num\">1st</th><th class=\"num\">2nd</th><th class=\"num\">3rd</th>");
+            b.push_str("</tbody></table></div><div class=\"wide\"><table class=\"standings\"><thead><tr><th class=\"num\">place</th><th>run</th><th class=\"num\">points</th><th class=\"num\">average rank</th><th class=\"num\">1st</th><th class=\"num\">2nd</th><th class=\"num\">3rd</th>");
             for c in &self.columns {
                 let _ = write!(b, "<th class=\"num\">{}</th>", html(c.name));
             }
@@ -97,7 +97,7 @@ impl Comparison {
                 }
                 b.push_str("</tr>");
             }
-            b.push_str("</tbody></table>");
+            b.push_str("</tbody></table></div>");
         }
         if !self.notes.is_empty() {
             b.push_str("<div class=\"box\" id=\"notes\"><strong>Notes</strong><ul>");
@@ -114,7 +114,7 @@ impl Comparison {
         } else {
             let _ = write!(
                 b,
-                "<p>{} fidelity specs of the common scenes are satisfied in one run and not in another.</p>\
+                "<p>Fidelity specs of the common scenes whose verdicts differ between runs: {}.</p>\
                  <div class=\"wide\"><table id=\"differences\" class=\"sortable\"><thead><tr><th>scene</th><th>metric</th><th>spec</th>",
                 self.differences.len()
             );
