@@ -28,7 +28,7 @@ use sceneeval::{Better, GroupSummary, Metric, Outcome, SceneRecord};
 
 pub use bootstrap::{BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED, bootstrap_interval};
 pub use rank::competition_ranks;
-pub(crate) use text::{Emphasis, arrow as text_arrow, average, standing_order};
+pub(crate) use text::{Emphasis, arrow as text_arrow, average, scenes, standing_order};
 
 use crate::ReportError;
 use crate::run::{Run, group_summary, groups, metrics_in, scene_values, summary_columns};

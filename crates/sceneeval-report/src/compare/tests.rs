@@ -287,7 +287,7 @@ fn by_difficulty_and_intervals() {
     );
     assert!(
         c.to_latex()
-            .contains(r"\multicolumn{8}{l}{\textit{easy (1 scenes)}} \\")
+            .contains(r"\multicolumn{8}{l}{\textit{easy (1 scene)}} \\")
     );
     assert!(matches!(
         compare(

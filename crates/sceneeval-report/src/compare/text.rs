@@ -36,6 +36,11 @@ impl Cell {
     }
 }
 
+/// "1 scene", "3 scenes".
+pub(crate) fn scenes(n: usize) -> String {
+    format!("{n} scene{}", if n == 1 { "" } else { "s" })
+}
+
 /// `↑` or `↓`.
 pub(crate) fn arrow(better: Better) -> &'static str {
     match better {
@@ -71,15 +76,15 @@ impl Comparison {
         for table in &self.tables {
             let _ = writeln!(
                 out,
-                "### {} ({} scenes)\n",
+                "### {} ({})\n",
                 escape::markdown(&table.group),
-                table.scenes
+                scenes(table.scenes)
             );
             let mut header = vec!["run".to_owned()];
             header.extend(
                 self.columns
                     .iter()
-                    .map(|c| format!("{} {}", escape::markdown(c.name), arrow(c.better))),
+                    .map(|c| format!("{} {}", c.name, arrow(c.better))),
             );
             let _ = writeln!(out, "| {} |", header.join(" | "));
             let _ = writeln!(out, "|---|{}", "---:|".repeat(self.columns.len()));
@@ -100,7 +105,7 @@ impl Comparison {
             let mut header: Vec<String> = ["place", "run", "points", "average rank", "1st", "2nd", "3rd"]
                 .map(str::to_owned)
                 .to_vec();
-            header.extend(self.columns.iter().map(|c| escape::markdown(c.name)));
+            header.extend(self.columns.iter().map(|c| c.name.to_owned()));
             let _ = writeln!(out, "| {} |", header.join(" | "));
             let _ = writeln!(out, "|---:|---|{}", "---:|".repeat(header.len() - 2));
             for k in standing_order(table) {
@@ -220,9 +225,9 @@ impl Comparison {
             if self.tables.len() > 1 {
                 let _ = writeln!(
                     out,
-                    "\\multicolumn{{{width}}}{{l}}{{\\textit{{{} ({} scenes)}}}} \\\\",
+                    "\\multicolumn{{{width}}}{{l}}{{\\textit{{{} ({})}}}} \\\\",
                     escape::latex(&table.group),
-                    table.scenes
+                    scenes(table.scenes)
                 );
             }
             for ((run, row), s) in self.runs.iter().zip(&table.cells).zip(&table.standings) {

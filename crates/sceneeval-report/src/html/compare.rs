@@ -37,9 +37,9 @@ impl Comparison {
         for (t, table) in self.tables.iter().enumerate() {
             let _ = write!(
                 b,
-                "<h2>{} ({} scenes)</h2><div class=\"wide\"><table class=\"values\" id=\"values-{t}\"><thead><tr><th>run</th>",
+                "<h2>{} ({})</h2><div class=\"wide\"><table class=\"values\" id=\"values-{t}\"><thead><tr><th>run</th>",
                 html(&table.group),
-                table.scenes
+                crate::compare::scenes(table.scenes)
             );
             for c in &self.columns {
                 let _ = write!(
