@@ -8,6 +8,12 @@
 //! - [`Run`]: a run folder's records and the difficulty of each scene.
 //! - [`compare()`]: the runs side by side on what they share ([`Comparison`]), with ranks and
 //!   rank points, written as Markdown, CSV, LaTeX (booktabs) or HTML.
+//! - [`write_report`]: a folder with `index.html` (the run's table per difficulty, SVG charts,
+//!   the scenes sortable and filterable by the metric they fail) and a page per scene (an SVG
+//!   top view coloured by what is wrong with each object, the evidence of every metric and
+//!   fidelity spec, the images the run wrote), opened from disk with no server or network.
+//!
+//! The formats are described in `docs/formats.md` ("Comparison tables", "The static report").
 //!
 //! Every string that reaches a file is escaped for its language ([`escape`]), and every file is
 //! written through [`sceneeval::write_atomic`].

@@ -2,8 +2,9 @@
 //! rank points, written as Markdown, CSV, LaTeX or HTML.
 //!
 //! [`compare`] checks comparability before it puts numbers side by side: runs are compared only
-//! on the scenes every run evaluated in full, with the same annotation row, and on the metrics
-//! every run ran; every difference (scenes left out and why, metrics not shared, different
+//! on the scenes every run evaluated in full (not missing, failed or partial in any run: a
+//! partial record lacks a shared geometry metric, or a shared fidelity metric although the scene
+//! had an annotation row), with the same annotation row, and on the metrics every run ran; every difference (scenes left out and why, metrics not shared, different
 //! plans, presets or tool versions) is a note printed under the table.
 //!
 //! **Ranks** are competition ranks ("1224": runs with equal values share the best rank, the

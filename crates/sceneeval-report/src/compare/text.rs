@@ -63,7 +63,7 @@ impl Comparison {
                 s,
                 " [lo, hi]: {}% bootstrap interval over scenes ({BOOTSTRAP_RESAMPLES} resamples, fixed seed, \
                  percentile method).",
-                level * 100.0
+                (level * 1e4).round() / 1e2
             );
         }
         s
@@ -242,7 +242,7 @@ impl Comparison {
                         .ci_text()
                         .map(|t| format!(" {{\\scriptsize {t}}}"))
                         .unwrap_or_default();
-                    format!("{v}{ci} {{\\scriptsize ({})}}", c.n)
+                    format!("{v} {{\\scriptsize ({})}}{ci}", c.n)
                 }));
                 cells.push(s.points.to_string());
                 cells.push(average(s.average_rank));
