@@ -122,7 +122,7 @@ fn top_view(b: &mut String, p: &ScenePage<'_>, report: &SceneReport) {
     match &p.scene {
         Ok(info) => b.push_str(&topview::draw(
             info,
-            report,
+            Some(report),
             &problems,
             &numbers,
             p.overlay.as_ref(),
@@ -199,25 +199,9 @@ fn top_view_only(b: &mut String, p: &ScenePage<'_>) {
             .enumerate()
             .map(|(k, o)| (o.id, k + 1))
             .collect();
-        let empty = SceneReport::new(None, empty_geometry(), None);
         b.push_str("<h2>Top view</h2><div class=\"topview\">");
-        b.push_str(&topview::draw(info, &empty, &BTreeMap::new(), &numbers, None));
+        b.push_str(&topview::draw(info, None, &BTreeMap::new(), &numbers, None));
         b.push_str("</div><p class=\"muted\">Nothing was measured on this scene; the drawing is the file as it is now.</p>");
-    }
-}
-
-fn empty_geometry() -> sceneeval::plausibility::PlausibilityReport {
-    sceneeval::plausibility::PlausibilityReport {
-        scene_id: None,
-        object_ids: vec![],
-        metrics: vec![],
-        summary: Default::default(),
-        collision: None,
-        support: None,
-        navigability: None,
-        accessibility: None,
-        out_of_bounds: None,
-        opening_clearance: None,
     }
 }
 

@@ -213,10 +213,11 @@ pub(crate) struct Overlay {
 }
 
 /// The top view of `info`, footprints coloured by `problems` and labelled with `numbers` (the
-/// object's row in the page's object table).
+/// object's row in the page's object table); blocked openings and access strips from `report`
+/// when the scene was evaluated.
 pub(crate) fn draw(
     info: &SceneInfo<'_>,
-    report: &SceneReport,
+    report: Option<&SceneReport>,
     problems: &BTreeMap<String, Vec<(Problem, String)>>,
     numbers: &BTreeMap<&str, usize>,
     overlay: Option<&Overlay>,
@@ -284,7 +285,7 @@ pub(crate) fn draw(
             -(g.y0 + h)
         );
     }
-    if let Some(a) = &report.accessibility {
+    if let Some(a) = report.and_then(|r| r.accessibility.as_ref()) {
         for o in &a.objects {
             for side in o.sides.iter().filter(|s| !s.blocked_by.is_empty()) {
                 let pts: Vec<[f64; 2]> = side.strip.iter().map(|p| [p.x, p.y]).collect();
@@ -304,8 +305,8 @@ pub(crate) fn draw(
         }
     }
     let blocked: BTreeMap<&str, Vec<&str>> = report
-        .opening_clearance
-        .iter()
+        .and_then(|r| r.opening_clearance.as_ref())
+        .into_iter()
         .flat_map(|c| &c.openings)
         .filter(|o| o.blocked)
         .map(|o| {
@@ -365,7 +366,12 @@ pub(crate) fn draw(
             }
         }
     }
-    for (o, f) in info.objects.iter().zip(&footprints) {
+    // Lowest top first, so what is seen from above is drawn last (a rug under the bed).
+    let mut order: Vec<usize> = (0..info.objects.len()).collect();
+    let top = |k: usize| info.objects[k].center[2] + info.objects[k].size[2] / 2.0;
+    order.sort_by(|&a, &b| top(a).total_cmp(&top(b)).then(a.cmp(&b)));
+    for k in order {
+        let (o, f) = (&info.objects[k], &footprints[k]);
         let list = problems.get(o.id);
         let colour = list.and_then(|l| l.first()).map_or(FINE, |(p, _)| p.colour());
         let mut title = format!(
