@@ -428,7 +428,8 @@ fn same_everywhere(runs: &[Run], notes: &mut Vec<String>) {
     type Get = fn(&sceneeval::Fingerprint) -> Option<String>;
     let aspects: [(&str, Get); 3] = [
         ("plans (result digests: metrics or parameters differ)", |f| {
-            Some(f.plan[..f.plan.len().min(16)].to_owned())
+            // The digest's first 16 characters (a record is input: not cut inside a character).
+            Some(f.plan.chars().take(16).collect())
         }),
         ("presets", |f| f.preset.map(|p| p.name().to_owned())),
         ("tool versions", |f| Some(f.tool.clone())),
