@@ -43,10 +43,12 @@ pub(crate) fn overview(
         evaluated,
         run.records.len() - evaluated,
         html(summary.preset.as_deref().unwrap_or("not recorded")),
-        html(&summary.plan_digest.as_deref().map_or_else(
-            || "not recorded".to_owned(),
-            |d| d.chars().take(16).collect()
-        ))
+        html(
+            &summary
+                .plan_digest
+                .as_deref()
+                .map_or_else(|| "not recorded".to_owned(), |d| d.chars().take(16).collect())
+        )
     );
 
     b.push_str(
