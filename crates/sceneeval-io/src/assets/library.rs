@@ -7,11 +7,13 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Vector3};
+use sceneeval_geom::conventions::object_from_asset;
+use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Rotation3, Vector3};
 use sceneeval_scene::{ObjectId, SceneObject};
 
 use super::{AssetInfo, AssetLocation, AssetSource, AssetSpec, split_model_id};
 use crate::appearance::{Appearance, load_appearance};
+use crate::frames::ObjectFront;
 use crate::mesh_load::read_mesh_file_with;
 use crate::{IoError, Limits};
 
@@ -70,6 +72,8 @@ pub struct AssetLibrary {
     scaled: Cache<(String, [u64; 3]), Arc<Mesh>>,
     files_read: AtomicUsize,
     appearances: Cache<String, Arc<Appearance>>,
+    turned: Cache<(String, [u64; 3], ObjectFront), Arc<Mesh>>,
+    turned_appearances: Cache<(String, ObjectFront), Arc<Appearance>>,
 }
 
 impl fmt::Debug for AssetLibrary {
@@ -190,12 +194,7 @@ impl AssetLibrary {
     /// As [`AssetLibrary::asset`]; [`IoError::BadScale`] when a scale component is zero or
     /// not finite.
     pub fn mesh(&self, model_id: &str, scale: &Vector3) -> Result<Arc<Mesh>, IoError> {
-        if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
-            return Err(IoError::BadScale {
-                model_id: model_id.to_owned(),
-                scale: [scale.x, scale.y, scale.z],
-            });
-        }
+        check_scale(model_id, scale)?;
         let asset = self.asset(model_id)?;
         if *scale == Vector3::repeat(1.0) {
             return Ok(Arc::clone(&asset.mesh));
@@ -211,6 +210,64 @@ impl AssetLibrary {
                     path: asset.path.clone(),
                     source,
                 })
+        })
+    }
+
+    /// The object-frame mesh of `model_id` scaled by `scale` and then turned so that
+    /// `front`, the front its scene file declares for it (sceneState `objectFrontVector`), is
+    /// local -y: `Q * diag(scale) * m` with `Q = front.turn()`. Its object-frame scale is then
+    /// `front.turn_scale(scale)`. Shared like [`AssetLibrary::mesh`]; the model's own front
+    /// ([`ObjectFront::MinusY`]) is [`AssetLibrary::mesh`] itself.
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::mesh`].
+    pub fn mesh_facing(&self, model_id: &str, scale: &Vector3, front: ObjectFront) -> Result<Arc<Mesh>, IoError> {
+        if front == ObjectFront::MinusY {
+            return self.mesh(model_id, scale);
+        }
+        check_scale(model_id, scale)?;
+        let asset = self.asset(model_id)?;
+        let key = (model_id.to_owned(), [scale.x, scale.y, scale.z].map(f64::to_bits), front);
+        let slot = slot(&self.turned, key);
+        cached(&slot, || {
+            let linear = front.turn().matrix() * Matrix3::from_diagonal(scale);
+            asset
+                .mesh
+                .transformed(&linear, &Vector3::zeros())
+                .map(Arc::new)
+                .map_err(|source| IoError::AssetGeometry {
+                    path: asset.path.clone(),
+                    source,
+                })
+        })
+    }
+
+    /// The look of asset `model_id` turned as [`AssetLibrary::mesh_facing`] turns its mesh,
+    /// for an object whose scene file declares the front `front` (a renderer passes
+    /// [`SceneObject::asset_front`]); `None` is [`AssetLibrary::appearance`] itself.
+    ///
+    /// # Errors
+    /// [`IoError::InvalidValue`] (naming the model id) when `front` is not a horizontal axis
+    /// direction; otherwise as [`AssetLibrary::appearance`].
+    pub fn appearance_facing(&self, model_id: &str, front: Option<&Vector3>) -> Result<Arc<Appearance>, IoError> {
+        let front = match front {
+            None => ObjectFront::MinusY,
+            Some(v) => ObjectFront::from_vector([v.x, v.y, v.z]).map_err(|reason| IoError::InvalidValue {
+                path: PathBuf::from(model_id),
+                pointer: "/objectFrontVector".into(),
+                reason,
+            })?,
+        };
+        if front == ObjectFront::MinusY {
+            return self.appearance(model_id);
+        }
+        let slot = slot(&self.turned_appearances, (model_id.to_owned(), front));
+        cached(&slot, || {
+            let location = self.locate(model_id)?;
+            // object_from_file(A') = Rx(90) * A' must be Q * Rx(90) * A.
+            let rx = object_from_asset();
+            let alignment = rx.inverse() * front.turn() * rx * location.alignment.unwrap_or_else(Rotation3::identity);
+            load_appearance(model_id, &location.path, Some(&alignment), &self.limits).map(Arc::new)
         })
     }
 
@@ -325,6 +382,17 @@ impl AssetLibrary {
             info: location.info,
             mesh: Arc::new(mesh),
             files,
+        })
+    }
+}
+
+fn check_scale(model_id: &str, scale: &Vector3) -> Result<(), IoError> {
+    if scale.iter().all(|s| s.is_finite() && *s != 0.0) {
+        Ok(())
+    } else {
+        Err(IoError::BadScale {
+            model_id: model_id.to_owned(),
+            scale: [scale.x, scale.y, scale.z],
         })
     }
 }
