@@ -435,7 +435,10 @@ impl ObjectFront {
         if self == ObjectFront::MinusY {
             return *model_pose;
         }
-        Isometry3::from_parts(model_pose.translation, model_pose.rotation * self.turn_quaternion())
+        Isometry3::from_parts(
+            model_pose.translation,
+            model_pose.rotation * self.turn_quaternion(),
+        )
     }
 }
 
@@ -575,8 +578,17 @@ mod tests {
             assert!(back.rotation.angle_to(&pose.rotation) < 1e-15);
         }
         // A half turn composes without rounding.
-        assert_eq!(ObjectFront::PlusY.file_pose(&ObjectFront::PlusY.model_pose(&pose)), pose);
-        for bad in [[0.0, 0.0, 1.0], [0.6, 0.8, 0.0], [0.0, 1.0, 0.1], [0.0, 0.0, 0.0], [Real::NAN, 1.0, 0.0]] {
+        assert_eq!(
+            ObjectFront::PlusY.file_pose(&ObjectFront::PlusY.model_pose(&pose)),
+            pose
+        );
+        for bad in [
+            [0.0, 0.0, 1.0],
+            [0.6, 0.8, 0.0],
+            [0.0, 1.0, 0.1],
+            [0.0, 0.0, 0.0],
+            [Real::NAN, 1.0, 0.0],
+        ] {
             assert!(ObjectFront::from_vector(bad).is_err(), "{bad:?}");
         }
     }

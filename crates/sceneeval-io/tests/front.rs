@@ -19,11 +19,18 @@ use serde_json::{Value, json};
 
 /// The upright transform Rx(+90) (asset y-up to world z-up) at `(x, y, z)`, column-major.
 fn upright(x: f64, y: f64, z: f64) -> Vec<f64> {
-    vec![1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, x, y, z, 1.0]
+    vec![
+        1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, x, y, z, 1.0,
+    ]
 }
 
 fn read(doc: &Value, library: &AssetLibrary) -> Result<Scene, IoError> {
-    read_scene_state_str(&doc.to_string(), Path::new("scene_1.json"), library, &ReadOptions::default())
+    read_scene_state_str(
+        &doc.to_string(),
+        Path::new("scene_1.json"),
+        library,
+        &ReadOptions::default(),
+    )
 }
 
 fn state(objects: Value) -> Value {
@@ -48,7 +55,9 @@ fn a_plus_y_front_is_the_same_object_turned_by_pi() {
     // (b) the asset turned by pi about its up axis (bump at asset -z), with the default
     // front, upright and turned by pi about world z: T = Rz(pi) * Rx(+90), columns
     // (-1, 0, 0), (0, 0, 1), (0, 1, 0). The same geometry and the same front in the world.
-    let turned_by_pi = [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 1.0];
+    let turned_by_pi = [
+        -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 1.0,
+    ];
     let a = read(
         &state(json!([{"modelId": "fixture.bump", "objectFrontVector": [0, 1, 0],
                         "transform": {"data": upright(2.0, 1.0, 0.0)}}])),
@@ -70,7 +79,11 @@ fn a_plus_y_front_is_the_same_object_turned_by_pi() {
     // centre (0, 0.05, 0.25) placed by Rz(pi) at (2, 1, 0) is (2, 0.95, 0.25), as for (b)
     // (to the f32 rounding of the GLB's vertices).
     for o in [a, b] {
-        assert!((o.obb().center - Point3::new(2.0, 0.95, 0.25)).norm() < 1e-7, "{}", o.obb().center);
+        assert!(
+            (o.obb().center - Point3::new(2.0, 0.95, 0.25)).norm() < 1e-7,
+            "{}",
+            o.obb().center
+        );
         assert!((o.obb().half_extents - Vector3::new(0.5, 0.25, 0.25)).norm() < 1e-7);
         assert!((o.yaw().abs() - std::f64::consts::PI).abs() < 1e-15);
     }
@@ -99,7 +112,9 @@ fn quarter_turns_swap_box_sizes_and_scales() {
     // A 1 x 0.4 x 0.5 box (file frame) whose front is +x, at the identity: the model turns
     // it by +90 deg (Rz(-90) sends +x to -y, the pose is turned back by its inverse), so its
     // world front is +x, its width (model x) is 0.4 and its depth 1.
-    let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 3.0, 2.0, 0.25, 1.0];
+    let identity = [
+        1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 3.0, 2.0, 0.25, 1.0,
+    ];
     let s = read(
         &state(json!([{"box": {"size": [1.0, 0.4, 0.5]}, "objectFrontVector": [1, 0, 0],
                         "transform": {"data": identity}},
@@ -132,9 +147,11 @@ fn fronts_round_trip_through_the_writer() {
     )
     .unwrap();
     let mixed = read(
-        &state(json!([{"modelId": "fixture.bump", "transform": {"data": upright(2.0, 1.0, 0.0)}},
+        &state(
+            json!([{"modelId": "fixture.bump", "transform": {"data": upright(2.0, 1.0, 0.0)}},
                        {"modelId": "fixture.bump", "objectFrontVector": [1, 0, 0],
-                        "transform": {"data": upright(1.0, 1.0, 0.0)}}])),
+                        "transform": {"data": upright(1.0, 1.0, 0.0)}}]),
+        ),
         &lib,
     )
     .unwrap();
@@ -143,15 +160,29 @@ fn fronts_round_trip_through_the_writer() {
         let v: Value = serde_json::from_str(&text).unwrap();
         // One front for every object is written once, as the SceneSmith fork writes it;
         // otherwise on each object that does not face -y.
-        assert_eq!(v["scene"].get("objectFrontVector").is_some(), scene_level, "{text}");
+        assert_eq!(
+            v["scene"].get("objectFrontVector").is_some(),
+            scene_level,
+            "{text}"
+        );
         if !scene_level {
             assert!(v["scene"]["object"][0].get("objectFrontVector").is_none());
-            assert_eq!(v["scene"]["object"][1]["objectFrontVector"], json!([1.0, 0.0, 0.0]));
+            assert_eq!(
+                v["scene"]["object"][1]["objectFrontVector"],
+                json!([1.0, 0.0, 0.0])
+            );
         }
         // The transform is the file's own: the upright transform, not the turned pose.
-        let data: Vec<f64> = serde_json::from_value(v["scene"]["object"][0]["transform"]["data"].clone()).unwrap();
-        assert!(data.iter().zip(upright(2.0, 1.0, 0.0)).all(|(a, b)| (a - b).abs() < 1e-15), "{data:?}");
-        let back = read_scene_state_str(&text, Path::new("scene_1.json"), &lib, &ReadOptions::default()).unwrap();
+        let data: Vec<f64> =
+            serde_json::from_value(v["scene"]["object"][0]["transform"]["data"].clone()).unwrap();
+        assert!(
+            data.iter()
+                .zip(upright(2.0, 1.0, 0.0))
+                .all(|(a, b)| (a - b).abs() < 1e-15),
+            "{data:?}"
+        );
+        let back =
+            read_scene_state_str(&text, Path::new("scene_1.json"), &lib, &ReadOptions::default()).unwrap();
         assert_eq!(&back, scene);
         assert_eq!(scene_state_to_string(&back).unwrap(), text);
     }
@@ -177,9 +208,17 @@ fn architecture_entries_are_left_out_before_any_asset_lookup() {
     assert!(!text.contains("isArchitecture"));
     let back = read_scene_state_str(&text, Path::new("scene_1.json"), &lib, &ReadOptions::default()).unwrap();
     assert_eq!(back, s);
-    match read(&state(json!([{"modelId": "fixture.bump", "isArchitecture": "yes"}])), &lib) {
-        Err(IoError::WrongType { pointer, expected, .. }) => {
-            assert_eq!((pointer.as_str(), expected), ("/scene/object/0/isArchitecture", "a boolean"));
+    match read(
+        &state(json!([{"modelId": "fixture.bump", "isArchitecture": "yes"}])),
+        &lib,
+    ) {
+        Err(IoError::WrongType {
+            pointer, expected, ..
+        }) => {
+            assert_eq!(
+                (pointer.as_str(), expected),
+                ("/scene/object/0/isArchitecture", "a boolean")
+            );
         }
         other => panic!("{other:?}"),
     }
@@ -200,14 +239,19 @@ fn bad_fronts_name_their_pointer() {
         ),
     ] {
         match read(&doc, &lib) {
-            Err(IoError::InvalidValue { pointer: p, reason, .. }) => {
+            Err(IoError::InvalidValue {
+                pointer: p, reason, ..
+            }) => {
                 assert_eq!(p, pointer);
                 assert!(reason.contains("horizontal axis direction"), "{reason}");
             }
             other => panic!("{other:?}"),
         }
     }
-    match read(&state(json!([{"modelId": "fixture.bump", "objectFrontVector": [0, 1]}])), &lib) {
+    match read(
+        &state(json!([{"modelId": "fixture.bump", "objectFrontVector": [0, 1]}])),
+        &lib,
+    ) {
         Err(IoError::WrongType { pointer, .. }) => assert_eq!(pointer, "/scene/object/0/objectFrontVector"),
         other => panic!("{other:?}"),
     }
@@ -219,10 +263,14 @@ fn z_up_prefixes_place_the_object_frame_directly() {
     let lib = library(dir.path());
     // The identity transform on an `idesign.` asset leaves it upright (its mesh is the file
     // turned y-up to z-up), where a `fixture.` asset would lie on its back.
-    let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 2.0, 0.0, 1.0];
+    let identity = [
+        1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 2.0, 0.0, 1.0,
+    ];
     let s = read(
-        &state(json!([{"modelId": "idesign.bump", "transform": {"data": identity}},
-                       {"modelId": "fixture.bump", "transform": {"data": identity}}])),
+        &state(
+            json!([{"modelId": "idesign.bump", "transform": {"data": identity}},
+                       {"modelId": "fixture.bump", "transform": {"data": identity}}]),
+        ),
         &lib,
     )
     .unwrap();
@@ -233,6 +281,7 @@ fn z_up_prefixes_place_the_object_frame_directly() {
     // Written back, the `idesign.` transform is still the identity (its own convention).
     let text = scene_state_to_string(&s).unwrap();
     let v: Value = serde_json::from_str(&text).unwrap();
-    let data: Vec<f64> = serde_json::from_value(v["scene"]["object"][0]["transform"]["data"].clone()).unwrap();
+    let data: Vec<f64> =
+        serde_json::from_value(v["scene"]["object"][0]["transform"]["data"].clone()).unwrap();
     assert_eq!(data, identity.to_vec());
 }

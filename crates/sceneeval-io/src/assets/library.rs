@@ -221,13 +221,22 @@ impl AssetLibrary {
     ///
     /// # Errors
     /// As [`AssetLibrary::mesh`].
-    pub fn mesh_facing(&self, model_id: &str, scale: &Vector3, front: ObjectFront) -> Result<Arc<Mesh>, IoError> {
+    pub fn mesh_facing(
+        &self,
+        model_id: &str,
+        scale: &Vector3,
+        front: ObjectFront,
+    ) -> Result<Arc<Mesh>, IoError> {
         if front == ObjectFront::MinusY {
             return self.mesh(model_id, scale);
         }
         check_scale(model_id, scale)?;
         let asset = self.asset(model_id)?;
-        let key = (model_id.to_owned(), [scale.x, scale.y, scale.z].map(f64::to_bits), front);
+        let key = (
+            model_id.to_owned(),
+            [scale.x, scale.y, scale.z].map(f64::to_bits),
+            front,
+        );
         let slot = slot(&self.turned, key);
         cached(&slot, || {
             let linear = front.turn().matrix() * Matrix3::from_diagonal(scale);
@@ -249,7 +258,11 @@ impl AssetLibrary {
     /// # Errors
     /// [`IoError::InvalidValue`] (naming the model id) when `front` is not a horizontal axis
     /// direction; otherwise as [`AssetLibrary::appearance`].
-    pub fn appearance_facing(&self, model_id: &str, front: Option<&Vector3>) -> Result<Arc<Appearance>, IoError> {
+    pub fn appearance_facing(
+        &self,
+        model_id: &str,
+        front: Option<&Vector3>,
+    ) -> Result<Arc<Appearance>, IoError> {
         let front = match front {
             None => ObjectFront::MinusY,
             Some(v) => ObjectFront::from_vector([v.x, v.y, v.z]).map_err(|reason| IoError::InvalidValue {
@@ -266,7 +279,8 @@ impl AssetLibrary {
             let location = self.locate(model_id)?;
             // object_from_file(A') = Rx(90) * A' must be Q * Rx(90) * A.
             let rx = object_from_asset();
-            let alignment = rx.inverse() * front.turn() * rx * location.alignment.unwrap_or_else(Rotation3::identity);
+            let alignment =
+                rx.inverse() * front.turn() * rx * location.alignment.unwrap_or_else(Rotation3::identity);
             load_appearance(model_id, &location.path, Some(&alignment), &self.limits).map(Arc::new)
         })
     }

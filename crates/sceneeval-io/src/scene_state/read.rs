@@ -284,7 +284,9 @@ fn read_object(
         Some(m) if !is_box => TransformFrame::for_model_id(m),
         _ => TransformFrame::Object,
     };
-    let placed = frame.placed(&data).map_err(|e| bad_transform(doc, &data_ptr, &e))?;
+    let placed = frame
+        .placed(&data)
+        .map_err(|e| bad_transform(doc, &data_ptr, &e))?;
     // The model's pose (turned so that local -y is the declared front), and the scale applied
     // to the geometry and the scale recorded on the object, both in the file's object frame
     // (before the turn). A box written by this crate has its scale already in its size and a
@@ -326,7 +328,9 @@ fn read_object(
                 source: Box::new(source),
             };
             let asset = assets.asset(model_id).map_err(wrap)?;
-            let mesh = assets.mesh_facing(model_id, &applied_scale, front).map_err(wrap)?;
+            let mesh = assets
+                .mesh_facing(model_id, &applied_scale, front)
+                .map_err(wrap)?;
             let obj = SceneObject::from_mesh(id, mesh, pose)
                 .map_err(scene_err)?
                 .with_model_id(model_id);

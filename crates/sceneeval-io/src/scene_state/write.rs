@@ -65,7 +65,9 @@ pub fn scene_state_to_string(scene: &Scene) -> Result<String, IoError> {
     // One front shared by every object (and not the default) is written once for the scene,
     // as the SceneSmith fork writes it; otherwise each object that differs says so.
     let shared = match fronts.split_first() {
-        Some((&first, rest)) if first != ObjectFront::MinusY && rest.iter().all(|&f| f == first) => Some(first),
+        Some((&first, rest)) if first != ObjectFront::MinusY && rest.iter().all(|&f| f == first) => {
+            Some(first)
+        }
         _ => None,
     };
     let objects = scene
@@ -91,7 +93,10 @@ pub fn scene_state_to_string(scene: &Scene) -> Result<String, IoError> {
         ]),
     ));
     scene_fields.push(("object", Json::Arr(objects)));
-    let doc = Json::Obj(vec![("format", Json::str(FORMAT)), ("scene", Json::Obj(scene_fields))]);
+    let doc = Json::Obj(vec![
+        ("format", Json::str(FORMAT)),
+        ("scene", Json::Obj(scene_fields)),
+    ]);
     if let Some(v) = doc.find_non_finite() {
         return Err(IoError::Unwritable {
             object: scene.id().unwrap_or("scene").to_owned(),
@@ -186,7 +191,12 @@ fn object_front(object: &SceneObject) -> Result<ObjectFront, IoError> {
 
 /// The entry of `object`; `front` is the front its file declares, written on the entry when
 /// `own_front` and it is not the default.
-fn object_entry(object: &SceneObject, position: usize, front: ObjectFront, own_front: bool) -> Result<Json, IoError> {
+fn object_entry(
+    object: &SceneObject,
+    position: usize,
+    front: ObjectFront,
+    own_front: bool,
+) -> Result<Json, IoError> {
     let index = object.index().unwrap_or(position as i64);
     let model_id = object.model_id();
     let is_box = object.box_half_extents();
