@@ -13,7 +13,7 @@ use sceneeval_scene::{ObjectId, SceneObject};
 
 use super::{AssetInfo, AssetLocation, AssetSource, AssetSpec, split_model_id};
 use crate::appearance::{Appearance, load_appearance};
-use crate::frames::ObjectFront;
+use crate::frames::{ObjectFront, PlacedObject};
 use crate::mesh_load::read_mesh_file_with;
 use crate::{IoError, Limits};
 
@@ -298,16 +298,39 @@ impl AssetLibrary {
         pose: Isometry3,
         scale: Vector3,
     ) -> Result<SceneObject, IoError> {
+        self.object_facing(id, model_id, &PlacedObject { pose, scale }, ObjectFront::MinusY)
+    }
+
+    /// A scene object showing asset `model_id` placed as a scene file places it: `placed` is
+    /// the pose and object-frame scale in the file's own frame (see
+    /// [`crate::frames::TransformFrame::placed`]), `front` the front the file declares for it
+    /// (sceneState `objectFrontVector`). The object is turned so that local -y is its front
+    /// ([`ObjectFront::model_pose`], [`AssetLibrary::mesh_facing`]) and records the declared
+    /// front ([`SceneObject::asset_front`]): the object `read_scene_state` builds for such an
+    /// entry, which is how converters place a generator's objects.
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::object`].
+    pub fn object_facing(
+        &self,
+        id: impl Into<ObjectId>,
+        model_id: &str,
+        placed: &PlacedObject,
+        front: ObjectFront,
+    ) -> Result<SceneObject, IoError> {
         let id = id.into();
         let asset = self.asset(model_id)?;
-        let mesh = self.mesh(model_id, &scale)?;
-        let mut object = SceneObject::from_mesh(id.clone(), mesh, pose)
+        let mesh = self.mesh_facing(model_id, &placed.scale, front)?;
+        let mut object = SceneObject::from_mesh(id.clone(), mesh, front.model_pose(&placed.pose))
             .map_err(|source| IoError::BadObject {
                 object: id.to_string(),
                 source,
             })?
             .with_model_id(model_id)
-            .with_scale(scale);
+            .with_scale(front.turn_scale(&placed.scale));
+        if front != ObjectFront::MinusY {
+            object = object.with_asset_front(front.vector());
+        }
         if let Some(c) = &asset.info.category {
             object = object.with_category(c.clone());
         }
