@@ -201,11 +201,11 @@ pub(crate) fn convert(
     })
 }
 
-/// The rooms: `(pointer, id, room type, floor)`.
-fn read_rooms(
-    doc: &Doc<'_>,
-    house: &Map<String, Value>,
-) -> Result<Vec<(String, String, Option<String>, Floor)>, ConvertError> {
+/// A room of the house: its pointer, id, room type and floor.
+type HoloRoom = (String, String, Option<String>, Floor);
+
+/// The rooms.
+fn read_rooms(doc: &Doc<'_>, house: &Map<String, Value>) -> Result<Vec<HoloRoom>, ConvertError> {
     let list = doc.array(doc.required(house, "", "rooms")?, "/rooms")?;
     let mut out = Vec::with_capacity(list.len());
     for (i, r) in list.iter().enumerate() {

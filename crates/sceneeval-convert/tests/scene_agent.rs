@@ -79,7 +79,9 @@ fn the_converted_house_evaluates_as_the_house_written_directly() {
     let converted = read(&out.join("scene_0.json"), &specs(&[("scene-agent", out.clone())]));
     let fixtures = sceneeval_fixtures::default_output_dir().join("assets");
     let library = AssetLibrary::from_specs(&[format!("fixture={}", fixtures.display())]).unwrap();
-    let room = |id: &str, x0: f64, walls: [(usize, (f64, f64), (f64, f64), bool); 4]| {
+    // (wall number, start, end, has the door)
+    type WallDef = (usize, (f64, f64), (f64, f64), bool);
+    let room = |id: &str, x0: f64, walls: [WallDef; 4]| {
         let c = vec![
             Point2::new(x0, 0.0),
             Point2::new(x0 + 4.0, 0.0),
