@@ -24,11 +24,12 @@ use sceneeval_geom::{Point2, Point3, Polygon2, Real, Rotation3, Vector2, Vector3
 use sceneeval_io::frames::ObjectFront;
 use sceneeval_io::scene_state::derived_object_id;
 use sceneeval_io::scene_state::json_in::{Doc, optional, ptr_index, ptr_key};
-use sceneeval_io::{AssetLibrary, IoError, write_scene_state};
-use sceneeval_scene::{Floor, Opening, OpeningKind, Room, Scene, SceneObject, WallSpec};
+use sceneeval_io::{AssetLibrary, IoError};
+use sceneeval_scene::{Floor, Opening, OpeningKind, Room, SceneObject, WallSpec};
 use serde_json::{Map, Value};
 
 use crate::native::{read_json, subfolders, text, xyz};
+use crate::output::write_scene;
 use crate::place::{Target, place};
 use crate::{ConvertError, NativeScene, SkippedObject, Written};
 
@@ -190,11 +191,7 @@ pub(crate) fn convert(
     }
 
     let (objects, skipped_objects) = read_objects(&doc, house, &built, library)?;
-    let scene = Scene::new(None, objects, built).map_err(|e| ConvertError::scene(&file, "", e))?;
-    write_scene_state(&scene, path).map_err(|e| ConvertError::Verify {
-        path: path.to_owned(),
-        source: Box::new(e),
-    })?;
+    write_scene(objects, built, &file, path)?;
     Ok(Written {
         files: Vec::new(),
         skipped_objects,

@@ -20,12 +20,12 @@ use sceneeval_io::assets::humanize_object_id;
 use sceneeval_io::frames::ObjectFront;
 use sceneeval_io::scene_state::derived_object_id;
 use sceneeval_io::scene_state::json_in::{Doc, optional, ptr_index, ptr_key};
-use sceneeval_io::{AssetLibrary, IoError, write_scene_state};
-use sceneeval_scene::{Floor, Room, Scene, WallSpec};
+use sceneeval_io::{AssetLibrary, IoError};
+use sceneeval_scene::{Floor, Room, WallSpec};
 use serde_json::{Map, Value};
 
 use crate::native::{read_json, text, xyz};
-use crate::output::copy_file;
+use crate::output::{copy_file, write_scene};
 use crate::place::{Target, place};
 use crate::{ConvertError, NativeScene, Written};
 
@@ -159,12 +159,7 @@ pub(crate) fn convert(
         copy_file(&blend, &out.join(&rel))?;
         files.push(rel);
     }
-    let scene = Scene::new(None, objects, vec![room]).map_err(|e| ConvertError::scene(&file, "", e))?;
-    let path = out.join(format!("scene_{id}.json"));
-    write_scene_state(&scene, &path).map_err(|e| ConvertError::Verify {
-        path: path.clone(),
-        source: Box::new(e),
-    })?;
+    write_scene(objects, vec![room], &file, &out.join(format!("scene_{id}.json")))?;
     Ok(Written {
         files,
         skipped_objects: Vec::new(),

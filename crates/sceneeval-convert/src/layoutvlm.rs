@@ -14,15 +14,16 @@
 use std::path::Path;
 
 use sceneeval_geom::{Point2, Point3, Polygon2, Real, Rotation3, Vector3};
+use sceneeval_io::AssetLibrary;
 use sceneeval_io::frames::ObjectFront;
 use sceneeval_io::scene_state::derived_object_id;
 use sceneeval_io::scene_state::json_in::{Doc, optional, ptr_index, ptr_key};
-use sceneeval_io::{AssetLibrary, write_scene_state};
-use sceneeval_scene::{Floor, Room, Scene, WallSpec};
+use sceneeval_scene::{Floor, Room, WallSpec};
 use serde_json::Value;
 
 use crate::holodeck::{WALL_DEPTH, is_objaverse};
 use crate::native::{read_json, text};
+use crate::output::write_scene;
 use crate::place::{Target, place};
 use crate::{ConvertError, NativeScene, SkippedObject, Written};
 
@@ -117,11 +118,7 @@ pub(crate) fn convert(
         .with_index(objects.len() as i64);
         objects.push(object);
     }
-    let scene = Scene::new(None, objects, vec![room]).map_err(|e| ConvertError::scene(&scene_file, "", e))?;
-    write_scene_state(&scene, path).map_err(|e| ConvertError::Verify {
-        path: path.to_owned(),
-        source: Box::new(e),
-    })?;
+    write_scene(objects, vec![room], &scene_file, path)?;
     Ok(Written {
         files: Vec::new(),
         skipped_objects: skipped,

@@ -3,6 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+use sceneeval_scene::{Room, Scene, SceneObject};
+
 use crate::ConvertError;
 
 /// A temporary folder beside the output folder, removed on drop unless committed.
@@ -58,6 +60,21 @@ impl Staging {
         let _ = self.dir.keep();
         Ok(self.out)
     }
+}
+
+/// Writes a converted scene as the sceneState file `path`; `file` is the generator's file it
+/// came from, named when the objects and rooms do not make a valid scene.
+pub(crate) fn write_scene(
+    objects: Vec<SceneObject>,
+    rooms: Vec<Room>,
+    file: &Path,
+    path: &Path,
+) -> Result<(), ConvertError> {
+    let scene = Scene::new(None, objects, rooms).map_err(|e| ConvertError::scene(file, "", e))?;
+    sceneeval_io::write_scene_state(&scene, path).map_err(|e| ConvertError::Verify {
+        path: path.to_owned(),
+        source: Box::new(e),
+    })
 }
 
 /// Creates `dir` and its parents.

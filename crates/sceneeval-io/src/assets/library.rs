@@ -69,11 +69,9 @@ pub struct AssetLibrary {
     sources: BTreeMap<String, Box<dyn AssetSource>>,
     limits: Limits,
     assets: Cache<String, Arc<Asset>>,
-    scaled: Cache<(String, [u64; 3]), Arc<Mesh>>,
+    scaled: Cache<(String, [u64; 3], ObjectFront), Arc<Mesh>>,
     files_read: AtomicUsize,
-    appearances: Cache<String, Arc<Appearance>>,
-    turned: Cache<(String, [u64; 3], ObjectFront), Arc<Mesh>>,
-    turned_appearances: Cache<(String, ObjectFront), Arc<Appearance>>,
+    appearances: Cache<(String, ObjectFront), Arc<Appearance>>,
 }
 
 impl fmt::Debug for AssetLibrary {
@@ -194,23 +192,7 @@ impl AssetLibrary {
     /// As [`AssetLibrary::asset`]; [`IoError::BadScale`] when a scale component is zero or
     /// not finite.
     pub fn mesh(&self, model_id: &str, scale: &Vector3) -> Result<Arc<Mesh>, IoError> {
-        check_scale(model_id, scale)?;
-        let asset = self.asset(model_id)?;
-        if *scale == Vector3::repeat(1.0) {
-            return Ok(Arc::clone(&asset.mesh));
-        }
-        let key = (model_id.to_owned(), [scale.x, scale.y, scale.z].map(f64::to_bits));
-        let slot = slot(&self.scaled, key);
-        cached(&slot, || {
-            asset
-                .mesh
-                .transformed(&Matrix3::from_diagonal(scale), &Vector3::zeros())
-                .map(Arc::new)
-                .map_err(|source| IoError::AssetGeometry {
-                    path: asset.path.clone(),
-                    source,
-                })
-        })
+        self.mesh_facing(model_id, scale, ObjectFront::MinusY)
     }
 
     /// The object-frame mesh of `model_id` scaled by `scale` and then turned so that
@@ -227,18 +209,19 @@ impl AssetLibrary {
         scale: &Vector3,
         front: ObjectFront,
     ) -> Result<Arc<Mesh>, IoError> {
-        if front == ObjectFront::MinusY {
-            return self.mesh(model_id, scale);
-        }
         check_scale(model_id, scale)?;
         let asset = self.asset(model_id)?;
+        if front == ObjectFront::MinusY && *scale == Vector3::repeat(1.0) {
+            return Ok(Arc::clone(&asset.mesh));
+        }
         let key = (
             model_id.to_owned(),
             [scale.x, scale.y, scale.z].map(f64::to_bits),
             front,
         );
-        let slot = slot(&self.turned, key);
+        let slot = slot(&self.scaled, key);
         cached(&slot, || {
+            // The identity turn leaves diag(scale) exact.
             let linear = front.turn().matrix() * Matrix3::from_diagonal(scale);
             asset
                 .mesh
@@ -271,17 +254,24 @@ impl AssetLibrary {
                 reason,
             })?,
         };
-        if front == ObjectFront::MinusY {
-            return self.appearance(model_id);
-        }
-        let slot = slot(&self.turned_appearances, (model_id.to_owned(), front));
+        self.look(model_id, front)
+    }
+
+    /// The look of `model_id` turned to `front`, loaded once.
+    fn look(&self, model_id: &str, front: ObjectFront) -> Result<Arc<Appearance>, IoError> {
+        let slot = slot(&self.appearances, (model_id.to_owned(), front));
         cached(&slot, || {
             let location = self.locate(model_id)?;
-            // object_from_file(A') = Rx(90) * A' must be Q * Rx(90) * A.
-            let rx = object_from_asset();
-            let alignment =
-                rx.inverse() * front.turn() * rx * location.alignment.unwrap_or_else(Rotation3::identity);
-            load_appearance(model_id, &location.path, Some(&alignment), &self.limits).map(Arc::new)
+            let alignment = match front {
+                ObjectFront::MinusY => location.alignment,
+                // object_from_file(A') = Rx(90) * A' must be Q * Rx(90) * A.
+                _ => {
+                    let rx = object_from_asset();
+                    let file = location.alignment.unwrap_or_else(Rotation3::identity);
+                    Some(rx.inverse() * front.turn() * rx * file)
+                }
+            };
+            load_appearance(model_id, &location.path, alignment.as_ref(), &self.limits).map(Arc::new)
         })
     }
 
@@ -349,17 +339,7 @@ impl AssetLibrary {
     /// As [`AssetLibrary::asset`] for locating and parsing the file. Missing or broken
     /// textures and material libraries are logged and fall back to the base colour.
     pub fn appearance(&self, model_id: &str) -> Result<Arc<Appearance>, IoError> {
-        let slot = slot(&self.appearances, model_id.to_owned());
-        cached(&slot, || {
-            let location = self.locate(model_id)?;
-            load_appearance(
-                model_id,
-                &location.path,
-                location.alignment.as_ref(),
-                &self.limits,
-            )
-            .map(Arc::new)
-        })
+        self.look(model_id, ObjectFront::MinusY)
     }
 
     /// How many appearances have been loaded so far (0 in a run that never rendered).
