@@ -405,7 +405,7 @@ fn read_objects(
         let name = doc.id(doc.required(o, &ptr, "id")?, &ptr_key(&ptr, "id"))?;
         let asset = doc.string(doc.required(o, &ptr, "assetId")?, &ptr_key(&ptr, "assetId"))?;
         if !is_objaverse(asset) {
-            tracing::warn!(file = %doc.path.display(), object = %name, asset, "AI2-THOR asset skipped: SceneEval has no AI2-THOR assets");
+            tracing::info!(file = %doc.path.display(), object = %name, asset, "AI2-THOR asset skipped: SceneEval has no AI2-THOR assets");
             skipped.push(SkippedObject {
                 file: doc.path_buf(),
                 pointer: ptr,

@@ -81,7 +81,7 @@ pub(crate) fn convert(
             },
         };
         let Some(placement) = layout.get(key) else {
-            tracing::warn!(file = %layout_file.display(), asset = %key, "not placed by LayoutVLM; skipped");
+            tracing::info!(file = %layout_file.display(), asset = %key, "not placed by LayoutVLM; skipped");
             skipped.push(SkippedObject {
                 file: scene_file.clone(),
                 pointer: aptr,

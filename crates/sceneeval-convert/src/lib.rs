@@ -282,7 +282,7 @@ pub fn convert(
             .collect()
     });
     for k in &unused_id_map_keys {
-        tracing::warn!(key = k, "--id-map names scene {k}, which the input does not have");
+        tracing::info!(key = k, "--id-map names scene {k}, which the input does not have");
     }
 
     let staging = output::Staging::new(out)?;

@@ -22,7 +22,7 @@ use serde_json::Value;
 
 use crate::native::{read_json, subfolders};
 use crate::output::{copy_file, files_under, write_text};
-use crate::{ConvertError, NativeScene, Written};
+use crate::{ConvertError, NativeScene, SkippedObject, Written};
 
 /// Where a scene's state file is, newest layout first.
 const STATE_FILES: [&str; 2] = [
@@ -63,6 +63,7 @@ pub(crate) fn convert(
     // Relative SDF folder -> the room asset root it was copied from.
     let mut copied: BTreeMap<PathBuf, PathBuf> = BTreeMap::new();
     let mut files = Vec::new();
+    let mut skipped = Vec::new();
     {
         let top = doc.object(&root, "")?;
         let scene_ptr = "/scene";
@@ -75,6 +76,18 @@ pub(crate) fn convert(
                 let ptr = ptr_index(&list_ptr, i);
                 let o = doc.object(entry, &ptr)?;
                 if optional(o, "isArchitecture").and_then(Value::as_bool) == Some(true) {
+                    let name = optional(o, "id")
+                        .or_else(|| optional(o, "modelId"))
+                        .map_or_else(String::new, |v| {
+                            v.as_str().map_or_else(|| v.to_string(), str::to_owned)
+                        });
+                    skipped.push(SkippedObject {
+                        file: state_path.clone(),
+                        pointer: ptr,
+                        name,
+                        reason: "marked isArchitecture (part of the building): copied, left out when read"
+                            .into(),
+                    });
                     continue;
                 }
                 let Some(model) = optional(o, "modelId") else {
@@ -176,7 +189,7 @@ pub(crate) fn convert(
     files.sort();
     Ok(Written {
         files,
-        skipped_objects: Vec::new(),
+        skipped_objects: skipped,
     })
 }
 

@@ -22,6 +22,15 @@ fn the_state_is_copied_with_its_assets_from_every_room() {
     let out = tmp.path().join("out");
     let s = &report.scenes[0];
     assert_eq!((s.objects, s.rooms), (3, 2));
+    // The architecture entry is listed as left out.
+    assert_eq!(s.skipped_objects.len(), 1);
+    assert_eq!(
+        (
+            s.skipped_objects[0].name.as_str(),
+            s.skipped_objects[0].pointer.as_str()
+        ),
+        ("floor_bedroom", "/scene/object/3")
+    );
     let files: Vec<String> = s.files.iter().map(|f| f.display().to_string()).collect();
     // The bed's folder comes from the bedroom, the desk's and the lamp's from the office (the
     // fork's copy keeps only the last room's `furniture/sdf`); files no object uses (the

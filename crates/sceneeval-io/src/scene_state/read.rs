@@ -190,7 +190,7 @@ fn read_objects(
             file = %doc.path.display(),
             left_out = architecture,
             kept = objects.len(),
-            "left out {architecture} object entries marked isArchitecture (part of the building, not furniture)"
+            "object entries marked isArchitecture left out: {architecture} (part of the building, not furniture)"
         );
     }
     Ok(objects)
