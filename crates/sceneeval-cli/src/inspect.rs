@@ -300,6 +300,15 @@ fn table(out: &mut impl Write, header: &[&str], right: &[bool], rows: Vec<Vec<St
     Ok(())
 }
 
+/// A declared front as an axis name (`+y`, `-x`, ...), or its components.
+fn axis_name(v: [Real; 3]) -> String {
+    match v {
+        [x, y, z] if y == 0.0 && z == 0.0 && x != 0.0 => format!("{}x", if x > 0.0 { '+' } else { '-' }),
+        [x, y, z] if x == 0.0 && z == 0.0 && y != 0.0 => format!("{}y", if y > 0.0 { '+' } else { '-' }),
+        [x, y, z] => format!("({}, {}, {})", num(x), num(y), num(z)),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -311,6 +320,8 @@ mod tests {
         assert_eq!(num(-2.5), "-2.500");
         assert_eq!(count(1, "room"), "1 room");
         assert_eq!(count(0, "room"), "0 rooms");
+        assert_eq!(axis_name([0.0, 1.0, 0.0]), "+y");
+        assert_eq!(axis_name([-1.0, 0.0, 0.0]), "-x");
     }
 
     #[test]
@@ -334,14 +345,5 @@ mod tests {
         let mut out = Vec::new();
         table(&mut out, &["id"], &[false], vec![]).unwrap();
         assert_eq!(String::from_utf8(out).unwrap(), "  (none)\n");
-    }
-}
-
-/// A declared front as an axis name (`+y`, `-x`, ...), or its components.
-fn axis_name(v: [Real; 3]) -> String {
-    match v {
-        [x, y, z] if y == 0.0 && z == 0.0 && x != 0.0 => format!("{}x", if x > 0.0 { '+' } else { '-' }),
-        [x, y, z] if x == 0.0 && z == 0.0 && y != 0.0 => format!("{}y", if y > 0.0 { '+' } else { '-' }),
-        [x, y, z] => format!("({}, {}, {})", num(x), num(y), num(z)),
     }
 }
