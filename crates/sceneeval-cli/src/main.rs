@@ -69,11 +69,8 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(err) => {
-            eprintln!("error: {err}");
-            for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
-            }
-            if let Some(hint) = hint(&err) {
+            eprintln!("error: {:#}", sceneeval::ErrorChain::new(err.as_ref()));
+            if let Some(hint) = hint(err.as_ref()) {
                 eprintln!("hint: {hint}");
             }
             ExitCode::FAILURE
@@ -81,8 +78,9 @@ fn main() -> ExitCode {
     }
 }
 
-/// What to do about an error that a command-line option fixes, if it is one.
-fn hint(err: &anyhow::Error) -> Option<String> {
+/// What to do about an error that a command-line option fixes, if it is one (the error or one
+/// of its causes).
+pub fn hint(err: &(dyn std::error::Error + 'static)) -> Option<String> {
     use sceneeval::io::IoError;
     // Causes are `IoError`s, or boxed ones (an object's asset error boxes its cause).
     fn io<'e>(cause: &'e (dyn std::error::Error + 'static)) -> Option<&'e IoError> {
@@ -90,7 +88,7 @@ fn hint(err: &anyhow::Error) -> Option<String> {
             .downcast_ref::<IoError>()
             .or_else(|| cause.downcast_ref::<Box<IoError>>().map(|b| &**b))
     }
-    err.chain().find_map(|cause| match io(cause)? {
+    std::iter::once(err).chain(sceneeval::causes(err)).find_map(|cause| match io(cause)? {
         IoError::UnknownPrefix { prefix, .. } => Some(format!(
             "the scene names assets with the prefix {prefix:?}: pass --assets {prefix}=DIR with the folder \
              that holds them ({prefix}=LAYOUT:DIR to choose its layout; README, \"Using real asset folders\")"

@@ -225,9 +225,9 @@ fn failures_print_the_scene_file_and_the_whole_cause_chain() {
         .failure()
         .stderr(predicate::str::contains("failed: "))
         .stderr(predicate::str::contains("scene_21.json (load stage)"))
-        .stderr(predicate::str::contains("cannot load asset"))
+        .stderr(predicate::str::contains("1 asset not found, used by 1 object"))
         .stderr(predicate::str::contains(
-            "caused by: asset \"fixture.no_such_asset\" not found",
+            "\"fixture.no_such_asset\" for /scene/object/0: looked for",
         ));
 }
 

@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use serde_json::Value;
 
-use super::sources::{MetadataError, existing, not_found, read_json};
+use super::sources::{MetadataError, mesh_file, not_found, read_json};
 use super::{AssetInfo, AssetLocation, AssetSource, Layout};
 use crate::IoError;
 
@@ -164,11 +164,9 @@ impl AssetSource for IDesignSource {
     fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let (scene, object) = scene_asset_id(model_id, asset_id)?;
         let root = &self.states.root;
-        let path = existing(
+        let path = mesh_file(
             model_id,
-            root.join(format!("scene_{scene}"))
-                .join("assets")
-                .join(format!("{object}.glb")),
+            vec![root.join(format!("scene_{scene}")).join("assets").join(format!("{object}.glb"))],
         )?;
         let described = self
             .states
@@ -242,11 +240,11 @@ impl AssetSource for SceneAgentSource {
             ));
         };
         let assets = self.states.root.join(format!("scene_{scene}")).join("assets");
-        let sdf = existing(
+        let sdf = mesh_file(
             model_id,
-            crate::uri::resolve_in_folder(&assets, &state_path, sdf_uri)?,
+            vec![crate::uri::resolve_in_folder(&assets, &state_path, sdf_uri)?],
         )?;
-        let path = existing(model_id, visual_mesh(&sdf)?)?;
+        let path = mesh_file(model_id, vec![visual_mesh(&sdf)?])?;
         let category = humanize_object_id(object);
         Ok(AssetLocation {
             path,

@@ -6,7 +6,7 @@ use std::path::Path;
 use sceneeval_geom::na::{Quaternion, Translation3, UnitQuaternion};
 use sceneeval_geom::{Isometry3, Point2, Polygon2, Real, Side, Vector3};
 use sceneeval_scene::{
-    Ceiling, Element, Floor, Opening, OpeningKind, Room, Scene, SceneError, SceneObject, SupportType,
+    ArchElement, Ceiling, Element, Floor, Opening, Room, Scene, SceneError, SceneObject, SupportType,
     WallSpec,
 };
 use serde_json::{Map, Value};
@@ -14,7 +14,7 @@ use serde_json::{Map, Value};
 use super::json_in::{Doc, optional, parse, ptr_index, ptr_key};
 use super::{ARCH_VERSION, FORMAT, SCENE_VERSION, derived_object_id};
 use crate::frames::{FrameError, ObjectFront, PlacedObject, TransformFrame};
-use crate::{AssetLibrary, IoError};
+use crate::{AssetLibrary, IoError, MissingAsset};
 
 /// What to do about architecture when reading a sceneState file.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -168,13 +168,21 @@ fn read_objects(
     let mut seen: HashMap<String, String> = HashMap::with_capacity(list.len());
     let mut objects = Vec::with_capacity(list.len());
     let mut architecture = 0usize;
+    let mut missing = Vec::new();
     for (i, entry) in list.iter().enumerate() {
         let ptr = ptr_index("/scene/object", i);
         if is_architecture(doc, doc.object(entry, &ptr)?, &ptr)? {
             architecture += 1;
             continue;
         }
-        let object = read_object(doc, entry, &ptr, i, assets, scene_front)?;
+        let object = match read_object(doc, entry, &ptr, i, assets, scene_front) {
+            Ok(object) => object,
+            // Every missing asset is listed, not only the first: read on.
+            Err(e) => {
+                missing_asset(e, &mut missing)?;
+                continue;
+            }
+        };
         if let Some(first) = seen.insert(object.id().to_string(), ptr.clone()) {
             return Err(IoError::DuplicateObjectId {
                 path: doc.path_buf(),
@@ -193,7 +201,47 @@ fn read_objects(
             "object entries marked isArchitecture left out: {architecture} (part of the building, not furniture)"
         );
     }
+    if !missing.is_empty() {
+        return Err(IoError::MissingAssets {
+            path: doc.path_buf(),
+            missing,
+        });
+    }
     Ok(objects)
+}
+
+/// Records `e` in `missing` when it is an object's asset that was not found; returns any other
+/// error.
+fn missing_asset(e: IoError, missing: &mut Vec<MissingAsset>) -> Result<(), IoError> {
+    let IoError::ObjectAsset {
+        path,
+        pointer,
+        model_id,
+        source,
+    } = e
+    else {
+        return Err(e);
+    };
+    let tried = match *source {
+        IoError::AssetNotFound { tried, .. } => tried,
+        other => {
+            return Err(IoError::ObjectAsset {
+                path,
+                pointer,
+                model_id,
+                source: Box::new(other),
+            });
+        }
+    };
+    match missing.iter_mut().find(|m| m.model_id == model_id) {
+        Some(m) => m.objects.push(pointer),
+        None => missing.push(MissingAsset {
+            model_id,
+            objects: vec![pointer],
+            tried,
+        }),
+    }
+    Ok(())
 }
 
 fn bad_transform(doc: &Doc<'_>, data_ptr: &str, e: &FrameError) -> IoError {
@@ -463,13 +511,6 @@ struct WallElement {
     hole_ptrs: Vec<String>,
 }
 
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum ElementType {
-    Floor,
-    Ceiling,
-    Wall,
-}
-
 fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
     let arch = doc.object(arch, "/scene/arch")?;
     check_version(doc, arch, "/scene/arch", ARCH_VERSION);
@@ -485,10 +526,9 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
         let o = doc.object(e, &ptr)?;
         let type_ptr = ptr_key(&ptr, "type");
         let kind = doc.string(doc.required(o, &ptr, "type")?, &type_ptr)?;
-        let kind = match kind.to_ascii_lowercase().as_str() {
-            "floor" => ElementType::Floor,
-            "ceiling" => ElementType::Ceiling,
-            "wall" => ElementType::Wall,
+        // sceneState's elements are floors, ceilings and walls (doors and windows are holes).
+        let kind = match ArchElement::from_name(&kind.to_ascii_lowercase()) {
+            Some(k @ (ArchElement::Floor | ArchElement::Ceiling | ArchElement::Wall)) => k,
             _ => {
                 return Err(doc.invalid(
                     &type_ptr,
@@ -503,7 +543,7 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
             .map(|v| doc.id(v, &ptr_key(&ptr, "roomId")))
             .transpose()?;
         match kind {
-            ElementType::Floor => {
+            ArchElement::Floor => {
                 let Some(room) = room else {
                     return Err(IoError::MissingField {
                         path: doc.path_buf(),
@@ -532,7 +572,7 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
                     z,
                 });
             }
-            ElementType::Ceiling => {
+            ArchElement::Ceiling => {
                 let (polygon, z) = read_polygon(doc, o, &ptr, "ceiling")?;
                 ceilings.push(CeilingElement {
                     ptr,
@@ -542,7 +582,8 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
                     z,
                 });
             }
-            ElementType::Wall => {
+            // A wall, the only other kind let through above.
+            _ => {
                 let id = id.unwrap_or_else(|| format!("wall_{k}"));
                 if let Some(first) = walls.iter().find(|w| w.spec.id == id) {
                     return Err(IoError::DuplicateElement {
@@ -637,10 +678,10 @@ fn read_wall(
             let ho = doc.object(hole, &hptr)?;
             let type_ptr = ptr_key(&hptr, "type");
             let kind = doc.string(doc.required(ho, &hptr, "type")?, &type_ptr)?;
-            let kind = match kind.to_ascii_lowercase().as_str() {
-                "door" => OpeningKind::Door,
-                "window" => OpeningKind::Window,
-                _ => {
+            let kind = match ArchElement::from_name(&kind.to_ascii_lowercase()).and_then(ArchElement::opening)
+            {
+                Some(kind) => kind,
+                None => {
                     tracing::warn!(file = %doc.path.display(), pointer = %type_ptr, "skipping a hole of type {kind:?} (not Door or Window)");
                     continue;
                 }
