@@ -101,7 +101,8 @@ impl<'a> Report<'a> {
 
         writeln!(
             out,
-            "\nObjects (centre and size in metres, yaw in degrees; size = width x depth x height)"
+            "\nObjects (centre and size in metres, yaw in degrees; size = width x depth x height; \
+             asset front = the front the file declares in the object's frame, turned to -y)"
         )?;
         let rows = self
             .objects
@@ -118,6 +119,7 @@ impl<'a> Report<'a> {
                     num(o.center[2]),
                     format!("{} x {} x {}", num(o.size[0]), num(o.size[1]), num(o.size[2])),
                     format!("{:.1}", o.yaw.to_degrees()),
+                    o.asset_front.map_or_else(|| "-".to_owned(), axis_name),
                     o.support_type.map_or("-", SupportType::name).to_owned(),
                 ]
             })
@@ -125,9 +127,18 @@ impl<'a> Report<'a> {
         table(
             out,
             &[
-                "id", "model id", "category", "x", "y", "z", "size", "yaw", "support",
+                "id",
+                "model id",
+                "category",
+                "x",
+                "y",
+                "z",
+                "size",
+                "yaw",
+                "asset front",
+                "support",
             ],
-            &[false, false, false, true, true, true, false, true, false],
+            &[false, false, false, true, true, true, false, true, false, false],
             rows,
         )?;
 
@@ -289,6 +300,15 @@ fn table(out: &mut impl Write, header: &[&str], right: &[bool], rows: Vec<Vec<St
     Ok(())
 }
 
+/// A declared front as an axis name (`+y`, `-x`, ...), or its components.
+fn axis_name(v: [Real; 3]) -> String {
+    match v {
+        [x, y, z] if y == 0.0 && z == 0.0 && x != 0.0 => format!("{}x", if x > 0.0 { '+' } else { '-' }),
+        [x, y, z] if x == 0.0 && z == 0.0 && y != 0.0 => format!("{}y", if y > 0.0 { '+' } else { '-' }),
+        [x, y, z] => format!("({}, {}, {})", num(x), num(y), num(z)),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -300,6 +320,8 @@ mod tests {
         assert_eq!(num(-2.5), "-2.500");
         assert_eq!(count(1, "room"), "1 room");
         assert_eq!(count(0, "room"), "0 rooms");
+        assert_eq!(axis_name([0.0, 1.0, 0.0]), "+y");
+        assert_eq!(axis_name([-1.0, 0.0, 0.0]), "-x");
     }
 
     #[test]
