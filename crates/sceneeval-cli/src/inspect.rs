@@ -80,25 +80,8 @@ impl<'a> Report<'a> {
         }
     }
 
-    fn write_tables(&self, out: &mut impl Write) -> io::Result<()> {
-        let walls: usize = self.rooms.iter().map(|r| r.walls.len()).sum();
-        let openings: usize = self
-            .rooms
-            .iter()
-            .flat_map(|r| &r.walls)
-            .map(|w| w.openings.len())
-            .sum();
-        writeln!(
-            out,
-            "scene {} ({}): {}, {}, {}, {}",
-            self.scene.unwrap_or("-"),
-            self.file.display(),
-            count(self.objects.len(), "object"),
-            count(self.rooms.len(), "room"),
-            count(walls, "wall"),
-            count(openings, "opening"),
-        )?;
-
+    /// The objects table of [`Report::write_tables`].
+    fn write_objects(&self, out: &mut impl Write) -> io::Result<()> {
         writeln!(
             out,
             "\nObjects (centre and size in metres, yaw in degrees; size = width x depth x height; \
@@ -140,7 +123,29 @@ impl<'a> Report<'a> {
             ],
             &[false, false, false, true, true, true, false, true, false, false],
             rows,
+        )
+    }
+
+    fn write_tables(&self, out: &mut impl Write) -> io::Result<()> {
+        let walls: usize = self.rooms.iter().map(|r| r.walls.len()).sum();
+        let openings: usize = self
+            .rooms
+            .iter()
+            .flat_map(|r| &r.walls)
+            .map(|w| w.openings.len())
+            .sum();
+        writeln!(
+            out,
+            "scene {} ({}): {}, {}, {}, {}",
+            self.scene.unwrap_or("-"),
+            self.file.display(),
+            count(self.objects.len(), "object"),
+            count(self.rooms.len(), "room"),
+            count(walls, "wall"),
+            count(openings, "opening"),
         )?;
+
+        self.write_objects(out)?;
 
         writeln!(out, "\nRooms")?;
         let rows = self

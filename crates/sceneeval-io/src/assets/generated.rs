@@ -166,7 +166,11 @@ impl AssetSource for IDesignSource {
         let root = &self.states.root;
         let path = mesh_file(
             model_id,
-            vec![root.join(format!("scene_{scene}")).join("assets").join(format!("{object}.glb"))],
+            vec![
+                root.join(format!("scene_{scene}"))
+                    .join("assets")
+                    .join(format!("{object}.glb")),
+            ],
         )?;
         let described = self
             .states
