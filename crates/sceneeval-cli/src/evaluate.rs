@@ -227,7 +227,7 @@ impl std::error::Error for OptionError {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let request = args.request()?;
     if args.print_request {
-        println!("{}", serde_json::to_string_pretty(&request)?);
+        crate::print_stdout(&format!("{}\n", serde_json::to_string_pretty(&request)?))?;
         return Ok(ExitCode::SUCCESS);
     }
     let prepared = request.prepare().map_err(OptionError::evaluate)?;
@@ -317,7 +317,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } = prepared.run(&on_event)?;
     progress.finish_and_clear();
 
-    print!("{}", summary.to_markdown());
+    crate::print_stdout(&summary.to_markdown())?;
     eprintln!(
         "{} scenes: {} evaluated, {} kept from an earlier run, {} failed; preset {}; results in {}",
         scenes.len(),

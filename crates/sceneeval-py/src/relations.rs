@@ -745,6 +745,8 @@ mod tests {
 
     #[test]
     fn rooms_are_built_once_per_key_and_failures_are_not_kept() {
+        // The errors are Python exceptions: their text needs the interpreter.
+        Python::initialize();
         let session = Mutex::new(Session::new(RelationParams::default(), AssetLibrary::new(), 4));
         let arg = |key: &str, value: serde_json::Value| RoomArg {
             key: key.to_owned(),
