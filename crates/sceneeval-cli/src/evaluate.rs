@@ -97,6 +97,9 @@ pub struct Args {
     /// Also write diagnostic images under `<out>/<scene>/diagnostics/`.
     #[arg(long)]
     pub diagnostics: bool,
+    /// After the run, write its static report into `<out>/report/` (as `sceneeval report`).
+    #[arg(long)]
+    pub report: bool,
     /// Do not show a progress bar.
     #[arg(long)]
     pub no_progress: bool,
@@ -341,6 +344,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .chain(per_metric.iter().map(|(m, s)| format!("{m} {s:.2} s")))
             .collect();
         eprintln!("  time over the evaluated scenes: {}", parts.join(", "));
+    }
+    if args.report {
+        crate::report::after_evaluate(&args.out, &args.assets, args.annotations.as_deref())?;
     }
     Ok(if outcome.failed > 0 {
         ExitCode::FAILURE

@@ -11,11 +11,13 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod annotations;
+mod compare;
 mod convert;
 mod evaluate;
 mod inspect;
 mod relate;
 mod render;
+mod report;
 mod summarize;
 mod vlm;
 
@@ -46,6 +48,10 @@ enum Command {
     Evaluate(Box<evaluate::Args>),
     /// Merge the per-scene results of output folders (e.g. shards) into the summary tables.
     Summarize(summarize::Args),
+    /// Compare the runs of several methods: a paper table with ranks (Markdown, CSV, LaTeX, HTML).
+    Compare(compare::Args),
+    /// Write a browsable static report of a finished run (RUN/report/index.html).
+    Report(report::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
     Render(render::Args),
     /// Work with the vision-language model endpoint (check that it answers).
@@ -65,6 +71,8 @@ fn main() -> ExitCode {
         Command::Evaluate(args) => evaluate::run(*args),
         Command::Render(args) => render::run(args),
         Command::Summarize(args) => summarize::run(args),
+        Command::Compare(args) => compare::run(args),
+        Command::Report(args) => report::run(args),
         Command::Vlm(cmd) => vlm::run(cmd),
     };
     match result {

@@ -106,7 +106,7 @@ pub use files::{LOCK_FILE, OutputLock, check_output_dir, write_atomic, write_ato
 pub use fingerprint::{
     AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest, matching_file_digest,
 };
-pub use metric::{Metric, UnknownMetric};
+pub use metric::{Better, Metric, UnknownMetric};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
 pub use plausibility::{Deadline, MetricTiming};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
@@ -117,4 +117,7 @@ pub use request::{
     VlmOptions,
 };
 pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
-pub use summary::{ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, Summary, UNANNOTATED};
+pub use summary::{
+    ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneRow, Summary,
+    UNANNOTATED,
+};

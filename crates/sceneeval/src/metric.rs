@@ -142,6 +142,29 @@ impl Metric {
             .map(|(m, _)| m)
     }
 
+    /// Which way the metric's summary columns improve: higher for SUP, NAV, ACC, CNT, ATR,
+    /// OOR, OAR; lower for COL_ob, COL_sc, OOB, DOOR_blk, WIN_blk (every column of a metric
+    /// improves the same way).
+    ///
+    /// ```
+    /// use sceneeval::{Better, Metric};
+    /// assert_eq!(Metric::Support.better(), Better::Higher);
+    /// assert_eq!(Metric::Collision.better(), Better::Lower);
+    /// assert!(Better::Lower.prefers(2.0, 5.0));
+    /// ```
+    pub const fn better(self) -> Better {
+        match self {
+            Metric::Support
+            | Metric::Navigability
+            | Metric::Accessibility
+            | Metric::Cnt
+            | Metric::Atr
+            | Metric::Oor
+            | Metric::Oar => Better::Higher,
+            Metric::Collision | Metric::OutOfBounds | Metric::OpeningClearance => Better::Lower,
+        }
+    }
+
     /// The list of metric names for messages: "collision, support, ..., cnt, atr, oor, oar".
     pub fn names() -> String {
         Metric::ALL.map(Metric::name).join(", ")
@@ -151,6 +174,34 @@ impl Metric {
 impl fmt::Display for Metric {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+/// Which way a metric improves ([`Metric::better`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Better {
+    /// Higher values are better (a share of satisfied specs, of supported objects, ...).
+    Higher,
+    /// Lower values are better (a share of objects in collision, out of bounds, ...).
+    Lower,
+}
+
+impl Better {
+    /// Whether `a` is strictly better than `b` in this direction.
+    pub fn prefers(self, a: f64, b: f64) -> bool {
+        match self {
+            Better::Higher => a > b,
+            Better::Lower => a < b,
+        }
+    }
+
+    /// `higher` or `lower`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Better::Higher => "higher",
+            Better::Lower => "lower",
+        }
     }
 }
 
@@ -245,6 +296,21 @@ mod tests {
         // The plausibility crate's order is this order's prefix.
         let geometry: Vec<Metric> = plausibility::Metric::ALL.into_iter().map(Metric::from).collect();
         assert_eq!(geometry, Metric::ALL[..6]);
+    }
+
+    #[test]
+    fn the_direction_of_each_metric_is_the_summary_legend_s() {
+        // summary's LEGEND: lower is better for COL_ob, COL_sc, OOB, DOOR_blk and WIN_blk;
+        // higher for SUP, NAV, ACC and CNT, ATR, OOR, OAR.
+        let lower = ["COL_ob", "COL_sc", "OOB", "DOOR_blk", "WIN_blk"];
+        for m in Metric::ALL {
+            for c in m.columns() {
+                assert_eq!(m.better() == Better::Lower, lower.contains(c), "{c}");
+                assert!(crate::LEGEND.contains(c), "{c}");
+            }
+        }
+        assert!(Better::Higher.prefers(2.0, 1.0) && !Better::Higher.prefers(1.0, 1.0));
+        assert!(Better::Lower.prefers(1.0, 2.0) && !Better::Lower.prefers(2.0, 2.0));
     }
 
     #[test]

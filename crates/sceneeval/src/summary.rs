@@ -405,6 +405,27 @@ impl GroupSummary {
         }
     }
 
+    /// The value of the summary column named `column` (`CNT`, `COL_ob`, ... as in
+    /// [`Metric::columns`](crate::Metric::columns), exact case), in percent; `None` when the
+    /// group has no value there or there is no such column.
+    pub fn value(&self, column: &str) -> Option<f64> {
+        match column {
+            "CNT" => self.cnt,
+            "ATR" => self.atr,
+            "OOR" => self.oor,
+            "OAR" => self.oar,
+            "COL_ob" => self.col_ob,
+            "COL_sc" => self.col_sc,
+            "SUP" => self.sup,
+            "NAV" => self.nav,
+            "ACC" => self.acc,
+            "OOB" => self.oob,
+            "DOOR_blk" => self.door_blocked,
+            "WIN_blk" => self.window_blocked,
+            _ => None,
+        }
+    }
+
     fn cells(&self, decimals: usize) -> Vec<String> {
         let num = |v: Option<f64>| v.map(|v| format!("{v:.decimals$}")).unwrap_or_default();
         vec![
@@ -540,6 +561,21 @@ mod tests {
             "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,"
         );
         assert_eq!(lines[3], "scene_2,2,,failed,,,,,,,,,,,,,load stage: broken");
+    }
+
+    #[test]
+    fn every_metric_column_has_a_value_accessor() {
+        let s = Summary::from_records(&records(), None);
+        let all = &s.groups[0];
+        // The accessor gives the CSV's cells: columns 4..16 of the header, in that order.
+        let cells = all.cells(4);
+        for (k, column) in COLUMNS[4..16].iter().enumerate() {
+            assert!(crate::Metric::from_name(column).is_some(), "{column}");
+            let v = all.value(column).map(|v| format!("{v:.4}")).unwrap_or_default();
+            assert_eq!(v, cells[4 + k], "{column}");
+        }
+        assert_eq!(all.value("SUP"), Some(75.0));
+        assert_eq!(all.value("nope"), None);
     }
 
     #[test]
