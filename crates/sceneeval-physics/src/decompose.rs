@@ -1,7 +1,7 @@
 //! Convex decomposition of object meshes into the pieces a rigid body is made of.
 //!
 //! A rigid-body engine collides convex shapes; a chair is not convex. Each mesh is cut into
-//! convex pieces with parry's V-HACD ([`parry3d_f64::transformation::vhacd`]): the mesh is
+//! convex pieces with parry's V-HACD ([`rapier3d_f64::parry::transformation::vhacd`]): the mesh is
 //! voxelised (`resolution` voxels along its longest side), the voxels are split recursively by
 //! planes until every part is nearly convex (`concavity`) or there are `max_pieces` parts, and
 //! each piece is then the **convex hull of the mesh's own surface inside the part's voxels**

@@ -30,102 +30,18 @@ pub(crate) fn simulate(
     params: &StabilityParams,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Result<Outcome, PhysicsError> {
-    let mut world = PhysicsWorld {
-        gravity: Vector::new(0.0, 0.0, -GRAVITY),
-        integration_parameters: IntegrationParameters {
-            dt: params.time_step_s,
-            // Rapier reuses a pair's contact points while the bodies barely move ("contact
-            // recycling"); on convex polyhedra with many faces (a lamp's round base on a
-            // cabinet) the stale points rock a resting object by 0.1 rad within seconds.
-            // Computing them every step keeps it still (measured: under 0.001 rad over 3 s).
-            contact_recycling: false,
-            ..IntegrationParameters::default()
-        },
-        ..PhysicsWorld::default()
-    };
-    let arch_names = add_architecture(&mut world, scene, params.friction);
-
-    let mut handles = Vec::with_capacity(bodies.len());
-    for (i, (object, body)) in scene.objects().iter().zip(bodies).enumerate() {
-        let density = match params.mass {
-            MassModel::Density(rho) => rho,
-            MassModel::PerObject(kg) => kg / body.volume(),
-        };
-        if !(density.is_finite() && density > 0.0) {
-            return Err(PhysicsError::Geometry {
-                object: object.id().to_string(),
-                reason: format!("its convex pieces have no usable volume ({} m³)", body.volume()),
-            });
-        }
-        let mut rb = RigidBodyBuilder::dynamic().pose(to_parry_pose(object.pose()));
-        if params.sleep_speed_m_s <= 0.0 {
-            rb = rb.can_sleep(false);
-        }
-        let handle = world.insert_body(rb);
-        if let Some(b) = world
-            .bodies
-            .get_mut(handle)
-            .filter(|_| params.sleep_speed_m_s > 0.0)
-        {
-            let a = b.activation_mut();
-            a.normalized_linear_threshold = params.sleep_speed_m_s;
-            a.time_until_sleep = params.sleep_time_s;
-        }
-        let shapes: Vec<(rapier3d_f64::math::Pose, SharedShape)> = body
-            .piece_offsets()
-            .zip(body.shapes())
-            .map(|(offset, shape)| {
-                let at = Isometry3::translation(offset.x, offset.y, offset.z);
-                (to_parry_pose(&at), shape.clone())
-            })
-            .collect();
-        let shape = match <[_; 1]>::try_from(shapes) {
-            Ok([(at, shape)]) => ColliderBuilder::new(shape).position(at),
-            Err(shapes) => ColliderBuilder::new(SharedShape::compound(shapes)),
-        };
-        world.insert_collider(
-            shape
-                .density(density)
-                .friction(params.friction)
-                .restitution(0.0)
-                .user_data(i as u128),
-            Some(handle),
-        );
-        handles.push(handle);
-    }
+    let mut built = build_world(scene, bodies, params)?;
 
     // Contacts at the start, every body free: the deepest interpenetration of each object.
-    world.detect_collisions(&(), &());
-    let interpenetration = deepest_interpenetrations(&world, scene, &arch_names, params.penetration_depth_m);
-
-    // Weld what the mode says. Every body is touched through `get_mut`: rapier's collision-only
-    // pass consumed the bodies' "inserted" changes without giving them to the island manager,
-    // and a body the manager never saw is never simulated.
-    let mut weld_reasons = Vec::with_capacity(handles.len());
-    for (i, &h) in handles.iter().enumerate() {
-        let reason = weld_reason(params, support_types[i], interpenetration[i].as_ref());
-        if let Some(b) = world.bodies.get_mut(h) {
-            if reason.is_some() {
-                b.set_body_type(RigidBodyType::Fixed, false);
-            } else {
-                b.set_linvel(Vector::ZERO, true);
-            }
-        }
-        weld_reasons.push(reason);
-    }
-    let free = weld_reasons.iter().filter(|r| r.is_none()).count();
-
-    // Where each centre of mass starts (object frame, then world).
-    let local_com: Vec<Point3> = handles
-        .iter()
-        .map(|&h| {
-            world
-                .bodies
-                .get(h)
-                .map(|b| Point3::from(vec_from_parry(b.mass_properties().local_mprops.local_com)))
-                .unwrap_or_else(Point3::origin)
-        })
+    built.world.detect_collisions(&(), &());
+    let interpenetration =
+        deepest_interpenetrations(&built.world, scene, &built.arch_names, params.penetration_depth_m);
+    let weld_reasons: Vec<Option<WeldReason>> = (0..built.handles.len())
+        .map(|i| weld_reason(params, support_types[i], interpenetration[i].as_ref()))
         .collect();
+    built.weld(&weld_reasons);
+    let local_com: Vec<Point3> = built.handles.iter().map(|&h| built.local_com(h)).collect();
+    let free = weld_reasons.iter().filter(|r| r.is_none()).count();
 
     let max_steps = if free == 0 { 0 } else { params.steps() };
     let mut steps = 0;
@@ -133,16 +49,16 @@ pub(crate) fn simulate(
         if steps % POLL_STEPS == 0 && stop() {
             return Err(PhysicsError::Stopped { stage: "simulation" });
         }
-        world.step();
+        built.world.step();
         steps += 1;
-        if params.sleep_speed_m_s > 0.0 && world.islands.num_active_bodies() == 0 {
+        if params.sleep_speed_m_s > 0.0 && built.world.islands.num_active_bodies() == 0 {
             tracing::debug!(steps, "every free body is asleep: the simulation stops early");
             break;
         }
     }
 
-    let mut objects = Vec::with_capacity(handles.len());
-    let mut poses = Vec::with_capacity(handles.len());
+    let mut objects = Vec::with_capacity(built.handles.len());
+    let mut poses = Vec::with_capacity(built.handles.len());
     let mut unstable = 0;
     for (i, object) in scene.objects().iter().enumerate() {
         let start = *object.pose();
@@ -150,19 +66,11 @@ pub(crate) fn simulate(
         let end = if welded {
             start
         } else {
-            let pose = world
-                .bodies
-                .get(handles[i])
-                .map(|b| pose_from_parry(b.position()))
-                .unwrap_or(start);
-            let finite = pose.translation.vector.iter().all(|v| v.is_finite())
-                && pose.rotation.coords.iter().all(|v| v.is_finite());
-            if !finite {
-                return Err(PhysicsError::Diverged {
+            built
+                .final_pose(built.handles[i])
+                .ok_or_else(|| PhysicsError::Diverged {
                     object: object.id().to_string(),
-                });
-            }
-            pose
+                })?
         };
         let (displacement_m, rotation_rad) = motion(&start, &end, &local_com[i]);
         let stable = welded
@@ -208,6 +116,128 @@ pub(crate) fn simulate(
         steps,
     };
     Ok(Outcome { report, poses })
+}
+
+/// The rapier world of a scene: the rooms' fixed colliders and one dynamic body per object
+/// (scene order), placed at the object's pose with its pieces in the object frame.
+struct Built {
+    world: PhysicsWorld,
+    handles: Vec<RigidBodyHandle>,
+    arch_names: Vec<String>,
+}
+
+fn build_world(
+    scene: &Scene,
+    bodies: &[Arc<Decomposition>],
+    params: &StabilityParams,
+) -> Result<Built, PhysicsError> {
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0, -GRAVITY),
+        integration_parameters: IntegrationParameters {
+            dt: params.time_step_s,
+            // Rapier reuses a pair's contact points while the bodies barely move ("contact
+            // recycling"); on convex polyhedra with many faces (a lamp's round base on a
+            // cabinet) the stale points rock a resting object by 0.1 rad within seconds.
+            // Computing them every step keeps it still (measured: under 0.001 rad over 3 s).
+            contact_recycling: false,
+            ..IntegrationParameters::default()
+        },
+        ..PhysicsWorld::default()
+    };
+    let arch_names = add_architecture(&mut world, scene, params.friction);
+    let mut handles = Vec::with_capacity(bodies.len());
+    for (i, (object, body)) in scene.objects().iter().zip(bodies).enumerate() {
+        let density = match params.mass {
+            MassModel::Density(rho) => rho,
+            MassModel::PerObject(kg) => kg / body.volume(),
+        };
+        if !(density.is_finite() && density > 0.0) {
+            return Err(PhysicsError::Geometry {
+                object: object.id().to_string(),
+                reason: format!("its convex pieces have no usable volume ({} m³)", body.volume()),
+            });
+        }
+        let sleeps = params.sleep_speed_m_s > 0.0;
+        let handle = world.insert_body(
+            RigidBodyBuilder::dynamic()
+                .pose(to_parry_pose(object.pose()))
+                .can_sleep(sleeps),
+        );
+        if let Some(b) = world.bodies.get_mut(handle).filter(|_| sleeps) {
+            let a = b.activation_mut();
+            a.normalized_linear_threshold = params.sleep_speed_m_s;
+            a.time_until_sleep = params.sleep_time_s;
+        }
+        let mut shapes: Vec<(rapier3d_f64::math::Pose, SharedShape)> = body
+            .piece_offsets()
+            .zip(body.shapes())
+            .map(|(offset, shape)| {
+                let at = Isometry3::translation(offset.x, offset.y, offset.z);
+                (to_parry_pose(&at), shape.clone())
+            })
+            .collect();
+        let collider = match shapes.pop() {
+            Some((at, shape)) if shapes.is_empty() => ColliderBuilder::new(shape).position(at),
+            Some(last) => {
+                shapes.push(last);
+                ColliderBuilder::new(SharedShape::compound(shapes))
+            }
+            None => {
+                return Err(PhysicsError::Geometry {
+                    object: object.id().to_string(),
+                    reason: "it has no convex piece".to_owned(),
+                });
+            }
+        };
+        world.insert_collider(
+            collider
+                .density(density)
+                .friction(params.friction)
+                .restitution(0.0)
+                .user_data(i as u128),
+            Some(handle),
+        );
+        handles.push(handle);
+    }
+    Ok(Built {
+        world,
+        handles,
+        arch_names,
+    })
+}
+
+impl Built {
+    /// Fixes the bodies with a weld reason in place. Every body is touched through `get_mut`:
+    /// rapier's collision-only pass consumed the bodies' "inserted" changes without giving
+    /// them to the island manager, and a body the manager never saw is never simulated.
+    fn weld(&mut self, reasons: &[Option<WeldReason>]) {
+        for (&h, reason) in self.handles.iter().zip(reasons) {
+            if let Some(b) = self.world.bodies.get_mut(h) {
+                if reason.is_some() {
+                    b.set_body_type(RigidBodyType::Fixed, false);
+                } else {
+                    b.set_linvel(Vector::ZERO, true);
+                }
+            }
+        }
+    }
+
+    /// A body's centre of mass in its own (the object's) frame.
+    fn local_com(&self, h: RigidBodyHandle) -> Point3 {
+        self.world
+            .bodies
+            .get(h)
+            .map(|b| Point3::from(vec_from_parry(b.mass_properties().local_mprops.local_com)))
+            .unwrap_or_else(Point3::origin)
+    }
+
+    /// A body's pose (`world_from_object`), `None` when it is no longer finite.
+    fn final_pose(&self, h: RigidBodyHandle) -> Option<Isometry3> {
+        let pose = pose_from_parry(self.world.bodies.get(h)?.position());
+        let finite = pose.translation.vector.iter().all(|v| v.is_finite())
+            && pose.rotation.coords.iter().all(|v| v.is_finite());
+        finite.then_some(pose)
+    }
 }
 
 /// How far a body moved from `start` to `end`: the distance its centre of mass (`local_com`,
@@ -318,6 +348,52 @@ mod tests {
         let dropped = Isometry3::translation(3.0, 0.0, 0.45);
         let (d, r) = motion(&start, &dropped, &Point3::new(0.2, -0.1, 0.3));
         assert!((d - 0.05).abs() < 1e-12 && r == 0.0, "{d} {r}");
+    }
+
+    #[test]
+    fn bodies_carry_their_mass_at_the_pieces_centroid() {
+        use crate::{Decomposition, MassModel, Piece};
+        use sceneeval_scene::SceneObject;
+        // An object whose origin is at its foot: one 0.2 m cube piece centred 0.5 m above it,
+        // placed at (1, 2, 0) turned 90 degrees about z. Its centre of mass is the cube's
+        // centre, (0, 0, 0.5) in the object frame; its mass 0.008 m³ x 1000 kg/m³ = 8 kg, or
+        // 1 kg under the per-object model.
+        let piece = Decomposition::from_pieces(
+            crate::DecompositionKind::Vhacd,
+            vec![Piece::Hull {
+                points: (0..8)
+                    .map(|k| {
+                        Point3::from(sceneeval_geom::cuboid_corner(
+                            k,
+                            [-0.1, -0.1, 0.4],
+                            [0.1, 0.1, 0.6],
+                        ))
+                    })
+                    .collect(),
+            }],
+        )
+        .unwrap();
+        let pose = Isometry3::new(
+            Vector3::new(1.0, 2.0, 0.0),
+            Vector3::z() * std::f64::consts::FRAC_PI_2,
+        );
+        let object = SceneObject::new_box("o", Vector3::repeat(0.1), pose).unwrap();
+        let scene = Scene::builder().object(object).build().unwrap();
+        for (mass, kg) in [
+            (MassModel::Density(1000.0), 8.0),
+            (MassModel::PerObject(1.0), 1.0),
+        ] {
+            let params = StabilityParams {
+                mass,
+                ..StabilityParams::default()
+            };
+            let built = build_world(&scene, &[Arc::new(piece.clone())], &params).unwrap();
+            let h = built.handles[0];
+            let c = built.local_com(h);
+            assert!((c - Point3::new(0.0, 0.0, 0.5)).norm() < 1e-12, "{c:?}");
+            let m = built.world.bodies.get(h).unwrap().mass();
+            assert!((m - kg).abs() < 1e-9, "{m}");
+        }
     }
 
     #[test]
