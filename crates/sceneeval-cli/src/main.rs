@@ -15,6 +15,7 @@ mod evaluate;
 mod inspect;
 mod relate;
 mod render;
+mod settle;
 mod summarize;
 mod vlm;
 
@@ -45,6 +46,8 @@ enum Command {
     Summarize(summarize::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
     Render(render::Args),
+    /// Simulate a scene under gravity and write it with every object at its settled pose.
+    Settle(settle::Args),
     /// Work with the vision-language model endpoint (check that it answers).
     #[command(subcommand)]
     Vlm(vlm::Command),
@@ -60,6 +63,7 @@ fn main() -> ExitCode {
         Command::Annotations(cmd) => annotations::run(cmd),
         Command::Evaluate(args) => evaluate::run(*args),
         Command::Render(args) => render::run(args),
+        Command::Settle(args) => settle::run(args),
         Command::Summarize(args) => summarize::run(args),
         Command::Vlm(cmd) => vlm::run(cmd),
     };

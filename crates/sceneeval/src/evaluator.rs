@@ -48,10 +48,11 @@ pub struct Evaluator {
     #[cfg(feature = "render")]
     renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
     #[cfg(feature = "physics")]
-    stability: Option<StabilityRun>,
+    stability: StabilityRun,
 }
 
-/// The stability metric of a plan that runs it, with the decomposition cache its scenes share.
+/// The stability metric with the plan's parameters, and the decomposition cache its scenes
+/// share.
 #[cfg(feature = "physics")]
 #[derive(Debug)]
 struct StabilityRun {
@@ -103,12 +104,9 @@ impl Evaluator {
         plan.validate()?;
         let fidelity = FidelityEvaluator::new(plan.fidelity.clone(), plan.relations)?;
         #[cfg(feature = "physics")]
-        let stability = match plan.runs(Metric::Stability) {
-            true => Some(StabilityRun {
-                metric: crate::physics::Stability::new(plan.stability.clone())?,
-                cache: Default::default(),
-            }),
-            false => None,
+        let stability = StabilityRun {
+            metric: crate::physics::Stability::new(plan.stability.clone())?,
+            cache: Default::default(),
         };
         Ok(Evaluator {
             plan,
@@ -127,16 +125,82 @@ impl Evaluator {
     /// default: a cache in memory for this evaluator's life). A cache in a folder
     /// ([`crate::physics::DecompositionCache::on_disk`]) lets re-runs and other weld variants
     /// reuse them; `sceneeval evaluate` keeps one in `<out>/physics-cache`
-    /// ([`crate::DEFAULT_PHYSICS_CACHE_DIR`]). Without the metric in the plan this does nothing.
+    /// ([`crate::DEFAULT_PHYSICS_CACHE_DIR`]).
     #[cfg(feature = "physics")]
     pub fn with_decomposition_cache(
         mut self,
         cache: std::sync::Arc<crate::physics::DecompositionCache>,
     ) -> Self {
-        if let Some(run) = &mut self.stability {
-            run.cache = cache;
-        }
+        self.stability.cache = cache;
         self
+    }
+
+    /// The stability of `scene` under the plan's `stability` parameters (whether or not the
+    /// plan lists the metric), each object's support type from [`Evaluator::sources`] (what
+    /// the scene states, then the category tables, unless replaced), stopping when
+    /// `deadline` passes (feature `physics`).
+    ///
+    /// # Errors
+    /// `EvalError::Physics` as [`crate::physics::Stability::evaluate`].
+    #[cfg(feature = "physics")]
+    pub fn stability(
+        &self,
+        scene: &Scene,
+        deadline: &Deadline,
+    ) -> Result<crate::physics::StabilityReport, EvalError> {
+        self.stability.evaluate(scene, &self.sources, deadline)
+    }
+
+    /// `scene` with every object at its pose after the stability metric's simulation (welded
+    /// objects where they were), with the report that goes with it: what `sceneeval settle`
+    /// writes. Parameters and support types as [`Evaluator::stability`] (feature `physics`).
+    ///
+    /// ```
+    /// use sceneeval::{Deadline, Evaluator, EvaluationPlan};
+    /// use sceneeval::scene::{Category, RoomBuilder, Scene};
+    /// use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
+    ///
+    /// // A 0.4 m crate 5 cm above the floor.
+    /// let scene = Scene::builder()
+    ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(3.0, 3.0)))
+    ///     .add_box("crate", Category::new("box"), Vector3::repeat(0.2),
+    ///              pose_from_yaw(Point3::new(1.5, 1.5, 0.25), 0.0))
+    ///     .build()
+    ///     .unwrap();
+    /// let evaluator = Evaluator::new(EvaluationPlan::geometry_only()).unwrap();
+    /// let (settled, report) = evaluator.settle(&scene, &Deadline::none()).unwrap();
+    /// assert!(!report.objects[0].stable);
+    /// // It landed: its centre is 0.2 m up, within a millimetre.
+    /// let z = settled.objects()[0].pose().translation.z;
+    /// assert!((z - 0.2).abs() < 1e-3, "{z}");
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Evaluator::stability`].
+    #[cfg(feature = "physics")]
+    pub fn settle(
+        &self,
+        scene: &Scene,
+        deadline: &Deadline,
+    ) -> Result<(Scene, crate::physics::StabilityReport), EvalError> {
+        let run = &self.stability;
+        let (poses, report) = run.metric.settle(
+            scene,
+            &run.support_types(scene, &self.sources),
+            &run.cache,
+            &|| deadline.expired(),
+        )?;
+        let mut settled = scene.clone();
+        for (i, pose) in poses.into_iter().enumerate() {
+            // The simulation's poses are finite (a diverged one is an error above).
+            settled
+                .set_pose(i, pose)
+                .map_err(|e| crate::physics::PhysicsError::Geometry {
+                    object: scene.objects()[i].id().to_string(),
+                    reason: e.to_string(),
+                })?;
+        }
+        Ok((settled, report))
     }
 
     /// Uses `vlm` for the text-fidelity metrics (matching, attributes, relation mapping) and
@@ -281,13 +345,13 @@ impl Evaluator {
             &mut timings,
         )?;
         #[cfg(feature = "physics")]
-        let (stability, stability_seconds) = match &self.stability {
-            Some(run) => {
+        let (stability, stability_seconds) = match self.plan.runs(Metric::Stability) {
+            true => {
                 let start = Instant::now();
-                let report = run.evaluate(scene, sources, deadline)?;
+                let report = self.stability.evaluate(scene, sources, deadline)?;
                 (Some(report), Some(start.elapsed().as_secs_f64()))
             }
-            None => (None, None),
+            false => (None, None),
         };
         #[cfg(not(feature = "physics"))]
         let stability_seconds = None;
@@ -415,14 +479,20 @@ impl StabilityRun {
         sources: &Sources,
         deadline: &Deadline,
     ) -> Result<crate::physics::StabilityReport, EvalError> {
-        let support_types: Vec<_> = scene
+        Ok(self
+            .metric
+            .evaluate(scene, &self.support_types(scene, sources), &self.cache, &|| {
+                deadline.expired()
+            })?)
+    }
+
+    /// Each object's support type from `sources` (scene order; `None`: no source knows).
+    fn support_types(&self, scene: &Scene, sources: &Sources) -> Vec<Option<crate::scene::SupportType>> {
+        scene
             .objects()
             .iter()
             .map(|o| sources.support_types.support_type(scene, o).map(|a| a.value))
-            .collect();
-        Ok(self
-            .metric
-            .evaluate(scene, &support_types, &self.cache, &|| deadline.expired())?)
+            .collect()
     }
 }
 
