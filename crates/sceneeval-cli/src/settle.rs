@@ -9,12 +9,11 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Duration;
 
 use anyhow::Context;
 use sceneeval::io::{AssetLibrary, read_scene_state, write_scene_state};
 use sceneeval::physics::WeldMode;
-use sceneeval::{Deadline, EvaluationPlan, Evaluator};
+use sceneeval::{EvaluationPlan, Evaluator};
 
 /// Arguments of `sceneeval settle`.
 #[derive(Debug, clap::Args)]
@@ -36,17 +35,8 @@ pub struct Args {
     /// What is fixed in place: architectural (objects on walls and ceilings, the default),
     /// penetration (objects interpenetrating another object or the architecture), combined
     /// (both) or none. Replaces the plan's `stability.weld`.
-    #[arg(long, value_name = "MODE", value_parser = parse_weld)]
+    #[arg(long, value_name = "MODE", value_parser = str::parse::<WeldMode>)]
     pub weld: Option<WeldMode>,
-}
-
-fn parse_weld(s: &str) -> Result<WeldMode, String> {
-    WeldMode::ALL
-        .into_iter()
-        .find(|m| m.name().eq_ignore_ascii_case(s.trim()))
-        .ok_or_else(|| {
-            format!("unknown weld mode {s:?} (expected architectural, penetration, combined or none)")
-        })
 }
 
 /// Runs the subcommand.
@@ -63,13 +53,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let library = AssetLibrary::from_specs(&args.assets)
         .context("invalid --assets")?
         .with_limits(plan.limits);
-    let deadline = match plan
-        .time_budget_seconds
-        .and_then(|b| Duration::try_from_secs_f64(b).ok())
-    {
-        Some(b) => Deadline::after(b),
-        None => Deadline::none(),
-    };
+    let deadline = plan.deadline();
     let scene = read_scene_state(&args.scene, &library, &plan.read)
         .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
     let (settled, report) = evaluator

@@ -56,6 +56,27 @@ impl WeldMode {
     }
 }
 
+impl std::str::FromStr for WeldMode {
+    type Err = String;
+
+    /// The mode of that name ([`WeldMode::name`], ignoring ASCII case and surrounding spaces);
+    /// the error lists the four names.
+    ///
+    /// ```
+    /// use sceneeval_physics::WeldMode;
+    /// assert_eq!("Combined".parse::<WeldMode>(), Ok(WeldMode::Combined));
+    /// assert!("glued".parse::<WeldMode>().unwrap_err().contains("architectural, penetration"));
+    /// ```
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        WeldMode::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or_else(|| {
+                format!("unknown weld mode {s:?} (expected architectural, penetration, combined or none)")
+            })
+    }
+}
+
 /// How much each object weighs.
 ///
 /// Only mass *ratios* between objects change a verdict (gravity and rigid contacts are

@@ -110,22 +110,11 @@ fn stability_evaluator(plan: Option<PathBuf>, weld: Option<&str>) -> PyResult<(E
         None => EvaluationPlan::geometry_only(),
     };
     if let Some(weld) = weld {
-        plan.stability.weld = WeldMode::ALL
-            .into_iter()
-            .find(|m| m.name() == weld)
-            .ok_or_else(|| {
-                value_error(format!(
-                    "weld: unknown mode {weld:?} (expected architectural, penetration, combined or none)"
-                ))
-            })?;
+        plan.stability.weld = weld
+            .parse::<WeldMode>()
+            .map_err(|e| value_error(format!("weld: {e}")))?;
     }
-    let deadline = match plan
-        .time_budget_seconds
-        .and_then(|b| std::time::Duration::try_from_secs_f64(b).ok())
-    {
-        Some(b) => Deadline::after(b),
-        None => Deadline::none(),
-    };
+    let deadline = plan.deadline();
     let evaluator = Evaluator::new(plan).map_err(|e| value_error(format!("plan: {}", chain(&e))))?;
     Ok((evaluator, deadline))
 }

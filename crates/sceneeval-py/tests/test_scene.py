@@ -300,7 +300,7 @@ def test_stability_of_a_fixture_room_and_its_errors(tmp_path):
     # The tidy bedroom: the painting (wall) and the ceiling lamp are welded, the rest stays.
     assert [o["weld_reason"] for o in report["objects"] if o["welded"]] == ["wall", "ceiling"]
     assert report["frac_unstable"] == 0.0
-    with pytest.raises(ValueError, match="weld: unknown mode"):
+    with pytest.raises(ValueError, match="weld: unknown weld mode"):
         scene.stability(weld="glued")
     plan = tmp_path / "plan.json"
     plan.write_text('{"stability": {"duration_s": -1}}')

@@ -7,7 +7,7 @@ use serde_json::{Map, Value};
 
 use crate::fidelity::{FidelityMetric, FidelityParams};
 use crate::io::{Limits, ReadOptions};
-use crate::plausibility::{self, Footprint, PlausibilityError, PlausibilityParams};
+use crate::plausibility::{self, Deadline, Footprint, PlausibilityError, PlausibilityParams};
 use crate::relations::RelationParams;
 use crate::{EvalError, Metric};
 
@@ -468,6 +468,26 @@ impl EvaluationPlan {
             ));
         }
         Ok(())
+    }
+
+    /// A [`Deadline`] of [`EvaluationPlan::time_budget_seconds`] from now ([`Deadline::none`]
+    /// without a budget, or with one too large for a `Duration`).
+    ///
+    /// ```
+    /// use sceneeval::EvaluationPlan;
+    /// let mut plan = EvaluationPlan::geometry_only();
+    /// assert_eq!(plan.deadline().budget().map(|b| b.as_secs()), Some(600));
+    /// plan.time_budget_seconds = None;
+    /// assert!(plan.deadline().budget().is_none());
+    /// ```
+    pub fn deadline(&self) -> Deadline {
+        match self
+            .time_budget_seconds
+            .and_then(|b| std::time::Duration::try_from_secs_f64(b).ok())
+        {
+            Some(b) => Deadline::after(b),
+            None => Deadline::none(),
+        }
     }
 
     /// Whether the plan runs `metric`.

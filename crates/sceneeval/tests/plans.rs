@@ -74,7 +74,10 @@ fn example_plans_read_and_mean_what_they_say() {
     assert_eq!(fork.stability.weld, sceneeval::physics::WeldMode::Combined);
     assert_eq!(fork.stability.mass, sceneeval::physics::MassModel::PerObject(1.0));
     assert_eq!(fork.stability.sleep_speed_m_s, 0.0);
-    assert_eq!(fork.stability.duration_s, 5.0, "unspecified values keep the preset's");
+    assert_eq!(
+        fork.stability.duration_s, 5.0,
+        "unspecified values keep the preset's"
+    );
 
     // The paper's ten metrics, VLM matching with the sizes in the prompt, lexicon mapping.
     let full = EvaluationPlan::read(&plans().join("full-vlm.json")).unwrap();
