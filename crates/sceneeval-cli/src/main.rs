@@ -18,6 +18,7 @@ mod inspect;
 mod relate;
 mod render;
 mod report;
+mod settle;
 mod summarize;
 mod vlm;
 
@@ -54,6 +55,8 @@ enum Command {
     Report(report::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
     Render(render::Args),
+    /// Simulate a scene under gravity and write it with every object at its settled pose.
+    Settle(settle::Args),
     /// Work with the vision-language model endpoint (check that it answers).
     #[command(subcommand)]
     Vlm(vlm::Command),
@@ -70,6 +73,7 @@ fn main() -> ExitCode {
         Command::Annotations(cmd) => annotations::run(cmd),
         Command::Evaluate(args) => evaluate::run(*args),
         Command::Render(args) => render::run(args),
+        Command::Settle(args) => settle::run(args),
         Command::Summarize(args) => summarize::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Report(args) => report::run(args),

@@ -64,7 +64,7 @@ fn broken_scenes_are_recorded_and_the_run_goes_on() {
     let csv = std::fs::read_to_string(out.path().join("summary.csv")).unwrap();
     assert!(
         csv.starts_with(
-            "group,scenes,evaluated,failed,CNT,ATR,OOR,OAR,COL_ob,COL_sc,SUP,NAV,ACC,OOB,DOOR_blk,WIN_blk,\
+            "group,scenes,evaluated,failed,CNT,ATR,OOR,OAR,COL_ob,COL_sc,SUP,NAV,ACC,OOB,DOOR_blk,WIN_blk,STAB,\
              CNT_n,ATR_n,OOR_n,OAR_n\n"
         ),
         "{csv}"

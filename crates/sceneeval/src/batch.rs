@@ -114,6 +114,9 @@ pub struct SceneTiming {
     /// The fidelity metrics together (matching, renders and VLM requests included), seconds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fidelity_seconds: Option<f64>,
+    /// The stability metric (decomposition and simulation), seconds, when it ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stability_seconds: Option<f64>,
     /// The whole scene, seconds.
     pub total_seconds: f64,
 }
@@ -316,6 +319,7 @@ impl Batch<'_> {
             load_seconds: 0.0,
             metrics: Vec::new(),
             fidelity_seconds: None,
+            stability_seconds: None,
             total_seconds: 0.0,
         };
         let dir = scene.out_dir(&self.options.out_dir);
@@ -346,6 +350,7 @@ impl Batch<'_> {
                             Ok(done) => {
                                 timing.metrics = done.timings;
                                 timing.fidelity_seconds = done.fidelity_seconds;
+                                timing.stability_seconds = done.stability_seconds;
                                 if self.options.diagnostics {
                                     self.diagnostics(scene, &loaded, &dir);
                                 }

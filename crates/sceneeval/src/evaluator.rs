@@ -47,6 +47,17 @@ pub struct Evaluator {
     custom_sources: bool,
     #[cfg(feature = "render")]
     renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
+    #[cfg(feature = "physics")]
+    stability: StabilityRun,
+}
+
+/// The stability metric with the plan's parameters, and the decomposition cache its scenes
+/// share.
+#[cfg(feature = "physics")]
+#[derive(Debug)]
+struct StabilityRun {
+    metric: crate::physics::Stability,
+    cache: std::sync::Arc<crate::physics::DecompositionCache>,
 }
 
 /// What the evaluation of one scene may use besides the scene and the evaluator (all optional;
@@ -79,6 +90,8 @@ pub struct SceneEvaluation {
     /// The text-fidelity metrics' wall time together (matching, renders and VLM requests
     /// included), seconds, when they ran.
     pub fidelity_seconds: Option<f64>,
+    /// The stability metric's wall time (decomposition and simulation), seconds, when it ran.
+    pub stability_seconds: Option<f64>,
 }
 
 impl Evaluator {
@@ -90,6 +103,11 @@ impl Evaluator {
     pub fn new(plan: EvaluationPlan) -> Result<Self, EvalError> {
         plan.validate()?;
         let fidelity = FidelityEvaluator::new(plan.fidelity.clone(), plan.relations)?;
+        #[cfg(feature = "physics")]
+        let stability = StabilityRun {
+            metric: crate::physics::Stability::new(plan.stability.clone())?,
+            cache: Default::default(),
+        };
         Ok(Evaluator {
             plan,
             sources: Sources::default(),
@@ -98,7 +116,91 @@ impl Evaluator {
             custom_sources: false,
             #[cfg(feature = "render")]
             renderer: None,
+            #[cfg(feature = "physics")]
+            stability,
         })
+    }
+
+    /// Shares `cache` for the stability metric's convex decompositions (feature `physics`;
+    /// default: a cache in memory for this evaluator's life). A cache in a folder
+    /// ([`crate::physics::DecompositionCache::on_disk`]) lets re-runs and other weld variants
+    /// reuse them; `sceneeval evaluate` keeps one in `<out>/physics-cache`
+    /// ([`crate::DEFAULT_PHYSICS_CACHE_DIR`]).
+    #[cfg(feature = "physics")]
+    pub fn with_decomposition_cache(
+        mut self,
+        cache: std::sync::Arc<crate::physics::DecompositionCache>,
+    ) -> Self {
+        self.stability.cache = cache;
+        self
+    }
+
+    /// The stability of `scene` under the plan's `stability` parameters (whether or not the
+    /// plan lists the metric), each object's support type from [`Evaluator::sources`] (what
+    /// the scene states, then the category tables, unless replaced), stopping when
+    /// `deadline` passes (feature `physics`).
+    ///
+    /// # Errors
+    /// `EvalError::Physics` as [`crate::physics::Stability::evaluate`].
+    #[cfg(feature = "physics")]
+    pub fn stability(
+        &self,
+        scene: &Scene,
+        deadline: &Deadline,
+    ) -> Result<crate::physics::StabilityReport, EvalError> {
+        self.stability.evaluate(scene, &self.sources, deadline)
+    }
+
+    /// `scene` with every object at its pose after the stability metric's simulation (welded
+    /// objects where they were), with the report that goes with it: what `sceneeval settle`
+    /// writes. Parameters and support types as [`Evaluator::stability`] (feature `physics`).
+    ///
+    /// ```
+    /// use sceneeval::{Deadline, Evaluator, EvaluationPlan};
+    /// use sceneeval::scene::{Category, RoomBuilder, Scene};
+    /// use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
+    ///
+    /// // A 0.4 m crate 5 cm above the floor.
+    /// let scene = Scene::builder()
+    ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(3.0, 3.0)))
+    ///     .add_box("crate", Category::new("box"), Vector3::repeat(0.2),
+    ///              pose_from_yaw(Point3::new(1.5, 1.5, 0.25), 0.0))
+    ///     .build()
+    ///     .unwrap();
+    /// let evaluator = Evaluator::new(EvaluationPlan::geometry_only()).unwrap();
+    /// let (settled, report) = evaluator.settle(&scene, &Deadline::none()).unwrap();
+    /// assert!(!report.objects[0].stable);
+    /// // It landed: its centre is 0.2 m up, within a millimetre.
+    /// let z = settled.objects()[0].pose().translation.z;
+    /// assert!((z - 0.2).abs() < 1e-3, "{z}");
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Evaluator::stability`].
+    #[cfg(feature = "physics")]
+    pub fn settle(
+        &self,
+        scene: &Scene,
+        deadline: &Deadline,
+    ) -> Result<(Scene, crate::physics::StabilityReport), EvalError> {
+        let run = &self.stability;
+        let (poses, report) = run.metric.settle(
+            scene,
+            &run.support_types(scene, &self.sources),
+            &run.cache,
+            &|| deadline.expired(),
+        )?;
+        let mut settled = scene.clone();
+        for (i, pose) in poses.into_iter().enumerate() {
+            // The simulation's poses are finite (a diverged one is an error above).
+            settled
+                .set_pose(i, pose)
+                .map_err(|e| crate::physics::PhysicsError::Geometry {
+                    object: scene.objects()[i].id().to_string(),
+                    reason: e.to_string(),
+                })?;
+        }
+        Ok((settled, report))
     }
 
     /// Uses `vlm` for the text-fidelity metrics (matching, attributes, relation mapping) and
@@ -192,16 +294,20 @@ impl Evaluator {
     ///    objects do not state are asked of the VLM; they go between what the scene states and
     ///    the category tables (an object the VLM does not answer for takes the table's).
     /// 3. The geometry metrics ([`plausibility::evaluate_metrics`], under the deadline).
-    /// 4. When the plan runs text-fidelity metrics and the scene has an annotation row, CNT,
+    /// 4. When the plan runs stability (feature `physics`), the rigid-body simulation under
+    ///    the deadline, with the support types the support metric uses (the same sources, the
+    ///    VLM's answers included).
+    /// 5. When the plan runs text-fidelity metrics and the scene has an annotation row, CNT,
     ///    ATR, OOR, OAR ([`FidelityEvaluator::evaluate`]). A fidelity plan without a row
     ///    reports no fidelity section (a warning is logged): a batch run gives every scene
     ///    the row the annotations have for it, if any.
-    /// 5. The report, built once ([`SceneReport::new`]).
+    /// 6. The report, built once ([`SceneReport::new`]).
     ///
     /// # Errors
     /// [`EvalError::Plausibility`] when a metric rejects its parameters or the deadline passes,
     /// [`EvalError::Fidelity`] when a view cannot be made, the VLM cannot be asked or an
-    /// annotation entry is malformed.
+    /// annotation entry is malformed, `EvalError::Physics` (feature `physics`) when the
+    /// stability metric cannot simulate the scene or the deadline passes.
     pub fn evaluate_scene(
         &self,
         scene: &Scene,
@@ -229,14 +335,26 @@ impl Evaluator {
             None => None,
         };
         let mut timings = Vec::new();
+        let sources = vlm_sources.as_ref().unwrap_or(&self.sources);
         let geometry = plausibility::evaluate_metrics(
             scene,
             &self.plan.params,
-            vlm_sources.as_ref().unwrap_or(&self.sources),
+            sources,
             &self.plan.geometry_metrics(),
             deadline,
             &mut timings,
         )?;
+        #[cfg(feature = "physics")]
+        let (stability, stability_seconds) = match self.plan.runs(Metric::Stability) {
+            true => {
+                let start = Instant::now();
+                let report = self.stability.evaluate(scene, sources, deadline)?;
+                (Some(report), Some(start.elapsed().as_secs_f64()))
+            }
+            false => (None, None),
+        };
+        #[cfg(not(feature = "physics"))]
+        let stability_seconds = None;
         let mut fidelity: Option<FidelityReport> = None;
         let mut matching = None;
         let mut fidelity_seconds = None;
@@ -254,11 +372,18 @@ impl Evaluator {
             fidelity = Some(outcome.report);
             matching = Some(outcome.matching);
         }
+        let report = SceneReport::new(name.map(str::to_owned), geometry, fidelity);
+        #[cfg(feature = "physics")]
+        let report = match stability {
+            Some(s) => report.with_stability(s),
+            None => report,
+        };
         Ok(SceneEvaluation {
-            report: SceneReport::new(name.map(str::to_owned), geometry, fidelity),
+            report,
             matching,
             timings,
             fidelity_seconds,
+            stability_seconds,
         })
     }
 
@@ -267,7 +392,12 @@ impl Evaluator {
     fn wants_vlm_sources(&self) -> bool {
         self.vlm.is_some()
             && !self.custom_sources
-            && (self.plan.runs(Metric::Support) || self.plan.runs(Metric::Accessibility))
+            && (self.wants_support_types() || self.plan.runs(Metric::Accessibility))
+    }
+
+    /// Whether the plan asks for support types: the support and stability metrics.
+    fn wants_support_types(&self) -> bool {
+        self.plan.runs(Metric::Support) || self.plan.runs(Metric::Stability)
     }
 
     /// Object views of `scene` for the VLM, when a renderer is configured; `dir` receives the
@@ -316,7 +446,7 @@ impl Evaluator {
             return Ok(None);
         }
         let support = match views {
-            Some(v) if self.plan.runs(Metric::Support) => {
+            Some(v) if self.wants_support_types() => {
                 ask_support_types(scene, session, v, |o| o.support_type().is_some())?
             }
             _ => Default::default(),
@@ -336,6 +466,33 @@ impl Evaluator {
                 Chain::new(VlmAnswers(sides), FunctionalSidePriors::default()),
             ),
         )))
+    }
+}
+
+#[cfg(feature = "physics")]
+impl StabilityRun {
+    /// The stability of `scene`, each object's support type from `sources` (as the support
+    /// metric asks them), stopping when `deadline` passes.
+    fn evaluate(
+        &self,
+        scene: &Scene,
+        sources: &Sources,
+        deadline: &Deadline,
+    ) -> Result<crate::physics::StabilityReport, EvalError> {
+        Ok(self
+            .metric
+            .evaluate(scene, &self.support_types(scene, sources), &self.cache, &|| {
+                deadline.expired()
+            })?)
+    }
+
+    /// Each object's support type from `sources` (scene order; `None`: no source knows).
+    fn support_types(&self, scene: &Scene, sources: &Sources) -> Vec<Option<crate::scene::SupportType>> {
+        scene
+            .objects()
+            .iter()
+            .map(|o| sources.support_types.support_type(scene, o).map(|a| a.value))
+            .collect()
     }
 }
 
@@ -477,6 +634,144 @@ mod tests {
         assert!(json.starts_with(&format!(r#"{{"schema":"{SCENE_REPORT_SCHEMA}","scene_id":"scene_7","object_ids":["bed","stray"],"metrics":["#)), "{json}");
         let back: SceneReport = serde_json::from_str(&json).unwrap();
         assert_eq!(back, full);
+    }
+
+    /// A 4 x 5 m room holding a desk resting on the floor, a crate floating 5 cm above it, a
+    /// picture hung on the far wall (support type `wall` from the category table), and a
+    /// shelf hung on the left wall whose file states `wall`, sunk 2 cm into it.
+    fn physics_scene() -> Scene {
+        use crate::scene::{SceneObject, SupportType};
+        let shelf = SceneObject::new_box(
+            "shelf",
+            Vector3::new(0.1, 0.3, 0.05),
+            pose_from_yaw(Point3::new(0.08, 2.5, 1.2), 0.0),
+        )
+        .unwrap()
+        .with_category(Category::new("shelf"))
+        .with_support_type(SupportType::Wall);
+        Scene::builder()
+            .id("scene_3")
+            .room_builder(RoomBuilder::rectangle(
+                "r0",
+                Point2::new(0.0, 0.0),
+                Point2::new(4.0, 5.0),
+            ))
+            .add_box(
+                "desk",
+                Category::new("desk"),
+                Vector3::new(0.5, 0.25, 0.375),
+                pose_from_yaw(Point3::new(1.0, 1.0, 0.375), 0.0),
+            )
+            .add_box(
+                "crate",
+                Category::new("box"),
+                Vector3::new(0.2, 0.2, 0.2),
+                pose_from_yaw(Point3::new(3.0, 1.0, 0.25), 0.0),
+            )
+            .add_box(
+                "picture",
+                Category::new("picture"),
+                Vector3::new(0.3, 0.02, 0.2),
+                pose_from_yaw(Point3::new(2.0, 4.98, 1.5), 0.0),
+            )
+            .object(shelf)
+            .build()
+            .unwrap()
+    }
+
+    #[test]
+    fn stability_runs_with_the_support_metrics_sources_and_fills_the_report() {
+        use crate::physics::WeldReason;
+        let s = physics_scene();
+        let plan = EvaluationPlan::from_json_str(r#"{"metrics": ["stability", "support"]}"#).unwrap();
+        let done = Evaluator::new(plan)
+            .unwrap()
+            .evaluate_scene(&s, &SceneInputs::default())
+            .unwrap();
+        let r = &done.report;
+        let st = r.stability.as_ref().unwrap();
+        let by_id = |id: &str| st.objects.iter().find(|o| o.id.as_str() == id).unwrap();
+        // The desk rests; the crate falls 5 cm (over the 1 cm limit); the picture (category
+        // table) and the shelf (stated in the file) are welded as wall-mounted, as support
+        // reports them.
+        assert!(by_id("desk").stable && !by_id("desk").welded);
+        let fallen = by_id("crate");
+        assert!(
+            !fallen.stable && (fallen.displacement_m - 0.05).abs() < 0.005,
+            "{fallen:?}"
+        );
+        assert_eq!(by_id("picture").weld_reason, Some(WeldReason::Wall));
+        assert_eq!(by_id("shelf").weld_reason, Some(WeldReason::Wall));
+        let support = r.support.as_ref().unwrap();
+        // The same answers, unknown (the crate: no table entry) as `null` here and checked as
+        // `ground` there.
+        for (o, sup) in st.objects.iter().zip(&support.objects) {
+            let known = sup.type_source.as_ref().map(|_| sup.support_type);
+            assert_eq!(o.support_type, known, "{}", o.id);
+        }
+        assert_eq!(by_id("crate").support_type, None);
+        // 1 of the 2 free objects moved: frac_unstable 0.5, STAB 0.5.
+        assert_eq!(st.frac_unstable, Some(0.5));
+        assert_eq!(r.summary.stab, Some(Some(0.5)));
+        assert!(done.stability_seconds.is_some());
+        // In eval.json: `stab` in the summary, the section after the metrics', read back.
+        let json = serde_json::to_value(r).unwrap();
+        assert_eq!(json["summary"]["stab"], 0.5);
+        assert_eq!(json["stability"]["objects"][2]["weld_reason"], "wall");
+        let back: SceneReport = serde_json::from_value(json).unwrap();
+        assert_eq!(&back, r);
+
+        // Every weld variant through a plan: with nothing welded the picture and the shelf
+        // fall too (3 of 4 unstable); under `penetration` the shelf, 2 cm into its wall, is
+        // welded for it and the picture falls (2 of 3).
+        for (weld, unstable, shelf) in [
+            ("none", 0.75, None),
+            ("penetration", 2.0 / 3.0, Some(WeldReason::Penetration)),
+            ("combined", 0.5, Some(WeldReason::Wall)),
+        ] {
+            let plan = EvaluationPlan::from_json_str(&format!(
+                r#"{{"metrics": ["stability"], "stability": {{"weld": "{weld}"}}}}"#
+            ))
+            .unwrap();
+            let r = Evaluator::new(plan).unwrap().evaluate(&s).unwrap();
+            let st = r.stability.unwrap();
+            assert_eq!(st.frac_unstable, Some(unstable), "{weld}");
+            assert_eq!(st.objects[3].weld_reason, shelf, "{weld}");
+            assert_eq!(r.summary.stab, Some(Some(1.0 - unstable)), "{weld}");
+        }
+    }
+
+    #[test]
+    fn stability_obeys_the_time_budget_and_reports_a_scene_without_rooms() {
+        let plan = EvaluationPlan::from_json_str(r#"{"metrics": ["stability"]}"#).unwrap();
+        let evaluator = Evaluator::new(plan).unwrap();
+        let deadline = Deadline::none();
+        deadline.cancel();
+        let inputs = SceneInputs {
+            deadline: Some(&deadline),
+            ..SceneInputs::default()
+        };
+        let err = evaluator.evaluate_scene(&physics_scene(), &inputs).unwrap_err();
+        assert!(err.to_string().contains("time budget"), "{err}");
+        let roomless = Scene::builder()
+            .id("scene_9")
+            .add_box(
+                "desk",
+                Category::new("desk"),
+                Vector3::new(0.5, 0.25, 0.375),
+                pose_from_yaw(Point3::new(1.0, 1.0, 0.375), 0.0),
+            )
+            .build()
+            .unwrap();
+        let err = evaluator.evaluate(&roomless).unwrap_err();
+        assert!(err.to_string().contains("has no room"), "{err}");
+        // Without the metric the report has neither section nor key.
+        let r = Evaluator::new(EvaluationPlan::geometry_only())
+            .unwrap()
+            .evaluate(&physics_scene())
+            .unwrap();
+        assert!(r.stability.is_none() && r.summary.stab.is_none());
+        assert!(!serde_json::to_string(&r).unwrap().contains("stab"));
     }
 
     #[test]

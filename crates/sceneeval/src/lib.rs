@@ -13,6 +13,7 @@
 //! | [`vlm`] | `sceneeval-vlm` | VLM tasks, sessions, the response cache |
 //! | [`fidelity`] | `sceneeval-fidelity` | object matching, CNT, ATR, OOR, OAR |
 //! | `vlm_openai` (feature `openai`) | `sceneeval-vlm-openai` | the OpenAI-compatible HTTP client |
+//! | `physics` (feature `physics`) | `sceneeval-physics` | physical stability (the `stability` metric) |
 //!
 //! On top of them:
 //! - an [`EvaluationPlan`] names the [`Metric`]s to run and their parameters (starting from a
@@ -69,6 +70,8 @@ pub use sceneeval_annotation as annotation;
 pub use sceneeval_fidelity as fidelity;
 pub use sceneeval_geom as geom;
 pub use sceneeval_io as io;
+#[cfg(feature = "physics")]
+pub use sceneeval_physics as physics;
 pub use sceneeval_plausibility as plausibility;
 pub use sceneeval_relations as relations;
 #[cfg(feature = "render")]
@@ -112,9 +115,9 @@ pub use plausibility::{Deadline, MetricTiming};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
 pub use report::{SCENE_REPORT_SCHEMA, SceneReport, SceneSummary};
 pub use request::{
-    ChosenPlan, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, EvaluationRequest,
-    NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard,
-    VlmOptions,
+    ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR,
+    DEFAULT_VLM_CONCURRENCY, EvaluationRequest, NoVlmFallback, PlanRequest, PlanSpec, PreparedRun,
+    RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard, VlmOptions,
 };
 pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
 pub use summary::{

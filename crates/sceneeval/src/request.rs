@@ -50,6 +50,10 @@ pub const RENDER_SIZE_RANGE: std::ops::RangeInclusive<u32> = 16..=4096;
 /// The VLM response cache's folder inside the output folder, unless the request names one.
 pub const DEFAULT_VLM_CACHE_DIR: &str = "vlm-cache";
 
+/// The folder under the output folder where a run keeps the stability metric's convex
+/// decompositions, so that re-runs and other weld variants reuse them (feature `physics`).
+pub const DEFAULT_PHYSICS_CACHE_DIR: &str = "physics-cache";
+
 /// One evaluation run: which scenes, with which assets and annotations, under which plan, with
 /// which VLM, written where. Fields left `None` take the defaults documented on them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -602,6 +606,18 @@ impl EvaluationRequest {
             .transpose()?;
         check_output_dir(&self.out)?;
         let lock = OutputLock::acquire(&self.out)?;
+        #[cfg(feature = "physics")]
+        if evaluator.plan().runs(crate::Metric::Stability) {
+            let dir = self.out.join(DEFAULT_PHYSICS_CACHE_DIR);
+            let cache = crate::physics::DecompositionCache::on_disk(&dir).map_err(|e| {
+                EvalError::request_caused(
+                    RequestField::Out,
+                    format!("cannot create the decomposition cache {}", dir.display()),
+                    e,
+                )
+            })?;
+            evaluator = evaluator.with_decomposition_cache(std::sync::Arc::new(cache));
+        }
         let replaced = earlier_results_of_other_plans(&scenes, &self.out, &evaluator.result_digest());
         let mut pool = rayon::ThreadPoolBuilder::new();
         if let Some(n) = self.threads {

@@ -39,8 +39,9 @@ pub const UNANNOTATED: &str = "unannotated";
 /// | `OOB` | objects out of bounds / objects | scenes with objects |
 /// | `DOOR_blk` | blocked doors / doors | scenes with a door |
 /// | `WIN_blk` | blocked windows / windows | scenes with a window |
+/// | `STAB` | stable objects / objects free to move (stability metric) | scenes with an object free to move |
 ///
-/// Higher is better for CNT, ATR, OOR, OAR, SUP, NAV and ACC; lower for the others. A column is empty when no scene
+/// Higher is better for CNT, ATR, OOR, OAR, SUP, NAV, ACC and STAB; lower for the others. A column is empty when no scene
 /// of the group has a value (the metric did not run, or never applies).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
@@ -77,7 +78,7 @@ pub struct SceneRow {
 }
 
 /// The columns of the per-scene table.
-const SCENE_COLUMNS: [&str; 17] = [
+const SCENE_COLUMNS: [&str; 18] = [
     "scene",
     "scene_id",
     "difficulty",
@@ -94,6 +95,7 @@ const SCENE_COLUMNS: [&str; 17] = [
     "OOB",
     "DOOR_blk",
     "WIN_blk",
+    "STAB",
     "error",
 ];
 
@@ -139,18 +141,22 @@ pub struct GroupSummary {
     pub door_blocked: Option<f64>,
     /// Mean share of windows blocked, percent.
     pub window_blocked: Option<f64>,
+    /// Mean share of the objects free to move that stayed put under the stability metric,
+    /// percent.
+    #[serde(default)]
+    pub stab: Option<f64>,
 }
 
 /// The legend printed below the Markdown table.
 pub const LEGEND: &str = "Values are percentages, macro-averaged over the group's evaluated scenes \
 (`-`: no scene of the group has a value). Lower is better for COL_ob (objects in collision), \
 COL_sc (scenes with a collision), OOB (objects out of bounds), DOOR_blk and WIN_blk (blocked \
-doors and windows); higher is better for SUP (supported objects), NAV (navigable floor) and ACC \
-(accessible functional sides), and for CNT, ATR, OOR, OAR (satisfied object-count, attribute, \
+doors and windows); higher is better for SUP (supported objects), NAV (navigable floor), ACC \
+(accessible functional sides) and STAB (objects free to move that stay put under physics), and for CNT, ATR, OOR, OAR (satisfied object-count, attribute, \
 object-object and object-architecture specs; `*_n`: scenes with such specs). `failed` scenes are \
 counted but not averaged.\n";
 
-const COLUMNS: [&str; 20] = [
+const COLUMNS: [&str; 21] = [
     "group",
     "scenes",
     "evaluated",
@@ -167,6 +173,7 @@ const COLUMNS: [&str; 20] = [
     "OOB",
     "DOOR_blk",
     "WIN_blk",
+    "STAB",
     "CNT_n",
     "ATR_n",
     "OOR_n",
@@ -289,7 +296,7 @@ impl Summary {
             ];
             // The group table's columns after group, scenes, evaluated, failed and before the
             // `_n` counts.
-            cells.extend_from_slice(&numbers[4..16]);
+            cells.extend_from_slice(&numbers[4..17]);
             cells.push(row.error.clone().unwrap_or_default());
             w.write_record(&cells)?;
         }
@@ -358,10 +365,12 @@ impl GroupSummary {
         let mut scenes = 0;
         let mut summaries: Vec<&PlausibilitySummary> = Vec::new();
         let mut fidelity: Vec<FidelitySummary> = Vec::new();
+        let mut stab: Vec<f64> = Vec::new();
         for r in records {
             scenes += 1;
             if let Some(report) = r.report() {
                 summaries.push(&report.summary.geometry);
+                stab.extend(report.summary.stab.flatten());
                 if let Some(f) = report.summary.fidelity {
                     fidelity.push(f);
                 }
@@ -402,6 +411,7 @@ impl GroupSummary {
             oob: mean(&|s| s.oob),
             door_blocked: mean(&|s| share(s.doors_blocked, s.num_doors)),
             window_blocked: mean(&|s| share(s.windows_blocked, s.num_windows)),
+            stab: (!stab.is_empty()).then(|| 100.0 * stab.iter().sum::<f64>() / stab.len() as f64),
         }
     }
 
@@ -445,6 +455,7 @@ impl GroupSummary {
             num(self.oob),
             num(self.door_blocked),
             num(self.window_blocked),
+            num(self.stab),
             self.fidelity_n[0].to_string(),
             self.fidelity_n[1].to_string(),
             self.fidelity_n[2].to_string(),
@@ -534,11 +545,11 @@ mod tests {
         assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             csv.lines().nth(1).unwrap(),
-            "all,3,2,1,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,0,0,0,0"
+            "all,3,2,1,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,,0,0,0,0"
         );
         let md = s.to_markdown();
         assert!(
-            md.contains("| all | 3 | 2 | 1 | - | - | - | - | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - | 0 | 0 | 0 | 0 |"),
+            md.contains("| all | 3 | 2 | 1 | - | - | - | - | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - | - | 0 | 0 | 0 | 0 |"),
             "{md}"
         );
         assert!(md.contains("Lower is better for COL_ob"), "{md}");
@@ -558,9 +569,33 @@ mod tests {
         // windows: 0 of 0 is no value.
         assert_eq!(
             lines[1],
-            "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,"
+            "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,,"
         );
-        assert_eq!(lines[3], "scene_2,2,,failed,,,,,,,,,,,,,load stage: broken");
+        assert_eq!(lines[3], "scene_2,2,,failed,,,,,,,,,,,,,,load stage: broken");
+    }
+
+    #[test]
+    fn stab_averages_the_scenes_with_an_object_free_to_move() {
+        let mut recs = records();
+        // scene_0: 3 of 4 free objects stayed (0.75); scene_1: stability ran but every
+        // object was welded (no value). STAB: 75 % over one scene.
+        for (r, stab) in recs.iter_mut().zip([Some(0.75), None]) {
+            if let crate::Outcome::Ok { report } = &mut r.outcome {
+                report.summary.stab = Some(stab);
+            }
+        }
+        let s = Summary::from_records(&recs, None);
+        assert_eq!(s.groups[0].stab, Some(75.0));
+        assert_eq!(s.scenes[0].values.stab, Some(75.0));
+        assert_eq!(s.scenes[1].values.stab, None);
+        let csv = s.to_csv().unwrap();
+        assert!(csv.contains(",25.0000,,75.0000,0,0,0,0\n"), "{csv}");
+        let scenes = s.scenes_csv().unwrap();
+        assert!(
+            scenes.lines().nth(1).unwrap().ends_with(",50.0000,,75.0000,"),
+            "{scenes}"
+        );
+        assert!(s.to_markdown().contains("STAB (objects free to move"));
     }
 
     #[test]

@@ -179,6 +179,28 @@ class Scene:
         The report holds the scene-level summary and each metric's per-object evidence.
         Computed with the GIL released.
         """
+    def stability(self, *, plan: Optional[PathLike] = None, weld: Optional[str] = None) -> Dict[str, Any]:
+        """Simulates the scene under gravity (the stability metric) and returns its report as
+        eval.json's report.stability: per object id, stable, displacement_m, rotation_rad,
+        welded, weld_reason, final_pose, ...; and frac_unstable (unstable over the objects free
+        to move; None when none was, with frac_unstable_missing saying why).
+
+        plan: the path of a plan file whose stability section (and time budget) applies;
+        weld: "architectural" (default: objects on walls and ceilings are fixed in place),
+        "penetration", "combined" or "none", replacing the plan's. Support types come from
+        what the objects state, then the category tables. The scene is not moved. Computed
+        with the GIL released.
+
+        Raises ValueError for a bad plan or weld mode, SceneEvalError when the scene cannot
+        be simulated (no room, hence no floor; the time budget ran out).
+        """
+    def settle(
+        self, *, plan: Optional[PathLike] = None, weld: Optional[str] = None
+    ) -> Tuple["Scene", Dict[str, Any]]:
+        """Simulates the scene as stability() does and returns (settled, report): a new Scene
+        with every object at its pose after the simulation (fixed objects where they were),
+        and the report. This scene is not moved. Arguments and errors as stability().
+        """
     def relation(
         self,
         name: str,
