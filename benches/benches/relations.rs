@@ -3,7 +3,8 @@
 //! Every predicate on boxes and on ~5k-triangle meshes (`Mesh::uv_ellipsoid` and
 //! `Mesh::subdivided_box`), the object-architecture predicates in a four-wall room with a
 //! door and a window, the scene-level evaluation by id and by index, and the batch form over
-//! 1,000 pairs. The
+//! 1,000 pairs; and each predicate's score with its gradient (`sceneeval_relations::grad`,
+//! groups ending in `_grad`) on the same configurations, to set against the score alone. The
 //! configurations are fixed (a nightstand beside a bed, four chairs around a table, a bed
 //! against a wall); the target straddles region boundaries so that the clipping kernels do
 //! real work. Run with
@@ -19,7 +20,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Side, Vector3};
 use sceneeval_relations::{
-    ArchElement, LongShort, ObjectGeom, Query, Relation, RelationParams, SceneRelations, arch, batch,
+    ArchElement, LongShort, ObjectGeom, Query, Relation, RelationParams, SceneRelations, arch, batch, grad,
 };
 use sceneeval_scene::{Category, Room, RoomBuilder, Scene};
 
@@ -112,6 +113,15 @@ fn object_object(c: &mut Criterion) {
             bench.iter(|| batch::score_pair(black_box(r), black_box(&a), black_box(&b), &p))
         });
     }
+    g.finish();
+    let mut g = configure(c, "relations/box_grad");
+    for (name, r) in pair_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::pair(black_box(r), black_box(&a), black_box(&b), &p))
+        });
+    }
+    g.finish();
+    let mut g = configure(c, "relations/box");
     // Worst case for the clipper: a box turned about all three axes, cut by all six faces.
     let tilted = Obb::new(
         Point3::new(2.3, 4.4, 0.4),
@@ -122,6 +132,9 @@ fn object_object(c: &mut Criterion) {
     let t = ObjectGeom::from_box(&tilted);
     g.bench_function("inside_of_six_cuts", |bench| {
         bench.iter(|| sceneeval_relations::inside_of(black_box(&t), black_box(&b), &p))
+    });
+    g.bench_function("inside_of_six_cuts_grad", |bench| {
+        bench.iter(|| grad::inside_of(black_box(&t), black_box(&b), &p))
     });
     // surround: four chairs around a table.
     let table = bx([2.0, 2.5, 0.375], [0.6, 0.6, 0.375], 0.0);
@@ -135,6 +148,10 @@ fn object_object(c: &mut Criterion) {
     let anchor = ObjectGeom::from_box(&table);
     g.bench_function("surround_4", |bench| {
         bench.iter(|| sceneeval_relations::surround(black_box(&views), black_box(&anchor), &p))
+    });
+    let mut d = [grad::BoxGrad::ZERO; 4];
+    g.bench_function("surround_4_grad", |bench| {
+        bench.iter(|| grad::surround(black_box(&views), black_box(&anchor), &p, &mut d))
     });
     g.finish();
 }
@@ -152,6 +169,13 @@ fn object_object_meshes(c: &mut Criterion) {
         0.3,
     );
     let (a, b) = (stand.view(), bed.view());
+    let mut g = configure(c, "relations/mesh_grad");
+    for (name, r) in pair_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::pair(black_box(r), black_box(&a), black_box(&b), &p))
+        });
+    }
+    g.finish();
     let mut g = configure(c, "relations/mesh");
     for (name, r) in pair_relations() {
         g.bench_function(name, |bench| {
@@ -180,6 +204,9 @@ fn object_object_meshes(c: &mut Criterion) {
     g.bench_function("near_0.79m", |bench| {
         bench.iter(|| sceneeval_relations::near(black_box(&far_view), black_box(&b), &p))
     });
+    g.bench_function("near_0.79m_grad", |bench| {
+        bench.iter(|| grad::near(black_box(&far_view), black_box(&b), &p))
+    });
     let (x, n) = (crossing.view(), nested.view());
     g.bench_function("next_to_crossing", |bench| {
         bench.iter(|| sceneeval_relations::next_to(black_box(&x), black_box(&b), &p))
@@ -203,6 +230,13 @@ fn object_architecture(c: &mut Criterion) {
         });
     }
     g.finish();
+    let mut g = configure(c, "relations/room_box_grad");
+    for (name, r) in arch_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::arch_rooms(black_box(r), black_box(&a), &rooms, &p))
+        });
+    }
+    g.finish();
     let mesh_bed = MeshObject::new(
         Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
         [2.0, 3.93, 0.3],
@@ -213,6 +247,13 @@ fn object_architecture(c: &mut Criterion) {
     for (name, r) in arch_relations() {
         g.bench_function(name, |bench| {
             bench.iter(|| arch::score_rooms(black_box(r), black_box(&m), &rooms, &p))
+        });
+    }
+    g.finish();
+    let mut g = configure(c, "relations/room_mesh_grad");
+    for (name, r) in arch_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::arch_rooms(black_box(r), black_box(&m), &rooms, &p))
         });
     }
     g.finish();

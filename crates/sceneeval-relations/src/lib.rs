@@ -141,6 +141,7 @@ mod clip;
 mod distance;
 mod error;
 mod face_to;
+pub mod grad;
 mod object;
 mod pairwise;
 mod params;

@@ -1,6 +1,7 @@
 //! Distance between two solid boxes: exact bounds first, GJK when they do not meet.
 
-use crate::parry::query::details;
+use super::{ClosestPoints, gjk_placed};
+use crate::parry_adapter::point_from_parry;
 use crate::{Obb, Real};
 
 /// The gap between box `b` and the bounding box of `a` in `b`'s frame: a lower bound on the
@@ -32,16 +33,37 @@ pub(crate) fn frame_gap(b: &Obb, a: &Obb) -> Real {
 /// nearest corner faces a wall. Otherwise (edge against edge, or overlapping boxes with no
 /// corner inside the other) the caller runs GJK.
 #[inline]
-fn bracketed(a: &Obb, b: &Obb) -> Option<Real> {
+fn bracketed(a: &Obb, b: &Obb) -> Option<ClosestPoints> {
     let lower = frame_gap(b, a).max(frame_gap(a, b));
     let mut upper2 = Real::INFINITY;
-    for (x, y) in [(a, b), (b, a)] {
-        for c in x.corners() {
-            upper2 = upper2.min(y.distance_to_point_squared(&c));
+    // The corner reaching the upper bound: whether it is `b`'s, and which.
+    let mut at = (false, 0);
+    for (of_b, (x, y)) in [(a, b), (b, a)].into_iter().enumerate() {
+        for (k, c) in x.corners().iter().enumerate() {
+            let d2 = y.distance_to_point_squared(c);
+            if d2 < upper2 {
+                at = (of_b == 1, k);
+            }
+            upper2 = upper2.min(d2);
         }
     }
     let upper = upper2.sqrt();
-    (upper - lower <= 1e-12 * (1.0 + upper)).then_some(upper)
+    (upper - lower <= 1e-12 * (1.0 + upper)).then(|| {
+        let points = (upper > 0.0).then(|| {
+            let (of_b, k) = at;
+            if of_b {
+                let c = b.corners()[k];
+                (a.closest_point(&c), c)
+            } else {
+                let c = a.corners()[k];
+                (c, b.closest_point(&c))
+            }
+        });
+        ClosestPoints {
+            distance: upper,
+            points,
+        }
+    })
 }
 
 /// Distance between two solid boxes (0 when they touch or overlap): [`bracketed`] when its
@@ -52,17 +74,29 @@ fn bracketed(a: &Obb, b: &Obb) -> Option<Real> {
 /// an edge of one box is closest to an edge of the other.
 #[inline]
 pub(crate) fn box_box(a: &Obb, b: &Obb) -> Real {
-    if let Some(d) = bracketed(a, b) {
-        return d;
+    box_box_closest(a, b).distance
+}
+
+/// [`box_box`] with a pair of closest points (`a`'s first).
+#[inline]
+pub(crate) fn box_box_closest(a: &Obb, b: &Obb) -> ClosestPoints {
+    if let Some(c) = bracketed(a, b) {
+        return c;
     }
     let (pa, ca) = a.to_parry();
     let (pb, cb) = b.to_parry();
-    details::distance_support_map_support_map(&pa.inv_mul(&pb), &ca, &cb)
+    let (distance, points) = gjk_placed(&pa.inv_mul(&pb), &ca, &cb);
+    let pose = a.pose();
+    ClosestPoints {
+        distance,
+        points: points.map(|(p, q)| (pose * point_from_parry(p), pose * point_from_parry(q))),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::parry::query::details;
     use crate::{Point3, Rotation3, Vector3};
     use std::f64::consts::FRAC_PI_4;
 
@@ -141,7 +175,7 @@ mod tests {
                 .unwrap();
                 let (pb, cb) = b.to_parry();
                 let gjk = details::distance_support_map_support_map(&pa.inv_mul(&pb), &ca, &cb);
-                if let Some(d) = bracketed(&a, &b) {
+                if let Some(d) = bracketed(&a, &b).map(|c| c.distance) {
                     shortcuts += 1;
                     assert!((d - gjk).abs() < 1e-9, "yaw {yaw} dx {dx}: {d} vs {gjk}");
                 }
