@@ -145,9 +145,16 @@ pub mod grad;
 mod object;
 mod pairwise;
 mod params;
+pub mod prelude;
 mod relation;
 mod scene_eval;
 pub mod spec;
+
+/// The geometry crate this one is built on (boxes, meshes, points), re-exported so that a
+/// program depending on `sceneeval-relations` alone can build its inputs.
+pub use sceneeval_geom as geom;
+/// The scene crate (rooms, scenes), re-exported for the same reason.
+pub use sceneeval_scene as scene;
 
 pub use distance::object_distance;
 pub use error::RelationError;

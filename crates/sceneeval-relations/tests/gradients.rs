@@ -716,6 +716,42 @@ fn hand_computed_architecture() {
     assert_eq!((g.score, g.target.center), (1.0, Vector3::zeros()));
 }
 
+/// The penetration depth of two boxes against finite differences, and against the depth the
+/// boxes must be moved apart along its normal to separate.
+#[test]
+fn box_penetration_matches_finite_differences() {
+    let tally = Tally::default();
+    let mut runner = runner(1);
+    runner
+        .run(&near_pair(), |(a, b)| {
+            let Some(p) = grad::box_penetration(&a, &b) else {
+                return Ok(());
+            };
+            // Moving b out along the normal by the depth (plus a hair) separates them.
+            let mut apart = b;
+            apart.center += p.normal * (p.depth + 1e-9);
+            prop_assert!(grad::box_penetration(&a, &apart).is_none_or(|q| q.depth < 1e-8));
+            let depth = |x: &Obb, y: &Obb| grad::box_penetration(x, y).map_or(0.0, |q| q.depth);
+            let (oa, ob) = (Obj::from_box(a), Obj::from_box(b));
+            let (ga, gb) = (p.a.to_array(), p.b.to_array());
+            for k in 0..7 {
+                tally
+                    .compare("box_penetration", &format!("d/d a[{k}]"), ga[k], |e| {
+                        Some(depth(&oa.moved(k, e)?.obb, &b))
+                    })
+                    .map_err(TestCaseError::fail)?;
+                tally
+                    .compare("box_penetration", &format!("d/d b[{k}]"), gb[k], |e| {
+                        Some(depth(&a, &ob.moved(k, e)?.obb))
+                    })
+                    .map_err(TestCaseError::fail)?;
+            }
+            Ok(())
+        })
+        .unwrap();
+    tally.assert_mostly_checked(0.9, true);
+}
+
 #[test]
 fn gradient_dispatch_refuses_the_wrong_kind() {
     let a = bx([0.0, 0.0, 0.5], [0.5, 0.5, 0.5], 0.0);

@@ -60,6 +60,7 @@ mod centroid;
 mod dispatch;
 mod distance;
 mod face_to;
+mod penetration;
 mod volume;
 
 use std::ops::{Add, AddAssign, Mul, Neg, Sub};
@@ -72,6 +73,7 @@ pub use centroid::{middle_of, surround};
 pub use dispatch::{arch_rooms, pair};
 pub use distance::{across_from, far, near, next_to};
 pub use face_to::face_to;
+pub use penetration::{Penetration, box_penetration};
 pub use volume::{inside_of, long_short_side_of, on_top, outside_of, side_of, side_region};
 
 /// The derivative of a score with respect to one object's box parameters (see the
