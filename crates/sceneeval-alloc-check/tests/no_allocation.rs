@@ -16,7 +16,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use sceneeval_alloc_check::{CountingAllocator, allocations_during};
-use sceneeval_examples::layout::{Annealer, Layout};
+use sceneeval_examples::layout::{Annealer, Descent, Layout};
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point3, Real, Vector3};
 use sceneeval_plausibility::{LayoutChecks, OutOfBoundsParams};
 use sceneeval_relations::grad::{self, BoxGrad};
@@ -252,6 +252,23 @@ fn the_optimiser_loop_allocates_nothing_per_step() {
         }
     });
     assert_eq!(n, 0, "200 annealing steps allocated {n} times");
+}
+
+#[test]
+fn the_gradient_descent_loop_allocates_nothing_per_step() {
+    // The gradient_layout example's loop: each step takes every goal's score and gradient and
+    // moves every object (or restarts from a random layout).
+    let mut layout = Layout::new().unwrap();
+    let mut descent = Descent::new(&mut layout, 1).unwrap();
+    for _ in 0..20 {
+        descent.step(&mut layout).unwrap();
+    }
+    let n = allocations_during(|| {
+        for _ in 0..50 {
+            descent.step(&mut layout).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "100 descent steps allocated {n} times");
 }
 
 #[test]
