@@ -51,6 +51,12 @@ impl HalfSpace {
     fn excess(&self, p: &Vector3) -> Real {
         self.normal.dot(p) - self.offset
     }
+
+    /// How far the box `[-h, h]` reaches along the normal (times its length).
+    #[inline]
+    fn reach(&self, h: &Vector3) -> Real {
+        self.normal.x.abs() * h.x + self.normal.y.abs() * h.y + self.normal.z.abs() * h.z
+    }
 }
 
 #[derive(Clone, Copy)]
@@ -263,7 +269,7 @@ pub(crate) struct VolumeMoments {
 }
 
 impl VolumeMoments {
-    const ZERO: VolumeMoments = VolumeMoments {
+    pub(crate) const ZERO: VolumeMoments = VolumeMoments {
         plane_area: [0.0; MAX_PLANES],
         plane_moment: [Vector3::new(0.0, 0.0, 0.0); MAX_PLANES],
         box_area: Vector3::new(0.0, 0.0, 0.0),
@@ -290,7 +296,7 @@ fn clip_box<R>(
     let mut from = [0usize; MAX_PLANES];
     let mut k = 0;
     for (i, p) in planes.iter().enumerate() {
-        let reach = p.normal.x.abs() * h.x + p.normal.y.abs() * h.y + p.normal.z.abs() * h.z;
+        let reach = p.reach(h);
         if reach <= p.offset {
             continue;
         }
@@ -342,23 +348,48 @@ pub(crate) fn box_volume_inside(h: &Vector3, planes: &[HalfSpace]) -> Real {
     }
 }
 
-/// [`box_volume_inside`] (the same value, bit for bit) and its derivatives ([`VolumeMoments`]),
-/// from the same clip. Where a plane only touches the box (or a face degenerates) the
-/// derivatives are one-sided: those of the side the clip's comparisons put the input on.
-pub(crate) fn box_volume_moments(h: &Vector3, planes: &[HalfSpace]) -> (Real, VolumeMoments) {
+/// The volume of the box `[-h, h]` inside `planes` when no plane cuts it: the whole box's,
+/// or 0 when one excludes it (bit for bit [`box_volume_inside`]'s); `None` when one cuts it.
+/// A few dot products, no clipping.
+pub(crate) fn uncut_volume(h: &Vector3, planes: &[HalfSpace]) -> Option<Real> {
+    let mut cut = false;
+    for p in planes {
+        let reach = p.reach(h);
+        if reach <= p.offset {
+            continue;
+        }
+        if -reach >= p.offset {
+            return Some(0.0);
+        }
+        cut = true;
+    }
+    (!cut).then(|| 8.0 * h.x * h.y * h.z)
+}
+
+/// How [`box_volume_moments`] found the box: inside every half-space, outside one, or cut.
+pub(crate) enum Moments {
+    /// No half-space cuts it: `dV/dh` is the area of the box's own faces, nothing else moves
+    /// the volume.
+    Whole,
+    /// A half-space excludes it: every derivative is 0.
+    Empty,
+    /// Cut: the derivatives from the clipped faces.
+    Cut(VolumeMoments),
+}
+
+/// [`box_volume_inside`] (the same value, bit for bit) and its derivatives, from the same
+/// clip. Where a plane only touches the box (or a face degenerates) the derivatives are
+/// one-sided: those of the side the clip's comparisons put the input on.
+pub(crate) fn box_volume_moments(h: &Vector3, planes: &[HalfSpace]) -> (Real, Moments) {
     let full = 8.0 * h.x * h.y * h.z;
     match clip_box(h, planes, |poly, cutting, from| {
         let mut m = VolumeMoments::ZERO;
         poly.moments(cutting, from, &mut m);
         (poly.volume(), m)
     }) {
-        Clipped::Whole => {
-            let mut m = VolumeMoments::ZERO;
-            m.box_area = Vector3::new(8.0 * h.y * h.z, 8.0 * h.x * h.z, 8.0 * h.x * h.y);
-            (full, m)
-        }
-        Clipped::Empty => (0.0, VolumeMoments::ZERO),
-        Clipped::Cut((volume, m)) => (volume.min(full), m),
+        Clipped::Whole => (full, Moments::Whole),
+        Clipped::Empty => (0.0, Moments::Empty),
+        Clipped::Cut((volume, m)) => (volume.min(full), Moments::Cut(m)),
     }
 }
 

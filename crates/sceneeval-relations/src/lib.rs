@@ -21,6 +21,11 @@
 //! reference's relationship-mapping prompts; every parameter, with its unit, is a field of
 //! [`RelationParams`].
 //!
+//! **Gradients**: [`grad`] gives every score with its derivatives with respect to the
+//! objects' box parameters (centre, half extents, yaw; a mesh object's pose), analytic and
+//! bit-identical in the score, for optimisers. [`prelude`] and the re-exports [`geom`] and
+//! [`scene`] let a program depend on this crate alone.
+//!
 //! # Conventions
 //! World z up, metres; object front = local -y; sides left = -x, right = +x, front = -y,
 //! back = +y, top = +z, bottom = -z of the **anchor's** frame (left is the left of a viewer

@@ -2,7 +2,7 @@
 
 use super::{ClosestPoints, gjk_placed};
 use crate::parry_adapter::point_from_parry;
-use crate::{Obb, Real};
+use crate::{Obb, Point3, Real};
 
 /// The gap between box `b` and the bounding box of `a` in `b`'s frame: a lower bound on the
 /// distance between the solids.
@@ -33,37 +33,29 @@ pub(crate) fn frame_gap(b: &Obb, a: &Obb) -> Real {
 /// nearest corner faces a wall. Otherwise (edge against edge, or overlapping boxes with no
 /// corner inside the other) the caller runs GJK.
 #[inline]
-fn bracketed(a: &Obb, b: &Obb) -> Option<ClosestPoints> {
+fn bracketed(a: &Obb, b: &Obb) -> Option<Bracketed> {
     let lower = frame_gap(b, a).max(frame_gap(a, b));
     let mut upper2 = Real::INFINITY;
-    // The corner reaching the upper bound: whether it is `b`'s, and which.
-    let mut at = (false, 0);
-    for (of_b, (x, y)) in [(a, b), (b, a)].into_iter().enumerate() {
-        for (k, c) in x.corners().iter().enumerate() {
-            let d2 = y.distance_to_point_squared(c);
+    // The corner reaching the upper bound, and whether it is `b`'s.
+    let mut at = (false, a.center);
+    for (of_b, (x, y)) in [(false, (a, b)), (true, (b, a))] {
+        for c in x.corners() {
+            let d2 = y.distance_to_point_squared(&c);
             if d2 < upper2 {
-                at = (of_b == 1, k);
+                at = (of_b, c);
             }
             upper2 = upper2.min(d2);
         }
     }
     let upper = upper2.sqrt();
-    (upper - lower <= 1e-12 * (1.0 + upper)).then(|| {
-        let points = (upper > 0.0).then(|| {
-            let (of_b, k) = at;
-            if of_b {
-                let c = b.corners()[k];
-                (a.closest_point(&c), c)
-            } else {
-                let c = a.corners()[k];
-                (c, b.closest_point(&c))
-            }
-        });
-        ClosestPoints {
-            distance: upper,
-            points,
-        }
-    })
+    (upper - lower <= 1e-12 * (1.0 + upper)).then_some(Bracketed { distance: upper, at })
+}
+
+/// The distance [`bracketed`] found and the corner that reaches it (whether it is the second
+/// box's, and the corner).
+struct Bracketed {
+    distance: Real,
+    at: (bool, Point3),
 }
 
 /// Distance between two solid boxes (0 when they touch or overlap): [`bracketed`] when its
@@ -74,15 +66,31 @@ fn bracketed(a: &Obb, b: &Obb) -> Option<ClosestPoints> {
 /// an edge of one box is closest to an edge of the other.
 #[inline]
 pub(crate) fn box_box(a: &Obb, b: &Obb) -> Real {
-    box_box_closest(a, b).distance
+    match bracketed(a, b) {
+        Some(br) => br.distance,
+        None => gjk_boxes(a, b).distance,
+    }
 }
 
-/// [`box_box`] with a pair of closest points (`a`'s first).
+/// [`box_box`] with a pair of closest points (`a`'s first): for a bracketed distance the
+/// corner and its closest point on the other box.
 #[inline]
 pub(crate) fn box_box_closest(a: &Obb, b: &Obb) -> ClosestPoints {
-    if let Some(c) = bracketed(a, b) {
-        return c;
-    }
+    let Some(Bracketed { distance, at: (of_b, c) }) = bracketed(a, b) else {
+        return gjk_boxes(a, b);
+    };
+    let points = (distance > 0.0).then(|| {
+        if of_b {
+            (a.closest_point(&c), c)
+        } else {
+            (c, b.closest_point(&c))
+        }
+    });
+    ClosestPoints { distance, points }
+}
+
+/// GJK between the two cuboids.
+fn gjk_boxes(a: &Obb, b: &Obb) -> ClosestPoints {
     let (pa, ca) = a.to_parry();
     let (pb, cb) = b.to_parry();
     let (distance, points) = gjk_placed(&pa.inv_mul(&pb), &ca, &cb);

@@ -30,25 +30,33 @@
 //!
 //! Scores are piecewise smooth. Where two pieces meet (a *kink*), each kernel returns the
 //! derivative of the piece its score computation takes: a one-sided derivative, never an
-//! average. Where the score is flat (a volume fraction of 0 or 1 with the box clear of every
-//! plane, a distance inside a band's range, overlapping objects whose distance is 0) the
-//! derivative is 0. Per predicate:
+//! average, except where a row below says 0. Where the score is flat (a volume fraction of 0
+//! or 1 with the box clear of every plane, a distance inside a band's range, overlapping
+//! objects whose distance is 0) the derivative is 0. Where the score jumps (it is not
+//! continuous there) no derivative exists and the one of the side computed is returned. Per
+//! predicate:
 //!
-//! | predicate | kinks (one-sided there: the branch the score takes) | flat (zero gradient) |
-//! |---|---|---|
-//! | volume fractions (`inside_of`, `outside_of`, `side_of`, `side_region`, `long_short_side_of`, `on_top`, `inside_room`) | a corner or edge of the target box crossing a region plane; a half extent at the flat-box floor (`min_half_extent`: derivative 0 below, taken from above at it); `long_short_side_of`: the two sides' fractions equal (the first of the pair, the right or back side), the anchor's width and depth swapping order (a jump) | wholly inside or outside the region |
-//! | `middle_of` | none | — |
-//! | distance bands (`next_to`, `near`, `across_from`, `far`, and the object-architecture forms) | the band's range ends (the Gaussian's side is taken: derivative 0 at the end itself); two closest-point pairs at the same distance; for the architecture forms, two elements scoring the same (the first in the kernel's visiting order) | inside the range; touching, overlapping or nested objects (distance 0) |
-//! | `surround` | a distance or angle deviation reaching its clip at 1; two targets at the same plan angle; the median (reference variant) switching targets | fewer than three targets |
-//! | `face_to` | a line of the cross-section starting or ceasing to hit the anchor (the score jumps there), the angle reaching 0 (derivative of `1 - angle/30`, which is one-sided at angle 0) or the clip at 30 degrees | no line hits (score 0), beyond 30 degrees |
-//! | `middle_of_room` | the object's longer plan side switching between width and depth; the size ratio term reaching its floor 0 | — |
-//! | `corner_of_room` | the best wall pair changing; `inside_room` crossing its 0.5 gate (a jump) | outside the gate |
-//! | `on_wall`, `against_wall` | the best wall changing; the in-front fraction's kinks | — |
-//! | `hang_from_ceiling` | as the distance bands | — |
+//! | predicate | kinks: one-sided there (the branch the score takes) | jumps | zero gradient |
+//! |---|---|---|---|
+//! | volume fractions (`inside_of`, `outside_of`, `side_of`, `side_region`, `long_short_side_of`, `on_top`, `inside_room`) | a corner or edge of the target box crossing a region plane; a half extent at the flat-box floor (`min_half_extent`: the derivative from above); `long_short_side_of`: the two sides' fractions equal (the first of the pair: the right or back side) | `long_short_side_of`: the anchor's width and depth changing order, or becoming equal (score 0) | wholly inside or outside the region; a half extent below the flat-box floor |
+//! | `middle_of` | none | none | — |
+//! | distance bands (`next_to`, `near`, `across_from`, `far`) | two closest-point pairs at different places equally near (the pair found) | none | inside the band's range, at its ends too; touching, overlapping or nested objects (distance 0) |
+//! | `surround` | a distance or angle deviation reaching its clip at 1; two targets at the same plan angle (the first); the reference variant's median changing targets | a target crossing the anchor's vertical (its plan angle) | fewer than three targets; a deviation of exactly 0 (where its absolute value turns: 0, the mean of the two sides) |
+//! | `face_to` | a corner of the cross-section or of a face's projection crossing an edge | a line of the cross-section starting or ceasing to hit the anchor; for a mesh anchor, a ray of the grid doing so | no line hits (score 0); at angle 0 (the maximum: 0); beyond the 30-degree clip |
+//! | object-architecture distance bands (`next_to(wall)`, ...) | as the distance bands; two elements scoring the same (the first the kernel visits) | none | as the distance bands |
+//! | `middle_of_room` | the object's longer plan side switching between width and depth (the width's); the size-ratio term reaching its floor 0 | none | — |
+//! | `corner_of_room` | the best pair of walls changing | `inside_room` crossing its 0.5 gate | outside the gate |
+//! | `on_wall`, `against_wall` | the best wall changing; the in-front fraction's kinks | none | not in front of any wall |
+//! | `hang_from_ceiling` | as the distance bands | none | as the distance bands |
+//! | [`box_penetration`] | two candidate axes giving the same depth (the first) | none | — |
 //!
 //! `face_to` against a mesh anchor averages a fixed grid of rays: between the jumps where a ray
 //! starts or stops hitting, its derivative is that of the hit points on the triangles the rays
 //! hit (exact for the grid).
+//!
+//! `tests/gradients.rs` compares every derivative with central finite differences over
+//! thousands of random configurations per family (and keeps the kinks above out of the
+//! comparison by detecting them), and holds hand-computed gradients for each family.
 //!
 //! # Cost
 //! Score and gradient together cost at most about three times the score alone for every

@@ -15,7 +15,7 @@
 use sceneeval_geom::{Obb, Real, Side, Vector3};
 
 use super::{BoxGrad, PairGrad, pair_result};
-use crate::clip::{HalfSpace, MAX_PLANES, box_volume_moments};
+use crate::clip::{HalfSpace, MAX_PLANES, Moments, VolumeMoments, box_volume_moments, uncut_volume};
 use crate::pairwise::{
     BoxInFrame, FrameBox, FrameBoxJacobian, inside_box, long_short_sides, side_half_box, side_region_box,
 };
@@ -43,7 +43,15 @@ pub(crate) fn volume_grad(
     planes: &[HalfSpace],
     params: &RelationParams,
 ) -> (Real, BoxGrad, [Real; MAX_PLANES]) {
-    let (v, m) = box_volume_moments(h, planes);
+    let (v, moments) = box_volume_moments(h, planes);
+    let m = match moments {
+        Moments::Cut(m) => m,
+        Moments::Empty => return (v, BoxGrad::ZERO, [0.0; MAX_PLANES]),
+        Moments::Whole => VolumeMoments {
+            box_area: Vector3::new(8.0 * h.y * h.z, 8.0 * h.x * h.z, 8.0 * h.x * h.y),
+            ..VolumeMoments::ZERO
+        },
+    };
     let w = obb.rotation.inverse_transform_vector(&Vector3::z());
     let mut d_centre_local = Vector3::zeros();
     let mut d_yaw = 0.0;
@@ -88,16 +96,20 @@ pub(crate) fn as_fraction(
     (value, d)
 }
 
-/// [`volume_grad`] as a fraction of the box's volume ([`as_fraction`]).
-pub(crate) fn fraction_grad(
-    obb: &Obb,
-    h: &Vector3,
-    planes: &[HalfSpace],
-    params: &RelationParams,
-) -> FractionGrad {
+/// [`volume_grad`] as a fraction of the box's volume ([`as_fraction`]). A box wholly inside
+/// or outside the half-spaces has a fraction of 1 or 0 that nothing moves: zero derivatives
+/// at once.
+pub(crate) fn fraction_grad(obb: &Obb, h: &Vector3, planes: &[HalfSpace], params: &RelationParams) -> FractionGrad {
+    let full = 8.0 * h.x * h.y * h.z;
+    if let Some(v) = uncut_volume(h, planes) {
+        return FractionGrad {
+            value: (v / full).clamp(0.0, 1.0),
+            target: BoxGrad::ZERO,
+            offset: [0.0; MAX_PLANES],
+        };
+    }
     let (v, dv, d_offset) = volume_grad(obb, h, planes, params);
     let (value, target) = as_fraction(obb, h, v, &dv, params);
-    let full = 8.0 * h.x * h.y * h.z;
     FractionGrad {
         value,
         target,
@@ -246,7 +258,9 @@ mod tests {
             HalfSpace::new(Vector3::new(-0.2, 0.9, 0.1) * 2.0, 0.3),
             HalfSpace::new(Vector3::new(0.1, -0.3, -1.0), 0.2),
         ];
-        let (v, m) = box_volume_moments(&h, &planes);
+        let (v, Moments::Cut(m)) = box_volume_moments(&h, &planes) else {
+            panic!("the planes cut the box");
+        };
         assert_eq!(v.to_bits(), box_volume_inside(&h, &planes).to_bits());
         let e = 1e-6;
         for j in 0..planes.len() {
@@ -294,12 +308,16 @@ mod tests {
     fn a_box_clear_of_every_plane_has_only_its_own_faces() {
         // Whole box 2 x 1 x 0.5: dV/dhx = 2 * (2 hy)(2 hz) = 8 * 0.5 * 0.25 = 1.
         let h = Vector3::new(1.0, 0.5, 0.25);
-        let (v, m) = box_volume_moments(&h, &[HalfSpace::new(Vector3::x(), 5.0)]);
+        let obb = Obb::from_yaw(sceneeval_geom::Point3::origin(), h, 0.3).unwrap();
+        let p = RelationParams::default();
+        let (v, d, offsets) = volume_grad(&obb, &h, &[HalfSpace::new(Vector3::x(), 5.0)], &p);
         assert_eq!(v, 1.0);
-        assert_eq!(m.box_area, Vector3::new(1.0, 2.0, 4.0));
-        assert_eq!(m.plane_area[0], 0.0);
+        assert_eq!(d.half_extents, Vector3::new(1.0, 2.0, 4.0));
+        assert_eq!((d.center, d.yaw, offsets[0]), (Vector3::zeros(), 0.0, 0.0));
+        assert_eq!(uncut_volume(&h, &[HalfSpace::new(Vector3::x(), 5.0)]), Some(1.0));
         // Excluded: nothing.
-        let (v, m) = box_volume_moments(&h, &[HalfSpace::new(Vector3::x(), -5.0)]);
-        assert_eq!((v, m.box_area), (0.0, Vector3::zeros()));
+        let (v, d, _) = volume_grad(&obb, &h, &[HalfSpace::new(Vector3::x(), -5.0)], &p);
+        assert_eq!((v, d), (0.0, BoxGrad::ZERO));
+        assert_eq!(uncut_volume(&h, &[HalfSpace::new(Vector3::x(), -5.0)]), Some(0.0));
     }
 }
