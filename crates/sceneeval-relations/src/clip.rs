@@ -367,6 +367,8 @@ pub(crate) fn uncut_volume(h: &Vector3, planes: &[HalfSpace]) -> Option<Real> {
 }
 
 /// How [`box_volume_moments`] found the box: inside every half-space, outside one, or cut.
+// Returned by value once per clip, on the stack: boxing the large variant would allocate.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Moments {
     /// No half-space cuts it: `dV/dh` is the area of the box's own faces, nothing else moves
     /// the volume.

@@ -6,7 +6,7 @@ use super::tree::{Bx, DistanceTree, Frame, Indexed, Node, witness_rotation};
 use super::{ClosestPoints, TURN, gjk, ordered, parry_triangle};
 use crate::parry::math::Vector;
 use crate::parry::shape::{Cuboid, Triangle};
-use crate::parry_adapter::{point_from_parry, to_parry_vec};
+use crate::parry_adapter::to_parry_vec;
 use crate::{Isometry3, Mesh, Obb, Point3, Real};
 
 /// A convex shape that [`ConvexSearch`] measures a mesh against, in its own frame.
@@ -190,15 +190,7 @@ fn mesh_convex<T: ConvexTarget>(
     if let Some(root) = tree.root() {
         search.visit((0, root));
     }
-    let world = |v: Vector| target_pose * point_from_parry(v);
-    ClosestPoints {
-        distance: search.best,
-        // A corner of a triangle inside the box is 0 away with a "pair" of one point.
-        points: search
-            .points
-            .filter(|_| search.best > 0.0)
-            .map(|(p, q)| (world(p), world(q))),
-    }
+    ClosestPoints::placed(search.best, search.points, target_pose)
 }
 
 /// An upper bound on the distance between a placed mesh's surface and a solid box: project

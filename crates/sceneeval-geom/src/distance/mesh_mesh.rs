@@ -5,7 +5,7 @@ use super::tree::{Bx, DistanceTree, Frame, Indexed, Node, witness_rotation};
 use super::{ClosestPoints, TURN, gjk, ordered, search_limit};
 use crate::parry::math::Vector;
 use crate::parry::shape::Triangle;
-use crate::parry_adapter::{point_from_parry, point_to_parry};
+use crate::parry_adapter::point_to_parry;
 use crate::{Isometry3, Mesh, Point3, Real};
 
 /// The separation of `t` from the plane of `u` (0 if `t` touches or crosses it).
@@ -376,14 +376,7 @@ pub(crate) fn mesh_mesh(a: &Mesh, pa: &Isometry3, b: &Mesh, pb: &Isometry3) -> C
         }
     }
     if search.found {
-        let world = |v: Vector| pb * point_from_parry(v);
-        ClosestPoints {
-            distance: search.best,
-            points: search
-                .points
-                .filter(|_| search.best > 0.0)
-                .map(|(p, q)| (world(p), world(q))),
-        }
+        ClosestPoints::placed(search.best, search.points, pb)
     } else {
         ClosestPoints {
             distance: seed.upper,

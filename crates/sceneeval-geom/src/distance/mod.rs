@@ -72,6 +72,17 @@ impl ClosestPoints {
         points: None,
     };
 
+    /// A search's answer: its distance and the points behind it given in the frame placed by
+    /// `pose` (dropped when the distance is 0: a corner of a triangle inside a box is 0 away
+    /// with a "pair" of one point).
+    pub(crate) fn placed(distance: Real, points: Option<(Vector, Vector)>, pose: &crate::Isometry3) -> Self {
+        let world = |v: Vector| pose * crate::parry_adapter::point_from_parry(v);
+        ClosestPoints {
+            distance,
+            points: points.filter(|_| distance > 0.0).map(|(p, q)| (world(p), world(q))),
+        }
+    }
+
     /// The same answer with the two shapes' roles exchanged.
     #[inline]
     pub fn swapped(self) -> ClosestPoints {
