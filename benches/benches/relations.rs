@@ -20,12 +20,13 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 #[path = "relations_configs/mod.rs"]
 mod configs;
 
-use configs::{MeshObject, arch_relations, bed_and_stand, bx, mesh_bed_and_stand, pair_relations, room, wall_bed};
+use configs::{
+    MeshObject, arch_relations, bed_and_stand, bx, mesh_bed_and_stand, pair_relations, room, sofa_and_tv,
+    wall_bed,
+};
 use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Mesh, Obb, Point2, Point3, Real, Side, Vector3};
-use sceneeval_relations::{
-    ObjectGeom, Query, Relation, RelationParams, SceneRelations, arch, batch, grad,
-};
+use sceneeval_relations::{ObjectGeom, Query, Relation, RelationParams, SceneRelations, arch, batch, grad};
 use sceneeval_scene::{Category, RoomBuilder, Scene};
 
 fn configure<'c>(
@@ -71,6 +72,25 @@ fn object_object(c: &mut Criterion) {
     });
     g.bench_function("inside_of_six_cuts_grad", |bench| {
         bench.iter(|| grad::inside_of(black_box(&t), black_box(&b), &p))
+    });
+    // face_to where lines hit (the nightstand above faces away from the bed).
+    let (sofa, tv, mesh_tv) = sofa_and_tv();
+    let (s, tv, mtv) = (
+        ObjectGeom::from_box(&sofa),
+        ObjectGeom::from_box(&tv),
+        mesh_tv.view(),
+    );
+    g.bench_function("face_to_tv", |bench| {
+        bench.iter(|| sceneeval_relations::face_to(black_box(&s), black_box(&tv), &p))
+    });
+    g.bench_function("face_to_tv_grad", |bench| {
+        bench.iter(|| grad::face_to(black_box(&s), black_box(&tv), &p))
+    });
+    g.bench_function("face_to_mesh_tv", |bench| {
+        bench.iter(|| sceneeval_relations::face_to(black_box(&s), black_box(&mtv), &p))
+    });
+    g.bench_function("face_to_mesh_tv_grad", |bench| {
+        bench.iter(|| grad::face_to(black_box(&s), black_box(&mtv), &p))
     });
     // surround: four chairs around a table.
     let table = bx([2.0, 2.5, 0.375], [0.6, 0.6, 0.375], 0.0);

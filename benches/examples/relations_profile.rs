@@ -9,8 +9,8 @@
 //! ```
 //!
 //! Arguments: the configuration (`box`, `mesh`, `room_box`, `room_mesh`), `score` or `grad`,
-//! the predicate's benchmark name (`inside_of`, ..., `surround_4` with `box`), and the number
-//! of calls. The difference between the counts of `N` and `0` calls, over `N`, is one call's.
+//! the predicate's benchmark name (`inside_of`, ..., and with `box` also `surround_4`,
+//! `face_to_tv` and `face_to_mesh_tv`), and the number of calls. The difference between the counts of `N` and `0` calls, over `N`, is one call's.
 
 // A measuring tool: it stops on a set-up failure or a bad argument.
 #![allow(clippy::expect_used, clippy::panic)]
@@ -20,7 +20,9 @@ mod configs;
 
 use std::hint::black_box;
 
-use configs::{arch_relations, bed_and_stand, bx, mesh_bed_and_stand, pair_relations, room, wall_bed};
+use configs::{
+    arch_relations, bed_and_stand, bx, mesh_bed_and_stand, pair_relations, room, sofa_and_tv, wall_bed,
+};
 use sceneeval_geom::Real;
 use sceneeval_relations::grad::BoxGrad;
 use sceneeval_relations::{ObjectGeom, RelationParams, arch, batch, grad, surround};
@@ -50,11 +52,29 @@ fn main() {
         .collect();
     let around: Vec<ObjectGeom<'_>> = chairs.iter().map(ObjectGeom::from_box).collect();
     let mut d = [BoxGrad::ZERO; 4];
+    let (sofa, tv, mesh_tv) = sofa_and_tv();
     let mut call: Box<dyn FnMut() -> Real> = match config.as_str() {
+        "box" if name.starts_with("face_to_") => {
+            let s = ObjectGeom::from_box(&sofa);
+            let t = match name.as_str() {
+                "face_to_tv" => ObjectGeom::from_box(&tv),
+                "face_to_mesh_tv" => mesh_tv.view(),
+                other => panic!("{other}: face_to_tv or face_to_mesh_tv"),
+            };
+            if with_grad {
+                Box::new(move || grad::face_to(&s, &t, &p).score)
+            } else {
+                Box::new(move || sceneeval_relations::face_to(&s, &t, &p))
+            }
+        }
         "box" if name == "surround_4" => {
             let anchor = ObjectGeom::from_box(&table);
             if with_grad {
-                Box::new(move || grad::surround(&around, &anchor, &p, &mut d).expect("four targets").0)
+                Box::new(move || {
+                    grad::surround(&around, &anchor, &p, &mut d)
+                        .expect("four targets")
+                        .0
+                })
             } else {
                 Box::new(move || surround(&around, &anchor, &p))
             }
@@ -89,7 +109,11 @@ fn main() {
             };
             let rooms = &rooms;
             if with_grad {
-                Box::new(move || grad::arch_rooms(r, &a, rooms, &p).expect("an arch relation").score)
+                Box::new(move || {
+                    grad::arch_rooms(r, &a, rooms, &p)
+                        .expect("an arch relation")
+                        .score
+                })
             } else {
                 Box::new(move || arch::score_rooms(r, &a, rooms, &p).expect("an arch relation"))
             }

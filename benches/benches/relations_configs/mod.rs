@@ -40,7 +40,10 @@ pub fn room() -> Room {
 
 /// The bed (1.6 x 2 x 0.6 m) and the nightstand straddling its left face and height limit.
 pub fn bed_and_stand() -> (Obb, Obb) {
-    (bx([2.0, 4.0, 0.3], [0.8, 1.0, 0.3], 0.0), bx([1.0, 4.5, 0.35], [0.25, 0.2, 0.35], 0.3))
+    (
+        bx([2.0, 4.0, 0.3], [0.8, 1.0, 0.3], 0.0),
+        bx([1.0, 4.5, 0.35], [0.25, 0.2, 0.35], 0.3),
+    )
 }
 
 /// The same as meshes: a 5,000-triangle ellipsoid and a box of 4,800 triangles, 6 cm apart.
@@ -55,6 +58,21 @@ pub fn mesh_bed_and_stand() -> (MeshObject, MeshObject) {
             Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
             [0.9, 4.5, 0.35],
             0.3,
+        ),
+    )
+}
+
+/// `face_to` where lines hit: a sofa (2 x 0.9 x 0.8 m) turned to face +y and a TV 3 m ahead of
+/// it, 0.4 m to the side and turned a little, as boxes; and the TV as a 5,000-triangle mesh.
+pub fn sofa_and_tv() -> (Obb, Obb, MeshObject) {
+    let tv = ([0.4, 3.0, 1.0], [0.6, 0.05, 0.4], 0.2);
+    (
+        bx([0.0, 0.0, 0.4], [1.0, 0.45, 0.4], std::f64::consts::PI),
+        bx(tv.0, tv.1, tv.2),
+        MeshObject::new(
+            Mesh::uv_ellipsoid(&Vector3::from(tv.1), 50, 51).expect("mesh"),
+            tv.0,
+            tv.2,
         ),
     )
 }

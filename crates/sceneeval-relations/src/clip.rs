@@ -409,6 +409,13 @@ pub(crate) struct Poly2 {
 }
 
 impl Poly2 {
+    /// The empty polygon.
+    pub(crate) const EMPTY: Poly2 = Poly2 {
+        len: 0,
+        pts: [Point2::new(0.0, 0.0); MAX_POLY],
+        labels: [0; MAX_POLY],
+    };
+
     /// A polygon from four corners in order (either winding), its edges labelled `labels`
     /// (edge `k` from corner `k` to `k + 1`).
     pub(crate) fn quad(corners: [Point2; 4], labels: [u8; 4]) -> Self {

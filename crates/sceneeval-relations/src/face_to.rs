@@ -98,6 +98,19 @@ pub(crate) struct Piece {
     pub delta: Real,
 }
 
+impl Piece {
+    /// No piece (a placeholder in fixed arrays).
+    pub(crate) const EMPTY: Piece = Piece {
+        axis: 0,
+        sign: 1.0,
+        poly: Poly2::EMPTY,
+        area: 0.0,
+        centroid: Point2::new(0.0, 0.0),
+        normal: Vector3::new(0.0, 0.0, 0.0),
+        delta: 0.0,
+    };
+}
+
 /// Labels of the lines a [`Piece`]'s edges lie on.
 pub(crate) mod line {
     /// The cross-section's sides `u <= hx`, `-u <= hx`, `v <= hz`, `-v <= hz`.

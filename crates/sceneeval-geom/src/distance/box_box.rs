@@ -76,7 +76,11 @@ pub(crate) fn box_box(a: &Obb, b: &Obb) -> Real {
 /// corner and its closest point on the other box.
 #[inline]
 pub(crate) fn box_box_closest(a: &Obb, b: &Obb) -> ClosestPoints {
-    let Some(Bracketed { distance, at: (of_b, c) }) = bracketed(a, b) else {
+    let Some(Bracketed {
+        distance,
+        at: (of_b, c),
+    }) = bracketed(a, b)
+    else {
         return gjk_boxes(a, b);
     };
     let points = (distance > 0.0).then(|| {

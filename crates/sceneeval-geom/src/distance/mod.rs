@@ -79,7 +79,9 @@ impl ClosestPoints {
         let world = |v: Vector| pose * crate::parry_adapter::point_from_parry(v);
         ClosestPoints {
             distance,
-            points: points.filter(|_| distance > 0.0).map(|(p, q)| (world(p), world(q))),
+            points: points
+                .filter(|_| distance > 0.0)
+                .map(|(p, q)| (world(p), world(q))),
         }
     }
 

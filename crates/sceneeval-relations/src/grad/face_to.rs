@@ -12,8 +12,10 @@
 //!   over a piece is the integral of the integrand's derivative plus, along each edge, the
 //!   integrand times the edge's outward normal speed `(dc - da u - db v) / |(a, b)|` for its
 //!   line `a u + b v <= c`. The integrands are linear, so each edge integral is exact from its
-//!   end points; the lines' coefficients and their derivatives come from a small forward-mode
-//!   evaluation ([`D`]) of the face corners from the pose.
+//!   end points. The integrand is the score's sensitivity to the mean (reverse mode), so each
+//!   edge costs one pass over the parameters; the lines' derivatives come from closed forms
+//!   for the anchor's corners and axes in the target's frame ([`D`] carries a value with its
+//!   derivatives). The pieces (at most six) are kept on the stack by the score's pass.
 //! - **Mesh anchor** (a fixed grid of rays): each counted ray's hit depth moves with the ray
 //!   as `dt = -n . (do + t df) / (n . f)` for the hit triangle's normal `n`; rays starting or
 //!   ceasing to hit make jumps, not derivatives.
@@ -22,19 +24,21 @@
 
 use std::ops::{Add, Mul, Neg, Sub};
 
-use sceneeval_geom::{Obb, Point2, Point3, RayHit, Real, Vector3};
+use sceneeval_geom::{Matrix3, Obb, Point2, Point3, RayHit, Real, Vector3};
 
 use super::{BoxGrad, PairGrad, pair_result};
 use crate::face_to::{HitSink, Piece, angle_score, is_upright, line, mean_hit};
 use crate::pairwise::effective_half;
-use crate::{ObjectGeom, RelationParams};
+use crate::{FaceToHeights, ObjectGeom, RelationParams};
 
-/// The parameters differentiated: the target's centre (0-2), yaw (3) and half extents (4-6),
-/// the anchor's half extents (7-9).
-const N: usize = 10;
+/// The parameters differentiated: the target's centre (0-2), yaw (3), half width (4) and
+/// half height (5), the anchor's half extents (6-8). The target's half depth moves nothing:
+/// the lines start from its mid-depth plane.
+const N: usize = 9;
 const YAW: usize = 3;
-const TARGET_HALF: usize = 4;
-const ANCHOR_HALF: usize = 7;
+const TARGET_HALF_X: usize = 4;
+const TARGET_HALF_Z: usize = 5;
+const ANCHOR_HALF: usize = 6;
 
 /// A value with its derivatives with respect to the [`N`] parameters (forward mode).
 #[derive(Debug, Clone, Copy)]
@@ -44,10 +48,6 @@ struct D {
 }
 
 impl D {
-    const fn constant(v: Real) -> D {
-        D { v, d: [0.0; N] }
-    }
-
     /// A value moving with its derivatives `d`.
     const fn with(v: Real, d: [Real; N]) -> D {
         D { v, d }
@@ -114,89 +114,111 @@ impl Mul for D {
     }
 }
 
-/// A 3-vector of [`D`]s.
-type V3 = [D; 3];
-
-fn dot(a: &V3, b: &V3) -> D {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn add(a: &V3, b: &V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn scale(a: &V3, k: D) -> V3 {
-    [a[0] * k, a[1] * k, a[2] * k]
-}
-
-/// The pose of the anchor's box in the target's frame, moving with the parameters: its axes
-/// (columns of `m`), its centre `c` and half extents `hb`, and the target's cross-section
-/// half extents `hx`, `hz`.
+/// The pose of the anchor's box (or prism) in the target's frame and how it moves with the
+/// parameters. In that frame everything turns by `-w x` when the target turns (`w` the world
+/// vertical in the target's frame), translates by `dc[k]` when the target moves along world
+/// axis `k`, and the box's faces move out along their axes as its half extents grow.
 struct Frame {
-    m: [V3; 3],
-    c: V3,
-    hb: V3,
-    hx: D,
-    hz: D,
+    /// Columns: the anchor's axes.
+    m: Matrix3,
+    /// The anchor's centre and half extents.
+    c: Vector3,
+    hb: Vector3,
+    /// The world vertical in the target's frame.
+    w: Vector3,
+    /// The derivative of `c` with respect to the target's centre along each world axis.
+    dc: [Vector3; 3],
+    /// For each of the anchor's half extents, the parameter it moves with and how fast.
+    hb_lane: [(usize, Real); 3],
+    /// How fast the target's cross-section half width and half height grow with its half
+    /// extents (0 below the flat-box floor).
+    hx_rate: Real,
+    hz_rate: Real,
 }
 
 impl Frame {
     fn new(a: &Obb, b: &Obb, prism: bool, params: &RelationParams) -> Frame {
         let rt = a.rotation.inverse();
-        let w = rt * Vector3::z();
-        let m = (rt * b.rotation).into_inner();
-        let cv = rt * (b.center - a.center);
-        let free = |k: usize| a.half_extents[k] >= params.min_half_extent;
-        // Turning the target by dtheta turns everything in its frame by -w x.
-        let col = |j: usize| -> V3 {
-            let mj = m.column(j).into_owned();
-            let turn = -w.cross(&mj);
-            std::array::from_fn(|r| {
-                let mut d = [0.0; N];
-                d[YAW] = turn[r];
-                D::with(mj[r], d)
-            })
-        };
-        let turn = -w.cross(&cv);
-        let c = std::array::from_fn(|r| {
-            let mut d = [0.0; N];
-            for k in 0..3 {
-                // A prism stands at the target's height: it rises with it.
-                if !(prism && k == 2) {
-                    d[k] = -rt[(r, k)];
-                }
+        let free = |k: usize| {
+            if a.half_extents[k] >= params.min_half_extent {
+                1.0
+            } else {
+                0.0
             }
-            d[YAW] = turn[r];
-            D::with(cv[r], d)
-        });
-        let h = effective_half(a, params);
-        let unit = |v: Real, k: usize, slope: Real| {
-            let mut d = [0.0; N];
-            d[k] = slope;
-            D::with(v, d)
         };
-        let hb = std::array::from_fn(|l| {
+        // A prism stands at the target's height: it rises with it.
+        let dc = std::array::from_fn(|k| {
+            if prism && k == 2 {
+                Vector3::zeros()
+            } else {
+                -(rt * Vector3::ith(k, 1.0))
+            }
+        });
+        let hb_lane = std::array::from_fn(|l| {
             if prism && l == 2 {
                 // prism_over: 2 * span + 1, span the target's (floored) half height.
-                unit(b.half_extents.z, TARGET_HALF + 2, if free(2) { 2.0 } else { 0.0 })
+                (TARGET_HALF_Z, 2.0 * free(2))
             } else {
-                unit(b.half_extents[l], ANCHOR_HALF + l, 1.0)
+                (ANCHOR_HALF + l, 1.0)
             }
         });
         Frame {
-            m: [col(0), col(1), col(2)],
-            c,
-            hb,
-            hx: unit(h.x, TARGET_HALF, if free(0) { 1.0 } else { 0.0 }),
-            hz: unit(h.z, TARGET_HALF + 2, if free(2) { 1.0 } else { 0.0 }),
+            m: (rt * b.rotation).into_inner(),
+            c: rt * (b.center - a.center),
+            hb: b.half_extents,
+            w: rt * Vector3::z(),
+            dc,
+            hb_lane,
+            hx_rate: free(0),
+            hz_rate: free(2),
         }
+    }
+
+    /// The plan coordinates `(x, z)` of the point `c + sum_l s_l hb_l m_l` of the anchor's
+    /// box, with their derivatives.
+    fn point(&self, s: [Real; 3]) -> [D; 2] {
+        let p = self.c + self.m * Vector3::from_fn(|l, _| s[l] * self.hb[l]);
+        let turn = -self.w.cross(&p);
+        [0, 2].map(|r| {
+            let mut d = [0.0; N];
+            for (k, dc) in self.dc.iter().enumerate() {
+                d[k] = dc[r];
+            }
+            d[YAW] = turn[r];
+            for (l, &(lane, rate)) in self.hb_lane.iter().enumerate() {
+                d[lane] += s[l] * rate * self.m[(r, l)];
+            }
+            D::with(p[r], d)
+        })
+    }
+
+    /// Component `r` of the anchor's axis `l`, turning with the target.
+    fn axis(&self, l: usize, r: usize) -> D {
+        let mut d = [0.0; N];
+        d[YAW] = -self.w.cross(&self.m.column(l).into_owned())[r];
+        D::with(self.m[(r, l)], d)
+    }
+
+    /// The offset `m_l . c + sign hb_l`: the plane of the anchor's face on that side of its
+    /// axis `l`.
+    fn offset(&self, l: usize, sign: Real) -> D {
+        let axis = self.m.column(l).into_owned();
+        let mut d = [0.0; N];
+        for (k, dc) in self.dc.iter().enumerate() {
+            d[k] = axis.dot(dc);
+        }
+        // Turning everything together leaves the dot product as it is.
+        let (lane, rate) = self.hb_lane[l];
+        d[lane] += sign * rate;
+        D::with(axis.dot(&self.c) + sign * self.hb[l], d)
     }
 }
 
-/// A face of the anchor in the target's frame: its normal, offset and projected corners, as
-/// `mean_hit_on_box` builds them, with their derivatives.
+/// A face of the anchor in the target's frame, as `mean_hit_on_box` builds it: its outward
+/// normal `n` and offset `delta` (the plane `n . p = delta`) and its projected corners, with
+/// their derivatives.
 struct Face {
-    n: V3,
+    n: [D; 3],
     delta: D,
     corners: [[D; 2]; 4],
     /// The winding of the projected quadrilateral (`+-1`).
@@ -206,15 +228,12 @@ struct Face {
 impl Face {
     fn new(f: &Frame, axis: usize, sign: Real) -> Face {
         let (j, k) = ((axis + 1) % 3, (axis + 2) % 3);
-        let n = scale(&f.m[axis], D::constant(sign));
-        let fc = add(&f.c, &scale(&n, f.hb[axis]));
-        let (ej, ek) = (scale(&f.m[j], f.hb[j]), scale(&f.m[k], f.hb[k]));
-        let corner = |sj: Real, sk: Real| -> [D; 2] {
-            let p = add(
-                &add(&fc, &scale(&ej, D::constant(sj))),
-                &scale(&ek, D::constant(sk)),
-            );
-            [p[0], p[2]]
+        let corner = |sj: Real, sk: Real| {
+            let mut s = [0.0; 3];
+            s[axis] = sign;
+            s[j] = sj;
+            s[k] = sk;
+            f.point(s)
         };
         let corners = [
             corner(1.0, 1.0),
@@ -228,52 +247,84 @@ impl Face {
             twice += p[0].v * q[1].v - q[0].v * p[1].v;
         }
         Face {
-            delta: dot(&n, &fc),
-            n,
+            n: [0, 1, 2].map(|r| f.axis(axis, r) * sign),
+            // n . fc = sign (m . c) + hb = sign (m . c + sign hb).
+            delta: f.offset(axis, sign) * sign,
             corners,
             winding: if twice >= 0.0 { 1.0 } else { -1.0 },
         }
     }
 
-    /// The line `a u + b v <= c` (inside the piece) of an edge labelled `label`.
-    fn line(&self, f: &Frame, label: u8) -> [D; 3] {
-        let (one, zero) = (D::constant(1.0), D::constant(0.0));
+    /// Adds to `total` the derivatives of the integral of `psi` along an edge on the line
+    /// labelled `label` (`a u + b v <= c` inside the piece) as the line moves: per parameter
+    /// `dc k0 - da ku - db kv`, where `k0`, `ku`, `kv` are the integrals of `psi`, `psi u` and
+    /// `psi v` along the edge over `|(a, b)|` ([`Face::line_norm`]).
+    fn add_flux(&self, f: &Frame, label: u8, [k0, ku, kv]: [Real; 3], total: &mut [Real; N]) {
         match label {
-            line::RECT_X_POS => [one, zero, f.hx],
-            line::RECT_X_NEG => [-one, zero, f.hx],
-            line::RECT_Z_POS => [zero, one, f.hz],
-            line::RECT_Z_NEG => [zero, -one, f.hz],
-            line::DEPTH => [-self.n[0], -self.n[2], -self.delta],
+            // u <= hx, -u <= hx: only hx moves.
+            line::RECT_X_POS | line::RECT_X_NEG => total[TARGET_HALF_X] += f.hx_rate * k0,
+            line::RECT_Z_POS | line::RECT_Z_NEG => total[TARGET_HALF_Z] += f.hz_rate * k0,
+            line::DEPTH => {
+                // -n.x u - n.z v <= -delta.
+                let (nx, nz) = (&self.n[0].d, &self.n[2].d);
+                for (lane, t) in total.iter_mut().enumerate() {
+                    *t += -self.delta.d[lane] * k0 + nx[lane] * ku + nz[lane] * kv;
+                }
+            }
             l if (line::QUAD..line::QUAD + 4).contains(&l) => {
+                // dy u - dx v <= dy p.x - dx p.z for the edge p -> q, (dx, dy) = (q - p) winding.
                 let e = usize::from(l - line::QUAD);
-                let (p, q) = (self.corners[e], self.corners[(e + 1) % 4]);
-                let (dx, dy) = ((q[0] - p[0]) * self.winding, (q[1] - p[1]) * self.winding);
-                [dy, -dx, dy * p[0] - dx * p[1]]
+                let (p, q) = (&self.corners[e], &self.corners[(e + 1) % 4]);
+                let s = self.winding;
+                let (dx, dy) = ((q[0].v - p[0].v) * s, (q[1].v - p[1].v) * s);
+                for (lane, t) in total.iter_mut().enumerate() {
+                    let ddx = (q[0].d[lane] - p[0].d[lane]) * s;
+                    let ddy = (q[1].d[lane] - p[1].d[lane]) * s;
+                    let dc = ddy * p[0].v + dy * p[0].d[lane] - ddx * p[1].v - dx * p[1].d[lane];
+                    *t += dc * k0 - ddy * ku + ddx * kv;
+                }
             }
             l => {
+                // The anchor's slab l: m_l.x u + m_l.z v <= m_l . c + hb_l (upper side), or the
+                // same negated with -hb_l.
                 let s = usize::from(l - line::SLAB);
-                let (axis, upper) = (s / 2, s % 2 == 0);
-                let col = &f.m[axis];
-                let off = dot(col, &f.c);
-                if upper {
-                    [col[0], col[2], f.hb[axis] + off]
-                } else {
-                    [-col[0], -col[2], f.hb[axis] - off]
+                let (axis, sign) = (s / 2, if s % 2 == 0 { 1.0 } else { -1.0 });
+                let (mx, mz, off) = (f.axis(axis, 0), f.axis(axis, 2), f.offset(axis, sign));
+                for (lane, t) in total.iter_mut().enumerate() {
+                    *t += sign * (off.d[lane] * k0 - mx.d[lane] * ku - mz.d[lane] * kv);
                 }
+            }
+        }
+    }
+
+    /// `|(a, b)|` of the line labelled `label`.
+    fn line_norm(&self, f: &Frame, label: u8) -> Real {
+        match label {
+            line::RECT_X_POS | line::RECT_X_NEG | line::RECT_Z_POS | line::RECT_Z_NEG => 1.0,
+            line::DEPTH => self.n[0].v.hypot(self.n[2].v),
+            l if (line::QUAD..line::QUAD + 4).contains(&l) => {
+                let e = usize::from(l - line::QUAD);
+                let (p, q) = (&self.corners[e], &self.corners[(e + 1) % 4]);
+                (q[0].v - p[0].v).hypot(q[1].v - p[1].v)
+            }
+            l => {
+                let axis = usize::from(l - line::SLAB) / 2;
+                f.m[(0, axis)].hypot(f.m[(2, axis)])
             }
         }
     }
 }
 
-/// What the gradient needs of [`mean_hit`]'s pass: the pieces (box anchor; at most one per
-/// face) or the sum of the counted rays' hit derivatives (mesh anchor).
+/// What the gradient needs of [`mean_hit`]'s pass: for a box anchor the anchor's frame and the
+/// pieces (at most one per face, kept on the stack); for a mesh anchor the sum of the counted
+/// rays' hit-point derivatives, gathered as they come.
 struct Recorder<'a> {
     target: &'a Obb,
     params: &'a RelationParams,
     /// Whether the mesh grid casts its rays at the anchor's heights (as `mean_hit` decides).
     plan_view: bool,
-    anchor: Option<(Obb, bool)>,
-    pieces: [Option<Piece>; 6],
+    frame: Option<Frame>,
+    pieces: [Piece; 6],
     count: usize,
     /// The rays counted.
     ray_count: usize,
@@ -284,12 +335,12 @@ struct Recorder<'a> {
 
 impl HitSink for Recorder<'_> {
     fn anchor_box(&mut self, b: &Obb, prism: bool) {
-        self.anchor = Some((*b, prism));
+        self.frame = Some(Frame::new(self.target, b, prism, self.params));
     }
 
     fn piece(&mut self, piece: &Piece) {
         if let Some(slot) = self.pieces.get_mut(self.count) {
-            *slot = Some(*piece);
+            *slot = *piece;
             self.count += 1;
         }
     }
@@ -320,13 +371,13 @@ impl HitSink for Recorder<'_> {
         self.rays[YAW].y -= dt(z.cross(&(origin - a.center)), z.cross(&front));
         if free(0) && h.x > 0.0 {
             let s = local.x / h.x;
-            self.rays[TARGET_HALF].x += s;
-            self.rays[TARGET_HALF].y -= dt(a.rotation * Vector3::new(s, 0.0, 0.0), Vector3::zeros());
+            self.rays[TARGET_HALF_X].x += s;
+            self.rays[TARGET_HALF_X].y -= dt(a.rotation * Vector3::new(s, 0.0, 0.0), Vector3::zeros());
         }
         if !plan_view && free(2) && h.z > 0.0 {
             let s = local.z / h.z;
-            self.rays[TARGET_HALF + 2].z += s;
-            self.rays[TARGET_HALF + 2].y -= dt(a.rotation * Vector3::new(0.0, 0.0, s), Vector3::zeros());
+            self.rays[TARGET_HALF_Z].z += s;
+            self.rays[TARGET_HALF_Z].y -= dt(a.rotation * Vector3::new(0.0, 0.0, s), Vector3::zeros());
         }
     }
 }
@@ -359,55 +410,52 @@ fn score_grad_wrt_hit(a: &Obb, hit: &Vector3, params: &RelationParams) -> Vector
 
 /// The derivatives of the score with respect to the [`N`] parameters through the box pieces,
 /// given `g`, its derivative with respect to the mean hit point `hit`.
+///
+/// In the pieces' coordinates `(u, s, v)` the mean is `M / W` (`(H.x, -H.y, H.z)`), so the
+/// score moves with `gm . (dM - mean dW) / W`: the integral over the pieces' changing domains
+/// of `psi = (gm . (u, s, v) - gm . mean) / W`, linear on each piece, plus that of `gm_s ds`
+/// inside (the depth's own change).
 fn box_pieces_grad(rec: &Recorder<'_>, g: &Vector3, hit: &Vector3) -> [Real; N] {
     let mut total = [0.0; N];
-    let Some((b, prism)) = rec.anchor else {
+    let Some(frame) = &rec.frame else {
         return total;
     };
     let pieces = &rec.pieces[..rec.count];
-    let w: Real = pieces.iter().flatten().map(|p| p.area).sum();
+    let w: Real = pieces.iter().map(|p| p.area).sum();
     if w.is_nan() || w <= 0.0 {
         return total;
     }
-    let frame = Frame::new(rec.target, &b, prism, rec.params);
-    // In the pieces' coordinates (u, s, v), s the depth: the mean is (H.x, -H.y, H.z).
     let gm = Vector3::new(g.x, -g.y, g.z);
-    let mean = Vector3::new(hit.x, -hit.y, hit.z);
-    let offset = gm.dot(&mean);
-    let mut acc = |d: &D, k: Real| {
-        for (t, x) in total.iter_mut().zip(d.d) {
-            *t += x * k;
-        }
-    };
-    for piece in pieces.iter().flatten() {
-        let face = Face::new(&frame, piece.axis, piece.sign);
+    let offset = gm.dot(&Vector3::new(hit.x, -hit.y, hit.z));
+    for piece in pieces {
+        let face = Face::new(frame, piece.axis, piece.sign);
         let n = piece.normal;
         // The depth s(u, v) of the face: (n.x u + n.z v - delta) / n.y.
         let depth = |p: &Point2| (n.x * p.x + n.z * p.y - piece.delta) / n.y;
         let psi = |p: &Point2| (gm.x * p.x + gm.y * depth(p) + gm.z * p.y - offset) / w;
-        // Inside: the integrand's own derivative, ds at the centroid times the area.
+        // Inside: the depth's own change at the centroid, times the area.
         let cen = piece.centroid;
         let s_at = (face.n[0] * cen.x + face.n[2] * cen.y - face.delta) * face.n[1].recip();
-        acc(&s_at, gm.y * piece.area / w);
-        // Along each edge: psi times the edge's outward normal speed.
+        let k = gm.y * piece.area / w;
+        for (t, x) in total.iter_mut().zip(s_at.d) {
+            *t += x * k;
+        }
+        // Along each edge: psi times its outward normal speed (dc - da u - db v) / |(a, b)|.
         let (pts, labels) = (piece.poly.points(), piece.poly.labels());
-        for (e, label) in labels.iter().enumerate() {
+        for (e, &label) in labels.iter().enumerate() {
             let (p, q) = (pts[e], pts[(e + 1) % pts.len()]);
             let len = (q - p).norm();
-            if len == 0.0 {
+            let norm = face.line_norm(frame, label);
+            if len == 0.0 || norm == 0.0 {
                 continue;
             }
+            // Integrals along the edge of psi, psi u and psi v (psi linear: exact).
             let (fp, fq) = (psi(&p), psi(&q));
-            let k0 = len * 0.5 * (fp + fq);
-            let ku = len / 6.0 * (2.0 * fp * p.x + fp * q.x + fq * p.x + 2.0 * fq * q.x);
-            let kv = len / 6.0 * (2.0 * fp * p.y + fp * q.y + fq * p.y + 2.0 * fq * q.y);
-            let [a, bb, c] = face.line(&frame, *label);
-            let norm = a.v.hypot(bb.v);
-            if norm == 0.0 {
-                continue;
-            }
-            let flux = c * k0 - a * ku - bb * kv;
-            acc(&flux, 1.0 / norm);
+            let l = len / (6.0 * norm);
+            let k0 = 3.0 * l * (fp + fq);
+            let ku = l * (2.0 * fp * p.x + fp * q.x + fq * p.x + 2.0 * fq * q.x);
+            let kv = l * (2.0 * fp * p.y + fp * q.y + fq * p.y + 2.0 * fq * q.y);
+            face.add_flux(frame, label, [k0, ku, kv], &mut total);
         }
     }
     total
@@ -432,9 +480,9 @@ pub fn face_to(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Relati
     let mut rec = Recorder {
         target: target.obb,
         params,
-        plan_view: params.face_to_heights == crate::FaceToHeights::Any && is_upright(target.obb),
-        anchor: None,
-        pieces: [None; 6],
+        plan_view: params.face_to_heights == FaceToHeights::Any && is_upright(target.obb),
+        frame: None,
+        pieces: [Piece::EMPTY; 6],
         count: 0,
         ray_count: 0,
         rays: [Vector3::zeros(); N],
@@ -461,7 +509,7 @@ pub fn face_to(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Relati
     };
     let target_box = BoxGrad {
         center: Vector3::new(d[0], d[1], d[2]),
-        half_extents: Vector3::new(d[TARGET_HALF], d[TARGET_HALF + 1], d[TARGET_HALF + 2]),
+        half_extents: Vector3::new(d[TARGET_HALF_X], 0.0, d[TARGET_HALF_Z]),
         yaw: d[YAW],
     };
     let anchor_half = Vector3::new(d[ANCHOR_HALF], d[ANCHOR_HALF + 1], d[ANCHOR_HALF + 2]);

@@ -99,7 +99,12 @@ pub(crate) fn as_fraction(
 /// [`volume_grad`] as a fraction of the box's volume ([`as_fraction`]). A box wholly inside
 /// or outside the half-spaces has a fraction of 1 or 0 that nothing moves: zero derivatives
 /// at once.
-pub(crate) fn fraction_grad(obb: &Obb, h: &Vector3, planes: &[HalfSpace], params: &RelationParams) -> FractionGrad {
+pub(crate) fn fraction_grad(
+    obb: &Obb,
+    h: &Vector3,
+    planes: &[HalfSpace],
+    params: &RelationParams,
+) -> FractionGrad {
     let full = 8.0 * h.x * h.y * h.z;
     if let Some(v) = uncut_volume(h, planes) {
         return FractionGrad {
