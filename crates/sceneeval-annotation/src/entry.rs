@@ -23,6 +23,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::quantifier::{CountSpec, Quantifier};
+use crate::quote::excerpt;
 use crate::vocab;
 use crate::{AnnotationError, Field};
 
@@ -91,46 +92,9 @@ impl fmt::Display for ObjRef {
     }
 }
 
-/// One of the six architectural element types of the schema.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ArchElement {
-    /// `wall`
-    Wall,
-    /// `floor`
-    Floor,
-    /// `ceiling`
-    Ceiling,
-    /// `window`
-    Window,
-    /// `door`
-    Door,
-    /// `room` (the room the object is in).
-    Room,
-}
-
-impl ArchElement {
-    /// All six, in the paper's order.
-    pub const ALL: [ArchElement; 6] = [
-        ArchElement::Wall,
-        ArchElement::Floor,
-        ArchElement::Ceiling,
-        ArchElement::Window,
-        ArchElement::Door,
-        ArchElement::Room,
-    ];
-
-    /// The text form (`wall`, `floor`, ...).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            ArchElement::Wall => "wall",
-            ArchElement::Floor => "floor",
-            ArchElement::Ceiling => "ceiling",
-            ArchElement::Window => "window",
-            ArchElement::Door => "door",
-            ArchElement::Room => "room",
-        }
-    }
-}
+/// The six architectural element types of the schema are the scene model's
+/// [`ArchElement`](sceneeval_scene::ArchElement), with the same names.
+pub use sceneeval_scene::ArchElement;
 
 /// The architecture side of an object-architecture relationship.
 ///
@@ -151,7 +115,7 @@ impl ArchRef {
     /// Classifies an architecture reference (never fails).
     pub fn parse(text: &str) -> ArchRef {
         let text = text.trim();
-        if let Some(e) = ArchElement::ALL.into_iter().find(|e| e.as_str() == text) {
+        if let Some(e) = ArchElement::from_name(text) {
             ArchRef::Element(e)
         } else if vocab::is_room_type(text) {
             ArchRef::RoomType(text.to_owned())
@@ -160,10 +124,27 @@ impl ArchRef {
         }
     }
 
+    /// The kind of element the reference names: its element, [`ArchElement::Room`] for a room
+    /// type (`bedroom` is a room), `None` for an unknown reference.
+    ///
+    /// ```
+    /// use sceneeval_annotation::{ArchElement, ArchRef};
+    /// assert_eq!(ArchRef::parse("window").element(), Some(ArchElement::Window));
+    /// assert_eq!(ArchRef::parse("bedroom").element(), Some(ArchElement::Room));
+    /// assert_eq!(ArchRef::parse("wall_1").element(), None);
+    /// ```
+    pub fn element(&self) -> Option<ArchElement> {
+        match self {
+            ArchRef::Element(e) => Some(*e),
+            ArchRef::RoomType(_) => Some(ArchElement::Room),
+            ArchRef::Unknown(_) => None,
+        }
+    }
+
     /// The text form.
     pub fn as_str(&self) -> &str {
         match self {
-            ArchRef::Element(e) => e.as_str(),
+            ArchRef::Element(e) => e.name(),
             ArchRef::RoomType(s) | ArchRef::Unknown(s) => s,
         }
     }
@@ -287,7 +268,8 @@ impl OaRel {
     }
 }
 
-/// A problem that stops an entry from following its grammar.
+/// A problem that stops an entry from following its grammar. Its text (`Display`) quotes at
+/// most [`MAX_QUOTE_CHARS`](crate::MAX_QUOTE_CHARS) characters of what was found.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum EntryProblem {
@@ -331,14 +313,18 @@ impl fmt::Display for EntryProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             EntryProblem::UnknownQuantifier { text } => {
-                write!(f, "unknown quantifier {text:?} (expected eq, lt, gt, le or ge)")?;
+                write!(
+                    f,
+                    "unknown quantifier {:?} (expected eq, lt, gt, le or ge)",
+                    excerpt(text)
+                )?;
                 if let Some(q) = Quantifier::suggest(text) {
                     write!(f, "; did you mean {q:?}?", q = q.as_str())?;
                 }
                 Ok(())
             }
             EntryProblem::BadQuantity { text } => {
-                write!(f, "quantity {text:?} is not a non-negative integer")
+                write!(f, "quantity {:?} is not a non-negative integer", excerpt(text))
             }
             EntryProblem::WrongFieldCount {
                 found,
@@ -355,13 +341,15 @@ impl fmt::Display for EntryProblem {
             EntryProblem::BadAnchorIndex { text } => {
                 write!(
                     f,
-                    "anchor index {text:?} is not an integer >= -1 (-1 = unspecified)"
+                    "anchor index {:?} is not an integer >= -1 (-1 = unspecified)",
+                    excerpt(text)
                 )
             }
             EntryProblem::BadReference { text } => {
                 write!(
                     f,
-                    "object reference {text:?} is not `category` or `category:k` with an integer k"
+                    "object reference {:?} is not `category` or `category:k` with an integer k",
+                    excerpt(text)
                 )
             }
         }

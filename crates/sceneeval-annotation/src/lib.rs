@@ -21,8 +21,11 @@
 //! with extra columns kept. Rows are looked up by ID ([`Annotations::get`]), never by position
 //! (the reference indexes rows by position, Q24). Reading is tolerant and never drops data: an
 //! entry that does not follow its grammar is kept as [`Entry::Malformed`], and
-//! [`validate`] reports everything wrong with a file as [`Finding`]s in one run. Only a file
-//! that cannot be read at all is an [`AnnotationError`]. CSV → types → CSV is lossless in the
+//! [`validate`] reports everything wrong with a file as [`Finding`]s in one run: each quotes
+//! at most [`MAX_QUOTE_CHARS`] characters of any one piece of input, and a problem repeated
+//! over many items of an entry is one finding with its [`Finding::occurrences`], so the
+//! findings grow linearly with the file. Only a file that cannot be read at all is an
+//! [`AnnotationError`]. CSV → types → CSV is lossless in the
 //! sense documented on [`Annotations`].
 //!
 //! # Finding codes
@@ -99,6 +102,7 @@ mod annotations;
 mod entry;
 mod error;
 mod quantifier;
+mod quote;
 mod row;
 mod stats;
 mod validate;
@@ -111,6 +115,7 @@ pub use entry::{
 };
 pub use error::AnnotationError;
 pub use quantifier::{CountRange, CountSpec, Quantifier};
+pub use quote::{MAX_QUOTE_CHARS, MAX_QUOTED_ITEMS};
 pub use row::{AnnotationRow, Difficulty, Field, format_cell, parse_cell, split_cell};
 pub use stats::{GroupStats, Stats};
-pub use validate::{Finding, FindingCode, Severity, Summary, validate, validate_row};
+pub use validate::{Finding, FindingCode, Severity, Summary, binomial, validate, validate_row};

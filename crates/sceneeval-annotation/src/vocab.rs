@@ -7,8 +7,9 @@
 //! and are deliberately short: a word missing here makes the heuristic miss a case, it never
 //! makes a valid entry an error.
 
-/// Architectural element names accepted as architecture references, in the paper's order.
-pub const ARCH_ELEMENTS: [&str; 6] = ["wall", "floor", "ceiling", "window", "door", "room"];
+/// Architectural element names accepted as architecture references, in the paper's order
+/// (the names of [`sceneeval_scene::ArchElement::ALL`]).
+pub const ARCH_ELEMENTS: [&str; 6] = sceneeval_scene::ArchElement::NAMES;
 
 /// Room types accepted as architecture references (for scenes with several rooms).
 ///
@@ -272,9 +273,15 @@ pub fn suggest_arch(name: &str) -> Option<ArchSuggestion> {
         return Some(ArchSuggestion::Spelling(normalised));
     }
     let mut best: Option<(usize, &str)> = None;
+    let length = normalised.chars().count();
     for candidate in known {
-        let d = edit_distance(&normalised, candidate);
         let limit = if candidate.len() <= 4 { 1 } else { 2 };
+        // The distance is at least the difference in length: a long name is compared with
+        // nothing, so the work stays linear in its length.
+        if length.abs_diff(candidate.chars().count()) > limit {
+            continue;
+        }
+        let d = edit_distance(&normalised, candidate);
         if d <= limit && best.is_none_or(|(bd, _)| d < bd) {
             best = Some((d, candidate));
         }

@@ -1,22 +1,19 @@
 //! `sceneeval evaluate`: evaluate a folder of scenes, write `<out>/<scene>/eval.json` and
 //! `<out>/<scene>/timing.json` as each scene finishes, then `<out>/summary.csv` and
-//! `<out>/summary.md`.
+//! `<out>/summary.md`. The flags are mapped onto one [`EvaluationRequest`] (each default is
+//! the facade's), which the facade checks and runs.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use sceneeval::annotation::Annotations;
-use sceneeval::io::AssetLibrary;
-use sceneeval::render::{RenderSettings, Renderer};
-use sceneeval::vlm::Cached;
-use sceneeval::vlm_openai::{OpenAiConfig, OpenAiVlm, RuntimeVlm};
 use sceneeval::{
-    ChosenPlan, Evaluator, FolderOutcome, FolderRun, Metric, Outcome, PlanChoice, Preset, SceneRecord,
-    SceneStatus, SharedVlm, check_output_dir, find_scenes,
+    ErrorChain, EvaluationRequest, Metric, Outcome, PlanRequest, Preset, RequestField, RunEvent, RunOutcome,
+    SceneStatus, Shard, VlmOptions,
 };
+
+use crate::vlm::SamplingArgs;
 
 /// Arguments of `sceneeval evaluate`.
 #[derive(Debug, clap::Args)]
@@ -36,8 +33,9 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub annotations: Option<PathBuf>,
     /// What to evaluate: `geometry` (the default: the six geometry metrics, no VLM), `full`
-    /// (the paper's ten metrics), a comma-separated metric list (`collision,cnt,oor`), or a
-    /// plan file (JSON: preset, metrics, parameters, limits, time budget; see docs/formats.md).
+    /// (the paper's ten metrics), a comma-separated metric list (`collision,cnt,oor`; the
+    /// summary's column names work too: `COL_ob,OOB`), or a plan file (JSON or TOML: preset,
+    /// metrics, parameters, limits, time budget; see docs/formats.md).
     #[arg(long, value_name = "geometry|full|LIST|FILE")]
     pub plan: Option<String>,
     /// OpenAI-compatible API base URL of the VLM for the fidelity metrics (matching, ATR,
@@ -54,13 +52,13 @@ pub struct Args {
     pub vlm_api_key_env: Option<String>,
     /// What is sent with every VLM request.
     #[command(flatten)]
-    pub vlm_sampling: crate::vlm::SamplingArgs,
-    /// VLM requests in flight at once over the whole run.
-    #[arg(long, default_value_t = 4, value_name = "N")]
-    pub vlm_concurrency: usize,
+    pub vlm_sampling: SamplingArgs,
+    /// VLM requests in flight at once over the whole run (default 4).
+    #[arg(long, value_name = "N", requires = "vlm_base_url")]
+    pub vlm_concurrency: Option<usize>,
     /// Folder of the VLM response cache (default `<out>/vlm-cache`): a re-run asks nothing
     /// already answered.
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", requires = "vlm_base_url")]
     pub vlm_cache: Option<PathBuf>,
     /// Object matching: `vlm` (default with a VLM), `labels` (default without), or a matching
     /// file or folder in the reference's obj_matching_result.json shape.
@@ -70,19 +68,20 @@ pub struct Args {
     /// words still go to the VLM when one is configured).
     #[arg(long, value_name = "vlm|lexicon")]
     pub relation_mapping: Option<String>,
-    /// Side of the square object views shown to the VLM, pixels.
-    #[arg(long, default_value_t = 512, value_name = "PX")]
-    pub render_size: u32,
+    /// Side of the square object views shown to the VLM, pixels (default 512; 16 to 4096).
+    #[arg(long, value_name = "PX", requires = "vlm_base_url")]
+    pub render_size: Option<u32>,
     /// Evaluate only shard K of N (1-based): the scenes whose position in ID order is K-1
     /// modulo N. Merge the shards' folders with `sceneeval summarize`.
-    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
-    pub shard: Option<(usize, usize)>,
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
     /// Parameter preset: `default`, or `reference` for every reference-parity switch (to
     /// compare with published numbers). Replaces the plan file's `preset`; the plan's explicit
     /// values still apply on top.
     #[arg(long, value_name = "NAME")]
     pub preset: Option<Preset>,
-    /// Run only these metrics (comma-separated), overriding the plan's list.
+    /// Run only these metrics (comma-separated names or summary columns), overriding the
+    /// plan's list.
     #[arg(long, value_delimiter = ',', value_name = "METRIC,...")]
     pub metrics: Option<Vec<Metric>>,
     /// Wall-time budget per scene in seconds, overriding the plan's (default 600); a scene
@@ -101,115 +100,194 @@ pub struct Args {
     /// Do not show a progress bar.
     #[arg(long)]
     pub no_progress: bool,
+    /// Print the evaluation request these options make (JSON) and exit without evaluating:
+    /// what the Python package's `sceneeval.evaluation_request` gives for the same options.
+    #[arg(long)]
+    pub print_request: bool,
+}
+
+impl Args {
+    /// The evaluation request these options make.
+    ///
+    /// # Errors
+    /// A VLM sampling option without `--vlm-base-url`.
+    pub fn request(&self) -> anyhow::Result<EvaluationRequest> {
+        let vlm = match (&self.vlm_base_url, &self.vlm_model) {
+            (Some(base_url), Some(model)) => Some(VlmOptions {
+                api_key_env: self.vlm_api_key_env.clone(),
+                cache: self.vlm_cache.clone(),
+                concurrency: self.vlm_concurrency,
+                render_size: self.render_size,
+                ..self.vlm_sampling.options(base_url, model)
+            }),
+            _ => {
+                if let Some(option) = self.vlm_sampling.first_given() {
+                    anyhow::bail!(
+                        "{option} sets what is sent to the VLM; it needs --vlm-base-url and --vlm-model"
+                    );
+                }
+                None
+            }
+        };
+        Ok(EvaluationRequest {
+            scenes: self.scenes.clone(),
+            assets: self.assets.clone(),
+            out: self.out.clone(),
+            annotations: self.annotations.clone(),
+            plan: PlanRequest {
+                plan: self.plan.clone(),
+                preset: self.preset,
+                metrics: self.metrics.clone(),
+                time_budget_seconds: self.time_budget,
+                matching: self.matching.clone(),
+                relation_mapping: self.relation_mapping.clone(),
+            },
+            vlm,
+            threads: self.threads,
+            force: self.force,
+            shard: self.shard,
+            diagnostics: self.diagnostics,
+        })
+    }
+}
+
+/// The option of `sceneeval evaluate` that sets `field`.
+pub fn option_name(field: RequestField) -> &'static str {
+    match field {
+        RequestField::Scenes => "SCENES",
+        RequestField::Assets => "--assets",
+        RequestField::Out => "--out",
+        RequestField::Annotations => "--annotations",
+        RequestField::Plan => "--plan",
+        RequestField::Preset => "--preset",
+        RequestField::Metrics => "--metrics",
+        RequestField::TimeBudget => "--time-budget",
+        RequestField::Matching => "--matching",
+        RequestField::RelationMapping => "--relation-mapping",
+        RequestField::Threads => "--threads",
+        RequestField::VlmBaseUrl => "--vlm-base-url",
+        RequestField::VlmModel => "--vlm-model",
+        RequestField::VlmApiKeyEnv => "--vlm-api-key-env",
+        RequestField::VlmCache => "--vlm-cache",
+        RequestField::VlmConcurrency => "--vlm-concurrency",
+        RequestField::VlmRenderSize => "--render-size",
+        RequestField::VlmDetail => "--vlm-detail",
+        RequestField::VlmTemperature => "--vlm-temperature",
+        RequestField::VlmSeed => "--vlm-seed",
+        RequestField::VlmMaxTokens => "--vlm-max-tokens",
+        RequestField::VlmTokenLimitField => "--vlm-token-limit-field",
+        _ => "--vlm-base-url",
+    }
+}
+
+/// An error of the facade shown as the CLI's: a request error names the option that sets the
+/// field (`--plan: ...`, through `name`), keeping its causes.
+#[derive(Debug)]
+pub struct OptionError {
+    /// The facade's error.
+    pub error: sceneeval::EvalError,
+    /// The option of the command that sets a request field.
+    pub name: fn(RequestField) -> &'static str,
+}
+
+impl OptionError {
+    /// `error` with the options of `sceneeval evaluate`.
+    pub fn evaluate(error: sceneeval::EvalError) -> Self {
+        OptionError {
+            error,
+            name: option_name,
+        }
+    }
+}
+
+impl std::fmt::Display for OptionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.error {
+            sceneeval::EvalError::Request { field, message, .. } => {
+                write!(f, "{}: {message}", (self.name)(*field))
+            }
+            other => other.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for OptionError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        std::error::Error::source(&self.error)
+    }
 }
 
 /// Runs the subcommand. Exits with failure when any scene failed to load or evaluate (each
 /// failure is recorded in its `eval.json`, printed with its cause chain and counted in the
 /// summary). Everything that can be checked before evaluating (the scene names, the plan, the
-/// asset folders, the annotations, the output folder) is checked first.
+/// VLM settings, the asset folders, the annotations, the output folder) is checked first.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let set = find_scenes(&args.scenes)?;
-    for skipped in &set.skipped {
+    let request = args.request()?;
+    if args.print_request {
+        crate::print_stdout(&format!("{}\n", serde_json::to_string_pretty(&request)?))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    let prepared = request.prepare().map_err(OptionError::evaluate)?;
+    for skipped in prepared.skipped() {
         eprintln!("warning: skipped {}: {}", skipped.path.display(), skipped.reason);
     }
-    let mut scenes = set.scenes;
-    if scenes.is_empty() {
-        bail!("no scene_<ID>.json files in {}", args.scenes.display());
+    if let Some(shard) = request.shard {
+        eprintln!("shard {shard}: {} scenes", prepared.scenes().len());
     }
-    if let Some((k, n)) = args.shard {
-        scenes = scenes
-            .into_iter()
-            .enumerate()
-            .filter(|(i, _)| i % n == k - 1)
-            .map(|(_, s)| s)
-            .collect();
-        eprintln!("shard {k}/{n}: {} scenes", scenes.len());
+    if prepared.replaced() > 0 {
+        eprintln!(
+            "warning: {} earlier results in {} were made with another plan, preset or VLM; this run replaces them \
+             (write to another --out to keep them)",
+            prepared.replaced(),
+            args.out.display()
+        );
     }
-    let vlm_configured = args.vlm_base_url.is_some();
-    if let (false, Some(option)) = (vlm_configured, args.vlm_sampling.first_given()) {
-        bail!("{option} sets what is sent to the VLM; it needs --vlm-base-url and --vlm-model");
-    }
-    let choice = PlanChoice {
-        plan: args.plan.as_deref(),
-        preset: args.preset,
-        metrics: args.metrics.clone(),
-        time_budget_seconds: args.time_budget,
-        matching: args.matching.as_deref(),
-        relation_mapping: args.relation_mapping.as_deref(),
-        vlm_configured,
-        annotations: args.annotations.is_some(),
-        names: PlanChoice::CLI,
-    };
-    let ChosenPlan { plan, fallback } = choice.resolve()?;
-    if let Some(fallback) = fallback {
+    if let Some(fallback) = prepared.fallback() {
         eprintln!("note: no VLM configured (--vlm-base-url, --vlm-model): {fallback}");
     }
-    let mut evaluator = Evaluator::new(plan)?;
-    if let (Some(url), Some(model), true) = (
-        &args.vlm_base_url,
-        &args.vlm_model,
-        evaluator.plan().has_fidelity(),
-    ) {
-        let key = crate::vlm::api_key(args.vlm_api_key_env.as_deref(), "--vlm-api-key-env")?;
-        let mut config = OpenAiConfig::new(url, model).with_api_key(key);
-        args.vlm_sampling.apply(&mut config);
-        config.max_concurrent_requests = args.vlm_concurrency.max(1);
-        let client = OpenAiVlm::new(config).context("cannot set up the VLM client")?;
-        let vlm = RuntimeVlm::start(client)?;
-        let cache = args
-            .vlm_cache
-            .clone()
-            .unwrap_or_else(|| args.out.join("vlm-cache"));
-        let renderer =
-            Renderer::new().context("the VLM needs object views, but the renderer cannot start")?;
-        evaluator = evaluator
-            .with_vlm(SharedVlm::new(Cached::new(vlm, cache)))
-            .with_renderer(renderer, RenderSettings::square(args.render_size.max(16)));
-    }
-    let plan = evaluator.plan();
-    let assets = AssetLibrary::from_specs(&args.assets)
-        .context("invalid --assets")?
-        .with_limits(plan.limits);
-    let annotations = args
-        .annotations
-        .as_deref()
-        .map(|p| Annotations::read(p).with_context(|| format!("reading annotations {}", p.display())))
-        .transpose()?;
-    check_output_dir(&args.out)?;
+    let has_fidelity = prepared.evaluator().plan().has_fidelity();
+    let preset = prepared.evaluator().plan().preset;
 
     let progress = if args.no_progress {
         ProgressBar::hidden()
     } else {
-        ProgressBar::new(scenes.len() as u64)
+        ProgressBar::new(prepared.scenes().len() as u64)
     };
     if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes{msg}") {
         progress.set_style(style.progress_chars("=> "));
     }
-    let run = FolderRun {
-        out_dir: args.out.clone(),
-        force: args.force,
-        diagnostics: args.diagnostics,
-        annotations: annotations.as_ref(),
-    };
     let (renders, requests, cached) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
-    let on_done = |scene: &sceneeval::SceneFile, status: &SceneStatus, record: &SceneRecord| {
+    let hinted = AtomicBool::new(false);
+    let on_event = |event: &RunEvent<'_>| {
+        let RunEvent::SceneDone {
+            scene,
+            status,
+            record,
+            error,
+        } = *event
+        else {
+            return;
+        };
         if let (SceneStatus::Failed { .. }, Outcome::Failed { stage, error, causes }) =
             (status, &record.outcome)
         {
-            let mut text = format!(
-                "failed: {} ({} stage): {error}",
+            let chain = ErrorChain::from_parts(error.as_str(), causes);
+            let text = format!(
+                "failed: {} ({} stage): {chain:#}",
                 scene.path.display(),
                 match stage {
                     sceneeval::Stage::Load => "load",
                     sceneeval::Stage::Evaluate => "evaluate",
                 }
             );
-            for cause in causes {
-                text.push_str("\n  caused by: ");
-                text.push_str(cause);
-            }
             // `suspend` prints also when the bar is hidden (`println` would not).
             progress.suspend(|| eprintln!("{text}"));
+        }
+        // Advice for an error an option fixes, once per run.
+        if let Some(hint) = error.and_then(crate::hint)
+            && !hinted.swap(true, Ordering::Relaxed)
+        {
+            progress.suspend(|| eprintln!("hint: {hint}"));
         }
         if let (SceneStatus::Evaluated { .. }, Some(f)) =
             (status, record.report().and_then(|r| r.fidelity.as_ref()))
@@ -228,28 +306,25 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         progress.inc(1);
     };
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = args.threads {
-        pool = pool.num_threads(n.max(1));
-    }
-    let pool = pool.build().context("starting worker threads")?;
-    let FolderOutcome {
+    let RunOutcome {
+        scenes,
         batch: outcome,
         summary,
-    } = pool.install(|| run.run(&scenes, &evaluator, &assets, &on_done))?;
+        ..
+    } = prepared.run(&on_event)?;
     progress.finish_and_clear();
 
-    print!("{}", summary.to_markdown());
+    crate::print_stdout(&summary.to_markdown())?;
     eprintln!(
         "{} scenes: {} evaluated, {} kept from an earlier run, {} failed; preset {}; results in {}",
         scenes.len(),
         outcome.evaluated,
         outcome.reused,
         outcome.failed,
-        plan.preset,
+        preset,
         args.out.display()
     );
-    if evaluator.plan().has_fidelity() {
+    if has_fidelity {
         eprintln!(
             "  fidelity: {} renders, {} VLM requests sent, {} answered from the cache",
             renders.load(Ordering::Relaxed),
@@ -272,16 +347,4 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
-}
-
-fn parse_shard(s: &str) -> Result<(usize, usize), String> {
-    let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 2/8")?;
-    let (k, n): (usize, usize) = (
-        k.trim().parse().map_err(|_| "K is not a number")?,
-        n.trim().parse().map_err(|_| "N is not a number")?,
-    );
-    if n == 0 || k == 0 || k > n {
-        return Err(format!("shard {k}/{n}: need 1 <= K <= N"));
-    }
-    Ok((k, n))
 }

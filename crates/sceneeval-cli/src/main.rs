@@ -51,6 +51,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    quiet_driver_probe();
     let cli = Cli::parse();
     init_logging(cli.verbose);
     let result = match cli.command {
@@ -64,12 +65,12 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(code) => code,
+        // The reader of the output went away (`sceneeval inspect --json | head`): end quietly
+        // and successfully, as ripgrep and other command-line tools do.
+        Err(err) if is_broken_pipe(err.as_ref()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err}");
-            for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
-            }
-            if let Some(hint) = hint(&err) {
+            eprintln!("error: {:#}", sceneeval::ErrorChain::new(err.as_ref()));
+            if let Some(hint) = hint(err.as_ref()) {
                 eprintln!("hint: {hint}");
             }
             ExitCode::FAILURE
@@ -77,8 +78,54 @@ fn main() -> ExitCode {
     }
 }
 
-/// What to do about an error that a command-line option fixes, if it is one.
-fn hint(err: &anyhow::Error) -> Option<String> {
+/// The environment variable that turns off Mesa's implicit Vulkan layer
+/// `VK_LAYER_MESA_device_select` (the Vulkan loader honours it).
+pub const NODEVICE_SELECT: &str = "NODEVICE_SELECT";
+
+/// Keeps Mesa's driver noise out of the output: sets [`NODEVICE_SELECT`]`=1` for this process
+/// unless the environment sets it.
+///
+/// Without it, every render on a machine without `XDG_RUNTIME_DIR` (a container, CI, a service)
+/// printed `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` on successful
+/// runs: the layer asks libwayland for a display while it orders the adapters (see
+/// `sceneeval_render::Gpu::new`). The renders are headless and wgpu chooses the adapter itself,
+/// so the layer has nothing to do here.
+#[allow(unsafe_code)]
+fn quiet_driver_probe() {
+    if std::env::var_os(NODEVICE_SELECT).is_none() {
+        // SAFETY: the first statement of `main`, before this process starts any thread, so no
+        // other thread reads or writes the environment meanwhile.
+        unsafe { std::env::set_var(NODEVICE_SELECT, "1") };
+    }
+}
+
+/// Writes `text` to standard output and flushes it: the commands print their results through
+/// this (or their own writer), so that a closed pipe is an error [`main`] ends quietly on, not
+/// a panic as with `println!`.
+///
+/// # Errors
+/// The write's error, with the context "writing to standard output".
+pub fn print_stdout(text: &str) -> anyhow::Result<()> {
+    use anyhow::Context as _;
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .context("writing to standard output")
+}
+
+/// Whether `err` or one of its causes is a write to a closed pipe.
+fn is_broken_pipe(err: &(dyn std::error::Error + 'static)) -> bool {
+    std::iter::once(err).chain(sceneeval::causes(err)).any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// What to do about an error that a command-line option fixes, if it is one (the error or one
+/// of its causes).
+pub fn hint(err: &(dyn std::error::Error + 'static)) -> Option<String> {
     use sceneeval::io::IoError;
     // Causes are `IoError`s, or boxed ones (an object's asset error boxes its cause).
     fn io<'e>(cause: &'e (dyn std::error::Error + 'static)) -> Option<&'e IoError> {
@@ -86,7 +133,7 @@ fn hint(err: &anyhow::Error) -> Option<String> {
             .downcast_ref::<IoError>()
             .or_else(|| cause.downcast_ref::<Box<IoError>>().map(|b| &**b))
     }
-    err.chain().find_map(|cause| match io(cause)? {
+    std::iter::once(err).chain(sceneeval::causes(err)).find_map(|cause| match io(cause)? {
         IoError::UnknownPrefix { prefix, .. } => Some(format!(
             "the scene names assets with the prefix {prefix:?}: pass --assets {prefix}=DIR with the folder \
              that holds them ({prefix}=LAYOUT:DIR to choose its layout; README, \"Using real asset folders\")"

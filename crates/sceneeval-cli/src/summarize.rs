@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use sceneeval::annotation::Annotations;
-use sceneeval::{RECORD_FILE, SceneRecord, Summary, scene_annotation_row};
+use sceneeval::{RECORD_FILE, SceneRecord, Summary};
 
 /// Arguments of `sceneeval summarize`.
 #[derive(Debug, clap::Args)]
@@ -36,7 +36,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 continue;
             }
             let record = SceneRecord::read(&path)?;
-            if let Some((first, _)) = records.get(&record.scene) {
+            if let Some((first, _)) = records.get(record.scene.as_str()) {
                 bail!(
                     "scene {} is in both {} and {}; shards must not overlap",
                     record.scene,
@@ -44,7 +44,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     path.display()
                 );
             }
-            records.insert(record.scene.clone(), (path, record));
+            records.insert(record.scene.to_string(), (path, record));
         }
     }
     if records.is_empty() {
@@ -69,19 +69,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .as_deref()
         .map(|p| Annotations::read(p).with_context(|| format!("reading annotations {}", p.display())))
         .transpose()?;
-    let difficulty = |r: &SceneRecord| {
-        scene_annotation_row(annotations.as_ref()?, r.scene_id.as_deref()?)
-            .map(|row| row.difficulty.as_str().to_owned())
-    };
     let list: Vec<&SceneRecord> = records.values().map(|(_, r)| r).collect();
-    let mut summary = Summary::from_records(list, difficulty);
-    summary.plan_digest = plans.keys().next().map(|d| (*d).to_owned());
+    let summary = Summary::from_records(list, annotations.as_ref());
     let markdown = summary.to_markdown();
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
         summary.write_to(out)?;
     }
-    print!("{markdown}");
+    crate::print_stdout(&markdown)?;
     eprintln!("{} scenes from {} folder(s)", records.len(), args.dirs.len());
     Ok(ExitCode::SUCCESS)
 }

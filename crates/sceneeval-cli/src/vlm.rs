@@ -10,11 +10,12 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use anyhow::{Context, bail};
+use sceneeval::{RequestField, VlmOptions};
 use sceneeval_vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
 use sceneeval_vlm::{Outcome, Session};
-use sceneeval_vlm_openai::{
-    ApiKey, ImageDetail, OpenAiConfig, OpenAiVlm, RuntimeVlm, TEMPERATURE_RANGE, TokenLimitField,
-};
+
+use crate::evaluate::OptionError;
+use sceneeval_vlm_openai::{OpenAiVlm, RuntimeVlm};
 
 /// `sceneeval vlm` subcommands.
 #[derive(Debug, clap::Subcommand)]
@@ -49,12 +50,13 @@ pub struct CheckArgs {
 }
 
 /// The sampling settings sent with every VLM request, as options of `evaluate` and
-/// `vlm check`; an option not given keeps the client's default (`OpenAiConfig::new`).
+/// `vlm check`; an option not given keeps the client's default. Values are checked by the
+/// facade ([`VlmOptions::config`]), which both commands go through.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct SamplingArgs {
     /// Image detail: low (default, the reference's), high or auto.
-    #[arg(long = "vlm-detail", alias = "detail", value_name = "low|high|auto", value_parser = parse_detail)]
-    pub detail: Option<ImageDetail>,
+    #[arg(long = "vlm-detail", alias = "detail", value_name = "low|high|auto")]
+    pub detail: Option<String>,
     /// Sampling temperature from 0 to 2 (default 0), or `none` to send none: OpenAI's
     /// reasoning models (o-series, GPT-5) accept only their own.
     #[arg(long = "vlm-temperature", value_name = "T|none", value_parser = parse_temperature)]
@@ -64,16 +66,15 @@ pub struct SamplingArgs {
     pub seed: Option<Sent<u64>>,
     /// Token limit of a reply (default: none sent, the server's own); a reply cut off there
     /// is recorded as truncated.
-    #[arg(long = "vlm-max-tokens", value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long = "vlm-max-tokens", value_name = "N")]
     pub max_tokens: Option<u32>,
     /// The request field of the token limit: max_tokens (default, every OpenAI-compatible
     /// server) or max_completion_tokens (OpenAI's o-series and GPT-5 refuse max_tokens).
     #[arg(
         long = "vlm-token-limit-field",
-        value_name = "max_tokens|max_completion_tokens",
-        value_parser = parse_token_limit_field
+        value_name = "max_tokens|max_completion_tokens"
     )]
-    pub token_limit_field: Option<TokenLimitField>,
+    pub token_limit_field: Option<String>,
 }
 
 /// A setting given on the command line: a value, or `none` for "send none".
@@ -94,32 +95,23 @@ impl SamplingArgs {
         .find_map(|(given, name)| given.then_some(name))
     }
 
-    /// Sets in `config` the settings given.
-    pub fn apply(&self, config: &mut OpenAiConfig) {
-        if let Some(detail) = self.detail {
-            config.detail = detail;
-        }
-        if let Some(Sent(t)) = self.temperature {
-            config.temperature = t;
-        }
-        if let Some(Sent(seed)) = self.seed {
-            config.seed = seed;
-        }
-        if let Some(n) = self.max_tokens {
-            config.max_tokens = Some(n);
-        }
-        if let Some(field) = self.token_limit_field {
-            config.token_limit_field = field;
+    /// The VLM at `base_url` serving `model` with these settings, every other option at its
+    /// default.
+    pub fn options(&self, base_url: &str, model: &str) -> VlmOptions {
+        VlmOptions {
+            base_url: base_url.to_owned(),
+            model: model.to_owned(),
+            api_key_env: None,
+            cache: None,
+            concurrency: None,
+            render_size: None,
+            detail: self.detail.clone(),
+            temperature: self.temperature.map(|Sent(t)| t),
+            seed: self.seed.map(|Sent(s)| s),
+            max_tokens: self.max_tokens,
+            token_limit_field: self.token_limit_field.clone(),
         }
     }
-}
-
-fn parse_detail(s: &str) -> Result<ImageDetail, String> {
-    s.parse()
-}
-
-fn parse_token_limit_field(s: &str) -> Result<TokenLimitField, String> {
-    s.parse()
 }
 
 /// `none`, or what `value` makes of the text.
@@ -132,13 +124,9 @@ fn sent<T>(s: &str, value: impl FnOnce(&str) -> Result<T, String>) -> Result<Sen
 }
 
 fn parse_temperature(s: &str) -> Result<Sent<f32>, String> {
-    sent(s, |t| match t.parse::<f32>() {
-        Ok(v) if TEMPERATURE_RANGE.contains(&v) => Ok(v),
-        _ => Err(format!(
-            "{t:?} is not a temperature from {} to {} or \"none\"",
-            TEMPERATURE_RANGE.start(),
-            TEMPERATURE_RANGE.end()
-        )),
+    sent(s, |t| {
+        t.parse::<f32>()
+            .map_err(|_| format!("{t:?} is not a temperature (a number from 0 to 2) or \"none\""))
     })
 }
 
@@ -149,15 +137,6 @@ fn parse_seed(s: &str) -> Result<Sent<u64>, String> {
     })
 }
 
-/// The API key from the variable `named` by `option` (which must then be set), or else from
-/// `OPENAI_API_KEY` if set ([`ApiKey::from_env_or_default`]).
-///
-/// # Errors
-/// When the named variable is unset or empty, or a variable is not valid Unicode.
-pub fn api_key(named: Option<&str>, option: &str) -> anyhow::Result<Option<ApiKey>> {
-    ApiKey::from_env_or_default(named).with_context(|| format!("the API key ({option})"))
-}
-
 /// Runs a `sceneeval vlm` subcommand.
 pub fn run(command: Command) -> anyhow::Result<ExitCode> {
     match command {
@@ -166,12 +145,17 @@ pub fn run(command: Command) -> anyhow::Result<ExitCode> {
 }
 
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    let key = api_key(args.api_key_env.as_deref(), "--api-key-env")?;
     if !(args.timeout.is_finite() && args.timeout > 0.0) {
         bail!("--timeout must be a positive number of seconds");
     }
-    let mut config = OpenAiConfig::new(&args.base_url, &args.model).with_api_key(key);
-    args.sampling.apply(&mut config);
+    let options = VlmOptions {
+        api_key_env: args.api_key_env.clone(),
+        ..args.sampling.options(&args.base_url, &args.model)
+    };
+    let mut config = options.config().map_err(|error| OptionError {
+        error,
+        name: check_option_name,
+    })?;
     config.timeout = Duration::from_secs_f64(args.timeout);
     config.retry.max_retries = args.retries;
     let vlm = RuntimeVlm::start(OpenAiVlm::new(config).context("cannot set up the client")?)?;
@@ -195,8 +179,8 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     );
     match answers.into_single() {
         Some(Outcome::Answered { answer, attempt }) if answer.correct => {
-            println!(
-                "ok: {} answers model {:?} with structured output and sees images (it called the {TEST_IMAGE_COLOUR} square {:?}{}).",
+            crate::print_stdout(&format!(
+                "ok: {} answers model {:?} with structured output and sees images (it called the {TEST_IMAGE_COLOUR} square {:?}{}).\n",
                 vlm.inner().url(),
                 args.model,
                 answer.colour,
@@ -205,8 +189,8 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
                 } else {
                     ""
                 }
-            );
-            println!("{summary}");
+            ))?;
+            crate::print_stdout(&format!("{summary}\n"))?;
             Ok(ExitCode::SUCCESS)
         }
         Some(Outcome::Answered { answer, .. }) => {
@@ -225,5 +209,15 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::FAILURE)
         }
         None => bail!("the endpoint check asked no question"),
+    }
+}
+
+/// The option of `vlm check` that sets `field`.
+fn check_option_name(field: RequestField) -> &'static str {
+    match field {
+        RequestField::VlmBaseUrl => "--base-url",
+        RequestField::VlmModel => "--model",
+        RequestField::VlmApiKeyEnv => "--api-key-env",
+        other => crate::evaluate::option_name(other),
     }
 }

@@ -55,6 +55,16 @@ fn sceneeval(args: &[&str], file: &Path) -> assert_cmd::assert::Assert {
         .assert()
 }
 
+/// What `sceneeval annotations ARGS FILE` prints on standard output, failing with status 1.
+fn failure_stdout(args: &[&str], file: &Path) -> Vec<u8> {
+    sceneeval(args, file)
+        .failure()
+        .code(1)
+        .get_output()
+        .stdout
+        .clone()
+}
+
 #[test]
 fn check_passes_on_the_paper_examples() {
     let (_dir, paper, _) = fixtures().unwrap();
@@ -69,13 +79,7 @@ fn check_passes_on_the_paper_examples() {
 #[test]
 fn check_fails_on_the_malformed_rows_and_names_every_code() {
     let (_dir, _, malformed) = fixtures().unwrap();
-    let out = sceneeval(&["check"], &malformed)
-        .failure()
-        .code(1)
-        .get_output()
-        .stdout
-        .clone();
-    let text = String::from_utf8(out).unwrap();
+    let text = String::from_utf8(failure_stdout(&["check"], &malformed)).unwrap();
     for code in CODES {
         assert!(text.contains(&format!("[{code}]")), "no {code} in:\n{text}");
     }
@@ -86,12 +90,7 @@ fn check_fails_on_the_malformed_rows_and_names_every_code() {
 #[test]
 fn check_json_is_one_document_with_every_finding() {
     let (_dir, _, malformed) = fixtures().unwrap();
-    let out = sceneeval(&["check", "--json"], &malformed)
-        .failure()
-        .get_output()
-        .stdout
-        .clone();
-    let report: Value = serde_json::from_slice(&out).unwrap();
+    let report: Value = serde_json::from_slice(&failure_stdout(&["check", "--json"], &malformed)).unwrap();
     assert_eq!(report["rows"], 26);
     let findings = report["findings"].as_array().unwrap();
     let errors = findings.iter().filter(|f| f["severity"] == "error").count();
@@ -201,4 +200,68 @@ fn help_lists_both_subcommands() {
         .assert()
         .success()
         .stdout(predicate::str::contains("check").and(predicate::str::contains("stats")));
+}
+
+/// A file of one row whose OORel entry has 2,000 undefined references and whose OARel entry
+/// has 2,000 unknown architecture references (a 30 KB file).
+fn thousands_of_extra_references(dir: &Path) -> std::io::Result<PathBuf> {
+    let refs: Vec<String> = (0..2_000).map(|i| format!("x{i}")).collect();
+    let arch: Vec<String> = (0..2_000).map(|i| format!("wall_{i}x")).collect();
+    let file = dir.join("extra.csv");
+    std::fs::write(
+        &file,
+        format!(
+            "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+             0,easy,A bedroom.,\"eq,1,bed\",,\"eq,1,near,0,bed,{}\",\"eq,1,against,bed,{}\"\n",
+            refs.join(","),
+            arch.join(",")
+        ),
+    )?;
+    Ok(file)
+}
+
+#[test]
+fn check_reports_an_entry_with_thousands_of_extra_references_in_a_few_short_lines() {
+    // Issue 29: one finding per extra reference, each quoting the whole entry, made the output
+    // grow with the square of the entry (4,000 lines, 64 MB, here; 1.1 GB for a 109 KB file).
+    // Now: one finding per problem and entry, with its count, quoting 80 characters.
+    let dir = tempfile::tempdir().unwrap();
+    let file = thousands_of_extra_references(dir.path()).unwrap();
+    let text = String::from_utf8(failure_stdout(&["check"], &file)).unwrap();
+    assert!(text.len() <= 2_000, "{} bytes:\n{text}", text.len());
+    assert_eq!(text.lines().count(), 3, "{text}");
+    assert!(
+        text.contains("reference 1 `x0` has no ObjCount entry in this row (and 1999 more like it)"),
+        "{text}"
+    );
+    assert!(text.contains("(and 1999 more like it)"), "{text}");
+    assert!(
+        text.lines()
+            .last()
+            .unwrap()
+            .contains("1 rows, 2 error(s), 0 warning(s)"),
+        "{text}"
+    );
+
+    let out = failure_stdout(&["check", "--json"], &file);
+    assert!(out.len() <= 3_000, "{} bytes", out.len());
+    let report: Value = serde_json::from_slice(&out).unwrap();
+    let findings = report["findings"].as_array().unwrap();
+    let occurrences: Vec<(&str, u64)> = findings
+        .iter()
+        .map(|f| (f["code"].as_str().unwrap(), f["occurrences"].as_u64().unwrap()))
+        .collect();
+    assert_eq!(
+        occurrences,
+        [("undefined-category", 2_000), ("unknown-arch-reference", 2_000)]
+    );
+    for f in findings {
+        let entry = f["entry"].as_str().unwrap();
+        assert_eq!(
+            entry.chars().count(),
+            sceneeval::annotation::MAX_QUOTE_CHARS,
+            "{entry}"
+        );
+        assert!(entry.ends_with('…'), "{entry}");
+    }
 }

@@ -1,11 +1,9 @@
-//! The full plan end to end on fixture scenes: with labels and the lexicon (no VLM), with a
-//! scripted VLM through the library (renders with lavapipe, 64 px), and through the CLI
-//! against a mock OpenAI-compatible server on 127.0.0.1, interrupted and resumed.
-//!
-//! The annotation rows are written here (not the fixture CSV) so that they hold a spec that
-//! fails, an absent object with `eq,0`, a `surround` group and an unmappable phrase. Expected
-//! values are worked out by hand in the comments; the fixture geometry behind each relation
-//! is described in `crates/sceneeval-fixtures/src/scene_annotations.rs`.
+//! The full plan through the command line on fixture scenes 2 and 8: against a mock
+//! OpenAI-compatible server on 127.0.0.1 (interrupted and resumed, sampling options), without a
+//! VLM, sharded and summarised. The model and the annotation rows are
+//! `sceneeval_test_support::fidelity_model`, shared with the facade's pipeline tests
+//! (`crates/sceneeval/tests/pipeline.rs`, which run the same scenes through the library).
+//! Expected values are worked out by hand in the comments.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -13,47 +11,12 @@ mod common;
 #[path = "../../sceneeval-vlm-openai/tests/support/mod.rs"]
 mod support;
 
-use std::collections::HashMap;
 use std::path::Path;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use common::{fixtures, record};
-use sceneeval::annotation::Annotations;
-use sceneeval::fidelity::{MatchingMethod, RelationMapping};
-use sceneeval::io::AssetLibrary;
-use sceneeval::render::{RenderSettings, Renderer};
-use sceneeval::vlm::{AnswerContent, Scripted, VlmRequest};
-use sceneeval::{
-    BatchOptions, EvaluationPlan, Evaluator, Preset, SharedVlm, annotation_digest, find_scenes, run_batch,
-};
+use sceneeval_test_support::fidelity_model::{CSV, Nth, answer};
 use serde_json::{Value, json};
-
-/// Scene 8: wardrobe, bed, nightstand, ceiling lamp. Scene 2: dining table, six chairs,
-/// ceiling lamp, bookshelf, plant, floor lamp, painting.
-const CSV: &str = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
-8,easy,A small bedroom.,\"eq,1,wardrobe; eq,1,bed; eq,1,nightstand; eq,1,ceiling_lamp; eq,0,tv; eq,2,chair\",\
-\"eq,1,wardrobe,tall\",\"eq,1,next_to,0,bed,nightstand; eq,1,in_harmony_with,0,bed,wardrobe\",\
-\"eq,1,against,bed,wall; eq,1,next_to,wardrobe,door\"\n\
-2,hard,A dining room.,\"eq,1,dining_table; eq,6,chair; eq,1,ceiling_lamp; eq,1,bookshelf; eq,1,plant; eq,1,floor_lamp; eq,1,painting\",\
-\"eq,6,chair,wooden\",\"eq,1,surround,0,dining_table,chair:0,chair:1,chair:2,chair:3,chair:4,chair:5; eq,6,next_to,0,dining_table,chair\",\
-\"eq,1,corner,plant,room; eq,1,hang,ceiling_lamp,ceiling\"\n";
-
-/// The scene order of each scene's objects, by its matching prompt's category list.
-const SCENE_8: [&str; 4] = ["wardrobe", "bed", "nightstand", "ceiling_lamp"];
-const SCENE_2: [&str; 12] = [
-    "dining_table",
-    "chair",
-    "chair",
-    "chair",
-    "chair",
-    "chair",
-    "chair",
-    "ceiling_lamp",
-    "bookshelf",
-    "plant",
-    "floor_lamp",
-    "painting",
-];
 
 fn setup() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
     setup_with(CSV)
@@ -72,65 +35,6 @@ fn setup_with(csv_text: &str) -> (tempfile::TempDir, std::path::PathBuf, std::pa
     (dir, scenes, csv)
 }
 
-/// What a model answers to each task (shared by the scripted model and the mock server): the
-/// nightstand of scene 8 is not recognised; the wardrobe is tall; five of the six chairs are
-/// wooden; "in_harmony_with" maps to no predicate; every object's functional side is its
-/// front (the fixture scenes state every support type, so none is asked). `nth_matching` is the object's position in
-/// its scene.
-fn answer(task: &str, user_text: &str, nth_matching: usize) -> Value {
-    match task {
-        "obj_matching" => {
-            let scene8 = user_text.contains("\"wardrobe\"");
-            let category = if scene8 {
-                SCENE_8[nth_matching]
-            } else {
-                SCENE_2[nth_matching]
-            };
-            let matched = category != "nightstand";
-            json!({"provided_categories": [], "matched": matched,
-                   "matched_category": if matched { category } else { "" },
-                   "actual_category": category, "reason": format!("looks like a {category}")})
-        }
-        "obj_attribute" if user_text.contains("\"wardrobe\"") => json!({
-            "category": "wardrobe", "num_instances": 1,
-            "assessments": [{"instance": 0, "attribute": "tall", "satisfied": true, "reason": "2 m"}]}),
-        "obj_attribute" => json!({
-            "category": "chair", "num_instances": 6,
-            "assessments": (0..6).map(|i| json!({"instance": i, "attribute": "wooden", "satisfied": i != 5,
-                                                  "reason": format!("chair {i}")})).collect::<Vec<_>>()}),
-        // Every object described in the prompt (`obj_id: "<id>", ...`) is used from the front.
-        "obj_functional_sides" => json!({"assessments": user_text
-            .split("obj_id: \"")
-            .skip(1)
-            .filter_map(|rest| rest.split('"').next())
-            .map(|id| json!({"obj_id": id, "obj_description": "", "functional_sides": ["front"], "reason": "used from the front"}))
-            .collect::<Vec<_>>()}),
-        "obj_support_type" => json!({"support_type": "ground", "reason": "on the floor"}),
-        "obj_relationship_mapping" => json!({"assessments": [{
-            "key": "1", "relationship": "in_harmony_with", "anchor_object": "bed",
-            "other_objects": ["wardrobe"], "other_object_counts": [1],
-            "relationship_types": null, "sides": [], "reason": "not spatial"}]}),
-        other => panic!("unexpected task {other}"),
-    }
-}
-
-/// Counts matching requests per category list (one list per scene), so that the n-th request
-/// of a scene is its n-th object whatever the order scenes run in.
-#[derive(Default)]
-struct Nth(Mutex<HashMap<String, usize>>);
-
-impl Nth {
-    fn next(&self, task: &str, user_text: &str) -> usize {
-        if task != "obj_matching" {
-            return 0;
-        }
-        let mut m = self.0.lock().unwrap();
-        let n = m.entry(user_text.to_owned()).or_default();
-        *n += 1;
-        *n - 1
-    }
-}
-
 fn scores(out: &Path, scene: &str) -> [Value; 4] {
     let s = &record(out, scene)["report"]["summary"];
     [
@@ -139,123 +43,6 @@ fn scores(out: &Path, scene: &str) -> [Value; 4] {
         s["oor"].clone(),
         s["oar"].clone(),
     ]
-}
-
-fn run_library(plan: EvaluationPlan, vlm: Option<SharedVlm>, out: &Path) -> sceneeval::BatchOutcome {
-    run_library_with(CSV, plan, vlm, out)
-}
-
-fn run_library_with(
-    csv_text: &str,
-    plan: EvaluationPlan,
-    vlm: Option<SharedVlm>,
-    out: &Path,
-) -> sceneeval::BatchOutcome {
-    let (_keep, scenes, csv) = setup_with(csv_text);
-    let annotations = Annotations::read(&csv).unwrap();
-    let set = find_scenes(&scenes).unwrap();
-    let mut options = BatchOptions {
-        out_dir: out.to_owned(),
-        ..BatchOptions::default()
-    };
-    for s in &set.scenes {
-        let row = annotations.get(&s.id.to_string()).unwrap();
-        options.annotations.insert(s.name.clone(), annotation_digest(row));
-        options.rows.insert(s.name.clone(), row.clone());
-    }
-    let mut evaluator = Evaluator::new(plan).unwrap();
-    if let Some(vlm) = vlm {
-        evaluator = evaluator
-            .with_vlm(vlm)
-            .with_renderer(Renderer::new().unwrap(), RenderSettings::square(64));
-    }
-    let assets =
-        AssetLibrary::from_specs(&[format!("fixture={}", fixtures().join("assets").display())]).unwrap();
-    run_batch(&set.scenes, &evaluator, &assets, &options, &|_, _, _| {}).unwrap()
-}
-
-#[test]
-fn full_plan_with_labels_and_the_lexicon() {
-    let out = tempfile::tempdir().unwrap();
-    let outcome = run_library(EvaluationPlan::full(Preset::Default), None, out.path());
-    assert_eq!(outcome.failed, 0);
-    // Scene 8. CNT: wardrobe, bed, nightstand, ceiling lamp 1 each (yes x4), tv eq,0 (yes),
-    // chair eq,2 with none (no): 5/6. ATR: not judged without a VLM (null). OOR: the
-    // nightstand stands 5 cm from the bed: 1 group of 1, satisfied (yes); in_harmony_with is not
-    // in the lexicon and there is no VLM: unmapped (no): 1/2. OAR: bed against a wall, wardrobe
-    // in front of the door: 2/2.
-    assert_eq!(
-        scores(out.path(), "scene_8"),
-        [json!(5.0 / 6.0), Value::Null, json!(0.5), json!(1.0)]
-    );
-    // Scene 2. CNT 7/7; ATR null; OOR: surround of the six chairs (1 group of C(6,6), yes),
-    // each chair next to the table (6 groups, 6 satisfied, yes): 2/2; OAR: plant in a corner,
-    // lamp on the ceiling: 2/2.
-    assert_eq!(
-        scores(out.path(), "scene_2"),
-        [json!(1.0), Value::Null, json!(1.0), json!(1.0)]
-    );
-    let r8 = record(out.path(), "scene_8");
-    let oor = &r8["report"]["fidelity"]["oor"]["specs"];
-    assert_eq!(oor[1]["mapping"]["status"], "unmapped");
-    assert_eq!(r8["report"]["fidelity"]["atr"]["score"], Value::Null);
-    let m: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.path().join("scene_8/matching.json")).unwrap())
-            .unwrap();
-    assert_eq!(m["source"], "labels");
-    assert_eq!(m["per_category"]["tv"], json!({}));
-}
-
-#[test]
-fn full_plan_with_a_scripted_vlm() {
-    let out = tempfile::tempdir().unwrap();
-    let nth = Nth::default();
-    let vlm = Scripted::from_fn("scripted", move |req: &VlmRequest| {
-        let n = nth.next(&req.task, &req.user_text);
-        Ok(AnswerContent::Json {
-            value: answer(&req.task, &req.user_text, n),
-        })
-    });
-    let mut plan = EvaluationPlan::full(Preset::Default);
-    plan.fidelity.matching = MatchingMethod::Vlm;
-    plan.fidelity.relation_mapping = RelationMapping::Lexicon;
-    let outcome = run_library(plan, Some(SharedVlm::new(vlm)), out.path());
-    assert_eq!(outcome.failed, 0, "{:?}", outcome.records);
-    // Scene 8, the nightstand unrecognised. CNT: wardrobe, bed, ceiling lamp (yes x3),
-    // nightstand 0 (no), tv eq,0 (yes), chair (no): 4/6. ATR: the wardrobe is tall, 1 of eq,1
-    // (yes): 1/1. OOR: next_to fails its presence gate (no nightstand; eq,1 does not allow 0);
-    // in_harmony_with goes to the VLM, which finds no predicate (no): 0/2. OAR 2/2.
-    assert_eq!(
-        scores(out.path(), "scene_8"),
-        [json!(4.0 / 6.0), json!(1.0), json!(0.0), json!(1.0)]
-    );
-    // Scene 2. CNT 7/7; ATR: 5 wooden chairs of eq,6 (no): 0/1; OOR 2/2; OAR 2/2.
-    assert_eq!(
-        scores(out.path(), "scene_2"),
-        [json!(1.0), json!(0.0), json!(1.0), json!(1.0)]
-    );
-    let r8 = record(out.path(), "scene_8");
-    let f8 = &r8["report"]["fidelity"];
-    // Requests: 1 functional sides (for accessibility) + 4 matching + 1 attribute + 1 mapping;
-    // views: 4 front + 1 size, each once.
-    assert_eq!(f8["vlm_usage"]["requests"], 7);
-    // Accessibility used the VLM's sides: between the scene (states none) and the tables.
-    let acc = &r8["report"]["accessibility"]["objects"];
-    assert!(
-        acc.as_array().unwrap().iter().all(|o| o["sides_source"] == "vlm"),
-        "{acc}"
-    );
-    assert_eq!(f8["views_rendered"], 5);
-    assert_eq!(f8["oor"]["specs"][1]["mapping"]["source"], "vlm");
-    let f2 = &record(out.path(), "scene_2")["report"]["fidelity"];
-    // 1 functional sides + 12 matching + 1 attribute; 12 front + 6 size views.
-    assert_eq!(f2["vlm_usage"]["requests"], 14);
-    assert_eq!(f2["views_rendered"], 18);
-    assert_eq!(f2["atr"]["specs"][0]["count_satisfied"], 5);
-    let pngs = std::fs::read_dir(out.path().join("scene_2/views"))
-        .unwrap()
-        .count();
-    assert_eq!(pngs, 18, "every view written once");
 }
 
 /// A mock OpenAI-compatible server answering like [`answer`]; after `budget` answers it
@@ -309,6 +96,9 @@ fn cli_command(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str])
 
 #[tokio::test]
 async fn interrupted_run_resumes_without_asking_again() {
+    if common::renderer().is_none() {
+        return;
+    }
     let (_keep, scenes, csv) = setup();
     std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
     let out = tempfile::tempdir().unwrap();
@@ -471,24 +261,11 @@ fn shards_merged_by_summarize_equal_a_single_run() {
     summarize(&[shards[0].path(), shards[0].path()], None, None).failure();
 }
 
-#[test]
-fn a_changed_annotation_row_invalidates_only_its_record() {
-    let out = tempfile::tempdir().unwrap();
-    let plan = || EvaluationPlan::full(Preset::Default);
-    assert_eq!(run_library(plan(), None, out.path()).evaluated, 2);
-    assert_eq!(run_library(plan(), None, out.path()).reused, 2);
-    // Scene 8 now asks for one chair less; scene 2's row is unchanged.
-    let changed = CSV.replace("eq,0,tv; eq,2,chair", "eq,0,tv; eq,1,chair");
-    let again = run_library_with(&changed, plan(), None, out.path());
-    assert_eq!((again.evaluated, again.reused), (1, 1));
-    assert!(again.statuses.iter().any(|s| matches!(
-        s,
-        sceneeval::SceneStatus::Evaluated { why: sceneeval::Reason::Changed(w) } if w.contains("annotation row")
-    )));
-}
-
 #[tokio::test]
 async fn sampling_options_reach_every_request_and_the_key_variable_is_used() {
+    if common::renderer().is_none() {
+        return;
+    }
     let (_keep, scenes, csv) = setup();
     std::fs::remove_file(scenes.join("scene_2.json")).unwrap();
     let out = tempfile::tempdir().unwrap();

@@ -167,6 +167,73 @@ fn bad_lines_get_errors_and_processing_goes_on() {
 }
 
 #[test]
+fn errors_in_objects_and_rooms_name_the_key_and_the_object() {
+    // Issue 29: a 2-element half_size said "invalid length 2, expected an array of length 3"
+    // without naming the key or the object.
+    let room = one_line(ROOM);
+    let lines = [
+        format!(r#"{{"id":1,"relation":"near","target":{{"center":[0,0,0],"half_size":[1,1]}},"anchor":{BED}}}"#),
+        format!(r#"{{"id":2,"relation":"near","target":{BED},"anchor":{{"center":[0,0],"half_size":[1,1,1]}}}}"#),
+        format!(
+            r#"{{"id":3,"relation":"surround","anchor":{BED},"targets":[{BED},{{"center":[0,0,0],"half_size":[1,1]}}]}}"#
+        ),
+        r#"{"id":4,"declare":"lamp","object":{"center":[0,0,1],"half_size":[0.1,0.1]}}"#.to_owned(),
+        // Four numbers: valid JSON, so an invalid query (serde_json reports trailing characters).
+        format!(r#"{{"id":5,"relation":"near","target":{{"center":[0,0,0],"half_size":[1,1,1,1]}},"anchor":{BED}}}"#),
+        r#"{"id":6,"relation":"inside_room","target":{"center":[1,1,0.5],"half_size":[0.5,0.5,0.5]},"room":{"floor":[[0,0],[4,0,1],[4,5]]}}"#.to_owned(),
+        format!(r#"{{"id":7,"relation":"near","target":{{"center":[0,0,0],"half_size":[1,1,1],"colour":1}},"anchor":{BED}}}"#),
+        format!(r#"{{"id":8,"declare":"r","room":{}}}"#, room.replace(r#""height":2.8"#, r#""height":"high""#)),
+        // Not JSON: still invalid JSON, with no path.
+        r#"{"id":9,"relation":"near","target":{"center":[0,0,0],"half_size":[1,1"#.to_owned(),
+    ];
+    let (code, answers) = relate(&[], &lines.join("\n"));
+    assert_eq!(code, 2);
+    let error = |i: usize| answers[i]["error"].as_str().unwrap().to_owned();
+    for (i, starts) in [
+        (
+            0,
+            "line 1: invalid query: target.half_size: invalid length 2, expected an array of length 3 at line 1 column",
+        ),
+        (
+            1,
+            "line 2: invalid query: anchor.center: invalid length 2, expected an array of length 3 at line 1 column",
+        ),
+        (
+            2,
+            "line 3: invalid query: targets[1].half_size: invalid length 2, expected an array of length 3 at line 1 column",
+        ),
+        (
+            3,
+            r#"line 4: invalid declaration of "lamp": object.half_size: invalid length 2, expected an array of length 3"#,
+        ),
+        (
+            4,
+            "line 5: invalid query: target.half_size: trailing characters at line 1 column",
+        ),
+        (
+            5,
+            "line 6: invalid room: floor[1]: trailing characters at line 1 column",
+        ),
+        (
+            6,
+            "line 7: invalid query: target: unknown field `colour`, expected one of",
+        ),
+        (
+            7,
+            r#"line 8: declaration of "r": invalid room: height: invalid type: string "high", expected f64"#,
+        ),
+        (8, "line 9: invalid JSON: EOF while parsing"),
+    ] {
+        assert!(error(i).starts_with(starts), "{i}: {}", error(i));
+    }
+    // Every line but the last one (not JSON) is JSON whose id is echoed.
+    for (i, answer) in answers[..8].iter().enumerate() {
+        assert_eq!(answer["id"], i + 1, "{answer}");
+    }
+    assert_eq!(answers[8]["id"], Value::Null);
+}
+
+#[test]
 fn reads_a_file_and_offers_the_reference_behaviour() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("queries.jsonl");

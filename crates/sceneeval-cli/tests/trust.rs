@@ -225,9 +225,9 @@ fn failures_print_the_scene_file_and_the_whole_cause_chain() {
         .failure()
         .stderr(predicate::str::contains("failed: "))
         .stderr(predicate::str::contains("scene_21.json (load stage)"))
-        .stderr(predicate::str::contains("cannot load asset"))
+        .stderr(predicate::str::contains("1 asset not found, used by 1 object"))
         .stderr(predicate::str::contains(
-            "caused by: asset \"fixture.no_such_asset\" not found",
+            "\"fixture.no_such_asset\" for /scene/object/0: looked for",
         ));
 }
 
@@ -249,4 +249,28 @@ fn a_scene_over_its_time_budget_fails_alone_and_the_run_goes_on() {
     evaluate(&scenes, &assets, &out, &["--time-budget", "600"])
         .success()
         .stderr(predicate::str::contains("evaluated because failed before: 2"));
+}
+
+/// `sceneeval inspect --json | head`: a reader that closes the pipe ends the command quietly
+/// and successfully, as for other command-line tools (it printed "error: writing to standard
+/// output: Broken pipe" and failed).
+#[test]
+fn a_closed_pipe_ends_the_command_quietly() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(assert_cmd::cargo::cargo_bin("sceneeval"))
+        .arg("inspect")
+        .arg(fixtures().join("scenes/scene_0.json"))
+        .arg("--assets")
+        .arg(format!("fixture={}", fixtures().join("assets").display()))
+        .arg("--json")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The reader goes away before the command writes anything.
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{:?}: {stderr}", output.status);
+    assert!(stderr.is_empty(), "{stderr}");
 }

@@ -191,18 +191,33 @@ async fn sampling_options_are_sent() {
 
 #[tokio::test]
 async fn bad_sampling_options_are_refused_before_asking() {
-    for (option, value, expect) in [
-        ("--vlm-temperature", "2.5", "not a temperature from 0 to 2"),
-        ("--vlm-seed", "1.5", "not a seed"),
-        ("--vlm-max-tokens", "0", "--vlm-max-tokens"),
+    // Values the facade checks (`sceneeval::VlmOptions::config`, as for `evaluate` and
+    // Python's `vlm=`) name the option; values that are not numbers at all are usage errors.
+    for (option, value, code, expect) in [
+        (
+            "--vlm-temperature",
+            "2.5",
+            1,
+            "--vlm-temperature: 2.5 is not from 0 to 2 (or none)",
+        ),
+        ("--vlm-temperature", "warm", 2, "not a temperature"),
+        ("--vlm-seed", "1.5", 2, "not a seed"),
+        ("--vlm-max-tokens", "0", 1, "--vlm-max-tokens: must be at least 1"),
+        (
+            "--vlm-detail",
+            "medium",
+            1,
+            "--vlm-detail: image detail \"medium\" is not one of low, high, auto",
+        ),
         (
             "--vlm-token-limit-field",
             "max_output_tokens",
+            1,
             "not one of max_tokens, max_completion_tokens",
         ),
     ] {
-        let (code, _, stderr) = check("http://127.0.0.1:9/v1".into(), &[option, value], None).await;
-        assert_eq!(code, 2, "{option} {value}: {stderr}");
+        let (got, _, stderr) = check("http://127.0.0.1:9/v1".into(), &[option, value], None).await;
+        assert_eq!(got, code, "{option} {value}: {stderr}");
         assert!(stderr.contains(expect), "{option} {value}: {stderr}");
     }
 }

@@ -1,16 +1,21 @@
 //! Category labels in comparable form, for matching by labels.
 //!
 //! [`canonical`] turns a label into its comparable form:
-//! 1. trimmed and lower-cased; runs of spaces, hyphens and underscores become one `_`
-//!    (`Table Lamp`, `table-lamp` and `table_lamp` are the same);
-//! 2. the last word is made singular with English plural rules (`shelves` -> `shelf`,
-//!    `benches` -> `bench`, `bookcases` -> `bookcase`, `plants` -> `plant`; words ending in
-//!    `ss`, `us` or `is` are left as they are);
+//! 1. the one normalisation of labels ([`sceneeval_scene::label::normalise`]): trimmed and
+//!    lower-cased, runs of whitespace, hyphens and underscores as one `_` (`Table Lamp`,
+//!    `table-lamp` and `table_lamp` are the same), a WordNet synset suffix dropped (`bed.n.01`,
+//!    the category HSSD assets state, is `bed`);
+//! 2. the last word is made singular with English plural rules
+//!    ([`sceneeval_scene::label::singular`]: `shelves` -> `shelf`, `benches` -> `bench`,
+//!    `bookcases` -> `bookcase`, `plants` -> `plant`; words ending in `ss`, `us` or `is` are
+//!    left as they are);
 //! 3. the result is looked up in [`SYNONYMS`] and replaced by its canonical word.
 //!
 //! [`match_label`] matches an object's category to one of the annotated categories: an equal
 //! canonical form first; otherwise, when exactly one annotated category equals the object
 //! category's last word (its head noun: `dining_chair` -> `chair`), that one.
+
+use sceneeval_scene::label::{Synset, normalise, singular_head};
 
 /// Synonyms and their canonical word, both in normalised singular form.
 ///
@@ -44,33 +49,6 @@ pub const SYNONYMS: &[(&str, &str)] = &[
     ("closet", "wardrobe"),
 ];
 
-/// Trimmed, lower case, runs of spaces, hyphens and underscores as one `_`: the same form
-/// the VLM layer compares offered labels in ([`sceneeval_vlm::tasks::norm`]).
-pub fn normalise(label: &str) -> String {
-    sceneeval_vlm::tasks::norm(label)
-}
-
-/// The singular of one lower-case English word (regular plurals only).
-fn singular(word: &str) -> String {
-    const KEEP: [&str; 3] = ["ss", "us", "is"];
-    if word.len() <= 3 || KEEP.iter().any(|k| word.ends_with(k)) || !word.ends_with('s') {
-        return word.to_owned();
-    }
-    if let Some(stem) = word.strip_suffix("ies") {
-        return format!("{stem}y");
-    }
-    if let Some(stem) = word.strip_suffix("ves") {
-        // shelves -> shelf, knives -> knife is irregular; "f" covers the furniture words.
-        return format!("{stem}f");
-    }
-    for suffix in ["ches", "shes", "xes", "sses", "zes"] {
-        if word.ends_with(suffix) {
-            return word[..word.len() - 2].to_owned();
-        }
-    }
-    word[..word.len() - 1].to_owned()
-}
-
 /// The comparable form of a label (see the module docs).
 ///
 /// ```
@@ -79,18 +57,10 @@ fn singular(word: &str) -> String {
 /// assert_eq!(canonical("couch"), "sofa");
 /// assert_eq!(canonical("Book-Shelves"), "bookshelf");
 /// assert_eq!(canonical("glass"), "glass");
+/// assert_eq!(canonical("bed.n.01"), "bed");
 /// ```
 pub fn canonical(label: &str) -> String {
-    let n = normalise(label);
-    let (head, last) = match n.rsplit_once('_') {
-        Some((h, l)) => (Some(h), l),
-        None => (None, n.as_str()),
-    };
-    let last = singular(last);
-    let joined = match head {
-        Some(h) => format!("{h}_{last}"),
-        None => last,
-    };
+    let joined = singular_head(&normalise(label, Synset::Strip));
     SYNONYMS
         .iter()
         .find(|(w, _)| *w == joined)
@@ -154,6 +124,9 @@ mod tests {
             ("television", "tv"),
             ("bookcases", "bookshelf"),
             ("bedside tables", "nightstand"),
+            ("bed.n.01", "bed"),
+            ("Dining_Chair.n.01", "dining_chair"),
+            ("couch.n.01", "sofa"),
         ] {
             assert_eq!(canonical(a), b, "{a}");
         }

@@ -1,8 +1,8 @@
 //! The relation lexicon: free-text relationship words of SceneEval-500 onto predicates,
 //! deterministically and without a VLM.
 //!
-//! A relationship is first normalised ([`crate::labels::normalise`]: lower case, `_` for
-//! spaces and hyphens), then a leading `is_`/`are_`/`to_the_`/`in_the_`/`at_the_` and a
+//! A relationship is first normalised ([`sceneeval_scene::label::normalise`]: lower case, `_`
+//! for whitespace and hyphens), then a leading `is_`/`are_`/`to_the_`/`in_the_`/`at_the_` and a
 //! trailing `_of`/`_to`/`_from`/`_by`/`_with` are tried away in turn until a table word
 //! matches (`to_the_left_of` -> `left`, `in_front_of` -> `in_front`, `at_the_foot_of` ->
 //! `at_the_foot` -> `foot`). A word in no table is *unknown*: the VLM maps it when one is
@@ -38,8 +38,9 @@
 //! | between | unmapped: no predicate tests that the anchor lies between two objects |
 //!
 //! # Object-architecture words ([`ARCH_WORDS`])
-//! The element is the first architecture reference of the entry; a room type (`bedroom`)
-//! counts as `room`.
+//! The element is the first architecture reference of the entry that names a known element
+//! ([`ArchRef::element`](sceneeval_annotation::ArchRef::element): a room type such as
+//! `bedroom` counts as `room`).
 //!
 //! | words | wall | door / window | floor | ceiling | room |
 //! |---|---|---|---|---|---|
@@ -55,12 +56,10 @@
 //!
 //! A dash is unmapped: e.g. `corner` of a wall, `against` the ceiling.
 
-use sceneeval_annotation::{ArchElement as AnnotatedElement, ArchRef};
 use sceneeval_geom::Side;
-use sceneeval_relations::{ArchElement, LongShort, Relation};
-use serde::{Deserialize, Serialize};
-
-use crate::labels::normalise;
+use sceneeval_relations::{LongShort, Relation};
+use sceneeval_scene::ArchElement;
+use sceneeval_scene::label::{Synset, normalise};
 
 /// One row of the object-object table.
 #[derive(Debug, Clone, Copy)]
@@ -165,43 +164,7 @@ pub const OBJECT_WORDS: &[ObjectWord] = &[
     ow(&["between"], &[]),
 ];
 
-/// The element class an object-architecture word is read against.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ElementClass {
-    /// A wall.
-    Wall,
-    /// A door.
-    Door,
-    /// A window.
-    Window,
-    /// The floor.
-    Floor,
-    /// The ceiling.
-    Ceiling,
-    /// The room, or a room type.
-    Room,
-}
-
-impl ElementClass {
-    /// The class of an annotation's architecture reference (`None` for an unknown one).
-    pub fn of(arch: &ArchRef) -> Option<ElementClass> {
-        match arch {
-            ArchRef::Element(e) => Some(match e {
-                AnnotatedElement::Wall => ElementClass::Wall,
-                AnnotatedElement::Door => ElementClass::Door,
-                AnnotatedElement::Window => ElementClass::Window,
-                AnnotatedElement::Floor => ElementClass::Floor,
-                AnnotatedElement::Ceiling => ElementClass::Ceiling,
-                AnnotatedElement::Room => ElementClass::Room,
-            }),
-            ArchRef::RoomType(_) => Some(ElementClass::Room),
-            ArchRef::Unknown(_) => None,
-        }
-    }
-}
-
-/// What an object-architecture word means per element class.
+/// What an object-architecture word means per element kind.
 #[derive(Debug, Clone, Copy)]
 pub struct ArchWord {
     /// The words (normalised).
@@ -317,7 +280,7 @@ const SUFFIXES: [&str; 5] = ["_of", "_to", "_from", "_by", "_with"];
 /// The spellings tried for a word, in order: the word, then without a prefix, without a
 /// suffix, and without both.
 fn candidates(word: &str) -> Vec<String> {
-    let n = normalise(word);
+    let n = normalise(word, Synset::Keep);
     let mut out = vec![n.clone()];
     let strip_prefix = |s: &str| -> Option<String> {
         PREFIXES
@@ -377,31 +340,30 @@ pub fn map_object(relationship: &str) -> Lookup<Vec<Relation>> {
     Lookup::Unknown
 }
 
-/// Maps an object-architecture relationship word against an element class.
+/// Maps an object-architecture relationship word against an element kind.
 ///
 /// ```
-/// use sceneeval_fidelity::lexicon::{map_arch, ElementClass, Lookup};
+/// use sceneeval_fidelity::lexicon::{map_arch, Lookup};
 /// use sceneeval_relations::{ArchElement, Relation};
 /// let on = |e| match map_arch("on", e) { Lookup::Mapped { mapping, .. } => Some(mapping), _ => None };
-/// assert_eq!(on(ElementClass::Wall), Some(Relation::OnWall));
-/// assert_eq!(on(ElementClass::Ceiling), Some(Relation::HangFromCeiling));
-/// match map_arch("next", ElementClass::Window) {
+/// assert_eq!(on(ArchElement::Wall), Some(Relation::OnWall));
+/// assert_eq!(on(ArchElement::Ceiling), Some(Relation::HangFromCeiling));
+/// match map_arch("next", ArchElement::Window) {
 ///     Lookup::Mapped { mapping, .. } => assert_eq!(mapping, Relation::NextToArch(ArchElement::Window)),
 ///     other => panic!("{other:?}"),
 /// }
-/// assert!(matches!(map_arch("corner", ElementClass::Wall), Lookup::Unmapped { .. }));
+/// assert!(matches!(map_arch("corner", ArchElement::Wall), Lookup::Unmapped { .. }));
 /// ```
-pub fn map_arch(relationship: &str, element: ElementClass) -> Lookup<Relation> {
+pub fn map_arch(relationship: &str, element: ArchElement) -> Lookup<Relation> {
     for c in candidates(relationship) {
         for row in ARCH_WORDS {
             if let Some(word) = row.words.iter().find(|w| **w == c) {
                 let r = match element {
-                    ElementClass::Wall => row.wall,
-                    ElementClass::Door => row.opening.map(|f| f(ArchElement::Door)),
-                    ElementClass::Window => row.opening.map(|f| f(ArchElement::Window)),
-                    ElementClass::Floor => row.floor,
-                    ElementClass::Ceiling => row.ceiling,
-                    ElementClass::Room => row.room,
+                    ArchElement::Wall => row.wall,
+                    ArchElement::Door | ArchElement::Window => row.opening.map(|f| f(element)),
+                    ArchElement::Floor => row.floor,
+                    ArchElement::Ceiling => row.ceiling,
+                    ArchElement::Room => row.room,
                 };
                 return match r {
                     Some(mapping) => Lookup::Mapped { mapping, word },
@@ -427,7 +389,7 @@ mod tests {
         }
     }
 
-    fn arch(word: &str, e: ElementClass) -> Relation {
+    fn arch(word: &str, e: ArchElement) -> Relation {
         match map_arch(word, e) {
             Lookup::Mapped { mapping, .. } => mapping,
             other => panic!("{word} {e:?}: {other:?}"),
@@ -437,7 +399,7 @@ mod tests {
     /// The words the issue lists, each onto its predicate.
     #[test]
     fn issue_words() {
-        use ElementClass as E;
+        use ArchElement as E;
         assert_eq!(obj("on"), [R::OnTop]);
         assert_eq!(obj("within"), [R::InsideOf]);
         assert_eq!(obj("near"), [R::Near]);
@@ -461,13 +423,8 @@ mod tests {
         assert!(matches!(map_object("between"), Lookup::Unmapped { .. }));
 
         for e in [E::Wall, E::Door, E::Window] {
-            let el = match e {
-                E::Wall => ArchElement::Wall,
-                E::Door => ArchElement::Door,
-                _ => ArchElement::Window,
-            };
-            assert_eq!(arch("near", e), R::NearArch(el));
-            assert_eq!(arch("next", e), R::NextToArch(el));
+            assert_eq!(arch("near", e), R::NearArch(e));
+            assert_eq!(arch("next", e), R::NextToArch(e));
         }
         assert_eq!(arch("against", E::Wall), R::AgainstWall);
         assert_eq!(arch("against", E::Window), R::NextToArch(ArchElement::Window));

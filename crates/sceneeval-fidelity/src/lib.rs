@@ -71,7 +71,7 @@ mod report;
 mod views;
 
 pub use error::FidelityError;
-pub use evaluate::{FidelityEvaluator, FidelityOutcome, MAX_RECORDED_GROUPS, Resources, binomial};
+pub use evaluate::{FidelityEvaluator, FidelityOutcome, MAX_RECORDED_GROUPS, Resources};
 pub use matching::{
     MATCHING_FILE, MATCHING_SCHEMA, Matching, MatchingRecord, MatchingSource, REFERENCE_MATCHING_FILE,
     matching_file_for,
@@ -82,7 +82,7 @@ pub use params::{
 pub use report::{
     ArchCandidate, AtrSpec, AttributeAssessment, CandidateGroup, CntSpec, FidelityReport, FidelitySummary,
     MappingSource, MappingStatus, MatchingSummary, MetricResult, OarSpec, OorSpec, Participants,
-    PredicateResult, RelationMappingInfo, SpecCount, VlmUsage,
+    PredicateResult, RelationMappingInfo, SpecCount,
 };
 #[cfg(feature = "render")]
 pub use views::RenderedViews;

@@ -95,7 +95,9 @@ pub struct MatchingRecord {
 }
 
 impl MatchingRecord {
-    /// Writes the record as pretty JSON to `path` (through a temporary file renamed into place).
+    /// Writes the record as pretty JSON to `path`, atomically: through a temporary file with a
+    /// unique name in the same folder, renamed into place ([`sceneeval_files::write_atomic`]),
+    /// so that processes writing the same file at once all succeed and leave one whole record.
     ///
     /// # Errors
     /// [`FidelityError::Write`].
@@ -106,12 +108,7 @@ impl MatchingRecord {
         };
         let mut text = serde_json::to_string_pretty(self).map_err(|e| write_err(std::io::Error::other(e)))?;
         text.push('\n');
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(write_err)?;
-        }
-        let tmp = path.with_extension("json.tmp");
-        std::fs::write(&tmp, text).map_err(write_err)?;
-        std::fs::rename(&tmp, path).map_err(write_err)
+        sceneeval_files::write_atomic(path, text.as_bytes()).map_err(write_err)
     }
 }
 
@@ -259,10 +256,16 @@ pub fn read_matching_file(
     scene: &Scene,
     categories: &[String],
 ) -> Result<MatchingRecord, FidelityError> {
-    let text = std::fs::read_to_string(path).map_err(|source| FidelityError::MatchingFile {
-        path: path.to_owned(),
-        source,
-    })?;
+    // A regular file only: a named pipe would block the reader.
+    let text = sceneeval_files::open_regular(path)
+        .and_then(|mut file| {
+            let mut text = String::new();
+            std::io::Read::read_to_string(&mut file, &mut text).map(|_| text)
+        })
+        .map_err(|source| FidelityError::MatchingFile {
+            path: path.to_owned(),
+            source,
+        })?;
     let bad = |message: String| FidelityError::MatchingFormat {
         path: path.to_owned(),
         message,
@@ -317,4 +320,72 @@ pub fn read_matching_file(
         matching: m,
         unanswered: BTreeMap::new(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(category: &str) -> MatchingRecord {
+        let mut matching = Matching::default();
+        matching.per_category.insert(
+            category.to_owned(),
+            (0..500)
+                .map(|k| (format!("o{k}"), "its label".to_owned()))
+                .collect(),
+        );
+        MatchingRecord {
+            schema: MATCHING_SCHEMA.into(),
+            source: MatchingSource::Labels,
+            file: None,
+            matching,
+            unanswered: BTreeMap::new(),
+        }
+    }
+
+    #[test]
+    fn concurrent_writers_of_one_matching_file_never_fail_and_leave_one_whole_record() {
+        // Three `evaluate` processes on one --out wrote `matching.json` through the fixed name
+        // `matching.json.tmp` and failed each other ("No such file or directory"). Two writers
+        // of two different records, 50 times each: all succeed, one whole record remains.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("scene_7").join(MATCHING_FILE);
+        let records = [record("bed"), record("sofa")];
+        std::thread::scope(|s| {
+            for r in &records {
+                let path = &path;
+                s.spawn(move || {
+                    for _ in 0..50 {
+                        r.write(path).unwrap();
+                    }
+                });
+            }
+        });
+        let back: MatchingRecord = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        assert!(back == records[0] || back == records[1]);
+        assert_eq!(std::fs::read_dir(path.parent().unwrap()).unwrap().count(), 1);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_matching_file_that_is_a_pipe_is_refused_without_blocking() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("obj_matching_result.json");
+        let status = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(status.success());
+        let scene = sceneeval_scene::Scene::builder().build().unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let err = read_matching_file(&fifo, &scene, &[]).map(|_| ()).unwrap_err();
+            let cause = std::error::Error::source(&err).map(ToString::to_string);
+            let _ = tx.send(format!("{err}: {}", cause.unwrap_or_default()));
+        });
+        let err = rx
+            .recv_timeout(std::time::Duration::from_secs(20))
+            .expect("blocked on a named pipe");
+        assert!(
+            err.contains("is a named pipe (FIFO), not a regular file"),
+            "{err}"
+        );
+    }
 }

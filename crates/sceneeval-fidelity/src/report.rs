@@ -27,9 +27,11 @@ pub struct FidelityReport {
     pub oar: Option<MetricResult<OarSpec>>,
     /// The satisfied share of each metric.
     pub summary: FidelitySummary,
-    /// The VLM's usage for this scene, when one is configured.
+    /// The VLM's usage for this scene, when one is configured (the session's
+    /// [`Usage`](sceneeval_vlm::Usage): requests, cache hits, failed requests, re-asks,
+    /// answered and unanswered questions, prompt and completion tokens).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub vlm_usage: Option<VlmUsage>,
+    pub vlm_usage: Option<sceneeval_vlm::Usage>,
     /// Views rendered for this scene.
     #[serde(default)]
     pub views_rendered: u64,
@@ -63,49 +65,13 @@ pub struct MatchingSummary {
     pub unanswered: usize,
 }
 
-/// A VLM's usage (requests, cache hits, tokens) for one scene.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct VlmUsage {
-    /// Requests answered (fresh and from the cache).
-    pub requests: u64,
-    /// Requests answered from the cache.
-    pub cache_hits: u64,
-    /// Requests that failed.
-    pub failed_requests: u64,
-    /// Tasks asked a second time because of an invalid answer.
-    pub re_asks: u64,
-    /// Questions answered validly.
-    pub answered: u64,
-    /// Questions left unanswered.
-    pub unanswered: u64,
-    /// Prompt tokens of fresh answers.
-    pub prompt_tokens: u64,
-    /// Completion tokens of fresh answers.
-    pub completion_tokens: u64,
-}
-
-impl From<sceneeval_vlm::Usage> for VlmUsage {
-    fn from(u: sceneeval_vlm::Usage) -> Self {
-        VlmUsage {
-            requests: u.requests,
-            cache_hits: u.cache_hits,
-            failed_requests: u.failed_requests,
-            re_asks: u.re_asks,
-            answered: u.answered,
-            unanswered: u.unanswered,
-            prompt_tokens: u.tokens.prompt_tokens,
-            completion_tokens: u.tokens.completion_tokens,
-        }
-    }
-}
-
 /// One metric's result: the reference's message, the counts, and every spec.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MetricResult<T> {
     /// "s/t requirements are satisfied.", or why nothing was evaluated.
     pub message: String,
-    /// Satisfied specs.
-    pub satisfied: usize,
+    /// Satisfied specs; `null` when the specs were not judged (ATR without a VLM).
+    pub satisfied: Option<usize>,
     /// Specs.
     pub total: usize,
     /// `satisfied / total`; `null` without specs or when not judged.
@@ -127,7 +93,7 @@ impl<T> MetricResult<T> {
             } else {
                 format!("{s}/{total} requirements are satisfied.")
             },
-            satisfied: s,
+            satisfied: Some(s),
             total,
             score: (total > 0).then(|| s as f64 / total as f64),
             not_judged: None,
@@ -138,7 +104,7 @@ impl<T> MetricResult<T> {
     pub(crate) fn not_judged(specs: Vec<T>, why: &str) -> Self {
         MetricResult {
             message: why.to_owned(),
-            satisfied: 0,
+            satisfied: None,
             total: specs.len(),
             score: None,
             not_judged: Some(why.to_owned()),
@@ -212,8 +178,9 @@ pub struct AtrSpec {
     /// Why the spec was decided without asking, if so.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
-    /// The verdict.
-    pub satisfied: bool,
+    /// The verdict; `null` when the spec was not judged (no VLM to ask). A spec decided
+    /// without asking (no object of its category) has a verdict either way.
+    pub satisfied: Option<bool>,
 }
 
 /// How a relationship was mapped.

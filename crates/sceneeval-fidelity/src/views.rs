@@ -102,7 +102,8 @@ mod rendered {
     use crate::FidelityError;
 
     /// Views rendered with `sceneeval-render` (feature `render`), each once per object and
-    /// kind, optionally also written as `<dir>/<kind>_<id>.png`.
+    /// kind, optionally also written as `<dir>/<kind>_<id>.png` (atomically, through a unique
+    /// temporary file; a view that cannot be written is logged and still used).
     #[derive(Debug)]
     pub struct RenderedViews {
         memo: MemoViews,
@@ -156,9 +157,8 @@ mod rendered {
                 let png = encode_rgb_png(w, h, &rgb).map_err(|e| err(Box::new(e)))?;
                 if let Some(dir) = &dir {
                     let path = dir.join(view.file_name());
-                    if let Err(e) =
-                        std::fs::create_dir_all(dir).and_then(|()| std::fs::write(&path, png.bytes()))
-                    {
+                    // Atomic: a full disk leaves no empty image behind.
+                    if let Err(e) = sceneeval_files::write_atomic(&path, png.bytes()) {
                         tracing::warn!(path = %path.display(), error = %e, "view not written");
                     }
                 }

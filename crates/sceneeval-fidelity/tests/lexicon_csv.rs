@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use sceneeval_annotation::Annotations;
-use sceneeval_fidelity::lexicon::{ElementClass, Lookup, map_arch, map_object};
+use sceneeval_annotation::{Annotations, ArchRef};
+use sceneeval_fidelity::lexicon::{Lookup, map_arch, map_object};
 
 /// The CSV beside the repository, unless `SCENEEVAL500_CSV` names it.
 const CSV: &str = "../../../shared/data/sceneeval500-single-room.csv";
@@ -34,7 +34,7 @@ fn every_relationship_word_of_the_real_csv_is_covered() {
         }
         for r in row.oa_rels() {
             words += 1;
-            let class = r.arch.iter().find_map(ElementClass::of).expect("a known element");
+            let class = r.arch.iter().find_map(ArchRef::element).expect("a known element");
             assert!(
                 matches!(map_arch(&r.relationship, class), Lookup::Mapped { .. }),
                 "row {}: {:?} with {class:?} is not mapped",

@@ -11,7 +11,7 @@ use sceneeval_fidelity::{
 };
 use sceneeval_geom::{Point2, Point3, Vector3, conventions::pose_from_yaw};
 use sceneeval_relations::RelationParams;
-use sceneeval_scene::{Category, RoomBuilder, Scene};
+use sceneeval_scene::{Category, RoomBuilder, Scene, SceneBuilder};
 use sceneeval_vlm::{AnswerContent, Scripted, Session, check::test_image};
 use serde_json::json;
 
@@ -26,12 +26,7 @@ fn scene() -> Scene {
             pose_from_yaw(Point3::new(x, y, 0.45), 0.0),
         )
     };
-    let mut b = Scene::builder()
-        .room_builder(RoomBuilder::rectangle(
-            "r0",
-            Point2::new(0.0, 0.0),
-            Point2::new(4.0, 4.0),
-        ))
+    let mut b = room()
         .add_box(
             "t",
             Category::new("table"),
@@ -65,6 +60,24 @@ fn row() -> AnnotationRow {
         eq,0,next_to,0,table,tv\",\
         \"eq,1,middle,table,room; eq,1,against,table,wall\"\n";
     Annotations::from_csv_str(csv).unwrap().rows.remove(0)
+}
+
+/// A 4 x 4 m room to add objects to.
+fn room() -> SceneBuilder {
+    Scene::builder().room_builder(RoomBuilder::rectangle(
+        "r0",
+        Point2::new(0.0, 0.0),
+        Point2::new(4.0, 4.0),
+    ))
+}
+
+/// Neither a VLM nor views: labels and the lexicon only.
+fn offline() -> Resources<'static, Scripted> {
+    Resources {
+        session: None,
+        views: None,
+        scene_name: "scene_7",
+    }
 }
 
 fn params() -> FidelityParams {
@@ -101,11 +114,7 @@ fn scripted() -> Scripted {
 fn labels_and_lexicon_without_vlm() {
     let (scene, row) = (scene(), row());
     let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
-    let res = Resources::<Scripted> {
-        session: None,
-        views: None,
-        scene_name: "scene_7",
-    };
+    let res = offline();
     let out = ev.evaluate(&scene, &row, &FidelityMetric::ALL, &res).unwrap();
     let r = &out.report;
     // CNT: table 1 (eq,1 yes), chairs 4 (labelled "chairs": plural), lamp 1 ("Lamp"),
@@ -115,9 +124,21 @@ fn labels_and_lexicon_without_vlm() {
     assert_eq!(verdicts, [true, true, true, true, false]);
     assert_eq!(r.summary.cnt, Some(0.8));
     assert_eq!(cnt.message, "4/5 requirements are satisfied.");
-    // ATR: not judged without a VLM.
+    // ATR: not judged without a VLM. The table and the chairs are present, so their specs
+    // have no verdict (not "false"); the absent tv is decided by its quantifier (lt,1 holds
+    // on a count of 0) without asking.
     assert_eq!(r.summary.atr, None);
-    assert!(r.atr.as_ref().unwrap().not_judged.is_some());
+    let atr = r.atr.as_ref().unwrap();
+    assert!(atr.not_judged.is_some());
+    let verdicts: Vec<Option<bool>> = atr.specs.iter().map(|s| s.satisfied).collect();
+    assert_eq!(verdicts, [None, None, Some(true)]);
+    assert_eq!((atr.satisfied, atr.score), (None, None));
+    let json = serde_json::to_value(atr).unwrap();
+    assert!(json["satisfied"].is_null() && json["score"].is_null(), "{json}");
+    assert!(
+        json["specs"][0]["satisfied"].is_null() && json["specs"][0]["count_satisfied"].is_null(),
+        "{json}"
+    );
     // OOR: surround: 1 anchor x C(4,4) = 1 group, four chairs evenly around: 1 satisfied (yes);
     // next_to: 1 x C(4,1) = 4 groups, each gap 0.1 m: 4 (eq,4 yes); on: the lamp rests on the
     // table: 1 (yes); left: the lamp is over the table, not beyond its -x face: 0 (no);
@@ -172,12 +193,20 @@ fn scripted_vlm_judges_attributes_and_maps_unknown_words() {
     // ATR: wooden table 1 of 1 (eq,1 yes); red chairs 3 of 4 (eq,4 no); tv absent and lt,1
     // allows 0 (yes, not asked) -> 2/3.
     let atr = r.atr.as_ref().unwrap();
-    let got: Vec<(Option<u64>, bool)> = atr
+    let got: Vec<(Option<u64>, Option<bool>)> = atr
         .specs
         .iter()
         .map(|s| (s.count_satisfied, s.satisfied))
         .collect();
-    assert_eq!(got, [(Some(1), true), (Some(3), false), (Some(0), true)]);
+    assert_eq!(
+        got,
+        [
+            (Some(1), Some(true)),
+            (Some(3), Some(false)),
+            (Some(0), Some(true))
+        ]
+    );
+    assert_eq!(atr.satisfied, Some(2));
     assert_eq!(r.summary.atr, Some(2.0 / 3.0));
     assert_eq!(atr.specs[1].assessments[3].reason, "chair 3");
     // OOR: the unknown word went to the VLM, which found no predicate: unmapped, unsatisfied.
@@ -252,7 +281,7 @@ fn all_invalid_answers_still_give_a_result() {
         .report;
     let atr = r.atr.as_ref().unwrap();
     for s in &atr.specs[..2] {
-        assert!(s.unanswered.is_some() && !s.satisfied, "{s:?}");
+        assert!(s.unanswered.is_some() && s.satisfied == Some(false), "{s:?}");
         assert!(s.assessments.iter().all(|a| a.satisfied.is_none()));
     }
     assert_eq!(
@@ -285,11 +314,7 @@ fn candidate_group_cap_warns() {
         RelationParams::default(),
     )
     .unwrap();
-    let res = Resources::<Scripted> {
-        session: None,
-        views: None,
-        scene_name: "scene_7",
-    };
+    let res = offline();
     let r = ev
         .evaluate(&scene, &row, &[FidelityMetric::Oor], &res)
         .unwrap()
@@ -338,11 +363,7 @@ fn matching_from_a_reference_file() {
         RelationParams::default(),
     )
     .unwrap();
-    let res = Resources::<Scripted> {
-        session: None,
-        views: None,
-        scene_name: "scene_7",
-    };
+    let res = offline();
     let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
     assert_eq!(out.report.summary.cnt, Some(0.4));
     assert_eq!(out.matching.file.as_deref(), Some(file.as_path()));
@@ -400,7 +421,7 @@ fn malformed_entries_are_errors_and_several_attributes_are_one_spec() {
         .report;
     let spec = &r.atr.as_ref().unwrap().specs[0];
     assert_eq!(spec.attributes, ["wooden", "round"]);
-    assert_eq!((spec.count_satisfied, spec.satisfied), (Some(0), false));
+    assert_eq!((spec.count_satisfied, spec.satisfied), (Some(0), Some(false)));
     // Q18: an unknown quantifier is an error naming the row, column and entry.
     let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n7,easy,x,\"about,1,table\",,,\n";
     let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
@@ -412,4 +433,44 @@ fn malformed_entries_are_errors_and_several_attributes_are_one_spec() {
         err.contains("row \"7\", ObjCount") && err.contains("about,1,table"),
         "{err}"
     );
+}
+
+/// Objects of HSSD assets state their WordNet synset as category (`bed.n.01`, `chair.n.01`):
+/// matching by labels reads them as `bed` and `chair`, as the plausibility tables do (before,
+/// no synset matched any annotated category and both specs failed).
+#[test]
+fn labels_read_synset_categories() {
+    let scene = room()
+        .add_box(
+            "b",
+            Category::new("bed.n.01"),
+            Vector3::new(1.0, 0.8, 0.3),
+            pose_from_yaw(Point3::new(2.0, 2.0, 0.3), 0.0),
+        )
+        .add_box(
+            "c",
+            Category::new("Chair.n.01"),
+            Vector3::new(0.2, 0.2, 0.45),
+            pose_from_yaw(Point3::new(0.5, 0.5, 0.45), 0.0),
+        )
+        .build()
+        .unwrap();
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+        7,easy,A bed and a chair,\"eq,1,bed; eq,1,chair\",,,\n";
+    let row = Annotations::from_csv_str(csv).unwrap().rows.remove(0);
+    let ev = FidelityEvaluator::new(params(), RelationParams::default()).unwrap();
+    let res = offline();
+    let out = ev.evaluate(&scene, &row, &[FidelityMetric::Cnt], &res).unwrap();
+    // CNT: one bed (bed.n.01) and one chair (Chair.n.01): 2/2.
+    let cnt = out.report.cnt.unwrap();
+    let found: Vec<(&str, &[String])> = cnt
+        .specs
+        .iter()
+        .map(|s| (s.category.as_str(), s.objects.as_slice()))
+        .collect();
+    assert_eq!(
+        found,
+        [("bed", &["b".to_owned()][..]), ("chair", &["c".to_owned()][..])]
+    );
+    assert_eq!(out.report.summary.cnt, Some(1.0));
 }

@@ -32,175 +32,196 @@ struct Entries {
     oa_rel: &'static [&'static str],
 }
 
+/// The hand-written entries of each scene, by scene number (a table: one item per scene).
+static ENTRIES: [Entries; 13] = [
+    // Scene 0.
+    Entries {
+        obj_attr: &["eq,1,bed,double", "eq,1,wardrobe,tall"],
+        oo_rel: &[
+            // 5 cm on each side.
+            "eq,2,next_to,0,bed,nightstand",
+            "eq,2,on,0,nightstand,table_lamp",
+            // Painting z 1.3..1.9 over the headboard (1.1), inside the bed's footprint.
+            "eq,1,above,0,bed,painting",
+            // Rug 0.6 m beyond the bed's foot, centred on it.
+            "eq,1,in_front_of,0,bed,rug",
+        ],
+        oa_rel: &[
+            "eq,1,against,bed,wall",
+            "eq,1,against,wardrobe,wall",
+            "eq,1,on,painting,wall",
+            "eq,1,hang,ceiling_lamp,ceiling",
+        ],
+    },
+    // Scene 1.
+    Entries {
+        obj_attr: &["eq,1,sofa,grey", "eq,1,tv,flat_screen", "eq,1,rug,rectangular"],
+        oo_rel: &[
+            // The sofa faces +x, the TV is straight ahead at the same y.
+            "eq,1,face,0,tv,sofa",
+            "eq,1,in_front_of,0,sofa,coffee_table",
+            "eq,1,on,0,rug,coffee_table",
+            "eq,1,above,0,tv_stand,tv",
+        ],
+        oa_rel: &[
+            "eq,1,on,tv,wall",
+            "eq,1,against,sofa,wall",
+            "eq,1,corner,floor_lamp,room",
+            "eq,1,corner,plant,room",
+            "eq,1,on,painting,wall",
+        ],
+    },
+    // Scene 2.
+    Entries {
+        obj_attr: &["eq,1,dining_table,rectangular", "eq,6,chair,wooden"],
+        oo_rel: &[
+            "eq,1,surround,0,dining_table,chair:0,chair:1,chair:2,chair:3,chair:4,chair:5",
+            // Every chair is 5 cm from the table.
+            "eq,6,next_to,0,dining_table,chair",
+            "eq,1,above,0,dining_table,ceiling_lamp",
+        ],
+        oa_rel: &[
+            "eq,1,against,bookshelf,wall",
+            "eq,1,corner,plant,room",
+            "eq,1,corner,floor_lamp,room",
+            "eq,1,on,painting,wall",
+            "eq,1,hang,ceiling_lamp,ceiling",
+        ],
+    },
+    // Scene 3.
+    Entries {
+        obj_attr: &["eq,1,desk,rectangular"],
+        oo_rel: &["eq,1,in_front_of,0,desk,chair", "eq,1,on,0,desk,table_lamp"],
+        oa_rel: &[
+            "eq,1,against,desk,wall",
+            // Against the diagonal wall.
+            "eq,1,against,bookshelf,wall",
+            "eq,1,corner,floor_lamp,room",
+            "eq,1,corner,plant,room",
+            "eq,1,on,painting,wall",
+            // Rug centre (2.0, 2.6), 0.51 m from the floor's bounding-box centre (2.5, 2.5).
+            "eq,1,middle_of,rug,room",
+        ],
+    },
+    // Scene 4.
+    Entries {
+        obj_attr: &["eq,1,bed,double", "eq,1,wardrobe,wide", "eq,1,plant,small"],
+        oo_rel: &[
+            "eq,2,next_to,0,bed,nightstand",
+            // The sofa faces -x; the TV 4.35 m away at x 4.2, y 1.6..2.8.
+            "eq,1,face,0,tv,sofa",
+            "eq,1,on,0,tv_stand,tv",
+            "eq,1,in_front_of,0,sofa,coffee_table",
+        ],
+        oa_rel: &[
+            "eq,1,in,bed,bedroom",
+            "eq,1,in,wardrobe,bedroom",
+            "eq,1,in,sofa,living_room",
+            "eq,1,against,sofa,wall",
+        ],
+    },
+    // Scene 5.
+    Entries {
+        obj_attr: &["eq,1,wardrobe,tall"],
+        oo_rel: &[
+            "eq,1,next_to,0,wardrobe,nightstand",
+            "eq,1,on,0,nightstand,table_lamp",
+        ],
+        oa_rel: &["eq,1,against,bed,wall", "eq,1,against,wardrobe,wall"],
+    },
+    // Scene 6.
+    Entries {
+        obj_attr: &["eq,1,bookshelf,tall"],
+        oo_rel: &["eq,1,in_front_of,0,desk,chair", "eq,1,on,0,desk,table_lamp"],
+        oa_rel: &[
+            "eq,1,against,desk,wall",
+            "eq,1,against,bookshelf,wall",
+            "eq,1,corner,floor_lamp,room",
+        ],
+    },
+    // Scene 7.
+    Entries {
+        obj_attr: &["eq,1,sofa,grey"],
+        // Boxes 0.45 m apart in x (2.55 to 3.0) and 0.05 m in y.
+        oo_rel: &["eq,1,near,0,sofa,coffee_table"],
+        oa_rel: &[
+            "eq,1,corner,floor_lamp,room",
+            "eq,1,corner,plant,room",
+            "eq,1,on,painting,wall",
+        ],
+    },
+    // Scene 8.
+    Entries {
+        obj_attr: &["eq,1,wardrobe,tall"],
+        // 0.18 m between the bed's side and the nightstand.
+        oo_rel: &["eq,1,next_to,0,bed,nightstand"],
+        // 2 cm from the door's wall, covering the door.
+        oa_rel: &["eq,1,next_to,wardrobe,door", "eq,1,against,bed,wall"],
+    },
+    // Scene 9.
+    Entries {
+        obj_attr: &["eq,1,storage_box,small"],
+        oo_rel: &["eq,1,inside,0,wardrobe,storage_box"],
+        oa_rel: &["eq,1,against,wardrobe,wall", "eq,1,against,bookshelf,wall"],
+    },
+    // Scene 10.
+    Entries {
+        obj_attr: &["eq,1,rug,rectangular"],
+        oo_rel: &[],
+        oa_rel: &[
+            "eq,1,middle_of,rug,room",
+            "eq,1,corner,plant,room",
+            "eq,1,corner,floor_lamp,room",
+            "eq,1,on,painting,wall",
+            "eq,1,hang,ceiling_lamp,ceiling",
+        ],
+    },
+    // Scene 11.
+    Entries {
+        obj_attr: &[],
+        oo_rel: &[
+            "eq,2,next_to,0,bed,nightstand",
+            "eq,1,on,0,nightstand,table_lamp",
+            // The desk faces -x; the chair 6 cm beyond its front, within its width.
+            "eq,1,in_front_of,0,desk,chair",
+        ],
+        oa_rel: &[
+            "eq,1,against,bed,wall",
+            "eq,1,against,wardrobe,wall",
+            "eq,1,against,desk,wall",
+        ],
+    },
+    // Scene 12.
+    Entries {
+        obj_attr: &["eq,2,sofa,grey"],
+        oo_rel: &[
+            "eq,20,on,0,desk,table_lamp",
+            // Each chair is 5 cm from its desk (chairs of the next row may count too).
+            "ge,20,next_to,0,desk,chair",
+            "ge,12,next_to,0,dining_table,chair",
+            "eq,1,on,0,tv_stand,tv",
+        ],
+        oa_rel: &[
+            "eq,6,against,bookshelf,wall",
+            "eq,2,on,painting,wall",
+            "eq,10,hang,ceiling_lamp,ceiling",
+        ],
+    },
+];
+
+/// The entries of a scene without hand-written ones.
+static NO_ENTRIES: Entries = Entries {
+    obj_attr: &[],
+    oo_rel: &[],
+    oa_rel: &[],
+};
+
 /// The hand-written entries of scene `number`.
-fn entries(number: u32) -> Entries {
-    match number {
-        0 => Entries {
-            obj_attr: &["eq,1,bed,double", "eq,1,wardrobe,tall"],
-            oo_rel: &[
-                // 5 cm on each side.
-                "eq,2,next_to,0,bed,nightstand",
-                "eq,2,on,0,nightstand,table_lamp",
-                // Painting z 1.3..1.9 over the headboard (1.1), inside the bed's footprint.
-                "eq,1,above,0,bed,painting",
-                // Rug 0.6 m beyond the bed's foot, centred on it.
-                "eq,1,in_front_of,0,bed,rug",
-            ],
-            oa_rel: &[
-                "eq,1,against,bed,wall",
-                "eq,1,against,wardrobe,wall",
-                "eq,1,on,painting,wall",
-                "eq,1,hang,ceiling_lamp,ceiling",
-            ],
-        },
-        1 => Entries {
-            obj_attr: &["eq,1,sofa,grey", "eq,1,tv,flat_screen", "eq,1,rug,rectangular"],
-            oo_rel: &[
-                // The sofa faces +x, the TV is straight ahead at the same y.
-                "eq,1,face,0,tv,sofa",
-                "eq,1,in_front_of,0,sofa,coffee_table",
-                "eq,1,on,0,rug,coffee_table",
-                "eq,1,above,0,tv_stand,tv",
-            ],
-            oa_rel: &[
-                "eq,1,on,tv,wall",
-                "eq,1,against,sofa,wall",
-                "eq,1,corner,floor_lamp,room",
-                "eq,1,corner,plant,room",
-                "eq,1,on,painting,wall",
-            ],
-        },
-        2 => Entries {
-            obj_attr: &["eq,1,dining_table,rectangular", "eq,6,chair,wooden"],
-            oo_rel: &[
-                "eq,1,surround,0,dining_table,chair:0,chair:1,chair:2,chair:3,chair:4,chair:5",
-                // Every chair is 5 cm from the table.
-                "eq,6,next_to,0,dining_table,chair",
-                "eq,1,above,0,dining_table,ceiling_lamp",
-            ],
-            oa_rel: &[
-                "eq,1,against,bookshelf,wall",
-                "eq,1,corner,plant,room",
-                "eq,1,corner,floor_lamp,room",
-                "eq,1,on,painting,wall",
-                "eq,1,hang,ceiling_lamp,ceiling",
-            ],
-        },
-        3 => Entries {
-            obj_attr: &["eq,1,desk,rectangular"],
-            oo_rel: &["eq,1,in_front_of,0,desk,chair", "eq,1,on,0,desk,table_lamp"],
-            oa_rel: &[
-                "eq,1,against,desk,wall",
-                // Against the diagonal wall.
-                "eq,1,against,bookshelf,wall",
-                "eq,1,corner,floor_lamp,room",
-                "eq,1,corner,plant,room",
-                "eq,1,on,painting,wall",
-                // Rug centre (2.0, 2.6), 0.51 m from the floor's bounding-box centre (2.5, 2.5).
-                "eq,1,middle_of,rug,room",
-            ],
-        },
-        4 => Entries {
-            obj_attr: &["eq,1,bed,double", "eq,1,wardrobe,wide", "eq,1,plant,small"],
-            oo_rel: &[
-                "eq,2,next_to,0,bed,nightstand",
-                // The sofa faces -x; the TV 4.35 m away at x 4.2, y 1.6..2.8.
-                "eq,1,face,0,tv,sofa",
-                "eq,1,on,0,tv_stand,tv",
-                "eq,1,in_front_of,0,sofa,coffee_table",
-            ],
-            oa_rel: &[
-                "eq,1,in,bed,bedroom",
-                "eq,1,in,wardrobe,bedroom",
-                "eq,1,in,sofa,living_room",
-                "eq,1,against,sofa,wall",
-            ],
-        },
-        5 => Entries {
-            obj_attr: &["eq,1,wardrobe,tall"],
-            oo_rel: &[
-                "eq,1,next_to,0,wardrobe,nightstand",
-                "eq,1,on,0,nightstand,table_lamp",
-            ],
-            oa_rel: &["eq,1,against,bed,wall", "eq,1,against,wardrobe,wall"],
-        },
-        6 => Entries {
-            obj_attr: &["eq,1,bookshelf,tall"],
-            oo_rel: &["eq,1,in_front_of,0,desk,chair", "eq,1,on,0,desk,table_lamp"],
-            oa_rel: &[
-                "eq,1,against,desk,wall",
-                "eq,1,against,bookshelf,wall",
-                "eq,1,corner,floor_lamp,room",
-            ],
-        },
-        7 => Entries {
-            obj_attr: &["eq,1,sofa,grey"],
-            // Boxes 0.45 m apart in x (2.55 to 3.0) and 0.05 m in y.
-            oo_rel: &["eq,1,near,0,sofa,coffee_table"],
-            oa_rel: &[
-                "eq,1,corner,floor_lamp,room",
-                "eq,1,corner,plant,room",
-                "eq,1,on,painting,wall",
-            ],
-        },
-        8 => Entries {
-            obj_attr: &["eq,1,wardrobe,tall"],
-            // 0.18 m between the bed's side and the nightstand.
-            oo_rel: &["eq,1,next_to,0,bed,nightstand"],
-            // 2 cm from the door's wall, covering the door.
-            oa_rel: &["eq,1,next_to,wardrobe,door", "eq,1,against,bed,wall"],
-        },
-        9 => Entries {
-            obj_attr: &["eq,1,storage_box,small"],
-            oo_rel: &["eq,1,inside,0,wardrobe,storage_box"],
-            oa_rel: &["eq,1,against,wardrobe,wall", "eq,1,against,bookshelf,wall"],
-        },
-        10 => Entries {
-            obj_attr: &["eq,1,rug,rectangular"],
-            oo_rel: &[],
-            oa_rel: &[
-                "eq,1,middle_of,rug,room",
-                "eq,1,corner,plant,room",
-                "eq,1,corner,floor_lamp,room",
-                "eq,1,on,painting,wall",
-                "eq,1,hang,ceiling_lamp,ceiling",
-            ],
-        },
-        11 => Entries {
-            obj_attr: &[],
-            oo_rel: &[
-                "eq,2,next_to,0,bed,nightstand",
-                "eq,1,on,0,nightstand,table_lamp",
-                // The desk faces -x; the chair 6 cm beyond its front, within its width.
-                "eq,1,in_front_of,0,desk,chair",
-            ],
-            oa_rel: &[
-                "eq,1,against,bed,wall",
-                "eq,1,against,wardrobe,wall",
-                "eq,1,against,desk,wall",
-            ],
-        },
-        12 => Entries {
-            obj_attr: &["eq,2,sofa,grey"],
-            oo_rel: &[
-                "eq,20,on,0,desk,table_lamp",
-                // Each chair is 5 cm from its desk (chairs of the next row may count too).
-                "ge,20,next_to,0,desk,chair",
-                "ge,12,next_to,0,dining_table,chair",
-                "eq,1,on,0,tv_stand,tv",
-            ],
-            oa_rel: &[
-                "eq,6,against,bookshelf,wall",
-                "eq,2,on,painting,wall",
-                "eq,10,hang,ceiling_lamp,ceiling",
-            ],
-        },
-        _ => Entries {
-            obj_attr: &[],
-            oo_rel: &[],
-            oa_rel: &[],
-        },
-    }
+fn entries(number: u32) -> &'static Entries {
+    usize::try_from(number)
+        .ok()
+        .and_then(|n| ENTRIES.get(n))
+        .unwrap_or(&NO_ENTRIES)
 }
 
 /// The annotation category of a placement: its category with `_` for spaces.

@@ -421,14 +421,8 @@ impl Mesh {
     /// [`Mesh::contains_point`] for the hierarchical decision).
     pub fn winding_number(&self, p: &Point3) -> Real {
         let mut total = 0.0;
-        for t in &self.triangles {
-            let a = self.vertices[t[0] as usize] - p;
-            let b = self.vertices[t[1] as usize] - p;
-            let c = self.vertices[t[2] as usize] - p;
-            let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
-            let num = a.dot(&b.cross(&c));
-            let den = la * lb * lc + a.dot(&b) * lc + b.dot(&c) * la + c.dot(&a) * lb;
-            total += 2.0 * num.atan2(den);
+        for k in 0..self.triangles.len() {
+            total += crate::solid::solid_angle(&self.triangle(k), p);
         }
         total / (4.0 * std::f64::consts::PI)
     }

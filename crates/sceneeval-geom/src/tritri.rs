@@ -272,7 +272,7 @@ mod tests {
     #[test]
     fn mesh_surfaces_agree_with_parry() {
         let a = Mesh::cuboid(&Vector3::new(0.5, 0.4, 0.3)).unwrap();
-        let b = crate::solid::tests::subdivided_cube(5);
+        let b = Mesh::subdivided_box(&Vector3::repeat(0.5), 5).unwrap();
         for k in 0..300 {
             let f = Real::from(k);
             let pb = Isometry3::new(

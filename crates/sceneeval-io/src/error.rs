@@ -128,6 +128,16 @@ pub enum IoError {
         #[source]
         source: Box<IoError>,
     },
+    /// Assets of a scene that no source has a file for: every one of the scene, so that they
+    /// can be fetched at once (the message lists the first [`MAX_LISTED_ASSETS`] with the
+    /// objects using each and the files looked for, and counts the rest).
+    #[error("{}: {}", .path.display(), missing_assets_message(.missing))]
+    MissingAssets {
+        /// The scene file.
+        path: PathBuf,
+        /// Each missing asset once, in the order of its first object.
+        missing: Vec<MissingAsset>,
+    },
     /// A model id is not of the form `PREFIX.ID`.
     #[error("model id {model_id:?} is not of the form PREFIX.ID")]
     BadModelId {
@@ -306,6 +316,58 @@ pub enum IoError {
     },
 }
 
+/// The most missing assets [`IoError::MissingAssets`] lists in its message (all are kept in
+/// the error).
+pub const MAX_LISTED_ASSETS: usize = 20;
+
+/// An asset of a scene that was not found, and the objects that use it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MissingAsset {
+    /// The model id (`PREFIX.ID`).
+    pub model_id: String,
+    /// JSON pointers of the objects using it, in scene order (`/scene/object/3`).
+    pub objects: Vec<String>,
+    /// The files looked for.
+    pub tried: Vec<PathBuf>,
+}
+
+fn missing_assets_message(missing: &[MissingAsset]) -> String {
+    let objects: usize = missing.iter().map(|m| m.objects.len()).sum();
+    let mut text = format!(
+        "{} not found, used by {} (every missing asset of the scene is listed):",
+        plural(missing.len(), "asset"),
+        plural(objects, "object")
+    );
+    for m in missing.iter().take(MAX_LISTED_ASSETS) {
+        let first = m.objects.first().map_or("", String::as_str);
+        let more = match m.objects.len() {
+            0 | 1 => String::new(),
+            n => format!(" and {}", plural(n - 1, "more object")),
+        };
+        let tried: Vec<String> = m.tried.iter().map(|p| p.display().to_string()).collect();
+        text.push_str(&format!(
+            "\n  {:?} for {first}{more}: looked for {}",
+            m.model_id,
+            tried.join(", ")
+        ));
+    }
+    if missing.len() > MAX_LISTED_ASSETS {
+        text.push_str(&format!(
+            "\n  and {}",
+            plural(missing.len() - MAX_LISTED_ASSETS, "more asset")
+        ));
+    }
+    text
+}
+
+fn plural(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
+}
+
 impl IoError {
     pub(crate) fn file(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         IoError::File {
@@ -360,6 +422,7 @@ impl IoError {
             | IoError::DuplicateElement { path, .. }
             | IoError::Scene { path, .. }
             | IoError::ObjectAsset { path, .. }
+            | IoError::MissingAssets { path, .. }
             | IoError::BadAssetFile { path, .. }
             | IoError::RejectedUri { path, .. }
             | IoError::Reference { path, .. }

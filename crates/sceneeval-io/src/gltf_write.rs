@@ -192,7 +192,8 @@ impl GlbMesh {
 /// the mesh) and one triangle mesh per [`GlbMesh`], all roots of the single, default scene;
 /// one little-endian buffer holding each mesh's `f32` positions then its `u32` indices; a
 /// `POSITION` accessor with `min`/`max` and an index accessor per mesh; no normals or
-/// materials. Identical input gives byte-identical files.
+/// materials. Identical input gives byte-identical files. The file is written atomically
+/// ([`sceneeval_files::write_atomic`]), its folder created if missing.
 ///
 /// # Errors
 /// [`IoError::BadGlbMesh`] when a mesh has no triangles, a non-finite vertex, an index out of
@@ -200,7 +201,7 @@ impl GlbMesh {
 /// [`IoError::File`] when the file cannot be written.
 pub fn write_glb(path: &Path, meshes: &[GlbMesh]) -> Result<(), IoError> {
     let bytes = write_glb_to_vec(meshes)?;
-    std::fs::write(path, bytes).map_err(|e| IoError::file(path, e))
+    sceneeval_files::write_atomic(path, &bytes).map_err(|e| IoError::file(path, e))
 }
 
 /// The bytes of the binary glTF file [`write_glb`] would write.
@@ -642,10 +643,14 @@ mod tests {
             std::fs::read(&path).unwrap(),
             write_glb_to_vec(&[cube("c", 0.0)]).unwrap()
         );
-        let missing = dir.path().join("no/such/dir/cube.glb");
+        // Missing folders are created; a folder that cannot be (a file is in its way) is an
+        // error naming the file, and nothing is left behind.
+        write_glb(&dir.path().join("new/dir/cube.glb"), &[cube("c", 0.0)]).unwrap();
+        std::fs::write(dir.path().join("file"), "x").unwrap();
+        let blocked = dir.path().join("file/cube.glb");
         assert!(matches!(
-            write_glb(&missing, &[cube("c", 0.0)]),
-            Err(IoError::File { .. })
+            write_glb(&blocked, &[cube("c", 0.0)]),
+            Err(IoError::File { path, .. }) if path == blocked
         ));
     }
 }

@@ -32,8 +32,13 @@
 //! offending value (e.g. `/scene/object/3/transform/data/12`) or the asset id: malformed JSON
 //! (with line and column), missing or mistyped fields, non-finite, singular, sheared or
 //! projective transforms, unknown model prefixes, missing or corrupt asset files, empty meshes,
-//! zero-length walls, floors with fewer than 3 points, duplicate ids. Nothing panics on any
-//! input; the library never prints and logs warnings with `tracing`.
+//! zero-length walls, floors with fewer than 3 points, duplicate ids. A scene whose assets are
+//! missing fails with [`IoError::MissingAssets`], which lists every missing asset of the scene
+//! with its objects and the files looked for. Only regular files are read: a named pipe, a
+//! device or a folder where an input file is expected is refused before it is opened
+//! ([`sceneeval_files::open_regular`]), so reading never blocks. Every file written goes
+//! through a unique temporary name and an atomic rename ([`sceneeval_files::write_atomic`]).
+//! Nothing panics on any input; the library never prints and logs warnings with `tracing`.
 //!
 //! # Example
 //! ```
@@ -96,7 +101,7 @@ pub mod uri;
 
 pub use appearance::Appearance;
 pub use assets::{Asset, AssetInfo, AssetLibrary, AssetSource, AssetSpec, Layout};
-pub use error::IoError;
+pub use error::{IoError, MAX_LISTED_ASSETS, MissingAsset};
 pub use gltf_write::{GlbImage, GlbMaterial, GlbMesh, write_glb, write_glb_to_vec};
 pub use limits::{ESTIMATED_BYTES_PER_TRIANGLE, ESTIMATED_BYTES_PER_VERTEX, Limits};
 pub use scene_state::{

@@ -165,20 +165,16 @@ pub fn read_uri(referrer: &Path, uri: &str, max_bytes: u64) -> Result<Vec<u8>, I
 }
 
 /// Reads a whole file after checking that it is a regular file of at most `max_bytes` bytes,
-/// so that an oversized file is refused before anything is allocated for it.
+/// so that an oversized file is refused before anything is allocated for it. Every file this
+/// crate reads from scene or asset input is read here or opened through [`open_input`].
 ///
 /// # Errors
-/// [`IoError::File`] when the file cannot be opened or read, or is not a regular file;
+/// [`IoError::File`] when the file cannot be opened or read, or is not a regular file (a
+/// named pipe, a directory, a device: refused before it is opened, so nothing blocks);
 /// [`IoError::TooLarge`] when it is longer than `max_bytes`.
 pub fn read_file_limited(path: &Path, max_bytes: u64) -> Result<Vec<u8>, IoError> {
-    let file = std::fs::File::open(path).map_err(|e| IoError::file(path, e))?;
+    let file = open_input(path)?;
     let meta = file.metadata().map_err(|e| IoError::file(path, e))?;
-    if !meta.is_file() {
-        return Err(IoError::file(
-            path,
-            std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a regular file"),
-        ));
-    }
     if meta.len() > max_bytes {
         return Err(IoError::TooLarge {
             path: path.to_owned(),
@@ -201,6 +197,17 @@ pub fn read_file_limited(path: &Path, max_bytes: u64) -> Result<Vec<u8>, IoError
         });
     }
     Ok(bytes)
+}
+
+/// Opens a file of scene or asset input for reading when it is a regular file once symbolic
+/// links are followed ([`sceneeval_files::open_regular`]): a named pipe would block the
+/// reader forever, so anything else is refused before it is opened.
+///
+/// # Errors
+/// [`IoError::File`] naming the file and saying what it is (`is a named pipe (FIFO), not a
+/// regular file`), or the operating system's error.
+pub(crate) fn open_input(path: &Path) -> Result<std::fs::File, IoError> {
+    sceneeval_files::open_regular(path).map_err(|e| IoError::file(path, e))
 }
 
 /// Decodes the part of a `data:` URI after `data:`.

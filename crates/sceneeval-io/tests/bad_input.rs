@@ -343,11 +343,17 @@ fn asset_problems_name_the_object_and_the_asset() {
         other => panic!("{other:?}"),
     }
     assert!(matches!(asset_error(&f, "nodot"), IoError::BadModelId { .. }));
-    match asset_error(&f, "fixture.missing") {
-        IoError::AssetNotFound { model_id, tried } => {
-            assert_eq!(model_id, "fixture.missing");
-            assert_eq!(tried[0], f.dir.path().join("missing.glb"));
-            assert_eq!(tried.len(), 3);
+    match f.error(&with(
+        valid(),
+        "/scene/object/0/modelId",
+        json!("fixture.missing"),
+    )) {
+        IoError::MissingAssets { missing, .. } => {
+            assert_eq!(missing.len(), 1);
+            assert_eq!(missing[0].model_id, "fixture.missing");
+            assert_eq!(missing[0].objects, ["/scene/object/0"]);
+            assert_eq!(missing[0].tried[0], f.dir.path().join("missing.glb"));
+            assert_eq!(missing[0].tried.len(), 3);
         }
         other => panic!("{other:?}"),
     }
@@ -386,7 +392,7 @@ fn asset_problems_name_the_object_and_the_asset() {
         .read(&with(
             valid(),
             "/scene/object/0/modelId",
-            json!("fixture.missing"),
+            json!("fixture.corrupt"),
         ))
         .unwrap_err();
     let source = std::error::Error::source(&err).unwrap().to_string();
@@ -394,7 +400,57 @@ fn asset_problems_name_the_object_and_the_asset() {
         err.to_string().contains("/scene/object/0: cannot load asset"),
         "{err}"
     );
-    assert!(source.contains("missing.glb"), "{source}");
+    assert!(source.contains("corrupt.glb"), "{source}");
+}
+
+#[test]
+fn every_missing_asset_of_a_scene_is_listed_with_its_objects_and_files() {
+    // 27 objects: the present bump, then 25 missing assets (the first used twice), then a box.
+    let f = Fixture::new();
+    let object = |model: &str, x: f64| json!({"modelId": model, "transform": {"data": [1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, x, 1, 0, 1]}});
+    let mut objects = vec![object("fixture.bump", 1.0)];
+    for k in 0..25 {
+        objects.push(object(&format!("fixture.gone{k}"), 1.0 + 0.1 * f64::from(k)));
+    }
+    objects.push(object("fixture.gone0", 3.0));
+    let v = with(valid(), "/scene/object", Value::Array(objects));
+    let err = f.error(&v);
+    let IoError::MissingAssets { missing, .. } = &err else {
+        panic!("{err:?}")
+    };
+    assert_eq!(missing.len(), 25, "each missing asset once");
+    assert_eq!(missing[0].objects, ["/scene/object/1", "/scene/object/26"]);
+    assert_eq!(missing[24].model_id, "fixture.gone24");
+    assert_eq!(missing[24].objects, ["/scene/object/25"]);
+    let text = err.to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    // A heading, the first 20 assets, and the count of the rest.
+    assert_eq!(lines.len(), 22, "{text}");
+    assert!(
+        lines[0].ends_with(
+            "scene_1.json: 25 assets not found, used by 26 objects (every missing asset of the scene is listed):"
+        ),
+        "{text}"
+    );
+    let dir = f.dir.path().display();
+    assert_eq!(
+        lines[1],
+        format!(
+            "  \"fixture.gone0\" for /scene/object/1 and 1 more object: looked for {dir}/gone0.glb, \
+             {dir}/gone0.gltf, {dir}/gone0.obj"
+        )
+    );
+    assert!(
+        lines[20].starts_with("  \"fixture.gone19\" for /scene/object/20: looked for"),
+        "{text}"
+    );
+    assert_eq!(lines[21], "  and 5 more assets");
+    // Other errors still stop the reading at once.
+    let mut objects = vec![object("fixture.gone0", 1.0), object("fixture.corrupt", 1.0)];
+    std::fs::write(f.dir.path().join("corrupt.glb"), b"glTF not really").unwrap();
+    objects.push(object("fixture.gone1", 1.0));
+    let err = f.error(&with(valid(), "/scene/object", Value::Array(objects)));
+    assert!(matches!(err, IoError::ObjectAsset { .. }), "{err:?}");
 }
 
 #[test]

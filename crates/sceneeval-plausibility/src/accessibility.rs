@@ -19,16 +19,17 @@ use crate::{Deadline, PlausibilityError};
 #[serde(default)]
 pub struct AccessibilityParams {
     /// Gap between a side of the object's box and its access strip, metres (reference
-    /// `access_area_offset`, 0.05).
+    /// `access_area_offset`, 0.05). Range: finite, `>= 0`.
     pub strip_offset: Real,
     /// Width of the access strip away from the side, metres (reference `access_area_width`,
-    /// 0.2).
+    /// 0.2). Range: finite, `> 0`.
     pub strip_width: Real,
     /// Objects with any part lower than this above their floor block strips, metres (reference
-    /// `obj_height_threshold`, 2.0, applied there to the OBB centre).
+    /// `obj_height_threshold`, 2.0, applied there to the OBB centre). Range: finite, `>= 0`.
     pub height_cutoff: Real,
     /// Objects whose top is at most this above their floor (rugs) do not block, metres.
     /// Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object block (0).
+    /// Range: finite, `>= 0`.
     pub walkable_height: Real,
     /// The blocking footprints: convex hulls of the projected meshes (default) or, as the
     /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).

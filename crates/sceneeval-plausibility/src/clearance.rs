@@ -6,10 +6,11 @@ use sceneeval_geom::{Aabb, Point2, Point3, Real, Vector2};
 use sceneeval_scene::{ObjectId, OpeningKind, Room, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
-use crate::error::check_non_negative;
+use crate::error::{check_non_negative, check_range};
 use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::objects::{DEFAULT_WALKABLE_HEIGHT, ObjectInfo};
 use crate::plane::{area3, clip_half_space};
+use crate::raster::{Storage, check_raster};
 use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the opening-clearance metric (reference yaml `OpeningClearanceMetric`).
@@ -24,27 +25,31 @@ pub struct OpeningClearanceParams {
     /// true); otherwise [`OpeningClearanceParams::door_depth`].
     pub door_depth_from_width: bool,
     /// Clearance depth of a door in metres when not taken from its width (reference
-    /// `door_extrude_distance`, 1.0).
+    /// `door_extrude_distance`, 1.0). Range: finite, `>= 0`.
     pub door_depth: Real,
     /// Clearance depth of a window in metres (reference `window_front_extrude_distance`, 0.5).
+    /// Range: finite, `>= 0`.
     pub window_depth: Real,
     /// Also check the far side of an opening when a floor lies there (a door between two
     /// rooms), probed [`OpeningClearanceParams::probe_offset`] beyond the wall's outer face
     /// (reference `*_room_side_only`: every side over a floor is checked). Default true.
     pub far_side_when_over_floor: bool,
     /// Distance of the floor probe beyond the wall, metres (reference
-    /// `within_room_point_offset`, 0.1).
+    /// `within_room_point_offset`, 0.1). Range: finite, `>= 0`.
     pub probe_offset: Real,
     /// Resolution of the occlusion map over the opening, pixels per metre (reference
-    /// `map_pixel_per_meter`, 100).
+    /// `map_pixel_per_meter`, 100). Range: `> 0` and at most
+    /// [`OpeningClearanceParams::MAX_PIXELS_PER_METRE`] (1 mm pixels); an opening whose map
+    /// would exceed the raster budget (16,777,216 pixels: a 4 x 4 m opening at 1 mm) fails its
+    /// scene with [`PlausibilityError::RasterTooLarge`] before the map is allocated.
     pub pixels_per_metre: Real,
     /// The clearance box is shrunk by this on every face before testing, metres (default
     /// 0.001), so that an object standing flush beside the opening or against the wall does
-    /// not count as blocking.
+    /// not count as blocking. Range: finite, `>= 0`.
     pub touch_tolerance: Real,
     /// Objects whose top is at most this above their floor (rugs, doormats) do not block,
     /// metres. Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object
-    /// block (0).
+    /// block (0). Range: finite, `>= 0`.
     pub walkable_height: Real,
 }
 
@@ -66,12 +71,22 @@ impl Default for OpeningClearanceParams {
 }
 
 impl OpeningClearanceParams {
+    /// The largest `pixels_per_metre`: 1000, millimetre pixels (the reference uses 100).
+    pub const MAX_PIXELS_PER_METRE: Real = 1000.0;
+
     pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         let m = "opening_clearance";
         check_non_negative(m, "door_depth", self.door_depth, false)?;
         check_non_negative(m, "window_depth", self.window_depth, false)?;
         check_non_negative(m, "probe_offset", self.probe_offset, false)?;
         check_non_negative(m, "pixels_per_metre", self.pixels_per_metre, true)?;
+        check_range(
+            m,
+            "pixels_per_metre",
+            self.pixels_per_metre,
+            [0.0, Self::MAX_PIXELS_PER_METRE],
+            "must be at most 1000 (millimetre pixels)",
+        )?;
         check_non_negative(m, "touch_tolerance", self.touch_tolerance, false)?;
         check_non_negative(m, "walkable_height", self.walkable_height, false)
     }
@@ -161,7 +176,9 @@ pub struct OpeningClearanceReport {
 /// rectangle; we clip them.
 ///
 /// # Errors
-/// [`PlausibilityError::InvalidParameter`] for bad parameters.
+/// [`PlausibilityError::InvalidParameter`] for bad parameters,
+/// [`PlausibilityError::RasterTooLarge`] for an opening whose occlusion map would exceed the
+/// raster budget.
 pub fn opening_clearance(
     scene: &Scene,
     params: &OpeningClearanceParams,
@@ -205,9 +222,9 @@ fn opening_clearance_counted(
                 .flatten()
                 .map(|side| {
                     let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance);
-                    side_clearance(scene, &candidates, &frame, side, depth, params)
+                    side_clearance(scene, &candidates, &frame, side, depth, params, deadline)
                 })
-                .collect();
+                .collect::<Result<_, _>>()?;
             Ok(OpeningClearance {
                 opening: o.id.clone(),
                 kind: o.kind,
@@ -362,7 +379,8 @@ impl OpeningFrame {
     }
 }
 
-/// The occlusion raster over an opening: `nu x nw` pixels tiling `[u0, u1] x [w0, w1]`.
+/// The occlusion raster over an opening: `nu x nw` pixels tiling `[u0, u1] x [w0, w1]`, one
+/// value per pixel, so within the dense raster budget ([`check_raster`]).
 pub(crate) struct OcclusionMap {
     pub nu: usize,
     pub nw: usize,
@@ -373,18 +391,24 @@ pub(crate) struct OcclusionMap {
 }
 
 impl OcclusionMap {
-    pub(crate) fn new(frame: &OpeningFrame, ppm: Real) -> Self {
+    /// The map of `frame`'s opening at `ppm` pixels per metre.
+    ///
+    /// # Errors
+    /// [`PlausibilityError::RasterTooLarge`] when it exceeds the raster budget.
+    pub(crate) fn new(frame: &OpeningFrame, ppm: Real) -> Result<Self, PlausibilityError> {
         let (w, h) = (frame.hi[0] - frame.lo[0], frame.hi[2] - frame.lo[2]);
+        // Float-to-int casts saturate: an absurd size stays above the budget.
         let nu = ((w * ppm).ceil() as usize).max(1);
         let nw = ((h * ppm).ceil() as usize).max(1);
-        OcclusionMap {
+        check_raster("opening_clearance", nu, nw, Storage::Dense)?;
+        Ok(OcclusionMap {
             nu,
             nw,
             u0: frame.lo[0],
             w0: frame.lo[2],
             pu: w / nu as Real,
             pw: h / nw as Real,
-        }
+        })
     }
 
     /// Marks the pixels (row-major from the bottom) whose centre lies in the convex polygon's
@@ -499,14 +523,17 @@ fn side_clearance(
     side: OpeningSide,
     depth: Real,
     params: &OpeningClearanceParams,
-) -> SideClearance {
-    let map = OcclusionMap::new(frame, params.pixels_per_metre);
+    deadline: &Deadline,
+) -> Result<SideClearance, PlausibilityError> {
+    let map = OcclusionMap::new(frame, params.pixels_per_metre)?;
     let total = (map.nu * map.nw) as Real;
     let mut union = vec![false; map.nu * map.nw];
     let mut blocking = Vec::new();
     for (k, parts) in intruding_parts(scene, candidates, frame) {
         let mut mine = vec![false; union.len()];
         for p in &parts {
+            // Filling one polygon costs up to the map's size: the budget is polled per polygon.
+            deadline.check("opening_clearance")?;
             map.fill(p, |i| mine[i] = true);
         }
         let count = mine.iter().filter(|&&m| m).count();
@@ -518,13 +545,13 @@ fn side_clearance(
             occluded_fraction: count as Real / total,
         });
     }
-    SideClearance {
+    Ok(SideClearance {
         side,
         depth,
         occluded_fraction: union.iter().filter(|&&u| u).count() as Real / total,
         blocked: !blocking.is_empty(),
         blocking,
-    }
+    })
 }
 
 #[cfg(test)]

@@ -2,11 +2,12 @@
 
 use rayon::prelude::*;
 use sceneeval_geom::{Aabb, DepthSearch, Overlap, PenetrationQuery, Real};
+use sceneeval_scene::label::{Synset, normalise};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::category::{has_word, normalize_category};
-use crate::error::check_non_negative;
+use crate::category::has_word;
+use crate::error::{check_non_negative, check_range};
 use crate::index::{BoxIndex, WorkCounter};
 use crate::{Deadline, PlausibilityError};
 
@@ -22,7 +23,7 @@ pub struct CollisionParams {
     /// Resting-contact tolerance in metres: a pair whose penetration depth is at most this is
     /// touching, not colliding. Default 0.005, the reference's intent
     /// (`CollisionMetric.move_direction_amount`: it forgives a pair that separates after a
-    /// 5 mm push).
+    /// 5 mm push). Range: finite, `>= 0`.
     pub contact_tolerance: Real,
     /// Leave floor coverings (rugs, carpets, mats) out of the metric: not tested, not counted.
     /// Default `true`: a bed standing on a 1 cm rug is not a collision (the fork of the
@@ -33,13 +34,15 @@ pub struct CollisionParams {
     /// its description). Default `rug`, `carpet`, `mat`, `doormat`.
     pub floor_covering_words: Vec<String>,
     /// Finest spacing in metres of the surface points at which the penetration depth is
-    /// evaluated. Default 0.0025 (half the contact tolerance).
+    /// evaluated. Default 0.0025 (half the contact tolerance). Range: finite, `> 0` (the
+    /// search is bounded by `depth_sample_budget`, whatever the spacing).
     pub depth_sample_spacing: Real,
     /// Most point queries (closest point plus inside test) per pair and direction; a pair whose
     /// search runs out before it can rule a collision out is reported `undecided` (and not
     /// colliding). Default 8192: a deep penetration is proven by its first few queries and
     /// a resting contact on flat faces by none; surfaces hovering within millimetres of each
-    /// other along edges need the most.
+    /// other along edges need the most. Range: 1 to
+    /// [`CollisionParams::MAX_DEPTH_SAMPLE_BUDGET`].
     pub depth_sample_budget: usize,
     /// How far the depth is searched once the verdict is known (the verdicts are the same):
     /// `verdict` (default) reports the depth of the first point found deeper than the
@@ -63,6 +66,10 @@ impl Default for CollisionParams {
 }
 
 impl CollisionParams {
+    /// The largest `depth_sample_budget` (2^20 = 1,048,576 point queries per pair and
+    /// direction, about a second per pair).
+    pub const MAX_DEPTH_SAMPLE_BUDGET: usize = 1 << 20;
+
     pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         check_non_negative("collision", "contact_tolerance", self.contact_tolerance, false)?;
         check_non_negative(
@@ -71,15 +78,13 @@ impl CollisionParams {
             self.depth_sample_spacing,
             true,
         )?;
-        if self.depth_sample_budget == 0 {
-            return Err(PlausibilityError::InvalidParameter {
-                metric: "collision",
-                name: "depth_sample_budget",
-                value: 0.0,
-                reason: "must be at least 1",
-            });
-        }
-        Ok(())
+        check_range(
+            "collision",
+            "depth_sample_budget",
+            self.depth_sample_budget as f64,
+            [1.0, Self::MAX_DEPTH_SAMPLE_BUDGET as f64],
+            "must lie in [1, 1048576]",
+        )
     }
 
     fn query(&self) -> PenetrationQuery {
@@ -336,7 +341,7 @@ pub(crate) fn floor_coverings(objects: &[SceneObject], exclude: bool, words: &[S
     if !exclude {
         return vec![false; objects.len()];
     }
-    let words: Vec<String> = words.iter().map(|w| normalize_category(w)).collect();
+    let words: Vec<String> = words.iter().map(|w| normalise(w, Synset::Strip)).collect();
     // Scenes repeat a few categories many times: decide each text once.
     let mut seen: std::collections::HashMap<&str, bool> = std::collections::HashMap::new();
     objects

@@ -9,11 +9,13 @@ use crate::PlausibilityError;
 /// When an evaluation must give up, and a flag another thread can raise to stop it early.
 ///
 /// Metrics check it between metrics and inside their long loops (per candidate pair in
-/// collision, per object in support, accessibility and out-of-bounds, per opening in opening
-/// clearance) and stop with [`PlausibilityError::DeadlineExceeded`] once it has passed. It
-/// cannot interrupt one step of such a loop (one pair's narrow phase, one object's rays) nor
-/// the navigability raster, whose size is bounded by the raster limit; a step that never
-/// returns cannot be stopped from inside the process. A check costs one clock read.
+/// collision, per object in support, accessibility and out-of-bounds, per chunk of 64 raster
+/// rows and per room in navigability, per opening and per polygon drawn into an occlusion map
+/// in opening clearance) and stop with [`PlausibilityError::DeadlineExceeded`] once it has
+/// passed. It cannot interrupt one step of such a loop (one pair's narrow phase, bounded by
+/// `depth_sample_budget`; one object's rays, bounded by `max_face_samples`); every step is
+/// bounded by a parameter range or the raster budget, so none runs unbounded. A check costs
+/// one clock read.
 ///
 /// ```
 /// use std::time::Duration;

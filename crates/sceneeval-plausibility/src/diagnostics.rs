@@ -7,11 +7,9 @@ use image::{ImageFormat, Rgb, RgbImage};
 use sceneeval_scene::Scene;
 
 use crate::clearance::{OcclusionMap, OpeningFrame, intruding_parts};
-use crate::raster::Grid;
+use crate::raster::{Grid, Storage, check_raster};
 use crate::{PlausibilityError, PlausibilityParams, Sources};
 
-/// Largest diagnostic image side, pixels (the navigability raster's own limit is far larger).
-const MAX_IMAGE_SIDE: usize = 8192;
 const OFF_FLOOR: Rgb<u8> = Rgb([40, 40, 40]);
 const BLOCKED: Rgb<u8> = Rgb([200, 70, 60]);
 const FREE_OTHER: Rgb<u8> = Rgb([240, 200, 60]);
@@ -33,7 +31,8 @@ const OCCLUDED: Rgb<u8> = Rgb([220, 50, 50]);
 /// - `opening_<opening>_<side>.png` for every blocked side of a door or window: the opening
 ///   seen from the checked side, occluded pixels red.
 ///
-/// The bytes are deterministic (same scene and parameters, same files).
+/// The bytes are deterministic (same scene and parameters, same files). Each file is written
+/// through a unique temporary file and an atomic rename.
 ///
 /// # Errors
 /// The metrics' parameter errors, [`PlausibilityError::Io`] when a file cannot be written,
@@ -51,14 +50,8 @@ pub fn write_diagnostics(
     let mut written = Vec::new();
     let map = crate::occupancy_map(scene, &params.navigability)?;
     let grid = map.grid;
-    if grid.width > MAX_IMAGE_SIDE || grid.height > MAX_IMAGE_SIDE {
-        return Err(PlausibilityError::RasterTooLarge {
-            metric: "diagnostics",
-            width: grid.width,
-            height: grid.height,
-            max: MAX_IMAGE_SIDE,
-        });
-    }
+    // The images hold a value per pixel, unlike the navigability raster's runs.
+    check_raster("diagnostics", grid.width, grid.height, Storage::Dense)?;
     let (run_labels, sizes) = map.components();
     let largest = (0..sizes.len()).max_by(|&a, &b| sizes[a].cmp(&sizes[b]).then(b.cmp(&a)));
     // Per pixel: on a floor, and the free region's label (u32::MAX where not free).
@@ -150,7 +143,7 @@ pub fn write_diagnostics(
                 side.depth,
                 params.opening_clearance.touch_tolerance,
             );
-            let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre);
+            let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre)?;
             let mut mask = vec![false; occ.nu * occ.nw];
             for (_, parts) in intruding_parts(scene, &candidates, &frame) {
                 for part in &parts {
@@ -184,18 +177,19 @@ fn image_from(grid: &Grid, colour: impl Fn(usize) -> Rgb<u8>) -> RgbImage {
     })
 }
 
+/// Encodes `img` as PNG and writes it atomically ([`sceneeval_files::write_atomic`]): a full
+/// disk or a second writer never leaves an empty or partial image.
 fn save(img: &RgbImage, path: &Path) -> Result<PathBuf, PlausibilityError> {
-    img.save_with_format(path, ImageFormat::Png)
-        .map_err(|e| match e {
-            image::ImageError::IoError(source) => PlausibilityError::Io {
-                path: path.to_owned(),
-                source,
-            },
-            other => PlausibilityError::Image {
-                path: path.to_owned(),
-                message: other.to_string(),
-            },
+    let mut bytes = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut bytes), ImageFormat::Png)
+        .map_err(|e| PlausibilityError::Image {
+            path: path.to_owned(),
+            message: e.to_string(),
         })?;
+    sceneeval_files::write_atomic(path, &bytes).map_err(|source| PlausibilityError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
     Ok(path.to_owned())
 }
 

@@ -21,11 +21,12 @@ pub enum PlausibilityError {
         /// What the value must satisfy.
         reason: &'static str,
     },
-    /// A raster would have more pixels per side than the metric allows (a too fine
-    /// metres-per-pixel resolution for a large floor).
-    #[error("{metric} raster of {width} x {height} pixels exceeds the limit of {max} pixels per side")]
+    /// A raster would be larger than the raster budget allows (a too fine resolution for a
+    /// large floor or opening), found before anything is allocated for it.
+    #[error("{metric} raster of {width} x {height} pixels exceeds the limit of {max} pixels per side{}",
+        .max_pixels.map(|m| format!(" or {m} pixels in all")).unwrap_or_default())]
     RasterTooLarge {
-        /// The metric building the raster.
+        /// The metric building the raster (`diagnostics` for the diagnostic images).
         metric: &'static str,
         /// Raster width in pixels.
         width: usize,
@@ -33,6 +34,10 @@ pub enum PlausibilityError {
         height: usize,
         /// The most pixels allowed per side.
         max: usize,
+        /// The most pixels allowed in all, for a raster that stores a value per pixel (the
+        /// opening-clearance occlusion maps and the diagnostic images); `None` for the
+        /// navigability raster, which stores runs of pixels.
+        max_pixels: Option<usize>,
     },
     /// The evaluation ran past its [`crate::Deadline`] (or was cancelled).
     #[error("{stage} stopped: {}", match .budget_seconds {
@@ -92,6 +97,27 @@ pub(crate) fn check_non_negative(
             } else {
                 "must be finite and non-negative"
             },
+        })
+    }
+}
+
+/// Checks that `value` lies in `[min, max]` (both finite); `reason` states the range for the
+/// message, e.g. `"must lie in [0, 1]"`.
+pub(crate) fn check_range(
+    metric: &'static str,
+    name: &'static str,
+    value: f64,
+    [min, max]: [f64; 2],
+    reason: &'static str,
+) -> Result<(), PlausibilityError> {
+    if (min..=max).contains(&value) {
+        Ok(())
+    } else {
+        Err(PlausibilityError::InvalidParameter {
+            metric,
+            name,
+            value,
+            reason,
         })
     }
 }

@@ -132,7 +132,6 @@ pub use accessibility::{
     AccessibilityParams, AccessibilityReport, ObjectAccess, SideAccess, accessibility,
     accessibility_with_work,
 };
-pub use category::normalize_category;
 pub use clearance::{
     BlockingObject, OpeningClearance, OpeningClearanceParams, OpeningClearanceReport, OpeningSide,
     SideClearance, opening_clearance,
@@ -280,9 +279,12 @@ impl std::str::FromStr for Metric {
 }
 
 impl PlausibilityParams {
-    /// Checks every parameter of every metric, including what can be known without a scene
-    /// about raster sizes (a square raster of more than 8192 pixels per side is refused), so
-    /// that a bad value is reported before any scene is read.
+    /// Checks every parameter of every metric against its documented range (each field's
+    /// docs state it), including what can be known without a scene about raster sizes (a
+    /// raster of more than 65,536 pixels per side is refused), so that a bad value is reported
+    /// before any scene is read. Rasters sized by a scene (a metres-per-pixel navigability
+    /// raster over its floors, an opening's occlusion map) are checked against the same
+    /// budget per scene, before anything is allocated for them.
     ///
     /// # Errors
     /// [`PlausibilityError::InvalidParameter`] or [`PlausibilityError::RasterTooLarge`] naming
@@ -293,25 +295,7 @@ impl PlausibilityParams {
         navigability::validate(&self.navigability)?;
         accessibility::validate(&self.accessibility)?;
         self.out_of_bounds.validate()?;
-        self.opening_clearance.validate()?;
-        match self.navigability.resolution {
-            Resolution::Pixels(0) => Err(PlausibilityError::InvalidParameter {
-                metric: "navigability",
-                name: "resolution",
-                value: 0.0,
-                reason: "a raster needs at least one pixel",
-            }),
-            Resolution::Pixels(n) if n as usize > raster::MAX_SIDE => {
-                Err(PlausibilityError::RasterTooLarge {
-                    metric: "navigability",
-                    width: n as usize,
-                    height: n as usize,
-                    max: raster::MAX_SIDE,
-                })
-            }
-            Resolution::Pixels(_) => Ok(()),
-            Resolution::MetresPerPixel(p) => error::check_non_negative("navigability", "resolution", p, true),
-        }
+        self.opening_clearance.validate()
     }
 }
 
@@ -476,6 +460,7 @@ pub fn evaluate_metrics(
                     scene,
                     &params.navigability,
                     infos,
+                    deadline,
                 )?);
             }
             Metric::Accessibility => {

@@ -4,35 +4,43 @@ use sceneeval_geom::{Point2, Real};
 use sceneeval_scene::{ObjectId, OpeningKind, Scene, Wall};
 use serde::{Deserialize, Serialize};
 
-use crate::PlausibilityError;
 use crate::error::check_non_negative;
+use crate::{Deadline, PlausibilityError};
+
+/// The metric's name in errors and deadline checks.
+const STAGE: &str = "navigability";
 use crate::objects::{DEFAULT_WALKABLE_HEIGHT, Footprint, ObjectInfo, object_infos};
 use crate::plane::{ccw, exposed_boundary};
-use crate::raster::{Grid, Resolution, RowRuns, merge, par_rows, subtract};
+use crate::raster::{Grid, Resolution, RowRuns, Storage, check_raster, merge, par_rows, subtract};
 
 /// Parameters of the navigability metric (reference yaml `NavigabilityMetric`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct NavigabilityParams {
     /// Raster resolution (reference `image_resolution`: 256 pixels over the floors' extent).
+    /// Range: 1 to 65,536 pixels per side; a metres-per-pixel size finite and `> 0`, and the
+    /// raster it gives for a scene's floors at most 65,536 pixels per side (checked per
+    /// scene; the margins alone are checked with the parameters).
     pub resolution: Resolution,
-    /// Margin in metres around the floors' extent (reference `scale_margin`, 0.2).
+    /// Margin in metres around the floors' extent (reference `scale_margin`, 0.2). Range:
+    /// finite, `>= 0`.
     pub margin: Real,
     /// Width of the robot in metres (reference `robot_width`, 0.2): free space is every point
-    /// at least half of it away from any obstacle and from the edge of the floor.
+    /// at least half of it away from any obstacle and from the edge of the floor. Range:
+    /// finite, `>= 0`.
     pub robot_width: Real,
     /// Objects with any part lower than this above their floor obstruct, in metres (reference
-    /// `obj_height_threshold`, 2.0, applied there to the OBB centre).
+    /// `obj_height_threshold`, 2.0, applied there to the OBB centre). Range: finite, `>= 0`.
     pub height_cutoff: Real,
     /// Objects whose top is at most this above their floor are walked over (rugs), in metres.
     /// Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object obstruct
-    /// (0).
+    /// (0). Range: finite, `>= 0`.
     pub walkable_height: Real,
     /// A door whose bottom is at most this above its wall's base is passable, in metres
-    /// (default 0.05). Windows never are.
+    /// (default 0.05). Windows never are. Range: finite, `>= 0`.
     pub door_max_sill: Real,
     /// Depth in metres of the strip in front of a door, on its room's side, from which a room
-    /// counts as reachable (default 0.5).
+    /// counts as reachable (default 0.5). Range: finite, `> 0`.
     pub door_strip_depth: Real,
     /// Obstacle footprints: convex hulls of the projected meshes (default) or, as the
     /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
@@ -56,13 +64,28 @@ impl Default for NavigabilityParams {
 
 impl NavigabilityParams {
     fn validate(&self) -> Result<(), PlausibilityError> {
-        let m = "navigability";
+        let m = STAGE;
         check_non_negative(m, "margin", self.margin, false)?;
         check_non_negative(m, "robot_width", self.robot_width, false)?;
         check_non_negative(m, "height_cutoff", self.height_cutoff, false)?;
         check_non_negative(m, "walkable_height", self.walkable_height, false)?;
         check_non_negative(m, "door_max_sill", self.door_max_sill, false)?;
-        check_non_negative(m, "door_strip_depth", self.door_strip_depth, true)
+        check_non_negative(m, "door_strip_depth", self.door_strip_depth, true)?;
+        match self.resolution {
+            Resolution::Pixels(0) => Err(PlausibilityError::InvalidParameter {
+                metric: m,
+                name: "resolution",
+                value: 0.0,
+                reason: "a raster needs at least one pixel",
+            }),
+            Resolution::Pixels(n) => check_raster(m, n as usize, n as usize, Storage::Runs),
+            Resolution::MetresPerPixel(p) => {
+                check_non_negative(m, "resolution", p, true)?;
+                // The margins alone span `2 margin / p` pixels, whatever the floors.
+                let side = (2.0 * self.margin / p).ceil() as usize;
+                check_raster(m, side, side, Storage::Runs)
+            }
+        }
     }
 }
 
@@ -139,7 +162,7 @@ impl OccupancyMap {
 pub fn occupancy_map(scene: &Scene, params: &NavigabilityParams) -> Result<OccupancyMap, PlausibilityError> {
     params.validate()?;
     let infos = object_infos(scene);
-    Ok(build_map(scene, params, &infos)?.0)
+    Ok(build_map(scene, params, &infos, &Deadline::none())?.0)
 }
 
 /// Computes the navigability metric.
@@ -170,20 +193,24 @@ pub fn navigability(
 ) -> Result<NavigabilityReport, PlausibilityError> {
     params.validate()?;
     let infos = object_infos(scene);
-    navigability_with(scene, params, &infos)
+    navigability_with(scene, params, &infos, &Deadline::none())
 }
 
+/// [`navigability`] with the objects' footprints given, under `deadline` (polled per chunk of
+/// raster rows and per room).
 pub(crate) fn navigability_with(
     scene: &Scene,
     params: &NavigabilityParams,
     infos: &[ObjectInfo],
+    deadline: &Deadline,
 ) -> Result<NavigabilityReport, PlausibilityError> {
-    let (map, obstacle_flags) = build_map(scene, params, infos)?;
+    let (map, obstacle_flags) = build_map(scene, params, infos, deadline)?;
+    deadline.check(STAGE)?;
     let (labels, sizes) = map.components();
     let free_pixels: usize = sizes.iter().sum();
     let largest_size = sizes.iter().copied().max().unwrap_or(0);
     let grid = map.grid;
-    let rooms = room_reachability(scene, params, &map, &labels, sizes.len());
+    let rooms = room_reachability(scene, params, &map, &labels, sizes.len(), deadline)?;
     let with_doors: Vec<bool> = rooms.iter().filter_map(|r| r.reachable).collect();
     let (mut obstacles, mut ignored) = (Vec::new(), Vec::new());
     for (o, &obstructs) in scene.objects().iter().zip(&obstacle_flags) {
@@ -226,6 +253,7 @@ fn build_map(
     scene: &Scene,
     params: &NavigabilityParams,
     infos: &[ObjectInfo],
+    deadline: &Deadline,
 ) -> Result<(OccupancyMap, Vec<bool>), PlausibilityError> {
     let floors: Vec<_> = scene.rooms().iter().map(|r| r.floor()).collect();
     let (min, max) = floors
@@ -233,7 +261,7 @@ fn build_map(
         .map(|f| f.bounds())
         .reduce(|a, b| (a.0.inf(&b.0), a.1.sup(&b.1)))
         .unwrap_or((Point2::origin(), Point2::new(1.0, 1.0)));
-    let grid = Grid::covering("navigability", min, max, params.margin, params.resolution)?;
+    let grid = Grid::covering(STAGE, min, max, params.margin, params.resolution)?;
     let r = 0.5 * params.robot_width;
     let mut blockers: Vec<Blocker<'_>> = Vec::new();
     for (a, b) in exposed_boundary(&floors) {
@@ -280,7 +308,9 @@ fn build_map(
     // Chunks of rows look up their blockers among those starting before the chunk ends.
     const CHUNK: usize = 64;
     let chunks = grid.height.div_ceil(CHUNK);
-    let per_chunk: Vec<(Vec<Intervals>, Vec<Intervals>)> = par_rows(chunks, |c| {
+    type Chunk = (Vec<Intervals>, Vec<Intervals>);
+    let per_chunk: Vec<Result<Chunk, PlausibilityError>> = par_rows(chunks, |c| {
+        deadline.check(STAGE)?;
         let (ja, jb) = (c * CHUNK, ((c + 1) * CHUNK).min(grid.height));
         let started = spans.partition_point(|s| s.0 < jb);
         let active: Vec<&(usize, usize, usize)> = spans[..started].iter().filter(|s| s.1 >= ja).collect();
@@ -311,11 +341,12 @@ fn build_map(
             floor_out.push(floor);
             free_out.push(free);
         }
-        (floor_out, free_out)
+        Ok((floor_out, free_out))
     });
     let (mut floor_rows_all, mut free_rows_all) =
         (Vec::with_capacity(grid.height), Vec::with_capacity(grid.height));
-    for (f, fr) in per_chunk {
+    for chunk in per_chunk {
+        let (f, fr) = chunk?;
         floor_rows_all.extend(f);
         free_rows_all.extend(fr);
     }
@@ -412,7 +443,8 @@ fn room_reachability(
     map: &OccupancyMap,
     labels: &[u32],
     num_labels: usize,
-) -> Vec<RoomNavigability> {
+    deadline: &Deadline,
+) -> Result<Vec<RoomNavigability>, PlausibilityError> {
     let grid = &map.grid;
     // Free runs of row `j` meeting the columns `[a, b)`: (run index, overlap length).
     let overlaps = |j: usize, a: usize, b: usize, f: &mut dyn FnMut(usize, usize)| {
@@ -432,6 +464,7 @@ fn room_reachability(
         .rooms()
         .iter()
         .map(|room| {
+            deadline.check(STAGE)?;
             let mut reached = vec![false; num_labels];
             let mut num_doors = 0;
             let mut strip_free = false;
@@ -476,14 +509,14 @@ fn room_reachability(
                 }
             }
             let has_door = num_doors > 0;
-            RoomNavigability {
+            Ok(RoomNavigability {
                 room: room.id().to_string(),
                 free_pixels,
                 num_doors,
                 reachable: has_door.then_some(strip_free),
                 reachable_fraction: (has_door && free_pixels > 0)
                     .then(|| connected as Real / free_pixels as Real),
-            }
+            })
         })
         .collect()
 }

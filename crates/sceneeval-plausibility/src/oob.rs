@@ -6,7 +6,7 @@ use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::accessibility::scene_floor_pieces;
-use crate::error::check_non_negative;
+use crate::error::{check_non_negative, check_range};
 use crate::index::{BoxIndex, WorkCounter, flat, grown};
 use crate::plane::{FloorPiece, area3, boxes_overlap, clip_half_space_into};
 use crate::{Deadline, PlausibilityError};
@@ -16,16 +16,17 @@ use crate::{Deadline, PlausibilityError};
 #[serde(default)]
 pub struct OutOfBoundsParams {
     /// An object is out of bounds when less than this share of its surface lies over a floor
-    /// (reference `threshold`, 0.99).
+    /// (reference `threshold`, 0.99). Range: `[0, 1]`.
     pub threshold: Real,
     /// Surface lower than this below a floor still counts as over it, metres (default 0.005,
-    /// the collision contact tolerance; the reference's floor slab is 1 mm thick).
+    /// the collision contact tolerance; the reference's floor slab is 1 mm thick). Range:
+    /// finite, `>= 0`.
     pub below_floor_tolerance: Real,
     /// Surface at most this far outside the outline of the floors, horizontally, still counts as
     /// over them, metres (default 0.001). Without it an object standing flush against a wall
     /// loses its whole back face: float32 asset coordinates and rotations put that face a few
     /// 1e-8 m beyond the floor's edge. Edges between two floors never move. Not in the
-    /// reference, whose random rays decide such faces by chance.
+    /// reference, whose random rays decide such faces by chance. Range: finite, `>= 0`.
     pub boundary_tolerance: Real,
 }
 
@@ -53,15 +54,13 @@ impl OutOfBoundsParams {
             self.boundary_tolerance,
             false,
         )?;
-        if !(0.0..=1.0).contains(&self.threshold) {
-            return Err(PlausibilityError::InvalidParameter {
-                metric: "out_of_bounds",
-                name: "threshold",
-                value: self.threshold,
-                reason: "must lie in [0, 1]",
-            });
-        }
-        Ok(())
+        check_range(
+            "out_of_bounds",
+            "threshold",
+            self.threshold,
+            [0.0, 1.0],
+            "must lie in [0, 1]",
+        )
     }
 }
 

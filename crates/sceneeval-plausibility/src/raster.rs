@@ -23,10 +23,51 @@ pub enum Resolution {
     MetresPerPixel(Real),
 }
 
-/// Most pixels per side of a raster (2^16 = 65,536: a centimetre grid over 650 m). Memory
-/// grows with rows and runs, not pixels, so this bounds only the time of absurd requests
-/// (a 100,000-pixel side is refused before any scene is read).
+/// Most pixels per side of any raster (2^16 = 65,536: a centimetre grid over 650 m). The
+/// navigability raster stores runs per row, so its memory grows with rows and runs, not
+/// pixels, and this bounds only the time of absurd requests (a 100,000-pixel side is refused
+/// before any scene is read).
 pub(crate) const MAX_SIDE: usize = 1 << 16;
+
+/// Most pixels of a raster that stores a value per pixel (2^24 = 16,777,216, 4096 x 4096: a
+/// few bytes each): the opening-clearance occlusion maps and the diagnostic images.
+pub(crate) const MAX_DENSE_PIXELS: usize = 1 << 24;
+
+/// How a raster stores its pixels, which decides its budget ([`check_raster`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Storage {
+    /// Runs of pixels per row: at most [`MAX_SIDE`] pixels per side.
+    Runs,
+    /// A value per pixel: also at most [`MAX_DENSE_PIXELS`] pixels in all.
+    Dense,
+}
+
+/// The one budget of every raster the metrics build, checked before anything is allocated
+/// for it: at most [`MAX_SIDE`] pixels per side, and [`MAX_DENSE_PIXELS`] pixels in all for
+/// [`Storage::Dense`] rasters. Sizes come from float-to-int casts, which saturate, so an absurd
+/// request stays above the limits instead of wrapping.
+///
+/// # Errors
+/// [`PlausibilityError::RasterTooLarge`] naming `metric`.
+pub(crate) fn check_raster(
+    metric: &'static str,
+    width: usize,
+    height: usize,
+    storage: Storage,
+) -> Result<(), PlausibilityError> {
+    let max_pixels = (storage == Storage::Dense).then_some(MAX_DENSE_PIXELS);
+    let over_total = max_pixels.is_some_and(|m| width.checked_mul(height).is_none_or(|n| n > m));
+    if width > MAX_SIDE || height > MAX_SIDE || over_total {
+        return Err(PlausibilityError::RasterTooLarge {
+            metric,
+            width,
+            height,
+            max: MAX_SIDE,
+            max_pixels,
+        });
+    }
+    Ok(())
+}
 
 /// A pixel grid over the floor plan. Pixel `(i, j)` covers `[x0 + i p, x0 + (i+1) p] x
 /// [y0 + j p, y0 + (j+1) p]` and is sampled at its centre; row `j = 0` is the lowest y.
@@ -64,14 +105,7 @@ impl Grid {
                         reason: "a raster needs at least one pixel",
                     });
                 }
-                if n as usize > MAX_SIDE {
-                    return Err(PlausibilityError::RasterTooLarge {
-                        metric,
-                        width: n as usize,
-                        height: n as usize,
-                        max: MAX_SIDE,
-                    });
-                }
+                check_raster(metric, n as usize, n as usize, Storage::Runs)?;
                 let side = w.max(h).max(1e-6);
                 let c = Point2::new(0.5 * (min.x + max.x), 0.5 * (min.y + max.y));
                 Grid {
@@ -94,14 +128,7 @@ impl Grid {
                 }
             }
         };
-        if grid.width > MAX_SIDE || grid.height > MAX_SIDE {
-            return Err(PlausibilityError::RasterTooLarge {
-                metric,
-                width: grid.width,
-                height: grid.height,
-                max: MAX_SIDE,
-            });
-        }
+        check_raster(metric, grid.width, grid.height, Storage::Runs)?;
         Ok(grid)
     }
 

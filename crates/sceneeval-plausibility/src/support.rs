@@ -7,7 +7,7 @@ use sceneeval_geom::{Aabb, Isometry3, Mesh, Point2, Point3, Ray, Real, Vector3};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
-use crate::error::check_non_negative;
+use crate::error::{check_non_negative, check_range};
 use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::plane::{area, convex_contains, convex_hull};
 use crate::sources::{SupportType, SupportTypeSource};
@@ -18,24 +18,26 @@ use crate::{Deadline, PlausibilityError};
 #[serde(default)]
 pub struct SupportParams {
     /// Rays start this far behind the object's surface, against the support direction, in
-    /// metres (reference `epsilon`, 0.005).
+    /// metres (reference `epsilon`, 0.005). Range: finite, `>= 0`.
     pub lift: Real,
     /// A hit counts as a contact when it is at most this far from the ray's start, in metres
     /// (reference `support_distance_threshold`, 0.01). With the lift, a supporting surface from
-    /// 5 mm inside to 5 mm beyond the object's extreme is accepted.
+    /// 5 mm inside to 5 mm beyond the object's extreme is accepted. Range: finite, `> 0`.
     pub contact_distance: Real,
     /// Vertices within this distance of the object's extreme along the support direction are
-    /// ray origins, in metres (reference: numpy `isclose` with `atol` 0.01).
+    /// ray origins, in metres (reference: numpy `isclose` with `atol` 0.01). Range: finite,
+    /// `>= 0`.
     pub extreme_band: Real,
     /// Faces among the extreme ones whose normal has `|n . g|` above this also get ray origins
-    /// on a lattice (reference `normal_facing_threshold`, 0.9).
+    /// on a lattice (reference `normal_facing_threshold`, 0.9). Range: `[0, 1]`.
     pub normal_facing_threshold: Real,
     /// Lattice density on those faces, points per square metre (reference
     /// `num_samples_per_square_meter`, 256; the reference samples at random, we use sub-triangle
-    /// centroids).
+    /// centroids). Range: finite, `>= 0` (the points are bounded by `max_face_samples`).
     pub samples_per_square_metre: Real,
     /// Most lattice points per object; the density is lowered to stay within it (reference
-    /// `max_total_num_samples`, 1e5, per object here). Default 4096.
+    /// `max_total_num_samples`, 1e5, per object here). Default 4096. Range: 0 (extreme
+    /// vertices only) to [`SupportParams::MAX_FACE_SAMPLES`].
     pub max_face_samples: usize,
 }
 
@@ -53,21 +55,32 @@ impl Default for SupportParams {
 }
 
 impl SupportParams {
+    /// The largest `max_face_samples` (2^20 = 1,048,576 ray origins per object, 24 MB).
+    pub const MAX_FACE_SAMPLES: usize = 1 << 20;
+
     pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         check_non_negative("support", "lift", self.lift, false)?;
         check_non_negative("support", "contact_distance", self.contact_distance, true)?;
         check_non_negative("support", "extreme_band", self.extreme_band, false)?;
-        check_non_negative(
+        check_range(
             "support",
             "normal_facing_threshold",
             self.normal_facing_threshold,
-            false,
+            [0.0, 1.0],
+            "must lie in [0, 1]",
         )?;
         check_non_negative(
             "support",
             "samples_per_square_metre",
             self.samples_per_square_metre,
             false,
+        )?;
+        check_range(
+            "support",
+            "max_face_samples",
+            self.max_face_samples as f64,
+            [0.0, Self::MAX_FACE_SAMPLES as f64],
+            "must lie in [0, 1048576]",
         )
     }
 }

@@ -113,3 +113,51 @@ fn run_in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
         .unwrap()
         .install(f)
 }
+
+#[cfg(feature = "images")]
+#[test]
+fn two_writers_of_one_diagnostics_folder_never_fail_and_leave_whole_images() {
+    // Two scenes (a wardrobe in front of the door, or a bed in the corner) written into one
+    // folder 10 times each at once: every write succeeds and each image is one scene's whole
+    // image (images are written through unique temporary names and renamed).
+    let scene_with = |id: &str, x: f64, y: f64| {
+        scene()
+            .add_box(
+                id,
+                Category::new(id),
+                Vector3::new(0.5, 0.3, 1.0),
+                pose_from_yaw(Point3::new(x, y, 1.0), 0.0),
+            )
+            .build()
+            .unwrap()
+    };
+    let scenes = [scene_with("wardrobe", 1.45, 0.31), scene_with("bed", 3.2, 4.0)];
+    let params = PlausibilityParams::default();
+    let alone: Vec<Vec<u8>> = scenes
+        .iter()
+        .map(|s| {
+            let dir = tempfile::tempdir().unwrap();
+            sceneeval_plausibility::write_diagnostics(s, &params, &Sources::default(), dir.path()).unwrap();
+            std::fs::read(dir.path().join("navigability.png")).unwrap()
+        })
+        .collect();
+    assert_ne!(alone[0], alone[1]);
+    let shared = tempfile::tempdir().unwrap();
+    std::thread::scope(|t| {
+        for s in &scenes {
+            let (params, dir) = (&params, shared.path());
+            t.spawn(move || {
+                for _ in 0..10 {
+                    sceneeval_plausibility::write_diagnostics(s, params, &Sources::default(), dir).unwrap();
+                }
+            });
+        }
+    });
+    let written = std::fs::read(shared.path().join("navigability.png")).unwrap();
+    assert!(written == alone[0] || written == alone[1]);
+    let names: Vec<String> = std::fs::read_dir(shared.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+}

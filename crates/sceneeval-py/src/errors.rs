@@ -18,20 +18,10 @@ pyo3::create_exception!(
      asset."
 );
 
-/// The message of `e` followed by each cause not already part of it, joined by `": "` (as
-/// the CLI prints an error chain).
+/// The message of `e` followed by each cause not already part of it, joined by `": "`
+/// ([`sceneeval::ErrorChain`], as the CLI prints an error chain).
 pub fn chain(e: &(dyn Error + 'static)) -> String {
-    let mut text = e.to_string();
-    let mut cause = e.source();
-    while let Some(c) = cause {
-        let part = c.to_string();
-        if !text.contains(&part) {
-            text.push_str(": ");
-            text.push_str(&part);
-        }
-        cause = c.source();
-    }
-    text
+    sceneeval::ErrorChain::new(e).to_string()
 }
 
 /// A `ValueError` for a bad argument.
@@ -49,11 +39,12 @@ pub fn scene_error(e: &(dyn Error + 'static)) -> PyErr {
     SceneEvalError::new_err(chain(e))
 }
 
-/// An evaluation error: a bad plan or plan choice is a `ValueError`, anything else a
-/// `SceneEvalError`.
+/// An evaluation error: a bad plan or request is a `ValueError` (requests through
+/// [`crate::run::request_error`], which names the keyword), anything else a `SceneEvalError`.
 pub fn eval_error(e: &EvalError) -> PyErr {
     match e {
-        EvalError::Plan { .. } | EvalError::Choice { .. } => value_error(chain(e)),
+        EvalError::Plan { .. } => value_error(chain(e)),
+        EvalError::Request { .. } => crate::run::request_error(e),
         other => scene_error(other),
     }
 }

@@ -9,17 +9,19 @@
 //!   and `relation_batch(name, targets, anchors=None, *, side, arch, room, reference, **params)`:
 //!   the 23 predicates on boxes given as `(cx, cy, cz, hx, hy, hz, yaw)` rows (numpy float64
 //!   arrays of shape `(N, 7)` for the batch form, `(N, K, 7)` for `surround`'s groups) or as
-//!   dicts with `sceneeval relate`'s keys. Both read their input through
-//!   `sceneeval_relations::spec`, so they accept exactly what `relate` accepts and fail with
-//!   its messages; rooms given as dicts are prepared once and kept in `relate`'s
-//!   `RoomCache`.
+//!   dicts with `sceneeval relate`'s keys. Both read their input as the facade's
+//!   `sceneeval::relate` does and score through the one dispatcher, so they accept exactly
+//!   what `relate` accepts and fail with its messages; rooms given as dicts are prepared once
+//!   and kept in a `sceneeval::relate::Session` for the process, as `relate` keeps its rooms.
 //! - `Scene.from_boxes(boxes, room, *, rooms, ...)`, `load_scene(path, assets={prefix:
 //!   folder})`, `Scene.objects` / `rooms` / `info()` / `boxes()` / `set_pose()` /
 //!   `set_boxes()` / `plausibility()` / `relation()`.
 //! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, ...,
-//!   vlm=None)`: the plan read by the facade's [`sceneeval::PlanChoice`] and run by
-//!   [`sceneeval::FolderRun`], the same plans, run and files as `sceneeval evaluate`; `vlm` (a
-//!   dict of the `--vlm-*` settings, [`vlm`]) asks an OpenAI-compatible endpoint.
+//!   vlm=None)`: the keyword arguments mapped onto the facade's
+//!   [`sceneeval::EvaluationRequest`] ([`run`]), as `sceneeval evaluate` maps its flags: the
+//!   same plans, run and files; `vlm` (a dict of [`sceneeval::VlmOptions`]' fields, the
+//!   `--vlm-*` settings) asks an OpenAI-compatible endpoint. `evaluation_request(...)` gives
+//!   the request itself, as `sceneeval evaluate --print-request` prints it.
 //!
 //! Every computation runs with the GIL released; bad arguments raise `ValueError`, files that
 //! cannot be read or evaluated raise `sceneeval.SceneEvalError`, with the Rust error's message
@@ -38,8 +40,8 @@
 pub mod convert;
 pub mod errors;
 pub mod relations;
+pub mod run;
 pub mod scene;
-pub mod vlm;
 
 /// SceneEval's predicates, scenes, plausibility metrics and evaluation, implemented in Rust.
 #[pyo3::pymodule]
@@ -51,7 +53,9 @@ mod _sceneeval {
     #[pymodule_export]
     use crate::relations::{relation, relation_batch, relation_names, relation_params_py};
     #[pymodule_export]
-    use crate::scene::{PyScene, evaluate, load_scene};
+    use crate::run::{evaluate, evaluation_request};
+    #[pymodule_export]
+    use crate::scene::{PyScene, load_scene};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

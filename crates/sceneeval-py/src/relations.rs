@@ -1,21 +1,25 @@
 //! The 23 predicates from Python: one query (`relation`) and the vectorised form over numpy
-//! arrays of boxes (`relation_batch`), both read through `sceneeval_relations::spec`, so they
-//! accept the inputs and give the errors of `sceneeval relate`.
+//! arrays of boxes (`relation_batch`). Boxes and rooms are read as the facade's
+//! `sceneeval::relate` reads them (`BoxSpec`, `sceneeval::scene::RoomSpec`), rooms are kept
+//! prepared in one `sceneeval::relate::Session` for the process, and every score goes through
+//! the one dispatcher (`sceneeval::relations::score`), so they accept the inputs and give the
+//! errors of `sceneeval relate`.
 
 use std::sync::{Arc, LazyLock, Mutex, PoisonError};
 
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList, PyTuple};
 use sceneeval::geom::Obb;
-use sceneeval::relations::spec::{
-    BoxSpec, Operands, RoomCache, RoomSpec, relation_from_spec, score_operands,
+use sceneeval::io::AssetLibrary;
+use sceneeval::relate::{BoxSpec, Session, from_value, under};
+use sceneeval::relations::{
+    self as rel, ObjectGeom, Operands, Relation, RelationError, RelationKind, RelationParams, Targets, batch,
 };
-use sceneeval::relations::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, batch};
-use sceneeval::scene::Room;
+use sceneeval::scene::{Room, RoomSpec};
 
 use crate::convert::{row_groups, rows, to_json};
-use crate::errors::{detached, relation_error, value_error};
+use crate::errors::{chain, detached, relation_error, value_error};
 
 /// The columns of a box row: centre x, y, z, half extents x, y, z, yaw.
 pub const BOX_COLUMNS: usize = 7;
@@ -75,13 +79,33 @@ fn obbs_into(
 const CHUNK: usize = 1024;
 
 /// A box given from Python: a sequence of seven numbers or a dict with `relate`'s keys
-/// (`center`, `half_size`, and `yaw` or `rotation`).
+/// (`center`, `half_size`, and `yaw` or `rotation`). A room, or a list of boxes, given where a
+/// box belongs is told where it goes.
 pub fn box_spec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<BoxSpec> {
     if obj.is_instance_of::<PyDict>() {
         let value = to_json(obj, what)?;
-        return serde_json::from_value(value).map_err(|e| value_error(format!("{what}: {e}")));
+        if value.get("floor").is_some() && value.get("center").is_none() {
+            return Err(value_error(format!(
+                "{what} is a room (a dict with \"floor\"), not a box: give a room as room=, as in \
+                 relation(\"against_wall\", target, room=room)"
+            )));
+        }
+        return from_value(value).map_err(|(path, e)| value_error(format!("{}: {e}", under(what, &path))));
     }
     let wrong = || {
+        let list_of_boxes = (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>())
+            && obj.get_item(0).is_ok_and(|first| {
+                first.is_instance_of::<PyDict>()
+                    || first.is_instance_of::<PyList>()
+                    || first.is_instance_of::<PyTuple>()
+                    || first.hasattr("__len__").unwrap_or(false)
+            });
+        if list_of_boxes {
+            return value_error(format!(
+                "{what} is a list of boxes, not a box: surround takes its boxes as targets=[...] (with target \
+                 None), as in relation(\"surround\", None, anchor, targets=boxes)"
+            ));
+        }
         value_error(format!(
             "{what} must be a sequence of 7 numbers (cx, cy, cz, hx, hy, hz, yaw) or a dict with the keys \
              center, half_size and yaw or rotation"
@@ -98,61 +122,95 @@ pub fn room_spec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<RoomSpec> {
     room_json(obj, what).and_then(|value| room_from_json(value, what))
 }
 
-/// The room dict as JSON, checked to be a dict.
+/// The room dict as JSON, checked to be a dict (and not a box).
 fn room_json(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<serde_json::Value> {
+    let expected = "a dict with the keys floor (a list of [x, y] points) and optionally floor_z, height, \
+                    wall_thickness, openings";
     if !obj.is_instance_of::<PyDict>() {
+        let is_box = obj.extract::<Vec<f64>>().is_ok_and(|n| n.len() == BOX_COLUMNS);
+        return Err(value_error(if is_box {
+            format!("{what} is a box (7 numbers), not a room: a room is {expected}")
+        } else {
+            format!("{what} must be {expected}")
+        }));
+    }
+    let value = to_json(obj, what)?;
+    if value.get("floor").is_none()
+        && let Some(key) = ["center", "half_size"]
+            .into_iter()
+            .find(|k| value.get(k).is_some())
+    {
         return Err(value_error(format!(
-            "{what} must be a dict with the keys floor (a list of [x, y] points) and optionally floor_z, \
-             height, wall_thickness, openings"
+            "{what} is a box (a dict with \"{key}\"), not a room: a room is {expected}"
         )));
     }
-    to_json(obj, what)
+    Ok(value)
 }
 
-fn room_from_json(value: serde_json::Value, what: &str) -> PyResult<RoomSpec> {
-    serde_json::from_value(value).map_err(|e| value_error(format!("{what}: {e}")))
+/// The room of a room dict's JSON value; an error names the key at fault
+/// (`room.floor[2]: ...`).
+pub fn room_from_json(value: serde_json::Value, what: &str) -> PyResult<RoomSpec> {
+    from_value(value).map_err(|(path, e)| value_error(format!("{}: {e}", under(what, &path))))
 }
 
-/// How many rooms given as dicts stay prepared at once (see [`prepared_room`]).
+/// How many rooms given as dicts stay prepared at once (see [`RoomArg::prepare`]).
 pub const ROOMS_KEPT: usize = 64;
 
-/// The rooms given as dicts to `relation` and `relation_batch`, by the JSON text of the dict:
-/// the cache `sceneeval relate` keeps its rooms written in place in.
-static ROOMS: LazyLock<Mutex<RoomCache>> = LazyLock::new(|| Mutex::new(RoomCache::new(ROOMS_KEPT)));
+/// The session of the process: the rooms given as dicts to `relation` and `relation_batch`,
+/// prepared and kept by the JSON text of the dict, as `sceneeval relate` keeps its rooms
+/// written in place.
+static SESSION: LazyLock<Mutex<Session>> = LazyLock::new(|| {
+    Mutex::new(Session::new(
+        RelationParams::default(),
+        AssetLibrary::new(),
+        ROOMS_KEPT,
+    ))
+});
 
-/// The room kept in `cache` under `key`, else the room `build` makes, kept under `key`. The
-/// cache is locked only to look up and to insert: `build` runs unlocked (two threads may
-/// both build a new room; the second insert replaces the first, an equal room).
-///
-/// # Errors
-/// The error of `build`.
-pub fn cached_room(
-    cache: &Mutex<RoomCache>,
-    key: &str,
-    build: impl FnOnce() -> PyResult<Room>,
-) -> PyResult<Arc<Room>> {
-    let lock = || cache.lock().unwrap_or_else(PoisonError::into_inner);
-    if let Some(room) = lock().get(key) {
-        return Ok(room);
-    }
-    let room = Arc::new(build()?);
-    lock().insert(Arc::from(key), Arc::clone(&room));
-    Ok(room)
+/// A room dict as read while the GIL is held: its JSON value and text (the key it is kept
+/// under).
+#[derive(Debug)]
+pub struct RoomArg {
+    key: String,
+    value: serde_json::Value,
 }
 
-/// The prepared room of a room dict (see [`room_spec`]): one of the last [`ROOMS_KEPT`]
-/// distinct rooms given, found by the dict's JSON text, or else read and prepared (walls cut
-/// around their openings, the floor triangulated) with the GIL released, and kept.
+/// The room dict `obj`, read (see [`room_spec`] for the keys) but not yet prepared.
 ///
 /// # Errors
-/// `ValueError` for a dict that is not a valid room, with `relate`'s message.
-pub fn prepared_room(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Arc<Room>> {
+/// `ValueError` for anything but a room dict.
+pub fn room_arg(obj: &Bound<'_, PyAny>) -> PyResult<RoomArg> {
     let value = room_json(obj, "room")?;
     let key = serde_json::to_string(&value).map_err(|e| value_error(format!("room: {e}")))?;
-    cached_room(&ROOMS, &key, || {
-        let spec = room_from_json(value, "room")?;
-        detached(py, || spec.build().map_err(|e| relation_error(&e)))
-    })
+    Ok(RoomArg { key, value })
+}
+
+impl RoomArg {
+    /// The prepared room: one of the last [`ROOMS_KEPT`] distinct rooms given, found by the
+    /// dict's JSON text, or else read and prepared (walls cut around their openings, the
+    /// floor triangulated) and kept in `session`. Call it with the GIL released.
+    ///
+    /// # Errors
+    /// `ValueError` for a dict that is not a valid room, with `relate`'s message.
+    pub fn prepare_in(self, session: &Mutex<Session>) -> PyResult<Arc<Room>> {
+        let RoomArg { key, value } = self;
+        session
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .room_with(&key, || {
+                room_from_json(value, "room")?
+                    .build()
+                    .map_err(|e| value_error(chain(&e)))
+            })
+    }
+
+    /// [`RoomArg::prepare_in`] the process's session.
+    ///
+    /// # Errors
+    /// As [`RoomArg::prepare_in`].
+    pub fn prepare(self) -> PyResult<Arc<Room>> {
+        self.prepare_in(&SESSION)
+    }
 }
 
 /// The predicates' parameters: the defaults (or the reference's with `reference`), then each
@@ -224,7 +282,7 @@ pub fn relation(
     reference: bool,
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<f64> {
-    let relation = relation_from_spec(name, side, arch).map_err(|e| relation_error(&e))?;
+    let relation = Relation::from_fields(name, side, arch).map_err(|e| relation_error(&e))?;
     let params = relation_params(reference, params)?;
     let target = target.map(|t| box_spec(t, "target")).transpose()?;
     let anchor = anchor.map(|a| box_spec(a, "anchor")).transpose()?;
@@ -238,7 +296,7 @@ pub fn relation(
             Some(specs)
         }
     };
-    // Checked in the order of `QuerySpec::score`: the boxes, then the room.
+    // The boxes are checked, then the room.
     let obb = |spec: &BoxSpec, what: &str| spec.to_obb(what).map_err(|e| relation_error(&e));
     let target = target.map(|b| obb(&b, "target")).transpose()?;
     let anchor = anchor.map(|b| obb(&b, "anchor")).transpose()?;
@@ -250,15 +308,19 @@ pub fn relation(
                 .collect::<PyResult<Vec<Obb>>>()
         })
         .transpose()?;
-    let room = room.map(|r| prepared_room(py, r)).transpose()?;
-    let operands = Operands {
-        target: target.as_ref(),
-        anchor: anchor.as_ref(),
-        targets: targets.as_deref(),
-        room: room.as_deref(),
-    };
+    let room = room.map(room_arg).transpose()?;
     detached(py, || {
-        score_operands(relation, &operands, &params).map_err(|e| relation_error(&e))
+        let room = room.map(RoomArg::prepare).transpose()?;
+        let views: Option<Vec<ObjectGeom<'_>>> = targets
+            .as_ref()
+            .map(|ts| ts.iter().map(ObjectGeom::from_box).collect());
+        let operands = Operands {
+            target: target.as_ref().map(ObjectGeom::from_box),
+            anchor: anchor.as_ref().map(ObjectGeom::from_box),
+            targets: views.as_deref().map(Targets::Objects),
+            rooms: room.as_deref().map(std::slice::from_ref),
+        };
+        rel::score(relation, &operands, &params).map_err(|e| relation_error(&e))
     })
 }
 
@@ -292,7 +354,7 @@ pub fn relation_batch<'py>(
     reference: bool,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let relation = relation_from_spec(name, side, arch).map_err(|e| relation_error(&e))?;
+    let relation = Relation::from_fields(name, side, arch).map_err(|e| relation_error(&e))?;
     let params = relation_params(reference, params)?;
     let kind = relation.kind();
     if kind != RelationKind::ObjectArchitecture && room.is_some() {
@@ -356,8 +418,9 @@ pub fn relation_batch<'py>(
                     "relation {relation} needs room: a dict with relate's room keys (floor, ...)"
                 ))
             })?;
-            let room = prepared_room(py, room)?;
+            let room = room_arg(room)?;
             detached(py, || {
+                let room = room.prepare()?;
                 score_in_room(relation, &target_rows, &room, &params).map_err(|e| relation_error(&e))
             })?
         }
@@ -514,12 +577,16 @@ pub fn score_groups(
             Some(anchor) => anchor,
             None => obb_from_row(&anchor_rows[i], || format!("anchors[{i}]"))?,
         };
-        let operands = Operands {
-            anchor: Some(&anchor),
-            targets: Some(&targets),
-            ..Operands::default()
+        let centre = |j: usize| targets[j].center;
+        let group = Targets::Centres {
+            count: targets.len(),
+            centre: &centre,
         };
-        out.push(score_operands(relation, &operands, params)?);
+        out.push(rel::score(
+            relation,
+            &Operands::surround(group, ObjectGeom::from_box(&anchor)),
+            params,
+        )?);
     }
     Ok(out)
 }
@@ -546,7 +613,6 @@ pub fn relation_params_py<'py>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sceneeval::relations::spec::QuerySpec;
 
     fn cube(x: f64) -> [f64; BOX_COLUMNS] {
         [x, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]
@@ -594,15 +660,16 @@ mod tests {
         let rows: Vec<_> = (0..1100)
             .map(|i| [f64::from(i) * 0.004, 1.5, 0.4, 0.3, 0.3, 0.4, 0.0])
             .collect();
-        let scores = score_in_room(Relation::InsideRoom, &rows, &room.build().unwrap(), &params).unwrap();
+        let room = room.build().unwrap();
+        let scores = score_in_room(Relation::InsideRoom, &rows, &room, &params).unwrap();
         for (i, row) in rows.iter().enumerate().step_by(97) {
-            let query = QuerySpec {
-                relation: "inside_room".into(),
-                target: Some(box_spec_from_row(row)),
-                room: Some(room.clone()),
-                ..QuerySpec::default()
-            };
-            assert_eq!(scores[i], query.score(&params).unwrap(), "row {i}");
+            let target = box_spec_from_row(row).to_obb("target").unwrap();
+            let one = rel::score(
+                Relation::InsideRoom,
+                &Operands::in_rooms(ObjectGeom::from_box(&target), std::slice::from_ref(&room)),
+                &params,
+            );
+            assert_eq!(scores[i], one.unwrap(), "row {i}");
         }
         // Row 0 is centred on the wall x = 0: half of it is inside.
         assert!((scores[0] - 0.5).abs() < 1e-9);
@@ -628,13 +695,15 @@ mod tests {
         }
         let scores = score_groups(Relation::Surround, &rows, 3, &anchors, &params).unwrap();
         for (g, score) in scores.iter().enumerate() {
-            let query = QuerySpec {
-                relation: "surround".into(),
-                anchor: Some(box_spec_from_row(&anchors[g])),
-                targets: Some(rows[g * 4..g * 4 + 4].iter().map(box_spec_from_row).collect()),
-                ..QuerySpec::default()
-            };
-            assert_eq!(*score, query.score(&params).unwrap(), "group {g}");
+            let anchor = box_spec_from_row(&anchors[g]).to_obb("anchor").unwrap();
+            let targets = obbs_from_rows(&rows[g * 4..g * 4 + 4], "targets").unwrap();
+            let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
+            let one = rel::score(
+                Relation::Surround,
+                &Operands::surround(Targets::Objects(&views), ObjectGeom::from_box(&anchor)),
+                &params,
+            );
+            assert_eq!(*score, one.unwrap(), "group {g}");
         }
         // Group 0: four chairs 1 m away at 90-degree gaps, score 1.
         assert_eq!(scores[0], 1.0);
@@ -676,23 +745,27 @@ mod tests {
 
     #[test]
     fn rooms_are_built_once_per_key_and_failures_are_not_kept() {
-        let cache = Mutex::new(RoomCache::new(4));
-        let built = std::cell::Cell::new(0);
-        let build = || {
-            built.set(built.get() + 1);
-            RoomSpec::new(vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]])
-                .build()
-                .map_err(|e| relation_error(&e))
+        // The errors are Python exceptions: their text needs the interpreter.
+        Python::initialize();
+        let session = Mutex::new(Session::new(RelationParams::default(), AssetLibrary::new(), 4));
+        let arg = |key: &str, value: serde_json::Value| RoomArg {
+            key: key.to_owned(),
+            value,
         };
-        let a = cached_room(&cache, "a", build).unwrap();
-        let again = cached_room(&cache, "a", build).unwrap();
+        let square = serde_json::json!({"floor": [[0, 0], [4, 0], [4, 3], [0, 3]]});
+        let a = arg("a", square.clone()).prepare_in(&session).unwrap();
+        let again = arg("a", square.clone()).prepare_in(&session).unwrap();
         assert!(Arc::ptr_eq(&a, &again));
-        assert_eq!(built.get(), 1);
-        let failing = || Err(value_error("room: bad"));
-        assert!(cached_room(&cache, "b", failing).is_err());
-        assert!(cached_room(&cache, "b", build).is_ok());
-        assert_eq!(built.get(), 2);
-        let cache = cache.lock().unwrap();
-        assert_eq!((cache.len(), cache.built()), (2, 2));
+        assert_eq!(session.lock().unwrap().rooms_built(), 1);
+        // Two points are no floor: the builder's error, not kept.
+        let line = serde_json::json!({"floor": [[0, 0], [4, 0]]});
+        let err = arg("b", line).prepare_in(&session).unwrap_err();
+        assert!(err.to_string().contains("room: "), "{err}");
+        assert!(arg("b", square).prepare_in(&session).is_ok());
+        assert_eq!(session.lock().unwrap().rooms_built(), 2);
+        // A key that does not read as a room names the key at fault.
+        let bad = serde_json::json!({"floor": [[0, 0], [4, 0, 1], [4, 3]]});
+        let err = arg("c", bad).prepare_in(&session).unwrap_err();
+        assert!(err.to_string().contains("room.floor[1]: "), "{err}");
     }
 }

@@ -1,29 +1,26 @@
 //! Scenes from Python: built from numpy arrays of boxes and a room, or loaded from sceneState
 //! files with asset folders; inspected as plain values; scored by the plausibility metrics and
-//! the predicates; and whole folders evaluated as `sceneeval evaluate` does.
+//! the predicates.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::str::FromStr;
 use std::sync::{PoisonError, RwLock};
 
 use numpy::PyArray2;
-use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyInt, PyList, PyTuple};
 use sceneeval::geom::conventions::pose_from_yaw;
 use sceneeval::geom::{Point3, Vector3};
 use sceneeval::inspect::{ObjectInfo, RoomInfo, SceneInfo};
 use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
-use sceneeval::relations::spec::relation_from_spec;
-use sceneeval::relations::{Query, SceneRelations};
+use sceneeval::relations::{Query, Relation, SceneRelations};
 use sceneeval::scene::{Category, Room, Scene, SceneObject};
-use sceneeval::{EvaluationPlan, Evaluator, FolderRun, Metric, PlanChoice, Preset, find_scenes};
-use serde::Serialize;
+use sceneeval::{EvaluationPlan, Evaluator, PlanRequest};
 
 use crate::convert::{rows, to_json, to_python};
 use crate::errors::{chain, detached, eval_error, relation_error, scene_error, value_error};
-use crate::relations::{BOX_COLUMNS, obbs_from_rows, relation_params, room_spec};
+use crate::relations::{BOX_COLUMNS, obbs_from_rows, relation_params, room_from_json, room_spec};
+use crate::run::{asset_specs, metrics_of, plan_and_preset, request_error};
 
 /// A scene: objects (boxes or meshes) and rooms with walls, doors and windows.
 ///
@@ -77,8 +74,8 @@ impl PyScene {
     }
 }
 
-/// The plan for `Scene.plausibility`: as for `evaluate` (see [`PlanChoice`]), geometry
-/// metrics only.
+/// The plan for `Scene.plausibility`: as for `evaluate` (see [`PlanRequest::resolve`]),
+/// geometry metrics only.
 fn plausibility_plan(
     py: Python<'_>,
     plan: Option<&str>,
@@ -86,13 +83,14 @@ fn plausibility_plan(
     metrics: Option<Vec<String>>,
 ) -> PyResult<EvaluationPlan> {
     let (plan, preset) = plan_and_preset(py, plan, preset)?;
-    let mut choice = PlanChoice::new(PlanChoice::PYTHON);
-    choice.plan = plan;
-    choice.preset = preset;
-    choice.metrics = metrics_of(metrics)?;
-    // Checked below with a message for this method.
-    choice.annotations = true;
-    let chosen = choice.resolve().map_err(|e| eval_error(&e))?;
+    let request = PlanRequest {
+        plan: plan.clone(),
+        preset,
+        metrics: metrics_of(metrics)?,
+        ..PlanRequest::default()
+    };
+    // Annotations are checked below with a message for this method.
+    let chosen = request.resolve(false, true).map_err(|e| request_error(&e))?;
     if chosen.plan.has_fidelity() {
         return Err(value_error(format!(
             "plan {:?} runs text-fidelity metrics (cnt, atr, oor, oar): Scene.plausibility runs the \
@@ -103,63 +101,9 @@ fn plausibility_plan(
     Ok(chosen.plan)
 }
 
-/// `plan` and `preset` as given, except that a preset name given as the plan (`plan="reference"`,
-/// which earlier versions of the package documented) is read as that preset with the default
-/// plan, with a `DeprecationWarning`, unless a file of that name exists.
-fn plan_and_preset<'a>(
-    py: Python<'_>,
-    plan: Option<&'a str>,
-    preset: Option<&str>,
-) -> PyResult<(Option<&'a str>, Option<Preset>)> {
-    let given = preset_of(preset)?;
-    if let Some(name) = plan
-        && !std::path::Path::new(name).exists()
-        && let Ok(as_preset) = Preset::from_str(name)
-    {
-        if given.is_some_and(|p| p != as_preset) {
-            return Err(value_error(format!(
-                "plan={name:?} names a preset, and preset={:?} another: give the preset once, as preset=",
-                preset.unwrap_or_default()
-            )));
-        }
-        let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
-        let message = std::ffi::CString::new(format!(
-            "plan={name:?} is a preset name: pass preset={name:?} (plan= takes geometry, full, a metric list or a plan file)"
-        ))
-        .map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(py, &category, &message, 2)?;
-        return Ok((None, Some(as_preset)));
-    }
-    Ok((plan, given))
-}
-
-/// A preset by name.
-fn preset_of(preset: Option<&str>) -> PyResult<Option<Preset>> {
-    preset
-        .map(|p| Preset::from_str(p).map_err(|e| eval_error(&e)))
-        .transpose()
-}
-
-/// Metrics by name.
-fn metrics_of(metrics: Option<Vec<String>>) -> PyResult<Option<Vec<Metric>>> {
-    metrics
-        .map(|names| {
-            names
-                .iter()
-                .map(|n| n.parse::<Metric>().map_err(|e| value_error(e.to_string())))
-                .collect::<PyResult<Vec<Metric>>>()
-        })
-        .transpose()
-}
-
 /// An asset library from `{prefix: folder}` (a folder may be written `LAYOUT:folder`).
 fn asset_library(assets: Option<BTreeMap<String, PathBuf>>) -> PyResult<AssetLibrary> {
-    let specs: Vec<String> = assets
-        .unwrap_or_default()
-        .into_iter()
-        .map(|(prefix, dir)| format!("{prefix}={}", dir.display()))
-        .collect();
-    AssetLibrary::from_specs(&specs).map_err(|e| value_error(format!("assets: {}", chain(&e))))
+    AssetLibrary::from_specs(&asset_specs(assets)).map_err(|e| value_error(format!("assets: {}", chain(&e))))
 }
 
 /// A room of `Scene.from_boxes`: a dict with `relate`'s room keys and optionally `id` (the
@@ -178,13 +122,13 @@ fn scene_room(obj: &Bound<'_, PyAny>, what: &str, default_id: &str) -> PyResult<
                 .ok_or_else(|| value_error(format!("{what}.id must be a string, got {given}")))?
                 .to_owned();
         }
-        serde_json::from_value(value).map_err(|e| value_error(format!("{what}: {e}")))?
+        room_from_json(value, what)?
     } else {
         room_spec(obj, what)?
     };
     spec.build_with_id(&id).map_err(|e| {
         if what == "room" {
-            relation_error(&e)
+            value_error(chain(&e))
         } else {
             value_error(format!("{what}: {}", chain(&e)))
         }
@@ -531,7 +475,7 @@ impl PyScene {
         reference: bool,
         params: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<f64> {
-        let relation = relation_from_spec(name, side, arch).map_err(|e| relation_error(&e))?;
+        let relation = Relation::from_fields(name, side, arch).map_err(|e| relation_error(&e))?;
         let relations =
             SceneRelations::new(relation_params(reference, params)?).map_err(|e| relation_error(&e))?;
         let mut query = Query::new(relation);
@@ -566,185 +510,4 @@ pub fn load_scene(
         read_scene_state(&path, &library, &ReadOptions::default()).map_err(|e| scene_error(&e))
     })?;
     Ok(PyScene::new(scene))
-}
-
-/// What `evaluate` returns: the summary and what happened to each scene.
-#[derive(Debug, Serialize)]
-struct RunReport {
-    out: PathBuf,
-    scenes: usize,
-    evaluated: usize,
-    reused: usize,
-    failed: usize,
-    skipped: Vec<Skipped>,
-    failures: Vec<Failure>,
-    note: Option<String>,
-    summary: sceneeval::Summary,
-}
-
-#[derive(Debug, Serialize)]
-struct Skipped {
-    path: PathBuf,
-    reason: String,
-}
-
-#[derive(Debug, Serialize)]
-struct Failure {
-    scene: String,
-    error: String,
-    causes: Vec<String>,
-}
-
-/// Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same
-/// files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then
-/// summary.csv and summary.md.
-///
-/// assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON): the rows
-/// the text-fidelity metrics check, and rows per difficulty in the summary. plan: exactly what
-/// `sceneeval evaluate --plan` accepts: "geometry" (the default: the six geometry metrics),
-/// "full" (the paper's ten metrics, adding cnt, atr, oor, oar, which need annotations), a
-/// comma-separated metric list ("collision,cnt,oor") or the path of a plan file (JSON or
-/// TOML). preset: "default" or "reference" (every reference-parity switch), as --preset:
-/// the parameters start from it (it replaces a plan file's preset; a preset name given as
-/// plan=, the spelling of earlier versions, is read as preset= with a DeprecationWarning).
-/// metrics: run only these
-/// geometry metrics, as --metrics. matching: "vlm", "labels" or a matching file or folder in
-/// the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
-/// as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget:
-/// seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
-/// vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
-/// dict with base_url and model (required), api_key_env (the variable holding the key, which
-/// must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
-/// concurrency (4), render_size (512, the object views shown), detail ("low"), temperature (0;
-/// None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens
-/// and token_limit_field ("max_tokens" or "max_completion_tokens"). Without a VLM the
-/// text-fidelity metrics match objects by labels (or a matching file) and map relations with the
-/// lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
-/// the run's note. A re-run into the same out reuses a scene's result while nothing it depends
-/// on changed (force=True evaluates every scene again). threads: worker threads (default one
-/// per core). Runs with the GIL released.
-///
-/// Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
-/// scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
-/// text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
-/// summary.csv as a dict). A scene that fails is recorded, not raised.
-/// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
-/// ValueError for a bad plan, preset, metric, assets mapping or vlm dict.
-#[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None))]
-#[allow(clippy::too_many_arguments)] // The Python signature is fixed by issue 15.
-pub fn evaluate<'py>(
-    py: Python<'py>,
-    scenes_dir: PathBuf,
-    assets: Option<BTreeMap<String, PathBuf>>,
-    out: PathBuf,
-    annotations: Option<PathBuf>,
-    plan: Option<&str>,
-    preset: Option<&str>,
-    metrics: Option<Vec<String>>,
-    matching: Option<PathBuf>,
-    relation_mapping: Option<&str>,
-    time_budget: Option<f64>,
-    vlm: Option<Bound<'py, PyDict>>,
-    force: bool,
-    threads: Option<usize>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let matching = matching
-        .map(|m| {
-            m.into_os_string()
-                .into_string()
-                .map_err(|m| value_error(format!("matching {m:?} is not valid Unicode")))
-        })
-        .transpose()?;
-    let set = find_scenes(&scenes_dir).map_err(|e| eval_error(&e))?;
-    if set.scenes.is_empty() {
-        return Err(crate::errors::SceneEvalError::new_err(format!(
-            "no scene_<ID>.json files in {}",
-            scenes_dir.display()
-        )));
-    }
-    let (plan, preset) = plan_and_preset(py, plan, preset)?;
-    let mut choice = PlanChoice::new(PlanChoice::PYTHON);
-    choice.plan = plan;
-    choice.preset = preset;
-    choice.metrics = metrics_of(metrics)?;
-    choice.matching = matching.as_deref();
-    choice.relation_mapping = relation_mapping;
-    choice.time_budget_seconds = time_budget;
-    choice.annotations = annotations.is_some();
-    choice.vlm_configured = vlm.is_some();
-    let chosen = choice.resolve().map_err(|e| eval_error(&e))?;
-    let note = chosen
-        .fallback
-        .map(|f| format!("no VLM configured (the Python package runs without one): {f}"));
-    if let Some(note) = &note {
-        let category = py.get_type::<PyUserWarning>();
-        let message = std::ffi::CString::new(note.as_str()).map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(py, &category, &message, 1)?;
-    }
-    let mut evaluator = Evaluator::new(chosen.plan).map_err(|e| eval_error(&e))?;
-    if let Some(vlm) = &vlm
-        && evaluator.plan().has_fidelity()
-    {
-        evaluator = crate::vlm::with_vlm(evaluator, vlm, &out)?;
-    }
-    let library = asset_library(assets)?.with_limits(evaluator.plan().limits);
-    let annotations = annotations
-        .map(|p| sceneeval::annotation::Annotations::read(&p).map_err(|e| scene_error(&e)))
-        .transpose()?;
-    sceneeval::check_output_dir(&out).map_err(|e| eval_error(&e))?;
-    let run = FolderRun {
-        out_dir: out.clone(),
-        force,
-        diagnostics: false,
-        annotations: annotations.as_ref(),
-    };
-    let scenes = &set.scenes;
-    let outcome = detached(py, || {
-        let mut pool = rayon_pool_builder();
-        if let Some(n) = threads {
-            pool = pool.num_threads(n.max(1));
-        }
-        let pool = pool
-            .build()
-            .map_err(|e| crate::errors::SceneEvalError::new_err(format!("starting worker threads: {e}")))?;
-        pool.install(|| run.run(scenes, &evaluator, &library, &|_, _, _| {}))
-            .map_err(|e| eval_error(&e))
-    })?;
-    let failures = outcome
-        .batch
-        .records
-        .iter()
-        .filter_map(|r| match &r.outcome {
-            sceneeval::Outcome::Failed { error, causes, .. } => Some(Failure {
-                scene: r.scene.clone(),
-                error: error.clone(),
-                causes: causes.clone(),
-            }),
-            _ => None,
-        })
-        .collect();
-    let report = RunReport {
-        out,
-        scenes: scenes.len(),
-        evaluated: outcome.batch.evaluated,
-        reused: outcome.batch.reused,
-        failed: outcome.batch.failed,
-        skipped: set
-            .skipped
-            .into_iter()
-            .map(|s| Skipped {
-                path: s.path,
-                reason: s.reason,
-            })
-            .collect(),
-        failures,
-        note,
-        summary: outcome.summary,
-    };
-    to_python(py, &report)
-}
-
-fn rayon_pool_builder() -> rayon::ThreadPoolBuilder {
-    rayon::ThreadPoolBuilder::new()
 }

@@ -207,6 +207,53 @@ def test_bad_arguments_raise_value_error(call, message):
         call()
 
 
+BED = (2.0, -3.0, 0.3, 0.8, 1.0, 0.3, 0.0)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        # Issue 29: a room in the anchor's place said "anchor: unknown field `floor`".
+        (
+            lambda: sceneeval.relation("against_wall", BED, ROOM),
+            r'^anchor is a room \(a dict with "floor"\), not a box: give a room as room=, as in '
+            r'relation\("against_wall", target, room=room\)$',
+        ),
+        (lambda: sceneeval.relation("inside_room", ROOM, room=ROOM), r'^target is a room \(a dict with "floor"\)'),
+        (lambda: sceneeval.relation("against_wall", BED, room=BED), r"^room is a box \(7 numbers\), not a room: "),
+        (
+            lambda: sceneeval.relation("against_wall", BED, room=as_dict(BED)),
+            r'^room is a box \(a dict with "center"\), not a room: a room is a dict with the keys floor',
+        ),
+        (
+            lambda: sceneeval.relation("surround", [BED, BED, BED], BED),
+            r"^target is a list of boxes, not a box: surround takes its boxes as targets=\[\.\.\.\]",
+        ),
+        # Keys at fault are named with the object, as `relate` names them.
+        (
+            lambda: sceneeval.relation("near", {"center": [0, 0, 0], "half_size": [1, 1]}, BED),
+            r"^target\.half_size: invalid length 2, expected an array of length 3$",
+        ),
+        (
+            lambda: sceneeval.relation("near", BED, {"center": [0, 0, "x"], "half_size": [1, 1, 1]}),
+            r"^anchor\.center\[2\]: invalid type",
+        ),
+        (
+            lambda: sceneeval.relation("inside_room", BED, room={"floor": [[0, 0], [4, 0, 1], [4, 5]]}),
+            r"^room\.floor\[1\]: invalid length 3",
+        ),
+    ],
+)
+def test_misplaced_operands_and_bad_keys_are_named(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_the_right_places_answer():
+    # The bed (y from -4 to -2) against wall 0 (y = -4) of conftest's room, once given as room=.
+    assert sceneeval.relation("against_wall", BED, room=ROOM) > 0.5
+
+
 def test_a_bad_row_beyond_the_first_chunk_is_named_by_its_index():
     targets = np.tile(BOX[0], (3000, 1))
     targets[2500, 0] = np.nan

@@ -57,7 +57,7 @@ def test_plausibility_reports_collisions_with_per_object_evidence():
     assert overlapping.plausibility(plan="collision,support")["metrics"] == ["collision", "support"]
     with pytest.raises(ValueError, match="unknown metric"):
         overlapping.plausibility(metrics=["colision"])
-    with pytest.raises(ValueError, match=r'plan "refrence" is not geometry, full, a metric list or an existing file'):
+    with pytest.raises(ValueError, match=r'^plan: "refrence" is not geometry, full, a plan file or a metric list'):
         overlapping.plausibility(plan="refrence")
     with pytest.raises(ValueError, match=r"unknown preset"):
         overlapping.plausibility(preset="refrence")

@@ -13,7 +13,6 @@
 //! the result is the exact maximum, usually after one or two exact distance queries.
 
 use sceneeval_geom::{ClosestPoints, Obb, Point3, Real, Vector3};
-use sceneeval_scene::OpeningKind;
 
 use crate::clip::{HalfSpace, box_volume_inside};
 use crate::distance::{object_box_closest, object_triangle_closest};
@@ -169,7 +168,8 @@ impl Best {
     }
 }
 
-/// The best score of `band` over the elements of one kind (0 when the room has none).
+/// The best score of `band` over the elements of one kind (0 when the room has none; floors,
+/// ceilings and rooms are not measured, see [`crate::DISTANCE_ELEMENTS`]).
 fn element_band(
     target: &ObjectGeom<'_>,
     room: &Room,
@@ -202,17 +202,14 @@ pub(crate) fn element_band_best(
                 },
             )
         }
-        ArchElement::Door | ArchElement::Window => {
-            let kind = if element == ArchElement::Door {
-                OpeningKind::Door
-            } else {
-                OpeningKind::Window
-            };
+        _ => {
+            // Doors and windows: the openings of that kind (none for the other kinds).
+            let kind = element.opening();
             let openings = room.openings();
             best_of(
                 openings.len(),
                 |i| {
-                    if openings[i].kind == kind {
+                    if Some(openings[i].kind) == kind {
                         band_upper(band, probe.bounds(&openings[i].obb))
                     } else {
                         0.0
@@ -868,6 +865,12 @@ mod tests {
         .build()
         .unwrap();
         assert_eq!(near(&g(&chair), &plain, ArchElement::Window, &p), 0.0);
+        // Floors, ceilings and rooms are no distance targets (parsing refuses them): a
+        // relation built with one directly finds no element and scores 0, even for `far`.
+        for e in [ArchElement::Floor, ArchElement::Ceiling, ArchElement::Room] {
+            assert_eq!(next_to(&g(&chair), &r, e, &p), 0.0);
+            assert_eq!(far(&g(&chair), &r, e, &p), 0.0);
+        }
     }
 
     #[test]

@@ -1,4 +1,5 @@
-//! Dispatch by [`Relation`] on plain geometry, one call or many.
+//! The batch forms: one relation scored for many objects into a caller-owned slice, through
+//! the one dispatcher ([`crate::score`]).
 //!
 //! # Performance
 //! The batch forms are plain loops over the kernels writing into a caller-owned slice: no
@@ -9,41 +10,23 @@ use sceneeval_geom::Real;
 
 use sceneeval_scene::Room;
 
-use crate::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, arch, pairwise};
+use crate::dispatch::expect_kind;
+use crate::{ObjectGeom, Operands, Relation, RelationError, RelationKind, RelationParams};
 
-/// The score of a two-object relation: `target` relative to `anchor`.
+/// The score of a two-object relation: `target` relative to `anchor` ([`crate::score`] on
+/// [`Operands::pair`]).
 ///
 /// # Errors
 /// [`RelationError::WrongKind`] for `surround` or an object-architecture relation.
+#[inline]
 pub fn score_pair(
     relation: Relation,
     target: &ObjectGeom<'_>,
     anchor: &ObjectGeom<'_>,
     params: &RelationParams,
 ) -> Result<Real, RelationError> {
-    Ok(match relation {
-        Relation::InsideOf => pairwise::inside_of(target, anchor, params),
-        Relation::OutsideOf => pairwise::outside_of(target, anchor, params),
-        Relation::FaceTo => crate::face_to(target, anchor, params),
-        Relation::SideOf(side) => pairwise::side_of(target, anchor, side, params),
-        Relation::SideRegion(side) => pairwise::side_region(target, anchor, side, params),
-        Relation::LongShortSideOf(which) => pairwise::long_short_side_of(target, anchor, which, params),
-        Relation::OnTop => pairwise::on_top(target, anchor, params),
-        Relation::MiddleOf => pairwise::middle_of(target, anchor, params),
-        Relation::NextTo => pairwise::next_to(target, anchor, params),
-        Relation::Near => pairwise::near(target, anchor, params),
-        Relation::AcrossFrom => pairwise::across_from(target, anchor, params),
-        Relation::Far => pairwise::far(target, anchor, params),
-        other => return Err(wrong_kind(other, "a two-object relation")),
-    })
-}
-
-pub(crate) fn wrong_kind(relation: Relation, expected: &'static str) -> RelationError {
-    RelationError::WrongKind {
-        relation: relation.to_string(),
-        actual: relation.kind().describe(),
-        expected,
-    }
+    expect_kind(relation, RelationKind::ObjectObject)?;
+    crate::score(relation, &Operands::pair(*target, *anchor), params)
 }
 
 /// Scores one two-object relation for many (target, anchor) pairs into `out`
@@ -72,19 +55,17 @@ pub fn score_pairs(
     params: &RelationParams,
     out: &mut [Real],
 ) -> Result<(), RelationError> {
-    if relation.kind() != RelationKind::ObjectObject {
-        return Err(wrong_kind(relation, "a two-object relation"));
-    }
+    expect_kind(relation, RelationKind::ObjectObject)?;
     check_len("anchors", anchors.len(), targets.len())?;
     check_len("out", out.len(), targets.len())?;
     for ((a, b), o) in targets.iter().zip(anchors).zip(out.iter_mut()) {
-        *o = score_pair(relation, a, b, params)?;
+        *o = crate::score(relation, &Operands::pair(*a, *b), params)?;
     }
     Ok(())
 }
 
 /// Scores one object-architecture relation for many objects against the same rooms into
-/// `out` (the best room for each object, see [`arch::score_rooms`]).
+/// `out` (the best room for each object, see [`crate::arch::score_rooms`]).
 ///
 /// # Errors
 /// [`RelationError::LengthMismatch`] when `out` and `objects` differ in length,
@@ -96,12 +77,10 @@ pub fn score_objects_in_rooms(
     params: &RelationParams,
     out: &mut [Real],
 ) -> Result<(), RelationError> {
-    if !relation.is_architectural() {
-        return Err(wrong_kind(relation, "an object-architecture relation"));
-    }
+    expect_kind(relation, RelationKind::ObjectArchitecture)?;
     check_len("out", out.len(), objects.len())?;
     for (a, o) in objects.iter().zip(out.iter_mut()) {
-        *o = arch::score_rooms(relation, a, rooms, params)?;
+        *o = crate::score(relation, &Operands::in_rooms(*a, rooms), params)?;
     }
     Ok(())
 }
@@ -117,6 +96,7 @@ fn check_len(what: &'static str, got: usize, expected: usize) -> Result<(), Rela
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pairwise;
     use sceneeval_geom::{Obb, Point3, Side, Vector3};
 
     #[test]

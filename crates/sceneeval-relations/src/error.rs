@@ -128,10 +128,10 @@ pub enum RelationError {
         /// What it must satisfy.
         reason: &'static str,
     },
-    /// A number of a box or room given as plain data is NaN or infinite.
+    /// A number of an object given as plain data is NaN or infinite.
     #[error("{field} is not finite")]
     NotFinite {
-        /// The field, e.g. `target.center` or `room.floor[3]`.
+        /// The field, e.g. `target.center` or `anchor.yaw`.
         field: String,
     },
     /// Two inputs that exclude each other were both given.
@@ -167,21 +167,6 @@ pub enum RelationError {
         relation: String,
         /// The operand.
         operand: &'static str,
-    },
-    /// An opening of a room given as plain data is neither a door nor a window.
-    #[error("room.openings[{index}].kind {kind:?} is not \"door\" or \"window\"")]
-    UnknownOpeningKind {
-        /// Position of the opening in the room's list.
-        index: usize,
-        /// The kind given.
-        kind: String,
-    },
-    /// The room builder rejected a room given as plain data.
-    #[error("room: {source}")]
-    Room {
-        /// What the room builder rejected.
-        #[source]
-        source: sceneeval_scene::SceneError,
     },
     /// Plain geometry given to a constructor was rejected.
     #[error("{what}: {source}")]

@@ -10,15 +10,21 @@
 //!   centroid and rectangle), so the kernels only borrow them (build one from an outline with
 //!   `sceneeval_scene::RoomBuilder`). The object-object kernels are at the crate root
 //!   ([`side_of`], [`next_to`], [`surround`], ...), the object-architecture kernels in
-//!   [`arch`], dispatch by [`Relation`] and the batch forms in [`batch`]. Every kernel takes
-//!   the **target** (the object being located) before the **anchor** (or the room).
+//!   [`arch`], the batch forms in [`batch`]. Every kernel takes the **target** (the object
+//!   being located) before the **anchor** (or the room).
+//! - **One dispatcher**, [`score`]: a [`Relation`] and its [`Operands`] to the kernel, with
+//!   the operands checked against the relation's kind and the one limit on `surround`'s
+//!   targets ([`SURROUND_REFERENCE_MAX_TARGETS`]). The batch forms, [`SceneRelations`] and the
+//!   front ends that read queries as plain data (`sceneeval relate`, the Python package,
+//!   through the facade's `sceneeval::relate::Session`) all score through it.
 //! - **Scene-level evaluation** by object index or id: [`SceneRelations`] with [`Query`] and
 //!   [`Evaluation`]; unknown ids, missing anchors and relations of the wrong kind are
 //!   [`RelationError`]s. It borrows the scene per call, so a loop can move objects
 //!   (`Scene::set_pose`) and ask again without preparing anything.
 //!
 //! The vocabulary ([`Relation`]) parses and prints the snake_case names of the paper and the
-//! reference's relationship-mapping prompts; every parameter, with its unit, is a field of
+//! reference's relationship-mapping prompts, and reads a query's `relation`, `side` and `arch`
+//! fields ([`Relation::from_fields`]); every parameter, with its unit, is a field of
 //! [`RelationParams`].
 //!
 //! **Gradients**: [`grad`] gives every score with its derivatives with respect to the
@@ -143,6 +149,7 @@
 pub mod arch;
 pub mod batch;
 mod clip;
+mod dispatch;
 mod distance;
 mod error;
 mod face_to;
@@ -153,14 +160,8 @@ mod params;
 pub mod prelude;
 mod relation;
 mod scene_eval;
-pub mod spec;
 
-/// The geometry crate this one is built on (boxes, meshes, points), re-exported so that a
-/// program depending on `sceneeval-relations` alone can build its inputs.
-pub use sceneeval_geom as geom;
-/// The scene crate (rooms, scenes), re-exported for the same reason.
-pub use sceneeval_scene as scene;
-
+pub use dispatch::{Operands, SURROUND_REFERENCE_MAX_TARGETS, Targets, score};
 pub use distance::object_distance;
 pub use error::RelationError;
 pub use face_to::face_to;
@@ -173,5 +174,15 @@ pub use params::{
     CornerWalls, DistanceBand, DistanceFrom, FaceToHeights, OnTopPlane, RelationParams, RoomCentre,
     SurroundVariant,
 };
-pub use relation::{ArchElement, LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES, Relation, RelationKind};
-pub use scene_eval::{Evaluation, Query, SURROUND_REFERENCE_MAX_TARGETS, SceneRelations};
+pub use relation::{
+    DISTANCE_ELEMENTS, LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES, Relation, RelationKind,
+};
+pub use scene_eval::{Evaluation, Query, SceneRelations};
+/// The geometry crate this one is built on (boxes, meshes, points), re-exported so that a
+/// program depending on `sceneeval-relations` alone can build its inputs.
+pub use sceneeval_geom as geom;
+/// The scene crate (rooms, scenes), re-exported for the same reason.
+pub use sceneeval_scene as scene;
+/// The kinds of architectural element (the scene model's vocabulary); the distance relations
+/// take [`DISTANCE_ELEMENTS`].
+pub use sceneeval_scene::ArchElement;

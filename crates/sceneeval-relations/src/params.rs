@@ -16,13 +16,13 @@ use crate::RelationError;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct DistanceBand {
-    /// Lower end of the range (metres).
+    /// Lower end of the range (metres). Range: finite, at most `max`.
     pub min: Real,
     /// Upper end of the range (metres; `f64::INFINITY` for "and beyond", written as `null`
-    /// in JSON).
+    /// in JSON). Range: at least `min`, not NaN.
     #[cfg_attr(feature = "serde", serde(with = "infinite_as_null"))]
     pub max: Real,
-    /// Standard deviation of the fall-off outside the range (metres, positive).
+    /// Standard deviation of the fall-off outside the range (metres). Range: finite, `> 0`.
     pub sigma: Real,
 }
 
@@ -187,37 +187,45 @@ pub enum DistanceFrom {
 /// values (`configs/metrics.yaml`) with this crate's deliberate choices for the reference's
 /// quirks; [`RelationParams::reference`] switches those choices to the reference's behaviour.
 /// Lengths are metres, angles degrees (as in the reference's configuration).
+///
+/// Each field's docs end with its range, which [`RelationParams::validate`] checks: scores
+/// and shares in `[0, 1]`; lengths, margins and weights finite and `>= 0`; standard
+/// deviations finite and `> 0`; bands as [`DistanceBand`] says.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 pub struct RelationParams {
-    /// A relation holds when its score is strictly above this (0.5).
+    /// A relation holds when its score is strictly above this (0.5). Range: `[0, 1]`.
     pub threshold: Real,
     /// Tolerance of the box-membership tests (metres, `1e-6`): box faces are moved outward by
-    /// this much, as the reference's `contains` and face tests do.
+    /// this much, as the reference's `contains` and face tests do. Range: finite, `>= 0`.
     pub tolerance: Real,
     /// Smallest half extent a box is given for volume fractions (metres, `5e-7`): flat boxes
     /// (a rug of height 0) get this thickness, as the reference clamps full sizes to `1e-6`.
+    /// Range: finite, `>= 0`.
     pub min_half_extent: Real,
     /// `side_of`: how much the anchor's face is enlarged sideways (0.25 = 25 % of each lateral
-    /// half extent; the region is unbounded away from the face, as in the reference).
+    /// half extent; the region is unbounded away from the face, as in the reference). Range:
+    /// finite, `>= 0`.
     pub side_of_margin: Real,
     /// `side_region`, `long_short_side_of`, `on_top`, `on_wall`, `against_wall`: relative
-    /// enlargement of the lateral extents (the reference's `1e-9`).
+    /// enlargement of the lateral extents (the reference's `1e-9`). Range: finite, `>= 0`.
     pub region_margin: Real,
     /// `face_to`: deviation angle at which the score reaches 0 (degrees, 30; holds below 15).
+    /// Range: `(0, 180]`.
     pub face_to_max_deviation_deg: Real,
     /// `face_to` against a mesh: rays per side of the square grid over the target's
-    /// cross-section (8, so 64 rays). Boxes are handled exactly without rays.
+    /// cross-section (8, so 64 rays). Boxes are handled exactly without rays. Range: 1 to
+    /// [`RelationParams::MAX_FACE_TO_MESH_RAYS`] (the rays per pair grow as its square).
     pub face_to_mesh_rays: u32,
     /// `face_to`: the anchor counts at any height (plan view) or only at the target's.
     pub face_to_heights: FaceToHeights,
     /// `middle_of`: standard deviation of the plan-view centre distance (metres, 0.25; holds
-    /// below 0.294 m).
+    /// below 0.294 m). Range: finite, `> 0`.
     pub middle_of_sigma: Real,
-    /// `surround`: weight of the distance term (0.5).
+    /// `surround`: weight of the distance term (0.5). Range: finite, `>= 0`.
     pub surround_distance_weight: Real,
-    /// `surround`: weight of the angle term (0.5).
+    /// `surround`: weight of the angle term (0.5). Range: finite, `>= 0`.
     pub surround_angle_weight: Real,
     /// `surround`: mean distances and plan-view gaps, or the reference's median and 3-D angles.
     pub surround_variant: SurroundVariant,
@@ -241,21 +249,22 @@ pub struct RelationParams {
     pub arch_far: DistanceBand,
     /// What distances are measured from.
     pub distance_from: DistanceFrom,
-    /// `middle_of_room`: base standard deviation (metres, 1.0).
+    /// `middle_of_room`: base standard deviation (metres, 1.0). Range: finite, `> 0`.
     pub middle_of_room_base_sigma: Real,
     /// `middle_of_room`: weight of the object's longer plan side in the standard deviation
-    /// (0.5, the paper's `o/2`).
+    /// (0.5, the paper's `o/2`). Range: finite, `>= 0`.
     pub middle_of_room_size_weight: Real,
-    /// `middle_of_room`: weight of the `(1 - o/r)` term (1.0).
+    /// `middle_of_room`: weight of the `(1 - o/r)` term (1.0). Range: finite, `>= 0`.
     pub middle_of_room_ratio_weight: Real,
     /// `middle_of_room`: which point of the floor is the room's centre.
     pub room_centre: RoomCentre,
     /// `corner_of_room`: per-wall distance band ([0, 0.8] m, sigma 0.25 m).
     pub corner_wall: DistanceBand,
     /// `corner_of_room`: two walls are perpendicular when the absolute dot product of their
-    /// directions is below this (0.15).
+    /// directions is below this (0.15). Range: `[0, 1]`.
     pub corner_perpendicular_threshold: Real,
-    /// `corner_of_room`: a room counts only if `inside_room` is at least this (0.5).
+    /// `corner_of_room`: a room counts only if `inside_room` is at least this (0.5). Range:
+    /// `[0, 1]`.
     pub corner_min_inside_room: Real,
     /// `corner_of_room`: wall normals (paper) or mean directions (reference).
     pub corner_walls: CornerWalls,
@@ -308,6 +317,9 @@ impl Default for RelationParams {
 }
 
 impl RelationParams {
+    /// The largest `face_to_mesh_rays`: 64 per side, 4,096 rays per target and mesh anchor.
+    pub const MAX_FACE_TO_MESH_RAYS: u32 = 64;
+
     /// The defaults with every quirk switch set to the reference's behaviour: `on_top` from the
     /// centre plane, `surround` with the median and 3-D angles, `middle_of_room` from the
     /// floor's bounds centre, `corner_of_room` from mean directions, distances from the
@@ -330,8 +342,9 @@ impl RelationParams {
         score > self.threshold
     }
 
-    /// Checks every parameter's domain (positive standard deviations, ordered ranges,
-    /// non-negative margins and tolerances, at least one `face_to` ray).
+    /// Checks every parameter against its documented range (positive standard deviations,
+    /// ordered bands, non-negative margins, tolerances and weights, thresholds and shares in
+    /// `[0, 1]`, 1 to [`RelationParams::MAX_FACE_TO_MESH_RAYS`] `face_to` rays per side).
     ///
     /// # Errors
     /// [`RelationError::BadParameter`] naming the first bad field.
@@ -362,10 +375,6 @@ impl RelationParams {
             ("surround_angle_weight", self.surround_angle_weight),
             ("middle_of_room_size_weight", self.middle_of_room_size_weight),
             ("middle_of_room_ratio_weight", self.middle_of_room_ratio_weight),
-            (
-                "corner_perpendicular_threshold",
-                self.corner_perpendicular_threshold,
-            ),
         ];
         for (name, value) in non_negative {
             if !(value.is_finite() && value >= 0.0) {
@@ -390,18 +399,35 @@ impl RelationParams {
                 });
             }
         }
-        if self.face_to_mesh_rays == 0 {
+        let unit = [
+            ("threshold", self.threshold),
+            (
+                "corner_perpendicular_threshold",
+                self.corner_perpendicular_threshold,
+            ),
+            ("corner_min_inside_room", self.corner_min_inside_room),
+        ];
+        for (name, value) in unit {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(RelationError::BadParameter {
+                    name,
+                    value,
+                    reason: "must lie in [0, 1]",
+                });
+            }
+        }
+        if self.face_to_max_deviation_deg > 180.0 {
             return Err(RelationError::BadParameter {
-                name: "face_to_mesh_rays",
-                value: 0.0,
-                reason: "must be at least 1",
+                name: "face_to_max_deviation_deg",
+                value: self.face_to_max_deviation_deg,
+                reason: "must be at most 180 degrees",
             });
         }
-        if !self.threshold.is_finite() || !self.corner_min_inside_room.is_finite() {
+        if !(1..=Self::MAX_FACE_TO_MESH_RAYS).contains(&self.face_to_mesh_rays) {
             return Err(RelationError::BadParameter {
-                name: "threshold",
-                value: self.threshold,
-                reason: "must be finite",
+                name: "face_to_mesh_rays",
+                value: f64::from(self.face_to_mesh_rays),
+                reason: "must lie in [1, 64]",
             });
         }
         Ok(())
@@ -456,6 +482,60 @@ mod tests {
             ..Default::default()
         };
         assert!(p.validate().is_err());
+    }
+
+    #[test]
+    fn every_numeric_parameter_has_a_checked_range() {
+        // One value beyond each documented range; `u32::MAX` rays per side would cast
+        // 1.8e19 rays per pair.
+        type Mutation = (&'static str, fn(&mut RelationParams));
+        let cases: &[Mutation] = &[
+            ("threshold", |p| p.threshold = 1.5),
+            ("threshold", |p| p.threshold = -0.1),
+            ("threshold", |p| p.threshold = Real::NAN),
+            ("tolerance", |p| p.tolerance = Real::INFINITY),
+            ("min_half_extent", |p| p.min_half_extent = -1.0),
+            ("region_margin", |p| p.region_margin = Real::NAN),
+            ("face_to_max_deviation_deg", |p| p.face_to_max_deviation_deg = 0.0),
+            ("face_to_max_deviation_deg", |p| {
+                p.face_to_max_deviation_deg = 181.0
+            }),
+            ("face_to_mesh_rays", |p| {
+                p.face_to_mesh_rays = RelationParams::MAX_FACE_TO_MESH_RAYS + 1
+            }),
+            ("face_to_mesh_rays", |p| p.face_to_mesh_rays = u32::MAX),
+            ("middle_of_sigma", |p| p.middle_of_sigma = 0.0),
+            ("surround_angle_weight", |p| p.surround_angle_weight = -0.5),
+            ("middle_of_room_base_sigma", |p| {
+                p.middle_of_room_base_sigma = Real::INFINITY
+            }),
+            ("middle_of_room_size_weight", |p| {
+                p.middle_of_room_size_weight = Real::NAN
+            }),
+            ("corner_perpendicular_threshold", |p| {
+                p.corner_perpendicular_threshold = 2.0
+            }),
+            ("corner_min_inside_room", |p| p.corner_min_inside_room = Real::NAN),
+            ("far", |p| p.far.min = Real::INFINITY),
+            ("on_wall", |p| p.on_wall.max = Real::NAN),
+            ("against_wall", |p| p.against_wall.sigma = Real::INFINITY),
+        ];
+        for (name, mutate) in cases {
+            let mut p = RelationParams::default();
+            mutate(&mut p);
+            match p.validate() {
+                Err(RelationError::BadParameter { name: n, .. }) => assert_eq!(n, *name),
+                other => panic!("{name}: expected a bad parameter, got {other:?}"),
+            }
+        }
+        let p = RelationParams {
+            threshold: 1.0,
+            face_to_mesh_rays: RelationParams::MAX_FACE_TO_MESH_RAYS,
+            face_to_max_deviation_deg: 180.0,
+            corner_min_inside_room: 0.0,
+            ..Default::default()
+        };
+        assert!(p.validate().is_ok());
     }
 
     #[cfg(feature = "serde")]

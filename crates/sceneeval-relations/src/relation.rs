@@ -4,6 +4,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use sceneeval_geom::Side;
+use sceneeval_scene::ArchElement;
 
 use crate::RelationError;
 
@@ -27,32 +28,12 @@ impl LongShort {
     }
 }
 
-/// The kind of architectural element the four object-architecture distance relations measure
-/// against. The mapping prompt also offers `floor`, `ceiling` and `room`; for the distance
-/// relations those are rejected (the reference asserts, quirk Q19).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ArchElement {
-    /// Any wall (its solid slab with doors and windows cut out).
-    Wall,
-    /// Any door opening.
-    Door,
-    /// Any window opening.
-    Window,
-}
-
-impl ArchElement {
-    /// `"wall"`, `"door"` or `"window"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            ArchElement::Wall => "wall",
-            ArchElement::Door => "door",
-            ArchElement::Window => "window",
-        }
-    }
-
-    /// All three element kinds.
-    pub const ALL: [ArchElement; 3] = [ArchElement::Wall, ArchElement::Door, ArchElement::Window];
-}
+/// The kinds of architectural element the four object-architecture distance relations
+/// (`next_to`, `near`, `across_from`, `far`) measure against: walls, doors and windows. The
+/// mapping prompt also offers `floor`, `ceiling` and `room`; for the distance relations those
+/// are rejected by every parser (the reference asserts, quirk Q19), and a relation built with
+/// one directly scores 0 (the room has no wall or opening of that kind).
+pub const DISTANCE_ELEMENTS: [ArchElement; 3] = [ArchElement::Wall, ArchElement::Door, ArchElement::Window];
 
 /// What a relation relates, which decides the API that evaluates it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -501,11 +482,11 @@ impl Base {
     }
 }
 
-/// An element type (`wall`, `door`, `window`, or their plurals).
+/// An element type of [`DISTANCE_ELEMENTS`] (`wall`, `door`, `window`, or their plurals).
 fn parse_element(relation: &'static str, a: &str) -> Result<ArchElement, RelationError> {
     let wanted = a.trim().to_ascii_lowercase();
     let singular = wanted.strip_suffix('s').unwrap_or(&wanted);
-    ArchElement::ALL
+    DISTANCE_ELEMENTS
         .into_iter()
         .find(|e| e.name() == wanted || e.name() == singular)
         .ok_or_else(|| RelationError::BadArgument {
@@ -619,7 +600,7 @@ impl Relation {
                 Relation::AcrossFrom,
                 Relation::Far,
             ]);
-        let elements = ArchElement::ALL;
+        let elements = DISTANCE_ELEMENTS;
         let arch = elements
             .into_iter()
             .map(Relation::NextToArch)
@@ -712,6 +693,62 @@ impl Relation {
         }
         Ok(r)
     }
+
+    /// The relation of a query's `relation`, `side` and `arch` fields (`sceneeval relate`'s
+    /// lines, the Python package's `relation(name, side=, arch=)`): a name plus a `side`
+    /// (`left`, ..., `bottom`, or `long`/`short`) or an architecture element (`wall`, `door`,
+    /// `window`). The name may carry its argument itself, as in `side_of(left)` or
+    /// `next_to:wall`; then `side` and `arch` must be absent.
+    ///
+    /// ```
+    /// use sceneeval_relations::{ArchElement, Relation};
+    /// use sceneeval_geom::Side;
+    /// assert_eq!(Relation::from_fields("side_of", Some("left"), None).unwrap(), Relation::SideOf(Side::Left));
+    /// assert_eq!(Relation::from_fields("near", None, Some("door")).unwrap(), Relation::NearArch(ArchElement::Door));
+    /// assert_eq!(Relation::from_fields("near(door)", None, None).unwrap(), Relation::NearArch(ArchElement::Door));
+    /// assert!(Relation::from_fields("near", Some("left"), None).is_err(), "a distance relation takes no side");
+    /// ```
+    ///
+    /// # Errors
+    /// [`RelationError::UnknownRelation`] and the argument errors of
+    /// [`Relation::from_parts`]; [`RelationError::Conflict`] when both `side` and `arch` are
+    /// given or the name already carries an argument; [`RelationError::BadArgument`] for a side
+    /// on a distance relation (`next_to`, `near`, `across_from`, `far`), whose argument is an
+    /// architecture element.
+    pub fn from_fields(
+        name: &str,
+        side: Option<&str>,
+        arch: Option<&str>,
+    ) -> Result<Relation, RelationError> {
+        let name = name.trim();
+        if name.contains('(') || name.contains(':') {
+            if side.is_some() || arch.is_some() {
+                return Err(RelationError::Conflict {
+                    what: format!("relation {name:?}"),
+                    first: "an argument in the name",
+                    second: "\"side\"/\"arch\"",
+                });
+            }
+            return name.parse::<Relation>();
+        }
+        match (side, arch) {
+            (Some(_), Some(_)) => Err(RelationError::Conflict {
+                what: format!("relation {name:?}"),
+                first: "\"side\"",
+                second: "\"arch\"",
+            }),
+            (Some(side), None) if Base::parse(name).is_ok_and(Base::is_distance) => {
+                Err(RelationError::BadArgument {
+                    relation: "a distance relation",
+                    value: side.to_owned(),
+                    expected: "a side: its argument is an architecture element (wall, door, window) given as \"arch\"",
+                })
+            }
+            (Some(side), None) => Relation::from_parts(name, Some(side)),
+            (None, Some(element)) => Relation::from_arch_mapping(name, Some(element)),
+            (None, None) => Relation::from_parts(name, None),
+        }
+    }
 }
 
 impl fmt::Display for Relation {
@@ -761,6 +798,54 @@ impl<'de> serde::Deserialize<'de> for Relation {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn query_fields_take_the_argument_one_way_only() {
+        assert_eq!(
+            Relation::from_fields("side_of", Some("left"), None)
+                .unwrap()
+                .to_string(),
+            "side_of(left)"
+        );
+        assert_eq!(
+            Relation::from_fields("side_of(left)", None, None).unwrap(),
+            Relation::from_fields("side_of", Some("left"), None).unwrap()
+        );
+        assert_eq!(
+            Relation::from_fields(" Side_Of:Left ", None, None).unwrap(),
+            Relation::SideOf(Side::Left)
+        );
+        assert!(matches!(
+            Relation::from_fields("side_of(left)", Some("left"), None),
+            Err(RelationError::Conflict { .. })
+        ));
+        assert!(matches!(
+            Relation::from_fields("next_to", Some("wall"), Some("wall")),
+            Err(RelationError::Conflict { .. })
+        ));
+        // Every spelling of the four distance relations refuses a side.
+        for name in ["near", "NEXT_TO", "across", "across_from", "far", "far_from"] {
+            assert!(
+                matches!(
+                    Relation::from_fields(name, Some("left"), None),
+                    Err(RelationError::BadArgument { .. })
+                ),
+                "{name}"
+            );
+        }
+        assert_eq!(
+            Relation::from_fields("near", None, Some("wall")).unwrap().kind(),
+            RelationKind::ObjectArchitecture
+        );
+        assert!(matches!(
+            Relation::from_fields("beside", None, None),
+            Err(RelationError::UnknownRelation { .. })
+        ));
+        assert!(matches!(
+            Relation::from_fields("beside", Some("left"), None),
+            Err(RelationError::UnknownRelation { .. })
+        ));
+    }
 
     #[test]
     fn twenty_three_base_names_and_42_relations() {

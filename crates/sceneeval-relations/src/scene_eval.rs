@@ -3,9 +3,8 @@
 use sceneeval_geom::Real;
 use sceneeval_scene::Scene;
 
-use crate::batch::{score_pair, wrong_kind};
-use crate::pairwise::surround_centres;
-use crate::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams, SurroundVariant, arch};
+use crate::dispatch::expect_kind;
+use crate::{ObjectGeom, Operands, Relation, RelationError, RelationKind, RelationParams, Targets};
 
 /// A relation's score and whether it holds (`score > threshold`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,15 +76,10 @@ impl Query {
     }
 }
 
-/// Targets above which `surround` with [`crate::SurroundVariant::Reference`] is refused by
-/// [`SceneRelations`]: that variant compares every pair of targets (`O(N^2)`; 2,048 targets are
-/// about four million comparisons). The paper variant sorts once (`O(N log N)`) and has no
-/// limit.
-pub const SURROUND_REFERENCE_MAX_TARGETS: usize = 2048;
-
 /// Evaluates relations between the objects of a scene, by object index or by id.
 ///
-/// It holds only the validated parameters and borrows the scene per call: rooms were prepared
+/// It holds only the validated parameters and borrows the scene per call, and scores through
+/// the one dispatcher ([`crate::score`]): rooms were prepared
 /// when they were built (`sceneeval_scene::Room`), objects are read where they are, so a
 /// layout optimiser can move objects ([`Scene::set_pose`]) and ask again at once. The calls by
 /// index ([`SceneRelations::pair`], [`SceneRelations::surround`], [`SceneRelations::arch`])
@@ -182,48 +176,38 @@ impl SceneRelations {
         target: usize,
         anchor: usize,
     ) -> Result<Evaluation, RelationError> {
-        if relation.kind() != RelationKind::ObjectObject {
-            return Err(wrong_kind(relation, "a two-object relation"));
-        }
+        expect_kind(relation, RelationKind::ObjectObject)?;
         let (t, a) = (Self::object(scene, target)?, Self::object(scene, anchor)?);
-        score_pair(relation, &t, &a, &self.params).map(|s| self.evaluation(s))
+        crate::score(relation, &Operands::pair(t, a), &self.params).map(|s| self.evaluation(s))
     }
 
     /// `surround`: the objects at `targets` around the one at `anchor`.
     ///
     /// # Errors
     /// [`RelationError::NoSuchObject`]; [`RelationError::TooManyTargets`] for the reference
-    /// variant beyond [`SURROUND_REFERENCE_MAX_TARGETS`] targets.
+    /// variant beyond [`crate::SURROUND_REFERENCE_MAX_TARGETS`] targets.
     pub fn surround(
         &self,
         scene: &Scene,
         targets: &[usize],
         anchor: usize,
     ) -> Result<Evaluation, RelationError> {
-        let anchor = Self::object(scene, anchor)?.obb.center;
+        let anchor = Self::object(scene, anchor)?;
         for &t in targets {
             Self::object(scene, t)?;
         }
-        self.check_surround(targets.len())?;
         let objects = scene.objects();
-        let score = surround_centres(
-            targets.len(),
-            |i| objects[targets[i]].obb().center,
-            &anchor,
+        let centre = |i: usize| objects[targets[i]].obb().center;
+        let targets = Targets::Centres {
+            count: targets.len(),
+            centre: &centre,
+        };
+        crate::score(
+            Relation::Surround,
+            &Operands::surround(targets, anchor),
             &self.params,
-        );
-        Ok(self.evaluation(score))
-    }
-
-    fn check_surround(&self, n: usize) -> Result<(), RelationError> {
-        if self.params.surround_variant == SurroundVariant::Reference && n > SURROUND_REFERENCE_MAX_TARGETS {
-            return Err(RelationError::TooManyTargets {
-                relation: Relation::Surround.to_string(),
-                got: n,
-                limit: SURROUND_REFERENCE_MAX_TARGETS,
-            });
-        }
-        Ok(())
+        )
+        .map(|s| self.evaluation(s))
     }
 
     /// An object-architecture relation for the object at `target`. `floors` (floor ids such as
@@ -252,9 +236,7 @@ impl SceneRelations {
         target: usize,
         floors: impl Iterator<Item = &'f str> + Clone,
     ) -> Result<Evaluation, RelationError> {
-        if !relation.is_architectural() {
-            return Err(wrong_kind(relation, "an object-architecture relation"));
-        }
+        expect_kind(relation, RelationKind::ObjectArchitecture)?;
         let a = Self::object(scene, target)?;
         let rooms = scene.rooms();
         if rooms.is_empty() {
@@ -276,16 +258,15 @@ impl SceneRelations {
                     .iter()
                     .find(|r| r.floor_id() == id || r.id().as_str() == id)
                     .ok_or_else(|| RelationError::UnknownFloor { id: id.to_owned() })?;
-                best = best.max(arch::score_rooms(
+                best = best.max(crate::score(
                     relation,
-                    &a,
-                    std::slice::from_ref(room),
+                    &Operands::in_rooms(a, std::slice::from_ref(room)),
                     &self.params,
                 )?);
             }
             best
         } else {
-            arch::score_rooms(relation, &a, rooms, &self.params)?
+            crate::score(relation, &Operands::in_rooms(a, rooms), &self.params)?
         };
         Ok(self.evaluation(score))
     }
@@ -320,14 +301,21 @@ impl SceneRelations {
                 self.pair(scene, relation, target, anchor()?)
             }
             RelationKind::MultiTarget => {
-                let anchor = Self::object(scene, anchor()?)?.obb.center;
+                let anchor = Self::object(scene, anchor()?)?;
                 for id in &query.targets {
                     Self::object_index(scene, id)?;
                 }
-                self.check_surround(query.targets.len())?;
-                let centre = |i: usize| scene.object(&query.targets[i]).map_or(anchor, |o| o.obb().center);
-                let score = surround_centres(query.targets.len(), centre, &anchor, &self.params);
-                Ok(self.evaluation(score))
+                let centre = |i: usize| {
+                    scene
+                        .object(&query.targets[i])
+                        .map_or(anchor.obb.center, |o| o.obb().center)
+                };
+                let targets = Targets::Centres {
+                    count: query.targets.len(),
+                    centre: &centre,
+                };
+                crate::score(relation, &Operands::surround(targets, anchor), &self.params)
+                    .map(|s| self.evaluation(s))
             }
             RelationKind::ObjectArchitecture => {
                 let target = Self::object_index(scene, first)?;

@@ -89,3 +89,12 @@ pub enum RenderError {
         source: image::ImageError,
     },
 }
+
+impl RenderError {
+    /// Whether this is the error of a machine without a graphics driver
+    /// ([`RenderError::NoAdapter`]): what tests that need a renderer skip on (with
+    /// `sceneeval_test_support::system::available`), unlike every other error.
+    pub fn is_missing_driver(&self) -> bool {
+        matches!(self, RenderError::NoAdapter { .. })
+    }
+}

@@ -45,6 +45,21 @@ impl Gpu {
     ///
     /// Most callers want [`Gpu::shared`], which opens one device per process.
     ///
+    /// # Driver noise on headless machines
+    /// With Mesa's Vulkan drivers installed and `XDG_RUNTIME_DIR` unset (a container, CI, a
+    /// service), opening the device prints `error: XDG_RUNTIME_DIR is invalid or not set in the
+    /// environment.` to standard error; rendering works all the same. It comes from Mesa's
+    /// implicit layer `VK_LAYER_MESA_device_select`: because wgpu enables the
+    /// `VK_KHR_wayland_surface` instance extension whenever the driver offers it (wgpu 30 has no
+    /// option to leave window-system extensions out), the layer calls libwayland's
+    /// `wl_display_connect` while it orders the adapters, and libwayland prints that line when
+    /// it finds no runtime folder. This crate cannot keep it out without `unsafe` (creating the
+    /// Vulkan instance itself without those extensions, or redirecting file descriptor 2), which
+    /// the workspace forbids, nor set the variables below for its own process (also `unsafe`
+    /// since edition 2024). Set one of them in the environment instead: `NODEVICE_SELECT=1`
+    /// turns the layer off (the Vulkan loader honours it; the adapter is chosen by wgpu
+    /// anyway), or `XDG_RUNTIME_DIR` naming a folder of one's own.
+    ///
     /// # Errors
     /// [`RenderError::NoAdapter`] (with the packages to install) when there is no adapter,
     /// [`RenderError::NoDevice`] when it cannot create a device.

@@ -54,6 +54,11 @@
 //!              pose_from_yaw(Point3::new(2.0, 2.6, 0.375), 0.0))
 //!     .build()
 //!     .unwrap();
+//! # // Without a graphics driver this example is skipped (unless SCENEEVAL_REQUIRE_GPU is set).
+//! # use sceneeval_test_support::system::{GPU, available};
+//! # if available(&GPU, sceneeval_render::Gpu::shared(), sceneeval_render::RenderError::is_missing_driver).is_none() {
+//! #     return;
+//! # }
 //! let renderer = Renderer::new().unwrap();
 //! let prepared = renderer.prepare(&scene, &AssetLibrary::new()).unwrap();
 //! let settings = RenderSettings::square(64);
@@ -231,15 +236,53 @@ impl PreparedScene {
     }
 }
 
-/// Writes `image` as a PNG file (deterministic: the same pixels give the same bytes).
+/// Writes `image` as a PNG file (deterministic: the same pixels give the same bytes),
+/// atomically: encoded in memory, then written through a unique temporary file in the same
+/// folder and renamed over `path` ([`sceneeval_files::write_atomic`]), so that a full disk or
+/// a crash never leaves an empty or partial image and two writers of one file never fail.
 ///
 /// # Errors
-/// [`RenderError::WritePng`] when the file cannot be written.
+/// [`RenderError::WritePng`] when the image cannot be encoded or the file written.
 pub fn write_png(image: &RgbaImage, path: &Path) -> Result<(), RenderError> {
+    let failed = |source| RenderError::WritePng {
+        path: path.to_owned(),
+        source,
+    };
+    let mut bytes = Vec::new();
     image
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|source| RenderError::WritePng {
-            path: path.to_owned(),
-            source,
-        })
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(failed)?;
+    sceneeval_files::write_atomic(path, &bytes).map_err(|e| failed(image::ImageError::IoError(e)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn concurrent_png_writers_never_fail_and_leave_one_whole_image() {
+        // Two writers replace one file 40 times each with a 256 x 256 image of their colour.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("front_bed.png");
+        let images =
+            [[200, 30, 30, 255], [30, 30, 200, 255]].map(|c| RgbaImage::from_pixel(256, 256, image::Rgba(c)));
+        std::thread::scope(|s| {
+            for img in &images {
+                let path = &path;
+                s.spawn(move || {
+                    for _ in 0..40 {
+                        write_png(img, path).unwrap();
+                    }
+                });
+            }
+        });
+        let read = image::open(&path).unwrap().to_rgba8();
+        assert!(read == images[0] || read == images[1]);
+        let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert_eq!(names.len(), 1, "no temporary file left");
+        // A folder that cannot be made is an error naming the file.
+        std::fs::write(dir.path().join("file"), "x").unwrap();
+        let err = write_png(&images[0], &dir.path().join("file/top.png")).unwrap_err();
+        assert!(err.to_string().contains("top.png: cannot write PNG"), "{err}");
+    }
 }

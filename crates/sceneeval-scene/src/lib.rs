@@ -55,6 +55,12 @@
 //! object's pose and cached boxes: a layout optimiser can move objects and ask questions in a
 //! loop without preparing anything again and without allocating.
 //!
+//! # Vocabulary
+//! [`ArchElement`] is the one list of architectural element kinds (wall, floor, ceiling,
+//! window, door, room) the crates above name architecture by, and [`label`] the one
+//! normalisation of free-text labels (categories, attributes, relationship words) they compare
+//! text in.
+//!
 //! # Errors
 //! A [`SceneError`] names the element at fault as an [`Element`] (object, room, floor,
 //! ceiling, wall or opening, with the wall's and opening's positions), so that a loader maps
@@ -65,11 +71,13 @@ mod element;
 mod error;
 pub mod hints;
 mod ids;
+pub mod label;
 mod object;
 mod scene;
 
 pub use arch::{
-    Ceiling, Floor, InwardEvidence, Opening, OpeningKind, PlacedOpening, Room, RoomBuilder, Wall, WallSpec,
+    ArchElement, Ceiling, Floor, InwardEvidence, Opening, OpeningKind, OpeningSpec, PlacedOpening, Room,
+    RoomBuilder, RoomSpec, RoomSpecError, Wall, WallSpec,
 };
 pub use element::Element;
 pub use error::SceneError;

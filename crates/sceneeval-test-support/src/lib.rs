@@ -1,6 +1,10 @@
 //! Scaffolding shared by the workspace's tests, examples and benchmarks, so that each is
 //! written once: the standard 4 x 5 m bedroom, box meshes in the `f32` form asset writers
-//! take, and the procedural scenes of the plausibility benchmarks ([`scenes`]). Not published; crates use it only as a dev-dependency (tier `dev`).
+//! take, the procedural scenes of the plausibility benchmarks ([`scenes`]), a scripted VLM for
+//! fixture scenes 2 and 8 with the annotation rows its tests check ([`fidelity_model`]), and
+//! the one decision whether a test that needs a system package (a GPU driver) runs, skips with
+//! the reason or fails ([`system`]). Not published; crates use it only as a dev-dependency
+//! (tier `dev`).
 //!
 //! It depends on `sceneeval-geom` and `sceneeval-scene` only, so the unit tests of every crate
 //! above them can use it (a crate's own unit tests cannot use a helper crate that depends on
@@ -16,7 +20,9 @@
 //! assert!((room.floor().area() - 20.0).abs() < 1e-12);
 //! ```
 
+pub mod fidelity_model;
 pub mod scenes;
+pub mod system;
 
 use sceneeval_geom::{CUBOID_TRIANGLES, Point2, cuboid_corner};
 use sceneeval_scene::RoomBuilder;

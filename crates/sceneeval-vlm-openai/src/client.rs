@@ -8,7 +8,8 @@ use reqwest::header::{AUTHORIZATION, CONTENT_TYPE, HeaderMap, HeaderValue};
 use serde::Serialize;
 use tokio::sync::Semaphore;
 
-use sceneeval_vlm::{Answer, Vlm, VlmError, VlmRequest};
+use sceneeval_vlm::{Answer, AnswerContent, Vlm, VlmError, VlmRequest};
+use serde_json::Value;
 
 use crate::wire::{ChatResponse, ErrorBody, Sampling, request_body};
 use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy, TEMPERATURE_RANGE};
@@ -29,7 +30,9 @@ use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy, TEMPERATURE_RANGE};
 /// The API key goes only into the `Authorization` header (marked sensitive). It never appears
 /// in `Debug` output, logs or errors; server error messages are shown with anything shaped
 /// like a key (`sk-...`) or equal to it removed, and not at all for 401 and 403 (OpenAI's
-/// message quotes part of the key).
+/// message quotes part of the key). An answer that echoes the key has it replaced by
+/// `[redacted]` before it is returned, so the key never reaches a cache file, a re-ask prompt
+/// or a report. A base URL with credentials, a query string or a fragment is refused.
 pub struct OpenAiVlm {
     url: String,
     base_url: String,
@@ -115,19 +118,20 @@ impl OpenAiVlm {
     /// A client with `config`.
     ///
     /// # Errors
-    /// [`OpenAiError::InvalidBaseUrl`] for a base URL that is not `http(s)://...`,
+    /// [`OpenAiError::InvalidBaseUrl`] for a base URL that is not `http(s)://...` or that
+    /// holds credentials (`user:pass@`), a query string or a fragment (not shown in the error),
     /// [`OpenAiError::InvalidSetting`] for zero concurrency or timeouts, a temperature outside
     /// 0 to 2 or a token limit of 0,
     /// [`OpenAiError::Client`] when the HTTP client cannot be built.
     pub fn new(config: OpenAiConfig) -> Result<Self, OpenAiError> {
         let base = config.base_url.trim().trim_end_matches('/').to_owned();
         let parsed = reqwest::Url::parse(&base).map_err(|e| OpenAiError::InvalidBaseUrl {
-            url: config.base_url.clone(),
+            url: shown_url(&config.base_url),
             message: e.to_string(),
         })?;
         if !matches!(parsed.scheme(), "http" | "https") {
             return Err(OpenAiError::InvalidBaseUrl {
-                url: config.base_url.clone(),
+                url: shown_url(&config.base_url),
                 message: format!("scheme {:?}; expected http or https", parsed.scheme()),
             });
         }
@@ -135,6 +139,22 @@ impl OpenAiVlm {
             return Err(OpenAiError::InvalidBaseUrl {
                 url: "(not shown: it contains credentials)".to_owned(),
                 message: "credentials in the URL would be logged; give the key through the environment"
+                    .to_owned(),
+            });
+        }
+        if parsed.query().is_some() || parsed.fragment().is_some() {
+            // The URL without them, so that a key passed as `?api-key=...` is never shown.
+            let mut shown = parsed.clone();
+            shown.set_query(None);
+            shown.set_fragment(None);
+            return Err(OpenAiError::InvalidBaseUrl {
+                url: format!(
+                    "{} (its query or fragment not shown)",
+                    shown.as_str().trim_end_matches('/')
+                ),
+                message: "a query string or fragment would be logged and stored with the results, and \
+                          `/chat/completions` would be appended after it; give the base URL without \
+                          them and the key through the environment"
                     .to_owned(),
             });
         }
@@ -321,7 +341,7 @@ impl OpenAiVlm {
         if status.is_success() {
             return match serde_json::from_str::<ChatResponse>(&text).map_err(|e| e.to_string()) {
                 Ok(reply) => match reply.into_answer() {
-                    Ok((content, usage)) => Attempt::Done(Answer::new(content, usage)),
+                    Ok((content, usage)) => Attempt::Done(Answer::new(self.redact_content(content), usage)),
                     Err(message) => Attempt::Fail(self.invalid_response(message)),
                 },
                 Err(message) => {
@@ -407,6 +427,48 @@ impl OpenAiVlm {
         short
     }
 
+    /// The answer with every occurrence of the key replaced by `[redacted]`: in the reply's
+    /// text and, for a JSON answer, in every string and object key of the parsed value (so a
+    /// key echoed with JSON escapes is caught too). Nothing above the client (the session's
+    /// re-ask prompt, the response cache, reports, logs) ever sees the key.
+    fn redact_content(&self, content: AnswerContent) -> AnswerContent {
+        let Some(key) = self.key.as_ref().map(ApiKey::expose).filter(|k| !k.is_empty()) else {
+            return content;
+        };
+        let scrub = |text: String| {
+            if text.contains(key) {
+                text.replace(key, "[redacted]")
+            } else {
+                text
+            }
+        };
+        fn scrub_value(v: Value, scrub: &dyn Fn(String) -> String) -> Value {
+            match v {
+                Value::String(s) => Value::String(scrub(s)),
+                Value::Array(items) => {
+                    Value::Array(items.into_iter().map(|i| scrub_value(i, scrub)).collect())
+                }
+                Value::Object(map) => Value::Object(
+                    map.into_iter()
+                        .map(|(k, v)| (scrub(k), scrub_value(v, scrub)))
+                        .collect(),
+                ),
+                other => other,
+            }
+        }
+        match content {
+            AnswerContent::Json { value } => AnswerContent::Json {
+                value: scrub_value(value, &scrub),
+            },
+            AnswerContent::NotJson { text, error } => AnswerContent::NotJson {
+                text: scrub(text),
+                error: scrub(error),
+            },
+            AnswerContent::Refusal { text } => AnswerContent::Refusal { text: scrub(text) },
+            AnswerContent::Truncated { text } => AnswerContent::Truncated { text: scrub(text) },
+        }
+    }
+
     /// Removes the key and words shaped like keys (`sk-...`, `Bearer ...`) from a text.
     fn redact(&self, text: &str) -> String {
         let text = match &self.key {
@@ -425,6 +487,19 @@ impl OpenAiVlm {
             after_bearer = bare.eq_ignore_ascii_case("bearer");
         }
         out.join(" ")
+    }
+}
+
+/// A base URL as an error may show it: without anything from the first `?` or `#` on, and not
+/// at all when it may hold credentials (an `@`).
+fn shown_url(url: &str) -> String {
+    let head = url.split(['?', '#']).next().unwrap_or_default();
+    if head.contains('@') {
+        "(not shown: it may contain credentials)".to_owned()
+    } else if head.len() < url.len() {
+        format!("{head} (its query or fragment not shown)")
+    } else {
+        url.to_owned()
     }
 }
 
@@ -498,6 +573,34 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(!err.contains("pw"), "{err}");
+        // A key in the query or fragment is refused without being shown; a URL built from
+        // it would also be wrong (`.../v1?api-key=S/chat/completions`).
+        for url in [
+            "https://x.example/v1?api-key=S3CRET",
+            "https://x.example/v1/?api-key=S3CRET#frag",
+            "https://x.example/v1#S3CRET",
+            "https://x.example/v1?",
+        ] {
+            let err = OpenAiVlm::new(OpenAiConfig::new(url, "m")).unwrap_err();
+            let text = format!("{err} {err:?}");
+            assert!(!text.contains("S3CRET") && !text.contains("api-key"), "{text}");
+            assert!(matches!(err, OpenAiError::InvalidBaseUrl { .. }), "{text}");
+            assert!(
+                text.contains("https://x.example/v1 (its query or fragment not shown)"),
+                "{text}"
+            );
+        }
+        // Nor when the URL does not parse or has another scheme.
+        for url in [
+            "ftp://x/v1?key=S3CRET",
+            "http//x/v1?key=S3CRET",
+            "not a url#S3CRET",
+        ] {
+            let err = OpenAiVlm::new(OpenAiConfig::new(url, "m"))
+                .unwrap_err()
+                .to_string();
+            assert!(!err.contains("S3CRET") && err.contains("not shown"), "{err}");
+        }
         let mut zero = OpenAiConfig::new("http://x/v1", "m");
         zero.max_concurrent_requests = 0;
         assert!(OpenAiVlm::new(zero).is_err());

@@ -1,7 +1,9 @@
 //! A run with an API key set, logging everything at TRACE level (including the `log` records of
-//! reqwest and hyper): neither the log, nor the errors (with their causes), nor `Debug` output,
-//! nor the cache files contain the key or a part of it. Its own test binary, because it
-//! installs the global log subscriber.
+//! reqwest and hyper), against a server that echoes the key in its answers (in JSON, escaped,
+//! in text that is not JSON, in a refusal) and in its error bodies: neither the log, nor the
+//! errors (with their causes), nor `Debug` output, nor the cache files, nor the requests sent
+//! back (the re-ask prompt quotes the previous answer) contain the key or a part of it. Its own
+//! test binary, because it installs the global log subscriber.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -15,7 +17,7 @@ use sceneeval_vlm::tasks::SupportTypeTask;
 use sceneeval_vlm::{Cached, Session};
 use sceneeval_vlm_openai::{ApiKey, OpenAiVlm};
 use serde_json::json;
-use support::{config, json_completion, mount_sequence};
+use support::{bodies, completion, config, mount_sequence, user_text};
 use wiremock::{MockServer, ResponseTemplate};
 
 const KEY: &str = "sk-proj-Zq8TESTSECRETxY41mN0pLw";
@@ -51,11 +53,21 @@ async fn the_key_never_reaches_logs_errors_or_files() {
         .try_init()
         .unwrap();
 
-    // The server: success, a 500 whose body echoes the key, then a 401 quoting a masked key.
+    // The server: an invalid answer echoing the key (as a support type, and with a JSON escape
+    // in its reason), so the task is asked again quoting it; a reply that is not JSON echoing
+    // the key; a refusal echoing it; a 500 whose body echoes it; then a 401 quoting a masked
+    // key.
+    let escaped = KEY.replace('Z', "\\u005a");
     let server = MockServer::start().await;
-    mount_sequence(&server, |n, _| match n {
-        0 => json_completion(&json!({"support_type": "wall", "reason": "hangs"})),
-        1 => ResponseTemplate::new(500).set_body_string(format!("upstream rejected Bearer {KEY} from proxy")),
+    mount_sequence(&server, move |n, _| match n {
+        0 => ResponseTemplate::new(200).set_body_json(completion(&format!(
+            r#"{{"support_type": "{KEY}", "reason": "my key is {escaped}"}}"#
+        ))),
+        1 => ResponseTemplate::new(200).set_body_json(completion(&format!("Sure! Your key is {KEY}."))),
+        2 => ResponseTemplate::new(200).set_body_json(json!({
+            "choices": [{"index": 0, "finish_reason": "stop",
+                         "message": {"role": "assistant", "content": null, "refusal": format!("I cannot use {KEY}")}}]})),
+        3 => ResponseTemplate::new(500).set_body_string(format!("upstream rejected Bearer {KEY} from proxy")),
         _ => ResponseTemplate::new(401).set_body_json(json!({"error": {
             "message": "Incorrect API key provided: sk-proj-****pLw. You can find your API key at https://platform.openai.com/account/api-keys.",
             "code": "invalid_api_key"}})),
@@ -70,8 +82,24 @@ async fn the_key_never_reaches_logs_errors_or_files() {
         .ask(&SupportTypeTask::new(test_image(), test_image()))
         .await
         .unwrap();
-    let err = session.ask(&EndpointCheck::new()).await.unwrap_err();
+    assert_eq!(ok.requests, 2, "the invalid answer was asked again");
+    let refused = session.ask(&EndpointCheck::new()).await.unwrap();
+    assert!(!refused.into_single().unwrap().is_answered());
+    // Asked again without the cache: the 500, then the 401.
+    let err = Session::new(&vlm).ask(&EndpointCheck::new()).await.unwrap_err();
     assert!(err.is_permanent(), "ends with the 401: {err}");
+
+    // What was sent back: the re-ask quotes the previous answer, redacted.
+    let sent = bodies(&server).await;
+    assert_eq!(sent.len(), 5);
+    assert!(
+        user_text(&sent[1]).contains("[redacted]"),
+        "{}",
+        user_text(&sent[1])
+    );
+    for body in &sent {
+        assert_no_key("a request body", &body.to_string());
+    }
 
     // Errors with their whole cause chain, in Display and Debug form.
     let mut chain = format!("{err}\n{err:?}\n");
@@ -86,9 +114,12 @@ async fn the_key_never_reaches_logs_errors_or_files() {
         "Debug output",
         &format!("{vlm:?} {key:?} {ok:?} {:?}", session.usage()),
     );
+    assert!(format!("{ok:?}").contains("[redacted]"), "{ok:?}");
 
-    // Cache files.
-    for entry in walk(cache.path()) {
+    // Cache files: the three answers, each redacted.
+    let files = walk(cache.path());
+    assert_eq!(files.len(), 3, "{files:?}");
+    for entry in files {
         assert_no_key(
             &entry.display().to_string(),
             &std::fs::read_to_string(&entry).unwrap(),

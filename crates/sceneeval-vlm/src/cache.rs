@@ -15,13 +15,15 @@
 //! user text, each image's size, dimensions and hash, the schema), the answer (`kind` `json`,
 //! `not_json`, `refusal` or `truncated`) and the token usage. Images are stored by hash only.
 //!
-//! A file is written to a temporary file in the same folder and renamed into place, so a reader
-//! never sees a partial file and several processes can share one cache: two processes that
-//! answer the same request at once both write a complete file, and the last rename wins.
+//! A file is written to a temporary file with a unique name in the same folder and renamed
+//! into place ([`sceneeval_files::write_atomic`]), so a reader never sees a partial file and
+//! several processes can share one cache: two processes that answer the same request at once
+//! both write a complete file, and the last rename wins. Only regular files are read back (a
+//! named pipe in the cache folder is an error, not a blocked reader).
 //! Everything a model replied is cached, refusals included; errors (timeouts, HTTP failures)
 //! are not.
 
-use std::io::Write;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -153,7 +155,11 @@ impl DiskCache {
     /// it is not a record of this format for this key.
     pub fn load(&self, key: &str) -> Result<Option<CacheRecord>, VlmError> {
         let path = self.path_of(key);
-        let text = match std::fs::read_to_string(&path) {
+        let read = sceneeval_files::open_regular(&path).and_then(|mut file| {
+            let mut text = String::new();
+            file.read_to_string(&mut text).map(|_| text)
+        });
+        let text = match read {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
             Err(e) => return Err(VlmError::io(path, e)),
@@ -175,28 +181,19 @@ impl DiskCache {
         Ok(Some(record))
     }
 
-    /// Stores a record atomically (temporary file, then rename).
+    /// Stores a record atomically (a temporary file with a unique name, then a rename:
+    /// [`sceneeval_files::write_atomic`]).
     ///
     /// # Errors
     /// [`VlmError::Io`] when the folder or file cannot be written.
     pub fn store(&self, record: &CacheRecord) -> Result<PathBuf, VlmError> {
         let path = self.path_of(&record.key);
-        let folder = path.parent().unwrap_or(&self.dir);
-        std::fs::create_dir_all(folder).map_err(|e| VlmError::io(folder, e))?;
-        let mut tmp = tempfile::Builder::new()
-            .prefix(".tmp-")
-            .suffix(".json")
-            .tempfile_in(folder)
-            .map_err(|e| VlmError::io(folder, e))?;
         let mut text = serde_json::to_string_pretty(record).map_err(|e| VlmError::CacheRecord {
             path: path.clone(),
             message: e.to_string(),
         })?;
         text.push('\n');
-        tmp.write_all(text.as_bytes())
-            .and_then(|()| tmp.as_file().sync_all())
-            .map_err(|e| VlmError::io(tmp.path(), e))?;
-        tmp.persist(&path).map_err(|e| VlmError::io(&path, e.error))?;
+        sceneeval_files::write_atomic(&path, text.as_bytes()).map_err(|e| VlmError::io(&path, e))?;
         Ok(path)
     }
 

@@ -7,13 +7,18 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::PngImage;
+use crate::TaskKind;
 use crate::image::encode_rgb_png;
-use crate::prompt::Template;
-use crate::task::{Single, Task, TaskKind, Validation};
-use crate::tasks::names::ColourName;
+use crate::names::name_list;
+use crate::task::{Single, Task, Validation};
 
 /// The colours the check offers.
 pub const COLOURS: [&str; 6] = ["red", "green", "blue", "yellow", "black", "white"];
+
+name_list!(
+    /// `colour` values of the endpoint check.
+    ColourName => COLOURS.to_vec()
+);
 
 /// The colour of the square in [`test_image`].
 pub const TEST_IMAGE_COLOUR: &str = "red";
@@ -87,14 +92,6 @@ impl Task for EndpointCheck {
 
     fn kind(&self) -> TaskKind {
         TaskKind::EndpointCheck
-    }
-
-    fn template(&self) -> Template {
-        Template::EndpointCheck
-    }
-
-    fn placeholders(&self) -> Vec<(&'static str, String)> {
-        Vec::new()
     }
 
     fn images(&self) -> Vec<PngImage> {

@@ -16,66 +16,70 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::VlmError;
+use crate::{TaskKind, VlmError};
 
-/// One prompt template.
+/// One prompt template: the system prompt, the user message of each task ([`TaskKind`], the
+/// one list of tasks; the template has the task's name), the size-aware variant of object
+/// matching, and the re-ask note.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[non_exhaustive]
 pub enum Template {
     /// The system prompt of every task.
     System,
-    /// Object matching: does the pictured object belong to one of the offered categories?
-    ObjMatching,
-    /// Object matching with the object's dimensions (the SceneSmith fork's size-aware variant).
+    /// The user message of a task (`obj_matching`, `obj_attribute`, ...).
+    Task(TaskKind),
+    /// Object matching with the object's dimensions (the SceneSmith fork's size-aware variant
+    /// of [`TaskKind::ObjMatching`]'s template).
     ObjMatchingSized,
-    /// Attributes: which pictured instances satisfy the attributes?
-    ObjAttribute,
-    /// Support type: ground, wall, ceiling or object?
-    ObjSupportType,
-    /// Functional sides of each listed object.
-    ObjFunctionalSides,
-    /// Object-object relationship mapping onto the 13 object-object predicates.
-    ObjRelationshipMapping,
-    /// Object-architecture relationship mapping onto the 10 object-architecture predicates.
-    ArchRelationshipMapping,
-    /// Category matching for semantic colours.
-    CategoryMatchingForSemanticColor,
-    /// The endpoint check: the colour of a test image.
-    EndpointCheck,
     /// Appended to a task's text when an invalid answer is asked again.
     Reask,
 }
 
 impl Template {
-    /// All templates.
-    pub const ALL: [Template; 11] = [
-        Template::System,
-        Template::ObjMatching,
-        Template::ObjMatchingSized,
-        Template::ObjAttribute,
-        Template::ObjSupportType,
-        Template::ObjFunctionalSides,
-        Template::ObjRelationshipMapping,
-        Template::ArchRelationshipMapping,
-        Template::CategoryMatchingForSemanticColor,
-        Template::EndpointCheck,
-        Template::Reask,
-    ];
+    /// All templates: the system prompt, each task's (the size-aware matching variant after
+    /// object matching), the re-ask note.
+    pub const ALL: [Template; TaskKind::ALL.len() + 3] = {
+        let mut all = [Template::System; TaskKind::ALL.len() + 3];
+        let mut next = 1;
+        let mut i = 0;
+        while i < TaskKind::ALL.len() {
+            all[next] = Template::Task(TaskKind::ALL[i]);
+            next += 1;
+            if matches!(TaskKind::ALL[i], TaskKind::ObjMatching) {
+                all[next] = Template::ObjMatchingSized;
+                next += 1;
+            }
+            i += 1;
+        }
+        all[next] = Template::Reask;
+        all
+    };
 
-    /// The template's name, which is also the stem of its file (`obj_matching.txt`); the task
-    /// templates are named as in the reference's `prompts.yaml`.
+    /// The position of the template in [`Template::ALL`].
+    const fn index(self) -> usize {
+        match self {
+            Template::System => 0,
+            // Task `i` of TaskKind::ALL, shifted past the sized variant after ObjMatching.
+            Template::Task(kind) => {
+                let i = kind as usize;
+                if i > TaskKind::ObjMatching as usize {
+                    i + 2
+                } else {
+                    i + 1
+                }
+            }
+            Template::ObjMatchingSized => TaskKind::ObjMatching as usize + 2,
+            Template::Reask => Template::ALL.len() - 1,
+        }
+    }
+
+    /// The template's name, which is also the stem of its file (`obj_matching.txt`); a task's
+    /// template has the task's name (its name in the reference's `prompts.yaml`).
     pub const fn name(self) -> &'static str {
         match self {
             Template::System => "system",
-            Template::ObjMatching => "obj_matching",
+            Template::Task(kind) => kind.name(),
             Template::ObjMatchingSized => "obj_matching_sized",
-            Template::ObjAttribute => "obj_attribute",
-            Template::ObjSupportType => "obj_support_type",
-            Template::ObjFunctionalSides => "obj_functional_sides",
-            Template::ObjRelationshipMapping => "obj_relationship_mapping",
-            Template::ArchRelationshipMapping => "arch_relationship_mapping",
-            Template::CategoryMatchingForSemanticColor => "category_matching_for_semantic_color",
-            Template::EndpointCheck => "endpoint_check",
             Template::Reask => "reask",
         }
     }
@@ -83,15 +87,18 @@ impl Template {
     /// The placeholders the template must contain, and no others.
     pub const fn placeholders(self) -> &'static [&'static str] {
         match self {
-            Template::System | Template::ObjSupportType | Template::EndpointCheck => &[],
-            Template::ObjMatching => &["TARGET_CATEGORIES"],
-            Template::ObjMatchingSized => &["OBJECT_DIMENSIONS", "TARGET_CATEGORIES"],
-            Template::ObjAttribute => &["OBJ_ATTRIBUTES", "OBJ_COUNT", "OBJ_CATEGORY"],
-            Template::ObjFunctionalSides => &["OBJ_INFO"],
-            Template::ObjRelationshipMapping => &["RELATIONSHIPS"],
-            Template::ArchRelationshipMapping => &["RELATIONSHIPS", "FLOOR_IDS"],
-            Template::CategoryMatchingForSemanticColor => &["REFERENCE_CATEGORIES", "INPUT_CATEGORIES"],
+            Template::System => &[],
             Template::Reask => &["PROBLEMS", "PREVIOUS_ANSWER"],
+            Template::ObjMatchingSized => &["OBJECT_DIMENSIONS", "TARGET_CATEGORIES"],
+            Template::Task(kind) => match kind {
+                TaskKind::ObjSupportType | TaskKind::EndpointCheck => &[],
+                TaskKind::ObjMatching => &["TARGET_CATEGORIES"],
+                TaskKind::ObjAttribute => &["OBJ_ATTRIBUTES", "OBJ_COUNT", "OBJ_CATEGORY"],
+                TaskKind::ObjFunctionalSides => &["OBJ_INFO"],
+                TaskKind::ObjRelationshipMapping => &["RELATIONSHIPS"],
+                TaskKind::ArchRelationshipMapping => &["RELATIONSHIPS", "FLOOR_IDS"],
+                TaskKind::CategoryMatchingForSemanticColor => &["REFERENCE_CATEGORIES", "INPUT_CATEGORIES"],
+            },
         }
     }
 
@@ -99,18 +106,20 @@ impl Template {
     pub const fn builtin(self) -> &'static str {
         match self {
             Template::System => include_str!("../prompts/system.txt"),
-            Template::ObjMatching => include_str!("../prompts/obj_matching.txt"),
             Template::ObjMatchingSized => include_str!("../prompts/obj_matching_sized.txt"),
-            Template::ObjAttribute => include_str!("../prompts/obj_attribute.txt"),
-            Template::ObjSupportType => include_str!("../prompts/obj_support_type.txt"),
-            Template::ObjFunctionalSides => include_str!("../prompts/obj_functional_sides.txt"),
-            Template::ObjRelationshipMapping => include_str!("../prompts/obj_relationship_mapping.txt"),
-            Template::ArchRelationshipMapping => include_str!("../prompts/arch_relationship_mapping.txt"),
-            Template::CategoryMatchingForSemanticColor => {
-                include_str!("../prompts/category_matching_for_semantic_color.txt")
-            }
-            Template::EndpointCheck => include_str!("../prompts/endpoint_check.txt"),
             Template::Reask => include_str!("../prompts/reask.txt"),
+            Template::Task(kind) => match kind {
+                TaskKind::ObjMatching => include_str!("../prompts/obj_matching.txt"),
+                TaskKind::ObjAttribute => include_str!("../prompts/obj_attribute.txt"),
+                TaskKind::ObjSupportType => include_str!("../prompts/obj_support_type.txt"),
+                TaskKind::ObjFunctionalSides => include_str!("../prompts/obj_functional_sides.txt"),
+                TaskKind::ObjRelationshipMapping => include_str!("../prompts/obj_relationship_mapping.txt"),
+                TaskKind::ArchRelationshipMapping => include_str!("../prompts/arch_relationship_mapping.txt"),
+                TaskKind::CategoryMatchingForSemanticColor => {
+                    include_str!("../prompts/category_matching_for_semantic_color.txt")
+                }
+                TaskKind::EndpointCheck => include_str!("../prompts/endpoint_check.txt"),
+            },
         }
     }
 
@@ -130,10 +139,12 @@ impl fmt::Display for Template {
 ///
 /// ```
 /// use sceneeval_vlm::prompt::{Prompts, Template};
+/// use sceneeval_vlm::TaskKind;
 /// let prompts = Prompts::builtin();
-/// let text = prompts.fill(Template::ObjMatching, &[("TARGET_CATEGORIES", "[\"bed\"]")]).unwrap();
+/// let matching = Template::Task(TaskKind::ObjMatching);
+/// let text = prompts.fill(matching, &[("TARGET_CATEGORIES", "[\"bed\"]")]).unwrap();
 /// assert!(text.ends_with("[\"bed\"]"), "the scene-specific part comes last");
-/// assert!(prompts.with_override(Template::ObjMatching, "no placeholder").is_err());
+/// assert!(prompts.with_override(matching, "no placeholder").is_err());
 /// ```
 #[derive(Debug, Clone)]
 pub struct Prompts {
@@ -198,8 +209,8 @@ impl Prompts {
                 message,
             })?;
             tracing::info!(template = %template, path = %path.display(), "prompt template overridden");
-            prompts.texts[template as usize] = Arc::from(text.trim_end());
-            prompts.sources[template as usize] = Some(path);
+            prompts.texts[template.index()] = Arc::from(text.trim_end());
+            prompts.sources[template.index()] = Some(path);
         }
         Ok(prompts)
     }
@@ -216,19 +227,19 @@ impl Prompts {
             message,
         })?;
         let mut prompts = self.clone();
-        prompts.texts[template as usize] = Arc::from(text.trim_end());
-        prompts.sources[template as usize] = None;
+        prompts.texts[template.index()] = Arc::from(text.trim_end());
+        prompts.sources[template.index()] = None;
         Ok(prompts)
     }
 
     /// The text of a template (trailing whitespace removed).
     pub fn text(&self, template: Template) -> &str {
-        &self.texts[template as usize]
+        &self.texts[template.index()]
     }
 
     /// The file a template was read from, if it was overridden from a folder.
     pub fn source(&self, template: Template) -> Option<&Path> {
-        self.sources[template as usize].as_deref()
+        self.sources[template.index()].as_deref()
     }
 
     /// The template with its placeholders replaced by `values` (`(name, value)` pairs, names
@@ -318,6 +329,33 @@ mod tests {
     }
 
     #[test]
+    fn every_task_has_its_template_in_order() {
+        let names: Vec<&str> = Template::ALL.iter().map(|t| t.name()).collect();
+        assert_eq!(
+            names,
+            [
+                "system",
+                "obj_matching",
+                "obj_matching_sized",
+                "obj_attribute",
+                "obj_support_type",
+                "obj_functional_sides",
+                "obj_relationship_mapping",
+                "arch_relationship_mapping",
+                "category_matching_for_semantic_color",
+                "endpoint_check",
+                "reask"
+            ]
+        );
+        for (i, t) in Template::ALL.into_iter().enumerate() {
+            assert_eq!(t.index(), i, "{t}");
+        }
+        for kind in TaskKind::ALL {
+            assert_eq!(Template::Task(kind).name(), kind.name());
+        }
+    }
+
+    #[test]
     fn scene_specific_part_comes_last() {
         // Every placeholder sits in the last fifth of its template, after the instructions
         // and examples (the reference's layout), except in the re-ask note.
@@ -333,13 +371,13 @@ mod tests {
     fn fill_is_single_pass() {
         let p = Prompts::builtin()
             .with_override(
-                Template::CategoryMatchingForSemanticColor,
+                Template::Task(TaskKind::CategoryMatchingForSemanticColor),
                 "A <REFERENCE_CATEGORIES> B <INPUT_CATEGORIES>",
             )
             .unwrap();
         let text = p
             .fill(
-                Template::CategoryMatchingForSemanticColor,
+                Template::Task(TaskKind::CategoryMatchingForSemanticColor),
                 &[
                     ("REFERENCE_CATEGORIES", "<INPUT_CATEGORIES>"),
                     ("INPUT_CATEGORIES", "x"),
@@ -348,7 +386,7 @@ mod tests {
             .unwrap();
         assert_eq!(text, "A <INPUT_CATEGORIES> B x");
         let err = p
-            .fill(Template::CategoryMatchingForSemanticColor, &[])
+            .fill(Template::Task(TaskKind::CategoryMatchingForSemanticColor), &[])
             .unwrap_err();
         assert!(err.to_string().contains("<REFERENCE_CATEGORIES>"), "{err}");
     }
@@ -372,8 +410,11 @@ mod tests {
         .unwrap();
         std::fs::write(dir.path().join("notes.md"), "ignored").unwrap();
         let p = Prompts::builtin().with_overrides_from_dir(dir.path()).unwrap();
-        assert_eq!(p.text(Template::ObjMatching), "Pick one of <TARGET_CATEGORIES>");
-        assert!(p.source(Template::ObjMatching).is_some());
+        assert_eq!(
+            p.text(Template::Task(TaskKind::ObjMatching)),
+            "Pick one of <TARGET_CATEGORIES>"
+        );
+        assert!(p.source(Template::Task(TaskKind::ObjMatching)).is_some());
         assert_eq!(p.text(Template::System), Template::System.builtin().trim_end());
 
         std::fs::write(dir.path().join("obj_matchin.txt"), "typo").unwrap();

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use crate::PngImage;
+use crate::{PngImage, TokenUsage};
 
 /// One structured request: a system prompt, one user message (text, then images) and the JSON
 /// Schema the answer must follow.
@@ -116,29 +116,6 @@ impl AnswerContent {
     }
 }
 
-/// Token counts of one request, or summed over many.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct TokenUsage {
-    /// Input tokens (text and images).
-    pub prompt_tokens: u64,
-    /// Output tokens.
-    pub completion_tokens: u64,
-}
-
-impl TokenUsage {
-    /// Input plus output tokens.
-    pub fn total(&self) -> u64 {
-        self.prompt_tokens + self.completion_tokens
-    }
-}
-
-impl std::ops::AddAssign for TokenUsage {
-    fn add_assign(&mut self, rhs: TokenUsage) {
-        self.prompt_tokens += rhs.prompt_tokens;
-        self.completion_tokens += rhs.completion_tokens;
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -156,18 +133,5 @@ mod tests {
         assert!(matches!(bad, AnswerContent::NotJson { .. }));
         let json = serde_json::to_value(AnswerContent::Refusal { text: "no".into() }).unwrap();
         assert_eq!(json, serde_json::json!({"kind": "refusal", "text": "no"}));
-    }
-
-    #[test]
-    fn usage_adds() {
-        let mut u = TokenUsage {
-            prompt_tokens: 10,
-            completion_tokens: 2,
-        };
-        u += TokenUsage {
-            prompt_tokens: 5,
-            completion_tokens: 1,
-        };
-        assert_eq!((u.prompt_tokens, u.completion_tokens, u.total()), (15, 3, 18));
     }
 }

@@ -1,14 +1,11 @@
 //! [`Session`]: asks typed tasks of a [`Vlm`], validates the answers, re-asks once, and sums
 //! the usage of a run.
 
-use std::sync::atomic::{AtomicU64, Ordering};
-
-use serde::Serialize;
-
 use crate::prompt::{Prompts, Template};
 use crate::schema::strict_schema_for;
 use crate::task::{Answers, Outcome, Task, Unanswered, UnansweredKind, Validation};
-use crate::{Answer, AnswerContent, TokenUsage, Vlm, VlmError, VlmRequest};
+use crate::usage::{Meter, Usage};
+use crate::{Answer, AnswerContent, Vlm, VlmError, VlmRequest};
 
 /// A model, the prompts to use with it, and the usage counters of a run.
 ///
@@ -51,44 +48,6 @@ pub struct Session<V> {
     meter: Meter,
 }
 
-#[derive(Debug, Default)]
-struct Meter {
-    requests: AtomicU64,
-    cache_hits: AtomicU64,
-    failed_requests: AtomicU64,
-    re_asks: AtomicU64,
-    answered: AtomicU64,
-    unanswered: AtomicU64,
-    prompt_tokens: AtomicU64,
-    completion_tokens: AtomicU64,
-    cached_prompt_tokens: AtomicU64,
-    cached_completion_tokens: AtomicU64,
-}
-
-/// Usage of a [`Session`] so far: requests, cache hits, tokens, re-asks and outcomes.
-///
-/// Tokens are counted separately for answers obtained now (what the run cost) and answers read
-/// from the cache (what they cost when they were first obtained).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-pub struct Usage {
-    /// Requests answered (fresh and cached; failed requests not included).
-    pub requests: u64,
-    /// Requests answered from the cache.
-    pub cache_hits: u64,
-    /// Requests that failed with an error.
-    pub failed_requests: u64,
-    /// Tasks asked a second time because of an invalid answer.
-    pub re_asks: u64,
-    /// Questions answered validly.
-    pub answered: u64,
-    /// Questions recorded as unanswered.
-    pub unanswered: u64,
-    /// Tokens of the answers obtained now.
-    pub tokens: TokenUsage,
-    /// Tokens of the answers read from the cache.
-    pub cached_tokens: TokenUsage,
-}
-
 impl<V: Vlm> Session<V> {
     /// A session with the built-in prompts.
     pub fn new(vlm: V) -> Self {
@@ -117,24 +76,7 @@ impl<V: Vlm> Session<V> {
 
     /// The usage so far.
     pub fn usage(&self) -> Usage {
-        let m = &self.meter;
-        let get = |a: &AtomicU64| a.load(Ordering::Relaxed);
-        Usage {
-            requests: get(&m.requests),
-            cache_hits: get(&m.cache_hits),
-            failed_requests: get(&m.failed_requests),
-            re_asks: get(&m.re_asks),
-            answered: get(&m.answered),
-            unanswered: get(&m.unanswered),
-            tokens: TokenUsage {
-                prompt_tokens: get(&m.prompt_tokens),
-                completion_tokens: get(&m.completion_tokens),
-            },
-            cached_tokens: TokenUsage {
-                prompt_tokens: get(&m.cached_prompt_tokens),
-                completion_tokens: get(&m.cached_completion_tokens),
-            },
-        }
+        self.meter.usage()
     }
 
     /// The first request [`Session::ask`] sends for `task` (to inspect or log it).
@@ -179,7 +121,7 @@ impl<V: Vlm> Session<V> {
 
         let problems = v1.problem_lines();
         tracing::warn!(task = %task.kind(), ?problems, "invalid answer; asking again once");
-        self.meter.re_asks.fetch_add(1, Ordering::Relaxed);
+        self.meter.re_ask();
         let problem_list: Vec<String> = problems.iter().map(|p| format!("- {p}")).collect();
         let note = self.prompts.fill(
             Template::Reask,
@@ -211,18 +153,9 @@ impl<V: Vlm> Session<V> {
     }
 
     async fn send(&self, request: &VlmRequest, attempt: u8) -> Result<Answer, VlmError> {
-        let m = &self.meter;
         match self.vlm.answer(request).await {
             Ok(answer) => {
-                m.requests.fetch_add(1, Ordering::Relaxed);
-                let (p, c) = if answer.from_cache {
-                    m.cache_hits.fetch_add(1, Ordering::Relaxed);
-                    (&m.cached_prompt_tokens, &m.cached_completion_tokens)
-                } else {
-                    (&m.prompt_tokens, &m.completion_tokens)
-                };
-                p.fetch_add(answer.usage.prompt_tokens, Ordering::Relaxed);
-                c.fetch_add(answer.usage.completion_tokens, Ordering::Relaxed);
+                self.meter.answer(answer.usage, answer.from_cache);
                 tracing::debug!(
                     task = %request.task,
                     attempt,
@@ -234,7 +167,7 @@ impl<V: Vlm> Session<V> {
                 Ok(answer)
             }
             Err(e) => {
-                m.failed_requests.fetch_add(1, Ordering::Relaxed);
+                self.meter.failure();
                 Err(e)
             }
         }
@@ -259,10 +192,7 @@ impl<V: Vlm> Session<V> {
             })
             .collect();
         let answered = outcomes.iter().filter(|(_, o)| o.is_answered()).count() as u64;
-        self.meter.answered.fetch_add(answered, Ordering::Relaxed);
-        self.meter
-            .unanswered
-            .fetch_add(outcomes.len() as u64 - answered, Ordering::Relaxed);
+        self.meter.outcomes(answered, outcomes.len() as u64 - answered);
         Answers {
             task: task.kind(),
             outcomes,

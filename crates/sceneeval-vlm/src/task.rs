@@ -8,55 +8,8 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 
 use crate::PngImage;
+use crate::TaskKind;
 use crate::prompt::Template;
-
-/// The tasks of the reference (with their names in its `prompts.yaml`), plus the endpoint
-/// check.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum TaskKind {
-    /// `obj_matching`: which annotated category an object belongs to (one call per object).
-    ObjMatching,
-    /// `obj_attribute`: which instances satisfy an attribute (one call per ObjAttr entry).
-    ObjAttribute,
-    /// `obj_support_type`: what an object rests on (one call per object).
-    ObjSupportType,
-    /// `obj_functional_sides`: which sides of each object must stay free (one call per scene).
-    ObjFunctionalSides,
-    /// `obj_relationship_mapping`: free-text object-object relations onto predicates (one call
-    /// per scene).
-    ObjRelationshipMapping,
-    /// `arch_relationship_mapping`: free-text object-architecture relations onto predicates
-    /// (one call per scene).
-    ArchRelationshipMapping,
-    /// `category_matching_for_semantic_color`: scene categories onto reference categories.
-    CategoryMatchingForSemanticColor,
-    /// `endpoint_check`: the colour of a test image, to check that an endpoint works.
-    EndpointCheck,
-}
-
-impl TaskKind {
-    /// The task's name: its name in the reference, used as the schema name and in logs.
-    pub const fn name(self) -> &'static str {
-        match self {
-            TaskKind::ObjMatching => "obj_matching",
-            TaskKind::ObjAttribute => "obj_attribute",
-            TaskKind::ObjSupportType => "obj_support_type",
-            TaskKind::ObjFunctionalSides => "obj_functional_sides",
-            TaskKind::ObjRelationshipMapping => "obj_relationship_mapping",
-            TaskKind::ArchRelationshipMapping => "arch_relationship_mapping",
-            TaskKind::CategoryMatchingForSemanticColor => "category_matching_for_semantic_color",
-            TaskKind::EndpointCheck => "endpoint_check",
-        }
-    }
-}
-
-impl fmt::Display for TaskKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// A typed task: the questions it asks, how its prompt is filled, the wire type of the answer
 /// (whose strict JSON Schema is sent) and how an answer is validated and paired with the
@@ -77,12 +30,20 @@ pub trait Task: Sync {
 
     /// Which task this is.
     fn kind(&self) -> TaskKind;
-    /// The template of the user message.
-    fn template(&self) -> Template;
-    /// The placeholder values of the template (names without angle brackets).
-    fn placeholders(&self) -> Vec<(&'static str, String)>;
-    /// The images, in order.
-    fn images(&self) -> Vec<PngImage>;
+    /// The template of the user message: by default the task's own
+    /// ([`Template::Task`]).
+    fn template(&self) -> Template {
+        Template::Task(self.kind())
+    }
+    /// The placeholder values of the template (names without angle brackets); none by
+    /// default.
+    fn placeholders(&self) -> Vec<(&'static str, String)> {
+        Vec::new()
+    }
+    /// The images, in order; none by default.
+    fn images(&self) -> Vec<PngImage> {
+        Vec::new()
+    }
     /// The questions, in order.
     fn keys(&self) -> Vec<Self::Key>;
     /// Checks an answer and pairs its parts with the questions.

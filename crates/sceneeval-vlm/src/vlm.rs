@@ -34,44 +34,23 @@ pub trait Vlm: Send + Sync {
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send;
 }
 
-impl<T: Vlm + ?Sized> Vlm for &T {
-    fn model(&self) -> &str {
-        (**self).model()
-    }
+/// Implements [`Vlm`] for a pointer to a model by forwarding every method to the model.
+macro_rules! forward_vlm {
+    ($($pointer:ty),*) => {$(
+        impl<T: Vlm + ?Sized> Vlm for $pointer {
+            fn model(&self) -> &str {
+                (**self).model()
+            }
 
-    fn settings(&self) -> &str {
-        (**self).settings()
-    }
+            fn settings(&self) -> &str {
+                (**self).settings()
+            }
 
-    fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
-        (**self).answer(request)
-    }
+            fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
+                (**self).answer(request)
+            }
+        }
+    )*};
 }
 
-impl<T: Vlm + ?Sized> Vlm for Arc<T> {
-    fn model(&self) -> &str {
-        (**self).model()
-    }
-
-    fn settings(&self) -> &str {
-        (**self).settings()
-    }
-
-    fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
-        (**self).answer(request)
-    }
-}
-
-impl<T: Vlm + ?Sized> Vlm for Box<T> {
-    fn model(&self) -> &str {
-        (**self).model()
-    }
-
-    fn settings(&self) -> &str {
-        (**self).settings()
-    }
-
-    fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
-        (**self).answer(request)
-    }
-}
+forward_vlm!(&T, Arc<T>, Box<T>);

@@ -225,11 +225,43 @@ fn concurrent_writers_leave_complete_files() {
     assert_eq!(all.len(), 10 + 8 * 10);
     for f in all {
         assert!(
-            f.extension().unwrap() == "json" && !f.file_name().unwrap().to_str().unwrap().starts_with(".tmp")
+            f.extension().unwrap() == "json" && !f.file_name().unwrap().to_str().unwrap().starts_with('.'),
+            "{f:?}"
         );
         let record: CacheRecord = serde_json::from_str(&std::fs::read_to_string(&f).unwrap()).unwrap();
         assert_eq!(record.usage, TokenUsage::default());
     }
+}
+
+#[test]
+fn two_writers_of_one_entry_never_fail_and_leave_one_whole_answer() {
+    // Two models (same name, same request, so the same key) store different answers into one
+    // entry 50 times each; every store succeeds and the entry is one of the two answers.
+    let dir = tempfile::tempdir().unwrap();
+    let cache = DiskCache::new(dir.path());
+    let request = request("the same question", vec![7]);
+    let answers = ["wall", "ground"].map(|t| {
+        let answer = sceneeval_vlm::Answer::new(
+            AnswerContent::Json {
+                value: json!({"support_type": t, "reason": "x".repeat(20_000)}),
+            },
+            TokenUsage::default(),
+        );
+        DiskCache::record("m", "", &request, &answer)
+    });
+    std::thread::scope(|s| {
+        for record in &answers {
+            let cache = &cache;
+            s.spawn(move || {
+                for _ in 0..50 {
+                    cache.store(record).unwrap();
+                }
+            });
+        }
+    });
+    let stored = cache.load(&answers[0].key).unwrap().unwrap();
+    assert!(stored == answers[0] || stored == answers[1]);
+    assert_eq!(files(dir.path()).len(), 1, "no temporary file left");
 }
 
 fn request(text: &str, images: Vec<u8>) -> VlmRequest {

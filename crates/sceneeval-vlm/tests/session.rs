@@ -8,7 +8,7 @@ use sceneeval_relations::Relation;
 use sceneeval_vlm::check::test_image;
 use sceneeval_vlm::prompt::{Prompts, Template};
 use sceneeval_vlm::tasks::*;
-use sceneeval_vlm::{AnswerContent, Outcome, Scripted, Session, Single, UnansweredKind, VlmError};
+use sceneeval_vlm::{AnswerContent, Outcome, Scripted, Session, Single, TaskKind, UnansweredKind, VlmError};
 use serde_json::{Value, json};
 
 fn json_answer(value: Value) -> AnswerContent {
@@ -322,7 +322,10 @@ fn requests_carry_system_prompt_images_and_schema() {
 #[test]
 fn overridden_prompts_are_used() {
     let prompts = Prompts::builtin()
-        .with_override(Template::ObjMatching, "Categories: <TARGET_CATEGORIES>")
+        .with_override(
+            Template::Task(TaskKind::ObjMatching),
+            "Categories: <TARGET_CATEGORIES>",
+        )
         .unwrap()
         .with_override(Template::System, "Be brief.")
         .unwrap();

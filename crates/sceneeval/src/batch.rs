@@ -1,152 +1,58 @@
-//! Evaluating a folder of scenes: one `eval.json` per scene, written as each scene finishes, so
-//! an interrupted run loses nothing and a re-run resumes where it stopped, reusing a result
-//! only when nothing it depends on changed.
+//! Evaluating a list of scene files: one `eval.json` per scene, written as each scene finishes,
+//! so an interrupted run loses nothing and a re-run resumes where it stopped, reusing a result
+//! only when nothing it depends on changed. The batch owns the files, the fingerprints, the
+//! reuse and the parallelism; what happens to one scene is [`Evaluator::evaluate_scene`].
 
 use std::collections::BTreeMap;
-use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::annotation::Annotations;
+use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::{AssetLibrary, read_scene_state};
 use crate::plausibility::{Deadline, Metric, MetricTiming};
-use crate::{EvalError, Evaluator, Fingerprints, Outcome, SceneRecord, Stage};
-
-/// The name of every scene's result file inside its output folder.
-pub const RECORD_FILE: &str = "eval.json";
-
-/// The name of every scene's timing file inside its output folder.
-pub const TIMING_FILE: &str = "timing.json";
+use crate::{
+    EvalError, Evaluator, Fingerprints, Outcome, SceneFile, SceneInputs, SceneRecord, Stage,
+    annotation_digest, matching_file_digest,
+};
 
 /// The schema of a scene's `timing.json`.
 pub const TIMING_SCHEMA: &str = "sceneeval.timing/1";
 
-/// A scene file found by [`find_scenes`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SceneFile {
-    /// The file stem, e.g. `scene_12`; also the name of its output folder.
-    pub name: String,
-    /// The benchmark id, the number in the name.
-    pub id: u64,
-    /// The file.
-    pub path: PathBuf,
-}
-
-impl SceneFile {
-    /// Where this scene's record goes under `out_dir`.
-    pub fn record_path(&self, out_dir: &Path) -> PathBuf {
-        out_dir.join(&self.name).join(RECORD_FILE)
-    }
-
-    /// Where this scene's timing file goes under `out_dir`.
-    pub fn timing_path(&self, out_dir: &Path) -> PathBuf {
-        out_dir.join(&self.name).join(TIMING_FILE)
-    }
-}
-
-/// A file of the scene folder that looks like a scene file but is not evaluated.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SkippedFile {
-    /// The file.
-    pub path: PathBuf,
-    /// Why it is skipped.
-    pub reason: String,
-}
-
-/// The scene files of a folder and the near misses that were skipped.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct SceneSet {
-    /// The `scene_<ID>.json` files, ordered by ID.
-    pub scenes: Vec<SceneFile>,
-    /// Files whose name starts with `scene_` and ends with `.json` (in any case) that are not
-    /// of the form `scene_<digits>.json`, or whose name is not valid UTF-8.
-    pub skipped: Vec<SkippedFile>,
-}
-
-/// The `scene_<ID>.json` files of a folder (not recursive), `<ID>` one or more ASCII digits
-/// and `.json` lower case (as the reference names them), ordered by ID. Files that look like
-/// scene files but are not of that form (`scene_1.JSON`, `scene_x.json`,
-/// `scene_state_template.json`, a name that is not UTF-8) are listed as skipped, so that the
-/// caller can warn.
-///
-/// # Errors
-/// [`EvalError::File`] when the folder cannot be read; [`EvalError::DuplicateSceneId`] when
-/// two files have the same ID (`scene_1.json` and `scene_01.json`), before any work is done.
-pub fn find_scenes(dir: &Path) -> Result<SceneSet, EvalError> {
-    let file_err = |source| EvalError::file(dir, source);
-    let mut set = SceneSet::default();
-    for entry in std::fs::read_dir(dir).map_err(file_err)? {
-        let path = entry.map_err(file_err)?.path();
-        let Some(file_name) = path.file_name() else {
-            continue;
-        };
-        let looks_like_scene = {
-            let lossy = file_name.to_string_lossy().to_ascii_lowercase();
-            lossy.starts_with("scene_") && lossy.ends_with(".json")
-        };
-        if !looks_like_scene || !path.is_file() {
-            continue;
-        }
-        let skip = |reason: &str| SkippedFile {
-            path: path.clone(),
-            reason: reason.to_owned(),
-        };
-        match scene_id_of(file_name) {
-            Ok((name, id)) => set.scenes.push(SceneFile {
-                name,
-                id,
-                path: path.clone(),
-            }),
-            Err(reason) => set.skipped.push(skip(reason)),
-        }
-    }
-    set.scenes
-        .sort_by(|a, b| a.id.cmp(&b.id).then_with(|| a.name.cmp(&b.name)));
-    set.skipped.sort_by(|a, b| a.path.cmp(&b.path));
-    for pair in set.scenes.windows(2) {
-        if pair[0].id == pair[1].id {
-            return Err(EvalError::DuplicateSceneId {
-                id: pair[0].id,
-                first: pair[0].path.clone(),
-                second: pair[1].path.clone(),
-            });
-        }
-    }
-    Ok(set)
-}
-
-/// The stem and numeric ID of `scene_<digits>.json`, or why the name is not one.
-fn scene_id_of(file_name: &OsStr) -> Result<(String, u64), &'static str> {
-    let Some(name) = file_name.to_str() else {
-        return Err("the file name is not valid UTF-8");
-    };
-    let Some(stem) = name.strip_suffix(".json") else {
-        return Err("scene files end in lower-case .json");
-    };
-    let digits = stem.strip_prefix("scene_").unwrap_or("");
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return Err("not of the form scene_<ID>.json with a numeric ID");
-    }
-    let id = digits.parse::<u64>().map_err(|_| "the ID is too large")?;
-    Ok((stem.to_owned(), id))
-}
-
 /// How a batch run treats its scenes.
 #[derive(Debug, Clone, Default)]
-pub struct BatchOptions {
+pub struct BatchOptions<'a> {
     /// The folder receiving `<scene>/eval.json`.
     pub out_dir: PathBuf,
     /// Re-evaluate every scene, even those with a matching record.
     pub force: bool,
     /// Also write each scene's diagnostic images under `<scene>/diagnostics/`.
     pub diagnostics: bool,
-    /// The annotation row digest of each scene (by scene name), part of its fingerprint.
-    pub annotations: BTreeMap<String, String>,
-    /// The annotation row of each scene (by scene name), read by the fidelity metrics. A
-    /// scene without a row gets no fidelity result (a warning is logged).
-    pub rows: BTreeMap<String, crate::annotation::AnnotationRow>,
+    /// The SceneEval-500 annotations. Each scene's row ([`crate::SceneName::annotation_row`])
+    /// is part of its fingerprint and, when the plan runs text-fidelity metrics, what they
+    /// check; a scene without a row gets no fidelity result (a warning is logged).
+    pub annotations: Option<&'a Annotations>,
+}
+
+/// Something that happened during a run, as it happens (from a worker thread).
+#[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
+pub enum RunEvent<'a> {
+    /// A scene is done: evaluated, reused or failed, its record written.
+    SceneDone {
+        /// The scene.
+        scene: &'a SceneFile,
+        /// What happened to it.
+        status: &'a SceneStatus,
+        /// Its record.
+        record: &'a SceneRecord,
+        /// Why it failed, as the error itself (the record keeps its text), so that a front end
+        /// can give advice for the kind of error (a missing asset folder, say).
+        error: Option<&'a (dyn std::error::Error + 'static)>,
+    },
 }
 
 /// What happened to one scene of a batch.
@@ -258,7 +164,8 @@ impl BatchOutcome {
 
 /// Evaluates `scenes` in parallel on the current rayon pool, writing each scene's record to
 /// `<out_dir>/<scene>/eval.json` and its wall times to `<out_dir>/<scene>/timing.json` as soon
-/// as it is done, and calling `on_done` (from the worker thread) after each.
+/// as it is done (with `matching.json` and the VLM's views when the text-fidelity metrics ran),
+/// and calling `on_event` (from the worker thread) after each.
 ///
 /// An earlier record is reused only when its fingerprint still matches (the scene file, every
 /// asset and metadata file it was built from, the plan, the tool version and the record
@@ -277,28 +184,30 @@ pub fn run_batch(
     scenes: &[SceneFile],
     evaluator: &Evaluator,
     assets: &AssetLibrary,
-    options: &BatchOptions,
-    on_done: &(dyn Fn(&SceneFile, &SceneStatus, &SceneRecord) + Sync),
+    options: &BatchOptions<'_>,
+    on_event: &(dyn Fn(&RunEvent<'_>) + Sync),
 ) -> Result<BatchOutcome, EvalError> {
     crate::check_output_dir(&options.out_dir)?;
-    let fingerprints = Fingerprints::new();
-    let plan_digest = evaluator.result_digest();
-    type Done = (SceneRecord, SceneStatus, Option<SceneTiming>);
+    let batch = Batch {
+        evaluator,
+        assets,
+        options,
+        fingerprints: Fingerprints::new(),
+        plan_digest: evaluator.result_digest(),
+    };
     let results: Vec<Result<Done, EvalError>> = scenes
         .par_iter()
         .map(|scene| {
-            let ctx = Ctx {
-                evaluator,
-                assets,
-                options,
-                fingerprints: &fingerprints,
-                plan_digest: &plan_digest,
-            };
-            let result = ctx.process(scene);
-            if let Ok((record, status, _)) = &result {
-                on_done(scene, status, record);
-            }
-            result
+            let result = batch.process(scene);
+            result.map(|(record, status, timing, error)| {
+                on_event(&RunEvent::SceneDone {
+                    scene,
+                    status: &status,
+                    record: &record,
+                    error: error.as_deref().map(|e| e as &(dyn std::error::Error + 'static)),
+                });
+                (record, status, timing)
+            })
         })
         .collect();
     let mut outcome = BatchOutcome {
@@ -323,17 +232,34 @@ pub fn run_batch(
     Ok(outcome)
 }
 
-struct Ctx<'a> {
+type Done = (SceneRecord, SceneStatus, Option<SceneTiming>);
+
+/// Why a scene failed, kept until its event is sent.
+type Failure = Box<dyn std::error::Error + Send + Sync>;
+
+struct Batch<'a> {
     evaluator: &'a Evaluator,
     assets: &'a AssetLibrary,
-    options: &'a BatchOptions,
-    fingerprints: &'a Fingerprints,
-    plan_digest: &'a str,
+    options: &'a BatchOptions<'a>,
+    fingerprints: Fingerprints,
+    plan_digest: String,
 }
 
-impl Ctx<'_> {
+impl Batch<'_> {
+    /// The scene's annotation row and its digest for the fingerprint (extended by the matching
+    /// file's contents when the plan matches objects from files).
+    fn annotation(&self, scene: &SceneFile) -> Option<(&crate::annotation::AnnotationRow, String)> {
+        let row = scene.name.annotation_row(self.options.annotations?)?;
+        let mut digest = annotation_digest(row);
+        let plan = self.evaluator.plan();
+        if let (true, MatchingMethod::File { path }) = (plan.has_fidelity(), &plan.fidelity.matching) {
+            digest = matching_file_digest(&digest, &matching_file_for(path, scene.name.as_str()));
+        }
+        Some((row, digest))
+    }
+
     /// Whether the earlier record can be reused; why not otherwise.
-    fn reuse(&self, scene: &SceneFile, path: &Path) -> Result<SceneRecord, Reason> {
+    fn reuse(&self, scene: &SceneFile, path: &Path, annotation: Option<&str>) -> Result<SceneRecord, Reason> {
         if self.options.force {
             return Err(Reason::Forced);
         }
@@ -353,8 +279,8 @@ impl Ctx<'_> {
             old,
             &scene.path,
             self.assets,
-            self.plan_digest,
-            self.options.annotations.get(&scene.name).map(String::as_str),
+            &self.plan_digest,
+            annotation,
             compare_annotation,
         ) {
             None => Ok(record),
@@ -365,10 +291,12 @@ impl Ctx<'_> {
     fn process(
         &self,
         scene: &SceneFile,
-    ) -> Result<(SceneRecord, SceneStatus, Option<SceneTiming>), EvalError> {
+    ) -> Result<(SceneRecord, SceneStatus, Option<SceneTiming>, Option<Failure>), EvalError> {
         let path = scene.record_path(&self.options.out_dir);
-        let why = match self.reuse(scene, &path) {
-            Ok(record) => return Ok((record, SceneStatus::Reused, None)),
+        let annotation = self.annotation(scene);
+        let digest = annotation.as_ref().map(|(_, d)| d.as_str());
+        let why = match self.reuse(scene, &path, digest) {
+            Ok(record) => return Ok((record, SceneStatus::Reused, None, None)),
             Err(why) => why,
         };
         tracing::info!(scene = %scene.name, reason = %why, "evaluating");
@@ -384,41 +312,64 @@ impl Ctx<'_> {
         let start = Instant::now();
         let mut timing = SceneTiming {
             schema: TIMING_SCHEMA.to_owned(),
-            scene: scene.name.clone(),
+            scene: scene.name.to_string(),
             load_seconds: 0.0,
             metrics: Vec::new(),
             fidelity_seconds: None,
             total_seconds: 0.0,
         };
+        let dir = scene.out_dir(&self.options.out_dir);
         let loaded = read_scene_state(&scene.path, self.assets, &plan.read);
         timing.load_seconds = start.elapsed().as_secs_f64();
-        let failed =
-            |stage, e: &(dyn std::error::Error + 'static)| SceneRecord::failed(&scene.name, stage, e);
-        let (record, ok) = match loaded {
-            Err(e) => (failed(Stage::Load, &e), false),
-            Ok(loaded) => match deadline.check("loading") {
-                Err(e) => (failed(Stage::Load, &EvalError::from(e)), false),
-                Ok(()) => match self.evaluate_loaded(scene, &loaded, &deadline, &mut timing) {
-                    Err(e) => (failed(Stage::Evaluate, &e), false),
-                    Ok(mut report) => {
-                        report.plausibility.scene_id = Some(scene.name.clone());
-                        if self.options.diagnostics {
-                            self.diagnostics(scene, &loaded);
+        let outcome: Result<SceneRecord, (Stage, Failure)> =
+            match loaded {
+                Err(e) => Err((Stage::Load, Box::new(e))),
+                Ok(loaded) => match deadline.check("loading") {
+                    Err(e) => Err((Stage::Load, Box::new(EvalError::from(e)))),
+                    Ok(()) => {
+                        let views_dir = dir.join("views");
+                        let inputs = SceneInputs {
+                            name: Some(scene.name.as_str()),
+                            row: annotation.as_ref().map(|(row, _)| *row),
+                            assets: Some(self.assets),
+                            views_dir: Some(&views_dir),
+                            deadline: Some(&deadline),
+                        };
+                        let evaluated = self.evaluator.evaluate_scene(&loaded, &inputs).and_then(|done| {
+                            if let Some(matching) = &done.matching {
+                                matching.write(&dir.join(crate::fidelity::MATCHING_FILE))?;
+                            }
+                            Ok(done)
+                        });
+                        match evaluated {
+                            Err(e) => Err((Stage::Evaluate, Box::new(e))),
+                            Ok(done) => {
+                                timing.metrics = done.timings;
+                                timing.fidelity_seconds = done.fidelity_seconds;
+                                if self.options.diagnostics {
+                                    self.diagnostics(scene, &loaded, &dir);
+                                }
+                                let fingerprint = self.fingerprints.of_loaded(
+                                    &scene.path,
+                                    &loaded,
+                                    self.assets,
+                                    &self.plan_digest,
+                                    plan.preset,
+                                    annotation.map(|(_, d)| d),
+                                );
+                                Ok(SceneRecord::ok(scene.name.clone(), done.report)
+                                    .with_fingerprint(fingerprint))
+                            }
                         }
-                        let fingerprint = self.fingerprints.of_loaded(
-                            &scene.path,
-                            &loaded,
-                            self.assets,
-                            self.plan_digest,
-                            self.options.annotations.get(&scene.name).cloned(),
-                        );
-                        (
-                            SceneRecord::ok(&scene.name, report).with_fingerprint(fingerprint),
-                            true,
-                        )
                     }
                 },
-            },
+            };
+        let (record, failure) = match outcome {
+            Ok(record) => (record, None),
+            Err((stage, e)) => (
+                SceneRecord::failed(scene.name.clone(), stage, e.as_ref()),
+                Some(e),
+            ),
         };
         timing.total_seconds = start.elapsed().as_secs_f64();
         if let Outcome::Failed { error, .. } = &record.outcome {
@@ -431,139 +382,22 @@ impl Ctx<'_> {
         })?;
         text.push('\n');
         crate::write_atomic(&scene.timing_path(&self.options.out_dir), text.as_bytes())?;
-        let status = if ok {
+        let status = if matches!(record.outcome, Outcome::Ok { .. }) {
             SceneStatus::Evaluated { why }
         } else {
             SceneStatus::Failed { why }
         };
-        Ok((record, status, Some(timing)))
+        Ok((record, status, Some(timing), failure))
     }
 
-    /// Runs the plan on a loaded scene: the object views and VLM session when a VLM is
-    /// configured, the plausibility metrics (with the VLM's support types and functional sides
-    /// between what the scene states and the category tables), then the fidelity metrics when
-    /// the plan runs any and the scene has an annotation row (writing `<scene>/matching.json`
-    /// and the views under `<scene>/views/`).
-    fn evaluate_loaded(
-        &self,
-        scene: &SceneFile,
-        loaded: &crate::scene::Scene,
-        deadline: &Deadline,
-        timing: &mut SceneTiming,
-    ) -> Result<crate::SceneReport, EvalError> {
-        let ev = self.evaluator;
-        let dir = self.options.out_dir.join(&scene.name);
-        let row = self.options.rows.get(&scene.name);
-        let fidelity_runs = ev.plan().has_fidelity() && row.is_some();
-        if ev.plan().has_fidelity() && row.is_none() {
-            tracing::warn!(scene = %scene.name, "no annotation row: fidelity metrics skipped");
-        }
-        let session = ev.scene_session();
-        let views = match &session {
-            Some(_) if fidelity_runs || ev.wants_vlm_sources() => {
-                ev.views_for(loaded, self.assets, Some(dir.join("views")))?
-            }
-            _ => None,
-        };
-        let sources = match &session {
-            Some(s) => ev.vlm_sources(loaded, s, views.as_deref())?,
-            None => None,
-        };
-        let mut report = ev.evaluate_with_sources(
-            loaded,
-            sources.as_ref().unwrap_or(ev.sources()),
-            deadline,
-            &mut timing.metrics,
-        )?;
-        if let (true, Some(row)) = (fidelity_runs, row) {
-            let start = Instant::now();
-            let outcome =
-                ev.evaluate_fidelity(loaded, &scene.name, row, session.as_ref(), views.as_deref())?;
-            outcome
-                .matching
-                .write(&dir.join(crate::fidelity::MATCHING_FILE))?;
-            timing.fidelity_seconds = Some(start.elapsed().as_secs_f64());
-            report.fidelity = Some(outcome.report);
-        }
-        Ok(report)
-    }
-
-    fn diagnostics(&self, scene: &SceneFile, loaded: &crate::scene::Scene) {
-        let dir = self.options.out_dir.join(&scene.name).join("diagnostics");
+    fn diagnostics(&self, scene: &SceneFile, loaded: &crate::scene::Scene, dir: &Path) {
         if let Err(e) = crate::plausibility::write_diagnostics(
             loaded,
             &self.evaluator.plan().params,
             self.evaluator.sources(),
-            &dir,
+            &dir.join("diagnostics"),
         ) {
             tracing::warn!(scene = %scene.name, error = %e, "diagnostic images not written");
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn finds_scene_files_in_numeric_order() {
-        let dir = tempfile::tempdir().unwrap();
-        for name in [
-            "scene_10.json",
-            "scene_2.json",
-            "scene_x.json",
-            "notes.json",
-            "scene_1.txt",
-            "scene_3.JSON",
-            "scene_state_template.json",
-        ] {
-            std::fs::write(dir.path().join(name), "{}").unwrap();
-        }
-        std::fs::create_dir(dir.path().join("scene_4.json")).unwrap();
-        let set = find_scenes(dir.path()).unwrap();
-        let names: Vec<(&str, u64)> = set.scenes.iter().map(|s| (s.name.as_str(), s.id)).collect();
-        assert_eq!(names, vec![("scene_2", 2), ("scene_10", 10)]);
-        let skipped: Vec<String> = set
-            .skipped
-            .iter()
-            .map(|s| s.path.file_name().unwrap().to_string_lossy().into_owned())
-            .collect();
-        assert_eq!(
-            skipped,
-            vec!["scene_3.JSON", "scene_state_template.json", "scene_x.json"]
-        );
-        assert!(set.skipped[0].reason.contains("lower-case .json"));
-        assert!(matches!(
-            find_scenes(&dir.path().join("missing")),
-            Err(EvalError::File { .. })
-        ));
-    }
-
-    #[test]
-    fn duplicate_ids_are_an_error_before_any_work() {
-        let dir = tempfile::tempdir().unwrap();
-        for name in ["scene_1.json", "scene_01.json", "scene_2.json"] {
-            std::fs::write(dir.path().join(name), "{}").unwrap();
-        }
-        let err = find_scenes(dir.path()).unwrap_err();
-        assert!(matches!(err, EvalError::DuplicateSceneId { id: 1, .. }), "{err}");
-        let text = err.to_string();
-        assert!(
-            text.contains("scene_01.json") && text.contains("scene_1.json") && text.contains("same id 1"),
-            "{text}"
-        );
-    }
-
-    #[cfg(unix)]
-    #[test]
-    fn names_that_are_not_utf8_are_reported() {
-        use std::os::unix::ffi::OsStrExt;
-        let dir = tempfile::tempdir().unwrap();
-        let name = OsStr::from_bytes(b"scene_\xff1.json");
-        std::fs::write(dir.path().join(name), "{}").unwrap();
-        let set = find_scenes(dir.path()).unwrap();
-        assert!(set.scenes.is_empty());
-        assert_eq!(set.skipped.len(), 1);
-        assert!(set.skipped[0].reason.contains("not valid UTF-8"));
     }
 }

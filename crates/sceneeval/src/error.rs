@@ -20,17 +20,28 @@ pub enum EvalError {
         /// What is wrong.
         message: String,
     },
-    /// The choices of a run do not fit together or name nothing (a plan that is none of
-    /// `geometry`, `full`, a metric list or a file; fidelity metrics without annotations; an
-    /// unknown relation mapping): see [`crate::PlanChoice`]. The message names the option as
-    /// the front end spells it (`--plan`, `plan`).
-    #[error("{message}")]
-    Choice {
-        /// What is wrong.
+    /// A field of an [`crate::EvaluationRequest`] is wrong or does not fit the others (a plan
+    /// that cannot be read, fidelity metrics without annotations, a VLM setting out of range).
+    /// Front ends show the field under their own name for it (`--plan`, `plan=`).
+    #[error("{field}: {message}")]
+    Request {
+        /// The field at fault.
+        field: crate::RequestField,
+        /// What is wrong, without the field's name.
         message: String,
-        /// The underlying plan error, if one.
+        /// The underlying error, if one.
         #[source]
-        source: Option<Box<EvalError>>,
+        source: Option<Box<dyn std::error::Error + Send + Sync + 'static>>,
+    },
+    /// [`crate::Evaluator::evaluate`] with a plan that runs text-fidelity metrics, which need
+    /// the scene's annotation row.
+    #[error(
+        "the plan runs text-fidelity metrics (cnt, atr, oor, oar), which need {scene}'s annotation row: pass it \
+         to Evaluator::evaluate_scene"
+    )]
+    NoAnnotationRow {
+        /// The scene.
+        scene: String,
     },
     /// A metric failed: its parameters are invalid or the scene's time budget ran out. The
     /// message is the metric's own.
@@ -57,6 +68,17 @@ pub enum EvalError {
         /// Why.
         #[source]
         source: std::io::Error,
+    },
+    /// Another run (of this or another process) is writing into the output folder.
+    #[error(
+        "another sceneeval run is writing to {} (it holds {}/.sceneeval.lock): wait for it to finish, or write \
+         to another output folder",
+        path.display(),
+        path.display()
+    )]
+    OutputInUse {
+        /// The output folder.
+        path: PathBuf,
     },
     /// Two scene files have the same benchmark id (`scene_1.json` and `scene_01.json`): their
     /// results would be confused.
@@ -87,6 +109,36 @@ impl EvalError {
         EvalError::File {
             path: path.into(),
             source,
+        }
+    }
+
+    /// A request error without an underlying cause.
+    pub(crate) fn request(field: crate::RequestField, message: impl Into<String>) -> Self {
+        EvalError::Request {
+            field,
+            message: message.into(),
+            source: None,
+        }
+    }
+
+    /// A request error caused by `source`.
+    pub(crate) fn request_caused(
+        field: crate::RequestField,
+        message: impl Into<String>,
+        source: impl std::error::Error + Send + Sync + 'static,
+    ) -> Self {
+        EvalError::Request {
+            field,
+            message: message.into(),
+            source: Some(Box::new(source)),
+        }
+    }
+
+    /// The request field this error is about, if it is one ([`EvalError::Request`]).
+    pub fn request_field(&self) -> Option<crate::RequestField> {
+        match self {
+            EvalError::Request { field, .. } => Some(*field),
+            _ => None,
         }
     }
 }

@@ -3,7 +3,6 @@
 
 use std::io::Write;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::EvalError;
 
@@ -15,12 +14,13 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), EvalError> {
     write_atomic_with(path, |w| w.write_all(bytes))
 }
 
-/// Writes a file atomically: `write` fills a temporary file in the same folder
-/// (`.<name>.<pid>-<n>.tmp`), which is flushed to disk (`fsync`) and then renamed over
+/// Writes a file atomically: `write` fills a temporary file with a unique name in the same
+/// folder (`.<name>.<random>.tmp`), which is flushed to disk (`fsync`) and then renamed over
 /// `path`, and the folder is synced so that the rename itself survives a power cut. Readers
 /// see either the old file or the complete new one, never a part; if `write` fails or the
 /// process dies, the old file stays and the temporary file is removed (or left behind, named
-/// as above, when the process died). The folder is created if missing.
+/// as above, when the process died). The folder is created if missing. Every crate writes
+/// its files this way ([`sceneeval_files::write_atomic_with`]).
 ///
 /// ```
 /// let dir = tempfile::tempdir().unwrap();
@@ -43,46 +43,7 @@ pub fn write_atomic_with(
     path: &Path,
     write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
 ) -> Result<(), EvalError> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let err = |e| EvalError::file(path, e);
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    std::fs::create_dir_all(dir).map_err(err)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(
-        ".{name}.{}-{}.tmp",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let result = (|| {
-        let mut file = std::fs::File::create(&tmp)?;
-        write(&mut file)?;
-        file.flush()?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(err(e));
-    }
-    sync_dir(dir);
-    Ok(())
-}
-
-/// Makes a rename in `dir` durable (a no-op where folders cannot be opened for syncing).
-fn sync_dir(dir: &Path) {
-    #[cfg(unix)]
-    if let Ok(d) = std::fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
-    #[cfg(not(unix))]
-    let _ = dir;
+    sceneeval_files::write_atomic_with(path, write).map_err(|e| EvalError::file(path, e))
 }
 
 /// Checks that results can be written to `dir` before any work is done: creates it if
@@ -109,6 +70,49 @@ pub fn check_output_dir(dir: &Path) -> Result<(), EvalError> {
         let _ = std::fs::remove_file(&probe);
         not_writable(e)
     })
+}
+
+/// The lock file of an output folder (see [`OutputLock`]).
+pub const LOCK_FILE: &str = ".sceneeval.lock";
+
+/// An output folder held by one run: [`LOCK_FILE`] in it, locked (an advisory lock of the
+/// operating system, released when the run ends or its process dies) while the run lasts, so
+/// that a second run on the same folder stops at once with a clear error instead of racing
+/// the first one for its files. The file itself stays (empty) after the run.
+#[derive(Debug)]
+pub struct OutputLock {
+    _file: std::fs::File,
+}
+
+impl OutputLock {
+    /// Locks `dir` (which must exist) for this run.
+    ///
+    /// ```
+    /// let dir = tempfile::tempdir().unwrap();
+    /// let first = sceneeval::OutputLock::acquire(dir.path()).unwrap();
+    /// let err = sceneeval::OutputLock::acquire(dir.path()).unwrap_err();
+    /// assert!(err.to_string().contains("another sceneeval run"), "{err}");
+    /// drop(first);
+    /// assert!(sceneeval::OutputLock::acquire(dir.path()).is_ok());
+    /// ```
+    ///
+    /// # Errors
+    /// [`EvalError::OutputInUse`] when another run holds it; [`EvalError::File`] when the lock
+    /// file cannot be opened or locked.
+    pub fn acquire(dir: &Path) -> Result<Self, EvalError> {
+        let path = dir.join(LOCK_FILE);
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| EvalError::file(&path, e))?;
+        match file.try_lock() {
+            Ok(()) => Ok(OutputLock { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(EvalError::OutputInUse { path: dir.to_owned() }),
+            Err(std::fs::TryLockError::Error(e)) => Err(EvalError::file(&path, e)),
+        }
+    }
 }
 
 #[cfg(test)]

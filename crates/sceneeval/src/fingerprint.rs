@@ -45,6 +45,11 @@ pub struct Fingerprint {
     pub scene: FileDigest,
     /// [`crate::EvaluationPlan::result_digest`]: the metrics and every parameter.
     pub plan: String,
+    /// The plan's preset, recorded for the summary tables (`sceneeval summarize` shows it);
+    /// not compared (the digest already holds every parameter). Absent in records of earlier
+    /// versions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<crate::Preset>,
     /// Hex BLAKE3 of the scene's annotation row (as JSON), when annotations were given and
     /// have a row for it. Compared only for metrics that read it (the text-fidelity metrics);
     /// the plausibility metrics do not.
@@ -97,6 +102,7 @@ impl Fingerprints {
         scene: &Scene,
         assets: &AssetLibrary,
         plan_digest: &str,
+        preset: crate::Preset,
         annotation: Option<String>,
     ) -> Fingerprint {
         let model_ids: BTreeSet<&str> = scene.objects().iter().filter_map(|o| o.model_id()).collect();
@@ -114,6 +120,7 @@ impl Fingerprints {
             schema: RECORD_SCHEMA.to_owned(),
             scene: self.file(scene_file),
             plan: plan_digest.to_owned(),
+            preset: Some(preset),
             annotation,
             assets,
         }

@@ -14,25 +14,31 @@
 //! | [`fidelity`] | `sceneeval-fidelity` | object matching, CNT, ATR, OOR, OAR |
 //! | `vlm_openai` (feature `openai`) | `sceneeval-vlm-openai` | the OpenAI-compatible HTTP client |
 //!
-//! On top of them: an [`EvaluationPlan`] names the metrics to run and their parameters
-//! (starting from a [`Preset`]: this implementation's defaults or every reference-parity
-//! switch), an [`Evaluator`] runs a plan on a [`scene::Scene`] and returns a [`SceneReport`],
-//! [`run_batch`] evaluates a folder of `scene_<ID>.json` files in parallel writing one
-//! [`SceneRecord`] (`eval.json`, with the [`Fingerprint`] of everything it depends on) per
-//! scene as it finishes, reusing an earlier record only when its fingerprint still matches,
-//! and [`Summary`] turns records into the paper's tables, overall and by difficulty. Every
-//! result file is written atomically ([`write_atomic`]). File formats and the guarantees a
-//! user may rely on: `docs/formats.md`.
+//! On top of them:
+//! - an [`EvaluationPlan`] names the [`Metric`]s to run and their parameters (starting from a
+//!   [`Preset`]: this implementation's defaults or every reference-parity switch);
+//! - an [`Evaluator`] runs a plan: [`Evaluator::evaluate_scene`] is the per-scene pipeline
+//!   (the VLM's object views, support types and functional sides when one is configured, the
+//!   geometry metrics, then CNT, ATR, OOR, OAR against the scene's annotation row) and returns
+//!   the [`SceneReport`], built once;
+//! - an [`EvaluationRequest`] is a whole run (scenes, assets, annotations, output folder, plan,
+//!   VLM, threads, shard), each default written once, that `sceneeval evaluate` and the Python
+//!   package's `sceneeval.evaluate` both build; [`EvaluationRequest::prepare`] checks it before
+//!   any work and [`PreparedRun::run`] runs it: [`run_batch`] (files, fingerprints, reuse,
+//!   parallelism: one [`SceneRecord`] per scene in `eval.json`, written as it finishes, reused
+//!   only while its [`Fingerprint`] matches), then the paper's tables ([`Summary`], overall and
+//!   by difficulty);
+//! - a scene's identity, [`SceneName`] (its name and benchmark id, which finds its annotation
+//!   row), is made once where scene files are found ([`find_scenes`]);
+//! - [`ErrorChain`] prints an error and its causes as every front end shows them, and
+//!   [`inspect`] gives a scene's objects, rooms, walls and openings as plain values.
 //!
-//! [`FolderRun`] is the whole run of `sceneeval evaluate` (the batch, then `summary.csv` and
-//! `summary.md`) and [`PlanChoice`] reads what it evaluates (`--plan geometry|full|LIST|FILE`,
-//! the preset, the fidelity choices and the downgrade without a VLM), both shared by the CLI
-//! and the Python package; [`inspect`] gives a scene's objects,
-//! rooms, walls and openings as plain serializable values.
+//! Every result file is written atomically ([`write_atomic`]). File formats and the guarantees
+//! a user may rely on: `docs/formats.md`; the data flow: `docs/architecture.md`.
 //!
 //! # Example
 //! ```
-//! use sceneeval::{Evaluator, EvaluationPlan, Summary, SceneRecord};
+//! use sceneeval::{Evaluator, EvaluationPlan, SceneName, SceneRecord, Summary};
 //! use sceneeval::scene::{Category, RoomBuilder, Scene};
 //! use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //!
@@ -48,10 +54,10 @@
 //! let plan = EvaluationPlan::geometry_only();
 //! let evaluator = Evaluator::new(plan.clone()).unwrap();
 //! let report = evaluator.evaluate(&scene).unwrap();
-//! assert_eq!(report.plausibility.summary.col_sc, Some(false));
-//! assert_eq!(report.plausibility.summary.oob, Some(0.0));
+//! assert_eq!(report.summary.geometry.col_sc, Some(false));
+//! assert_eq!(report.summary.geometry.oob, Some(0.0));
 //!
-//! let summary = Summary::from_records(&[SceneRecord::ok("scene_0", report)], |_| None)
+//! let summary = Summary::from_records(&[SceneRecord::ok(SceneName::new("scene_0"), report)], None)
 //!     .with_plan(&plan);
 //! assert_eq!(summary.groups[0].col_ob, Some(0.0));
 //! let md = summary.to_markdown();
@@ -73,32 +79,42 @@ pub use sceneeval_vlm as vlm;
 pub use sceneeval_vlm_openai as vlm_openai;
 
 mod batch;
+mod chain;
 mod dyn_vlm;
 mod error;
 mod evaluator;
 mod files;
 mod fingerprint;
-mod folder;
 pub mod inspect;
+mod metric;
 mod plan;
-mod plan_choice;
 mod record;
+pub mod relate;
+mod report;
+mod request;
+mod scene_file;
 mod summary;
 
 pub use batch::{
-    BatchOptions, BatchOutcome, RECORD_FILE, Reason, SceneFile, SceneSet, SceneStatus, SceneTiming,
-    SkippedFile, TIMING_FILE, TIMING_SCHEMA, find_scenes, run_batch,
+    BatchOptions, BatchOutcome, Reason, RunEvent, SceneStatus, SceneTiming, TIMING_SCHEMA, run_batch,
 };
+pub use chain::{ErrorChain, causes};
 pub use dyn_vlm::SharedVlm;
 pub use error::EvalError;
-pub use evaluator::{Evaluator, SCENE_REPORT_SCHEMA, SceneReport};
-pub use files::{check_output_dir, write_atomic, write_atomic_with};
+pub use evaluator::{Evaluator, SceneEvaluation, SceneInputs};
+pub use files::{LOCK_FILE, OutputLock, check_output_dir, write_atomic, write_atomic_with};
 pub use fingerprint::{
     AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest, matching_file_digest,
 };
-pub use folder::{FolderOutcome, FolderRun, scene_annotation_row};
+pub use metric::{Metric, UnknownMetric};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
-pub use plan_choice::{ChosenPlan, NoVlmFallback, OptionNames, PlanChoice, PlanSpec};
-pub use plausibility::{Deadline, Metric, MetricTiming, PlausibilitySummary};
-pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage, benchmark_id};
+pub use plausibility::{Deadline, MetricTiming};
+pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
+pub use report::{SCENE_REPORT_SCHEMA, SceneReport, SceneSummary};
+pub use request::{
+    ChosenPlan, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, EvaluationRequest,
+    NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard,
+    VlmOptions,
+};
+pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
 pub use summary::{ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, Summary, UNANNOTATED};

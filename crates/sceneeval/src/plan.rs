@@ -5,11 +5,11 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
-use crate::EvalError;
 use crate::fidelity::{FidelityMetric, FidelityParams};
 use crate::io::{Limits, ReadOptions};
-use crate::plausibility::{Footprint, Metric, PlausibilityError, PlausibilityParams};
+use crate::plausibility::{self, Footprint, PlausibilityError, PlausibilityParams};
 use crate::relations::RelationParams;
+use crate::{EvalError, Metric};
 
 /// The default time budget per scene, in seconds (loading and every metric together).
 pub const DEFAULT_TIME_BUDGET_SECONDS: f64 = 600.0;
@@ -92,14 +92,12 @@ impl FromStr for Preset {
 pub struct EvaluationPlan {
     /// The preset the parameters start from (recorded in `summary.md`).
     pub preset: Preset,
-    /// The metrics to run, without repeats. They always run and are reported in the order of
-    /// [`Metric::ALL`].
+    /// The metrics to run, without repeats: geometry metrics and text-fidelity metrics (CNT,
+    /// ATR, OOR, OAR, which need the scene's annotation row). They always run and are reported
+    /// in the order of [`Metric::ALL`].
     pub metrics: Vec<Metric>,
     /// Parameters of the plausibility metrics.
     pub params: PlausibilityParams,
-    /// The text-fidelity metrics to run (CNT, ATR, OOR, OAR), without repeats; they need the
-    /// scene's annotation row.
-    pub fidelity_metrics: Vec<FidelityMetric>,
     /// Parameters of the fidelity metrics: matching, relation mapping, reference switches.
     pub fidelity: FidelityParams,
     /// Parameters of the spatial predicates, for the text-fidelity metrics (OOR, OAR) and
@@ -127,9 +125,8 @@ impl EvaluationPlan {
     pub fn geometry_only() -> Self {
         EvaluationPlan {
             preset: Preset::Default,
-            metrics: Metric::ALL.to_vec(),
+            metrics: plausibility::Metric::ALL.map(Metric::from).to_vec(),
             params: PlausibilityParams::default(),
-            fidelity_metrics: Vec::new(),
             fidelity: FidelityParams::default(),
             relations: RelationParams::default(),
             read: ReadOptions::default(),
@@ -170,37 +167,31 @@ impl EvaluationPlan {
     /// use sceneeval::{EvaluationPlan, Preset};
     /// use sceneeval::fidelity::{FidelityMetric, MatchingMethod};
     /// let full = EvaluationPlan::full(Preset::Default);
-    /// assert_eq!(full.metrics.len() + full.fidelity_metrics.len(), 10);
+    /// assert_eq!(full.metrics.len(), 10);
     /// assert_eq!(full.fidelity.matching, MatchingMethod::Labels);
     /// assert_eq!(EvaluationPlan::full(Preset::Reference).fidelity.matching, MatchingMethod::Vlm);
     /// assert!(full.runs_fidelity(FidelityMetric::Atr));
     /// ```
     pub fn full(preset: Preset) -> Self {
         let mut plan = EvaluationPlan::with_preset(preset);
-        plan.fidelity_metrics = FidelityMetric::ALL.to_vec();
+        plan.metrics = Metric::ALL.to_vec();
         plan
     }
 
     /// A plan with the preset's parameters running exactly the metrics named in `list`
-    /// (comma-separated geometry metric names and `cnt`, `atr`, `oor`, `oar`).
+    /// (comma-separated names or summary columns, see [`Metric`]).
     ///
     /// # Errors
-    /// [`EvalError::Plan`] naming an unknown metric.
+    /// [`EvalError::Plan`] naming an unknown metric (with the list of metrics and the closest
+    /// name), or a metric listed twice.
     pub fn from_metric_list(list: &str, preset: Preset) -> Result<Self, EvalError> {
         let mut plan = EvaluationPlan::with_preset(preset);
-        plan.metrics.clear();
-        for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
-            if let Ok(m) = name.parse::<Metric>() {
-                plan.metrics.push(m);
-            } else if let Ok(f) = name.parse::<FidelityMetric>() {
-                plan.fidelity_metrics.push(f);
-            } else {
-                return Err(plan_error(
-                    Some("metrics"),
-                    format!("unknown metric {name:?} (a geometry metric, or cnt, atr, oor, oar)"),
-                ));
-            }
-        }
+        plan.metrics = list
+            .split(',')
+            .filter(|n| !n.trim().is_empty())
+            .map(|name| name.parse::<Metric>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| plan_error(Some("metrics"), e.to_string()))?;
         plan.validate()?;
         Ok(plan)
     }
@@ -208,13 +199,29 @@ impl EvaluationPlan {
     /// Whether the plan runs the fidelity metric `metric`.
     #[inline]
     pub fn runs_fidelity(&self, metric: FidelityMetric) -> bool {
-        self.fidelity_metrics.contains(&metric)
+        self.metrics.contains(&Metric::from(metric))
     }
 
     /// Whether the plan runs any fidelity metric (and so reads annotation rows).
     #[inline]
     pub fn has_fidelity(&self) -> bool {
-        !self.fidelity_metrics.is_empty()
+        self.metrics.iter().any(|m| m.fidelity().is_some())
+    }
+
+    /// The geometry metrics the plan runs, in the order they run and are reported.
+    pub fn geometry_metrics(&self) -> Vec<plausibility::Metric> {
+        self.ordered_metrics()
+            .into_iter()
+            .filter_map(Metric::geometry)
+            .collect()
+    }
+
+    /// The text-fidelity metrics the plan runs, in the order they are reported.
+    pub fn fidelity_metrics(&self) -> Vec<FidelityMetric> {
+        self.ordered_metrics()
+            .into_iter()
+            .filter_map(Metric::fidelity)
+            .collect()
     }
 
     /// The plan of a preset.
@@ -273,18 +280,26 @@ impl EvaluationPlan {
     /// # Errors
     /// As [`EvaluationPlan::from_toml_str`].
     pub fn from_toml_str_with_preset(text: &str, preset: Option<Preset>) -> Result<Self, EvalError> {
-        let value: Value = toml::from_str(text).map_err(|e| EvalError::Plan {
+        let value: toml::Value = toml::from_str(text).map_err(|e| EvalError::Plan {
             path: None,
             field: None,
             message: format!("malformed TOML: {}", e.to_string().trim_end()),
         })?;
-        Self::from_value(value, preset)
+        Self::from_value(json_of_toml(value, "")?, preset)
     }
 
     fn from_value(value: Value, preset: Option<Preset>) -> Result<Self, EvalError> {
         let Value::Object(given) = value else {
             return Err(plan_error(None, "a plan must be a JSON object".into()));
         };
+        if given.contains_key("fidelity_metrics") {
+            return Err(plan_error(
+                Some("fidelity_metrics"),
+                "unknown field: list the text-fidelity metrics (cnt, atr, oor, oar) in `metrics` with the \
+                 geometry metrics"
+                    .into(),
+            ));
+        }
         let preset = match (preset, given.get("preset")) {
             (Some(p), _) => p,
             (None, Some(v)) => Preset::deserialize(v).map_err(|_| {
@@ -297,7 +312,15 @@ impl EvaluationPlan {
         };
         let base = EvaluationPlan::with_preset(preset);
         let mut merged = serde_json::to_value(&base).map_err(|e| plan_error(None, e.to_string()))?;
-        merge(&mut merged, &Value::Object(given.clone()));
+        let given = Value::Object(given);
+        if let Some(path) = list_for_object(&given, &merged, "") {
+            return Err(plan_error(
+                Some(&path),
+                "a list where the plan has an object: give its fields by name (a JSON object, a TOML table)"
+                    .to_owned(),
+            ));
+        }
+        merge(&mut merged, &given);
         if let Value::Object(m) = &mut merged {
             m.insert("preset".into(), Value::String(preset.name().into()));
         }
@@ -307,7 +330,7 @@ impl EvaluationPlan {
         })?;
         // Every key given must survive the round trip; one that does not is unknown.
         let back = serde_json::to_value(&plan).map_err(|e| plan_error(None, e.to_string()))?;
-        if let Some(path) = unknown_key(&Value::Object(given), &back, "") {
+        if let Some(path) = unknown_key(&given, &back, "") {
             return Err(plan_error(Some(&path), "unknown field".to_owned()));
         }
         plan.validate()?;
@@ -333,7 +356,20 @@ impl EvaluationPlan {
             field: None,
             message: e.to_string(),
         })?;
-        let is_toml = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if matches!(extension.as_deref(), Some("yaml" | "yml")) {
+            return Err(EvalError::Plan {
+                path: Some(path.to_owned()),
+                field: None,
+                message: "YAML plan files are not read: write the plan as JSON, or as TOML in a file \
+                          ending in .toml (docs/formats.md, \"Evaluation plan\")"
+                    .into(),
+            });
+        }
+        let is_toml = extension.as_deref() == Some("toml");
         let plan = if is_toml {
             Self::from_toml_str_with_preset(&text, preset)
         } else {
@@ -356,16 +392,8 @@ impl EvaluationPlan {
     /// # Errors
     /// [`EvalError::Plan`] naming the field, e.g. `params.collision.contact_tolerance`.
     pub fn validate(&self) -> Result<(), EvalError> {
-        if self.metrics.is_empty() && self.fidelity_metrics.is_empty() {
+        if self.metrics.is_empty() {
             return Err(plan_error(Some("metrics"), "the plan lists no metric".into()));
-        }
-        for (i, m) in self.fidelity_metrics.iter().enumerate() {
-            if self.fidelity_metrics[..i].contains(m) {
-                return Err(plan_error(
-                    Some(&format!("fidelity_metrics[{i}]")),
-                    format!("metric {m} is listed twice"),
-                ));
-            }
         }
         self.fidelity.validate().map_err(|e| {
             let field = match &e {
@@ -432,9 +460,11 @@ impl EvaluationPlan {
     /// the limits and the time budget are left out: they decide whether a scene is
     /// evaluated, not what its result is. Hex-encoded BLAKE3 of the canonical JSON.
     pub fn result_digest(&self) -> String {
+        // The form of the digest predates `Metric`: the geometry metrics, then the fidelity
+        // metrics apart (sorted), so that results of earlier versions stay reusable.
         #[derive(Serialize)]
         struct Semantic<'a> {
-            metrics: Vec<Metric>,
+            metrics: Vec<plausibility::Metric>,
             params: &'a PlausibilityParams,
             #[serde(skip_serializing_if = "Vec::is_empty")]
             fidelity_metrics: Vec<FidelityMetric>,
@@ -443,10 +473,9 @@ impl EvaluationPlan {
             relations: &'a RelationParams,
             read: &'a ReadOptions,
         }
-        let mut fidelity_metrics = self.fidelity_metrics.clone();
-        fidelity_metrics.sort();
+        let fidelity_metrics = self.fidelity_metrics();
         let s = Semantic {
-            metrics: self.ordered_metrics(),
+            metrics: self.geometry_metrics(),
             params: &self.params,
             fidelity: (!fidelity_metrics.is_empty()).then_some(&self.fidelity),
             fidelity_metrics,
@@ -515,6 +544,68 @@ fn unknown_in(g: &Map<String, Value>, b: &Map<String, Value>, prefix: &str) -> O
         }
     }
     None
+}
+
+/// The path of the first value of `given` that is a list (a JSON array, a TOML array of
+/// tables) where the plan has an object: serde would read a struct from a list by position,
+/// and an object inside it would escape the unknown-field check.
+fn list_for_object(given: &Value, back: &Value, path: &str) -> Option<String> {
+    match (given, back) {
+        (Value::Array(_), Value::Object(_)) => Some(path.to_owned()),
+        (Value::Object(g), Value::Object(b)) => g.iter().find_map(|(k, v)| {
+            let path = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            list_for_object(v, b.get(k)?, &path)
+        }),
+        _ => None,
+    }
+}
+
+/// A TOML value as JSON, refusing what JSON cannot hold instead of letting it become `null`
+/// (which would mean "no value": a `nan` time budget would be no budget): non-finite floats
+/// and dates, each named by its path.
+fn json_of_toml(value: toml::Value, path: &str) -> Result<Value, EvalError> {
+    let at = |key: &str| {
+        if path.is_empty() {
+            key.to_owned()
+        } else {
+            format!("{path}.{key}")
+        }
+    };
+    Ok(match value {
+        toml::Value::String(s) => Value::String(s),
+        toml::Value::Integer(i) => Value::from(i),
+        toml::Value::Float(f) if f.is_finite() => Value::from(f),
+        toml::Value::Float(f) => {
+            return Err(plan_error(Some(path), format!("{f} is not a finite number")));
+        }
+        toml::Value::Boolean(b) => Value::Bool(b),
+        toml::Value::Datetime(d) => {
+            return Err(plan_error(
+                Some(path),
+                format!("a date ({d}) is not a plan value"),
+            ));
+        }
+        toml::Value::Array(items) => Value::Array(
+            items
+                .into_iter()
+                .enumerate()
+                .map(|(i, v)| json_of_toml(v, &format!("{path}[{i}]")))
+                .collect::<Result<_, _>>()?,
+        ),
+        toml::Value::Table(table) => Value::Object(
+            table
+                .into_iter()
+                .map(|(k, v)| {
+                    let value = json_of_toml(v, &at(&k))?;
+                    Ok((k, value))
+                })
+                .collect::<Result<_, EvalError>>()?,
+        ),
+    })
 }
 
 #[cfg(test)]
@@ -606,7 +697,11 @@ mod tests {
                 "limits.max_triangles",
                 "at least 1",
             ),
-            (r#"{"metrics": ["physics"]}"#, "metrics[0]", "unknown variant"),
+            (
+                r#"{"metrics": ["physics"]}"#,
+                "metrics[0]",
+                "unknown metric \"physics\"",
+            ),
             (r#"{"preset": "paper"}"#, "preset", "unknown preset"),
             (
                 r#"{"read": {"simple_wall_height": -3}}"#,

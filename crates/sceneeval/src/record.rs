@@ -2,7 +2,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{EvalError, Fingerprint, SceneReport};
+use crate::{EvalError, Fingerprint, SceneName, SceneReport};
 
 /// The schema name and version of a scene's `eval.json`. Version 2 added the fingerprint;
 /// records of version 1 are evaluated again.
@@ -13,10 +13,10 @@ pub const RECORD_SCHEMA: &str = "sceneeval.eval/2";
 pub struct SceneRecord {
     /// Always [`RECORD_SCHEMA`].
     pub schema: String,
-    /// The scene's name (the file stem, e.g. `scene_12`).
-    pub scene: String,
-    /// The scene's benchmark id (the number after the last `_` of the name), if it has one.
-    pub scene_id: Option<String>,
+    /// The scene's name (the file stem, e.g. `scene_12`; the field `scene`) and benchmark id
+    /// (the digits after its last `_`; the field `scene_id`).
+    #[serde(flatten)]
+    pub scene: SceneName,
     /// Everything the result depends on; a re-run reuses the record only when it still
     /// matches. `None` for records made in code (never reused).
     #[serde(default)]
@@ -58,11 +58,10 @@ pub enum Stage {
 
 impl SceneRecord {
     /// A record of a successful evaluation.
-    pub fn ok(scene: &str, report: SceneReport) -> Self {
+    pub fn ok(scene: SceneName, report: SceneReport) -> Self {
         SceneRecord {
             schema: RECORD_SCHEMA.to_owned(),
-            scene: scene.to_owned(),
-            scene_id: benchmark_id(scene).map(str::to_owned),
+            scene,
             fingerprint: None,
             outcome: Outcome::Ok {
                 report: Box::new(report),
@@ -71,22 +70,15 @@ impl SceneRecord {
     }
 
     /// A record of a failure, keeping the whole error chain.
-    pub fn failed(scene: &str, stage: Stage, error: &(dyn std::error::Error + 'static)) -> Self {
-        let mut causes = Vec::new();
-        let mut next = error.source();
-        while let Some(cause) = next {
-            causes.push(cause.to_string());
-            next = cause.source();
-        }
+    pub fn failed(scene: SceneName, stage: Stage, error: &(dyn std::error::Error + 'static)) -> Self {
         SceneRecord {
             schema: RECORD_SCHEMA.to_owned(),
-            scene: scene.to_owned(),
-            scene_id: benchmark_id(scene).map(str::to_owned),
+            scene,
             fingerprint: None,
             outcome: Outcome::Failed {
                 stage,
                 error: error.to_string(),
-                causes,
+                causes: crate::chain::causes(error).map(|c| c.to_string()).collect(),
             },
         }
     }
@@ -140,25 +132,9 @@ impl SceneRecord {
     }
 }
 
-/// The benchmark id of a scene name: the digits after its last `_` (`scene_12` -> `12`), the
-/// way the reference numbers scenes.
-pub fn benchmark_id(scene: &str) -> Option<&str> {
-    let (_, id) = scene.rsplit_once('_')?;
-    (!id.is_empty() && id.bytes().all(|b| b.is_ascii_digit())).then_some(id)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn benchmark_ids() {
-        assert_eq!(benchmark_id("scene_12"), Some("12"));
-        assert_eq!(benchmark_id("my_scene_007"), Some("007"));
-        assert_eq!(benchmark_id("scene"), None);
-        assert_eq!(benchmark_id("scene_x1"), None);
-        assert_eq!(benchmark_id("scene_"), None);
-    }
 
     #[test]
     fn failed_record_keeps_chain_and_round_trips() {
@@ -167,7 +143,7 @@ mod tests {
             path: "assets/x".into(),
             source: inner,
         };
-        let rec = SceneRecord::failed("scene_3", Stage::Load, &outer);
+        let rec = SceneRecord::failed(SceneName::new("scene_3"), Stage::Load, &outer);
         let Outcome::Failed { stage, error, causes } = &rec.outcome else {
             panic!("expected a failure")
         };

@@ -3,6 +3,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::annotation::Annotations;
 use crate::fidelity::FidelitySummary;
 use crate::plausibility::PlausibilitySummary;
 use crate::{EvalError, EvaluationPlan, SceneRecord, write_atomic};
@@ -12,6 +13,9 @@ pub const SUMMARY_CSV: &str = "summary.csv";
 
 /// The name of the Markdown summary written into an output folder.
 pub const SUMMARY_MD: &str = "summary.md";
+
+/// The name of the per-scene table written into an output folder.
+pub const SUMMARY_SCENES_CSV: &str = "summary_scenes.csv";
 
 /// The name of the group holding every scene.
 pub const ALL_SCENES: &str = "all";
@@ -49,7 +53,49 @@ pub struct Summary {
     /// The plan's [`EvaluationPlan::result_digest`], when known.
     #[serde(default)]
     pub plan_digest: Option<String>,
+    /// One row per scene, in record order: the per-scene table (`summary_scenes.csv`).
+    #[serde(default)]
+    pub scenes: Vec<SceneRow>,
 }
+
+/// One scene of the per-scene table: its numbers (the group table's columns, for this scene
+/// alone) or why it has none.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SceneRow {
+    /// The scene's name.
+    pub scene: String,
+    /// Its benchmark id.
+    pub scene_id: Option<String>,
+    /// Its difficulty, when it has an annotation row.
+    pub difficulty: Option<String>,
+    /// `ok` or `failed`.
+    pub status: String,
+    /// Why it failed: the stage and the error with its causes on one line.
+    pub error: Option<String>,
+    /// The scene's numbers (a group of one).
+    pub values: GroupSummary,
+}
+
+/// The columns of the per-scene table.
+const SCENE_COLUMNS: [&str; 17] = [
+    "scene",
+    "scene_id",
+    "difficulty",
+    "status",
+    "CNT",
+    "ATR",
+    "OOR",
+    "OAR",
+    "COL_ob",
+    "COL_sc",
+    "SUP",
+    "NAV",
+    "ACC",
+    "OOB",
+    "DOOR_blk",
+    "WIN_blk",
+    "error",
+];
 
 /// One row of the [`Summary`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -128,15 +174,21 @@ const COLUMNS: [&str; 20] = [
 ];
 
 impl Summary {
-    /// Summarises scene records; `difficulty` maps a record to its difficulty group, `None` for a
-    /// scene without annotation. Pass `|_| None` when no annotations are available: only the
-    /// [`ALL_SCENES`] row is produced then.
+    /// Summarises scene records, grouped by the difficulty of each scene's row in
+    /// `annotations` ([`crate::SceneName::annotation_row`]); without annotations only the
+    /// [`ALL_SCENES`] row is produced.
     pub fn from_records<'a>(
         records: impl IntoIterator<Item = &'a SceneRecord>,
-        difficulty: impl Fn(&SceneRecord) -> Option<String>,
+        annotations: Option<&Annotations>,
     ) -> Self {
         let records: Vec<&SceneRecord> = records.into_iter().collect();
-        let labels: Vec<Option<String>> = records.iter().map(|r| difficulty(r)).collect();
+        let labels: Vec<Option<String>> = records
+            .iter()
+            .map(|r| {
+                let row = r.scene.annotation_row(annotations?)?;
+                Some(row.difficulty.as_str().to_owned())
+            })
+            .collect();
         let mut groups = vec![GroupSummary::of(ALL_SCENES, records.iter().copied())];
         let mut names: Vec<String> = labels.iter().flatten().cloned().collect();
         let rank = |n: &str| match n {
@@ -163,10 +215,43 @@ impl Summary {
                 .map(|(r, _)| *r);
             groups.push(GroupSummary::of(UNANNOTATED, members));
         }
+        let scenes = records
+            .iter()
+            .zip(&labels)
+            .map(|(r, difficulty)| SceneRow {
+                scene: r.scene.to_string(),
+                scene_id: r.scene.id().map(str::to_owned),
+                difficulty: difficulty.clone(),
+                status: if r.report().is_some() { "ok" } else { "failed" }.to_owned(),
+                error: match &r.outcome {
+                    crate::Outcome::Failed { stage, error, causes } => Some(format!(
+                        "{} stage: {}",
+                        match stage {
+                            crate::Stage::Load => "load",
+                            crate::Stage::Evaluate => "evaluate",
+                        },
+                        crate::ErrorChain::from_parts(error.as_str(), causes)
+                    )),
+                    crate::Outcome::Ok { .. } => None,
+                },
+                values: GroupSummary::of(r.scene.as_str(), std::iter::once(*r)),
+            })
+            .collect();
+        // The plan behind the records, when they all record the same one (a run sets its own
+        // with `with_plan`; `sceneeval summarize` has only the records).
+        let fingerprints: Vec<_> = records.iter().filter_map(|r| r.fingerprint.as_ref()).collect();
+        let same = |f: &dyn Fn(&crate::Fingerprint) -> Option<String>| {
+            let first = f(fingerprints.first()?)?;
+            fingerprints
+                .iter()
+                .all(|x| f(x).as_ref() == Some(&first))
+                .then_some(first)
+        };
         Summary {
             groups,
-            preset: None,
-            plan_digest: None,
+            preset: same(&|f| f.preset.map(|p| p.name().to_owned())),
+            plan_digest: same(&|f| Some(f.plan.clone())),
+            scenes,
         }
     }
 
@@ -184,7 +269,34 @@ impl Summary {
     /// [`EvalError::File`] when a file cannot be written; [`EvalError::Csv`] as [`Self::to_csv`].
     pub fn write_to(&self, dir: &Path) -> Result<(), EvalError> {
         write_atomic(&dir.join(SUMMARY_CSV), self.to_csv()?.as_bytes())?;
+        write_atomic(&dir.join(SUMMARY_SCENES_CSV), self.scenes_csv()?.as_bytes())?;
         write_atomic(&dir.join(SUMMARY_MD), self.to_markdown().as_bytes())
+    }
+
+    /// The per-scene table as CSV: scene, benchmark id, difficulty, status, the scene's numbers
+    /// (the group table's columns, in percent with four decimals; empty where the scene has
+    /// no value), and for a failed scene its stage and error with causes.
+    pub fn scenes_csv(&self) -> Result<String, EvalError> {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(SCENE_COLUMNS)?;
+        for row in &self.scenes {
+            let numbers = row.values.cells(4);
+            let mut cells = vec![
+                row.scene.clone(),
+                row.scene_id.clone().unwrap_or_default(),
+                row.difficulty.clone().unwrap_or_default(),
+                row.status.clone(),
+            ];
+            // The group table's columns after group, scenes, evaluated, failed and before the
+            // `_n` counts.
+            cells.extend_from_slice(&numbers[4..16]);
+            cells.push(row.error.clone().unwrap_or_default());
+            w.write_record(&cells)?;
+        }
+        let bytes = w
+            .into_inner()
+            .map_err(|e| EvalError::Csv(e.into_error().into()))?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
     }
 
     /// The table as CSV (header row, numbers with four decimals, empty cells for missing values).
@@ -215,7 +327,8 @@ impl Summary {
             let _ = writeln!(out, "| {} |", cells.join(" | "));
         }
         out.push('\n');
-        if let Some(preset) = &self.preset {
+        if self.preset.is_some() || self.plan_digest.is_some() {
+            let preset = self.preset.as_deref().unwrap_or("not recorded");
             let digest = self.plan_digest.as_deref().unwrap_or("-");
             let _ = writeln!(
                 out,
@@ -224,6 +337,18 @@ impl Summary {
             );
         }
         out.push_str(LEGEND);
+        let failed: Vec<&SceneRow> = self.scenes.iter().filter(|r| r.error.is_some()).collect();
+        if !failed.is_empty() {
+            let _ = writeln!(out, "\nFailed scenes ({}):\n", failed.len());
+            for row in failed {
+                let _ = writeln!(
+                    out,
+                    "- `{}`: {}",
+                    row.scene,
+                    row.error.as_deref().unwrap_or_default()
+                );
+            }
+        }
         out
     }
 }
@@ -236,9 +361,9 @@ impl GroupSummary {
         for r in records {
             scenes += 1;
             if let Some(report) = r.report() {
-                summaries.push(&report.plausibility.summary);
-                if let Some(f) = &report.fidelity {
-                    fidelity.push(f.summary);
+                summaries.push(&report.summary.geometry);
+                if let Some(f) = report.summary.fidelity {
+                    fidelity.push(f);
                 }
             }
         }
@@ -310,30 +435,27 @@ impl GroupSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plausibility::PlausibilityReport;
-    use crate::{Metric, SCENE_REPORT_SCHEMA, SceneReport, Stage};
+    use crate::plausibility::{self, PlausibilityReport};
+    use crate::{SceneName, SceneReport, Stage};
 
     type SceneSummary = PlausibilitySummary;
 
     fn record(name: &str, summary: SceneSummary) -> SceneRecord {
+        let geometry = PlausibilityReport {
+            scene_id: Some(name.into()),
+            object_ids: vec![],
+            metrics: plausibility::Metric::ALL.to_vec(),
+            summary,
+            collision: None,
+            support: None,
+            navigability: None,
+            accessibility: None,
+            out_of_bounds: None,
+            opening_clearance: None,
+        };
         SceneRecord::ok(
-            name,
-            SceneReport {
-                schema: SCENE_REPORT_SCHEMA.into(),
-                plausibility: PlausibilityReport {
-                    scene_id: Some(name.into()),
-                    object_ids: vec![],
-                    metrics: Metric::ALL.to_vec(),
-                    summary,
-                    collision: None,
-                    support: None,
-                    navigability: None,
-                    accessibility: None,
-                    out_of_bounds: None,
-                    opening_clearance: None,
-                },
-                fidelity: None,
-            },
+            SceneName::new(name),
+            SceneReport::new(Some(name.into()), geometry, None),
         )
     }
 
@@ -366,13 +488,13 @@ mod tests {
         vec![
             record("scene_0", a),
             record("scene_1", b),
-            SceneRecord::failed("scene_2", Stage::Load, &err),
+            SceneRecord::failed(SceneName::new("scene_2"), Stage::Load, &err),
         ]
     }
 
     #[test]
     fn macro_averages_by_hand() {
-        let s = Summary::from_records(&records(), |_| None);
+        let s = Summary::from_records(&records(), None);
         assert_eq!(s.groups.len(), 1);
         let all = &s.groups[0];
         assert_eq!((all.scenes, all.evaluated, all.failed), (3, 2, 1));
@@ -400,18 +522,32 @@ mod tests {
         );
         assert!(md.contains("Lower is better for COL_ob"), "{md}");
         assert!(!md.contains("Preset:"), "no plan given");
-        let md = s.with_plan(&EvaluationPlan::reference()).to_markdown();
+        let md = s.clone().with_plan(&EvaluationPlan::reference()).to_markdown();
         assert!(md.contains("Preset: `reference`; plan digest `"), "{md}");
+        // The failed scene is listed with its stage and cause below the legend.
+        assert!(
+            md.ends_with("\nFailed scenes (1):\n\n- `scene_2`: load stage: broken\n"),
+            "{md}"
+        );
+        // The per-scene table: each scene's own numbers, and the failure with its cause.
+        let scenes = s.scenes_csv().unwrap();
+        let lines: Vec<&str> = scenes.lines().collect();
+        assert_eq!(lines[0], SCENE_COLUMNS.join(","));
+        // scene_0: COL_ob 50 %, COL_sc 100 %, SUP 100 %, NAV 80 %, OOB 0 %, doors 1/2 = 50 %,
+        // windows: 0 of 0 is no value.
+        assert_eq!(
+            lines[1],
+            "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,"
+        );
+        assert_eq!(lines[3], "scene_2,2,,failed,,,,,,,,,,,,,load stage: broken");
     }
 
     #[test]
     fn groups_by_difficulty() {
         let recs = records();
-        let s = Summary::from_records(&recs, |r| match r.scene.as_str() {
-            "scene_0" => Some("hard".into()),
-            "scene_1" => Some("easy".into()),
-            _ => None,
-        });
+        let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n0,hard,A.,,,,\n1,easy,B.,,,,\n";
+        let annotations = Annotations::from_csv_str(csv).unwrap();
+        let s = Summary::from_records(&recs, Some(&annotations));
         let names: Vec<&str> = s.groups.iter().map(|g| g.group.as_str()).collect();
         assert_eq!(names, vec!["all", "easy", "hard", UNANNOTATED]);
         assert_eq!(s.groups[1].sup, Some(50.0));

@@ -66,7 +66,7 @@ fn example_plans_read_and_mean_what_they_say() {
 
     // The paper's ten metrics, VLM matching with the sizes in the prompt, lexicon mapping.
     let full = EvaluationPlan::read(&plans().join("full-vlm.json")).unwrap();
-    assert_eq!(full.metrics.len() + full.fidelity_metrics.len(), 10);
+    assert_eq!(full.metrics.len(), 10);
     assert_eq!(full.fidelity.matching, sceneeval::fidelity::MatchingMethod::Vlm);
     assert!(full.fidelity.size_aware_matching);
     assert_eq!(full.fidelity.max_candidate_groups, 100_000);

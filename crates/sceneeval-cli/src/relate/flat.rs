@@ -1,4 +1,4 @@
-//! The fast path of [`Line::parse`](super::line::Line::parse): a query by name,
+//! The fast path of [`super::parse_line`]: a query by name,
 //! `{"id":17,"relation":"near","target":"bed","room":"bedroom"}`, is a flat JSON object whose
 //! values are strings without escapes and perhaps an integer. Reading such a line with
 //! serde_json's derived visitors costs about 2,300 instructions, more than the line's own
@@ -14,7 +14,9 @@
 
 use std::borrow::Cow;
 
-use super::line::{Line, Operand, RawText, RoomOperand, Text};
+use sceneeval::relate::{Operand, RoomOperand};
+
+use super::line::{Line, RawText, Text};
 
 /// Reads the line in `text` into `line` (empty, as [`Line::default`]) if it is a flat object
 /// this scanner reads (see the module docs); `None` otherwise, with `line` partly filled (the

@@ -1,16 +1,16 @@
-//! One input line of `sceneeval relate`, parsed in one pass into borrowed, typed fields (no
-//! intermediate `serde_json::Value`): a query, or a declaration of a named object or room.
+//! One input line of `sceneeval relate`, as borrowed, typed fields (no intermediate
+//! `serde_json::Value`): a query (its operands are the facade's
+//! [`Operand`]/[`RoomOperand`]), or a declaration of a named object or room.
 //!
-//! [`Line::parse`] reads the commonest lines, flat objects of plain strings and an integer id
-//! (a query by name), with a scanner of its own ([`super::flat`]) and every other line with
-//! serde_json; both give the same [`Line`].
+//! Lines are read by the fast scanner ([`super::flat`]) or by serde_json into a [`Line`]
+//! (see [`super::parse_line`]); this module only defines what a line is.
 
 use std::borrow::Cow;
 use std::fmt;
 use std::marker::PhantomData;
 
-use sceneeval::relations::spec::ObjectSpec;
-use serde::de::{self, Deserializer, MapAccess, Visitor};
+use sceneeval::relate::{Operand, Query, RoomOperand};
+use serde::de::{self, Deserializer, Visitor};
 use serde::ser::{self, Serializer};
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
@@ -58,7 +58,7 @@ pub(crate) struct Line<'a> {
 /// What a line asks for.
 pub(crate) enum LineKind<'l, 'a> {
     /// A relation query.
-    Query(&'l Line<'a>),
+    Query(Query<'l>),
     /// `declare` with `object`.
     DeclareObject(&'l str, &'l Operand<'a>),
     /// `declare` with `room`.
@@ -66,29 +66,25 @@ pub(crate) enum LineKind<'l, 'a> {
 }
 
 impl<'a> Line<'a> {
-    /// The line in `text` (one JSON object), built in the caller's `slot` (a line is a few
-    /// hundred bytes: it is not moved once per call): through the fast path when it is a flat
-    /// object of plain strings and integers, else through serde_json, whose errors are the
-    /// answer's.
-    #[inline]
-    pub fn parse<'s>(text: &'a str, slot: &'s mut Option<Line<'a>>) -> serde_json::Result<&'s Self> {
-        let line = slot.insert(Line::default());
-        if super::flat::read(text, line).is_none() {
-            *line = serde_json::from_str(text)?;
-        }
-        Ok(line)
-    }
-
     /// The line's kind, or why its keys do not make one.
+    #[inline]
     pub fn kind(&self) -> Result<LineKind<'_, 'a>, String> {
         let Some(name) = &self.declare else {
             if self.object.is_some() {
                 return Err("\"object\" belongs to declarations (with \"declare\"); a query names its objects \"target\", \"anchor\" or \"targets\"".into());
             }
-            if self.relation.is_none() {
+            let Some(relation) = &self.relation else {
                 return Err("a line needs \"relation\" (a query) or \"declare\" (a declaration)".into());
-            }
-            return Ok(LineKind::Query(self));
+            };
+            return Ok(LineKind::Query(Query {
+                relation: relation.0.as_ref(),
+                side: self.side.as_ref().map(|t| t.0.as_ref()),
+                arch: self.arch.as_ref().map(|t| t.0.as_ref()),
+                target: self.target.as_ref(),
+                anchor: self.anchor.as_ref(),
+                targets: self.targets.as_deref(),
+                room: self.room.as_ref(),
+            }));
         };
         let query_keys = [
             ("relation", self.relation.is_some()),
@@ -172,78 +168,6 @@ impl<'de: 'a, 'a> Visitor<'de> for TextVisitor<'a> {
     }
 }
 
-/// An object operand: the name of a declared object, or an object written in place.
-#[derive(Debug)]
-pub(crate) enum Operand<'a> {
-    /// A declared object's name.
-    Name(Cow<'a, str>),
-    /// A box or an asset object (boxed: a line's fields stay small to move).
-    Inline(Box<ObjectSpec>),
-}
-
-impl<'de: 'a, 'a> Deserialize<'de> for Operand<'a> {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserializer.deserialize_any(OperandVisitor(PhantomData))
-    }
-}
-
-struct OperandVisitor<'a>(PhantomData<&'a ()>);
-
-impl<'de: 'a, 'a> Visitor<'de> for OperandVisitor<'a> {
-    type Value = Operand<'a>;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("a declared object's name or an object (a box or an asset)")
-    }
-
-    fn visit_borrowed_str<E: de::Error>(self, v: &'de str) -> Result<Self::Value, E> {
-        Ok(Operand::Name(Cow::Borrowed(v)))
-    }
-
-    fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
-        Ok(Operand::Name(Cow::Owned(v.to_owned())))
-    }
-
-    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
-        ObjectSpec::deserialize(de::value::MapAccessDeserializer::new(map))
-            .map(|o| Operand::Inline(Box::new(o)))
-    }
-}
-
-/// A room operand: a declared room's name, or a room written in place, kept as its JSON text
-/// (the key of the prepared-room cache; parsed only when the room is not cached).
-#[derive(Debug)]
-pub(crate) enum RoomOperand<'a> {
-    /// A declared room's name.
-    Name(Cow<'a, str>),
-    /// The room's JSON object, as written.
-    Inline(&'a RawValue),
-}
-
-impl<'de: 'a, 'a> Deserialize<'de> for RoomOperand<'a> {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let raw = <&'a RawValue>::deserialize(deserializer)?;
-        let text = raw.get();
-        if text.starts_with('"') {
-            // A valid JSON string without a backslash is its own content between the quotes;
-            // only one with escapes is parsed again.
-            match text.strip_prefix('"').and_then(|t| t.strip_suffix('"')) {
-                Some(inner) if !inner.contains('\\') => Ok(RoomOperand::Name(Cow::Borrowed(inner))),
-                _ => serde_json::from_str::<Text<'a>>(text)
-                    .map(|t| RoomOperand::Name(t.0))
-                    .map_err(de::Error::custom),
-            }
-        } else if text.starts_with('{') {
-            Ok(RoomOperand::Inline(raw))
-        } else {
-            Err(de::Error::invalid_value(
-                de::Unexpected::Other(text),
-                &"a declared room's name or a room object",
-            ))
-        }
-    }
-}
-
 /// Just the id of a line, every other field skipped: the id of a line that does not parse.
 #[derive(Debug, Deserialize)]
 pub(crate) struct IdOnly<'a> {
@@ -251,9 +175,19 @@ pub(crate) struct IdOnly<'a> {
     pub id: Option<RawText<'a>>,
 }
 
+/// Just the `declare` value of a line, as written: the name a declaration that does not
+/// parse is named by in its error. (Read apart from [`IdOnly`], so that a line's id is read
+/// exactly as it always was, whatever its `declare` holds.)
+#[derive(Debug, Deserialize)]
+pub(crate) struct DeclareOnly<'a> {
+    #[serde(default, borrow)]
+    pub declare: Option<&'a RawValue>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval::relate::ObjectSpec;
 
     #[test]
     fn operands_are_names_or_objects_and_escapes_are_read() {

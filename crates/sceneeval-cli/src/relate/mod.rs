@@ -9,15 +9,19 @@
 //! without error, 2 when some line got an error answer, 1 when the input could not be read at
 //! all.
 //!
+//! This command is the framing of a query stream: it reads lines, hands each to the facade's
+//! `sceneeval::relate::Session` (declared names, prepared rooms, the asset library, scoring
+//! through the one dispatcher; the Python package goes through the same session type) and
+//! writes one answer per line.
+//!
 //! Speed: each line is parsed once into borrowed, typed fields ([`line`]; a query by name
-//! through a scanner of its own, [`flat`]); rooms are prepared once per distinct room text and
-//! kept in a bounded cache (`sceneeval::relations::spec::RoomCache`, the one the Python package
-//! uses), so an inline room costs what a declared one costs; answers are buffered and flushed
-//! only when the input has nothing more to read at once (see [`answer_all`]).
+//! through a scanner of its own, [`flat`], every other line through serde_json; see
+//! [`parse_line`]); the session prepares rooms once per distinct room text, so an inline room
+//! costs what a declared one costs; answers are buffered and flushed only when the input has
+//! nothing more to read at once (see [`answer_all`]).
 
 mod flat;
 mod line;
-mod session;
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
@@ -27,11 +31,11 @@ use std::process::ExitCode;
 use anyhow::Context;
 use sceneeval::geom::Real;
 use sceneeval::io::AssetLibrary;
+use sceneeval::relate::{Session, error_path};
 use sceneeval::relations::RelationParams;
 use serde::Serialize;
 
-use line::{IdOnly, Line, LineKind, RawText};
-use session::{Outcome, Session};
+use line::{DeclareOnly, IdOnly, Line, LineKind, RawText};
 
 /// The only line-schema version this build understands.
 pub const SCHEMA_VERSION: u64 = 1;
@@ -233,6 +237,39 @@ fn raw_id(text: &str) -> RawText<'_> {
     }
 }
 
+/// The line in `text` (one JSON object), built in the caller's `slot` (a line is a few hundred
+/// bytes: it is not moved once per call): through the fast scanner ([`flat::read`]) when it is
+/// a flat object of plain strings and integers, else through serde_json, whose errors are the
+/// answer's.
+#[inline]
+fn parse_line<'a, 's>(text: &'a str, slot: &'s mut Option<Line<'a>>) -> serde_json::Result<&'s Line<'a>> {
+    let line = slot.insert(Line::default());
+    if flat::read(text, line).is_none() {
+        *line = serde_json::from_str(text)?;
+    }
+    Ok(line)
+}
+
+/// The error answer of a line that serde_json could not read as a [`Line`]: `invalid JSON`
+/// when the text is not JSON, else `invalid query` with the path of the key at fault
+/// (`target.half_size`, `targets[1].center`) and, for a declaration, its name.
+fn unreadable(text: &str, e: &serde_json::Error) -> String {
+    if !e.is_data() && serde_json::from_str::<serde::de::IgnoredAny>(text).is_err() {
+        return format!("invalid JSON: {e}");
+    }
+    let path = error_path::<Line<'_>>(text).unwrap_or_default();
+    let declared = serde_json::from_str::<DeclareOnly<'_>>(text)
+        .ok()
+        .and_then(|d| d.declare)
+        .and_then(|raw| serde_json::from_str::<String>(raw.get()).ok());
+    match (declared, path.is_empty()) {
+        (Some(name), false) => format!("invalid declaration of {name:?}: {path}: {e}"),
+        (Some(name), true) => format!("invalid declaration of {name:?}: {e}"),
+        (None, false) => format!("invalid query: {path}: {e}"),
+        (None, true) => format!("invalid query: {e}"),
+    }
+}
+
 /// Answers one non-blank line (line `number` of the input).
 fn answer_line<'t>(text: &'t str, number: usize, session: &mut Session) -> Answer<'t> {
     // Checked first: serde would also read a struct from an array of its fields.
@@ -243,18 +280,11 @@ fn answer_line<'t>(text: &'t str, number: usize, session: &mut Session) -> Answe
         };
     }
     let mut slot = None;
-    let line = match Line::parse(text, &mut slot) {
+    let line = match parse_line(text, &mut slot) {
         Ok(line) => line,
-        Err(e) => {
-            // The line may be well-formed JSON whose id can be read even when the rest cannot
-            // be converted (for example a number too large for a double elsewhere).
-            let what = if e.is_data() {
-                "invalid query"
-            } else {
-                "invalid JSON"
-            };
-            return Answer::error(raw_id(text), format!("{what}: {e}"));
-        }
+        // The line may be well-formed JSON whose id can be read even when the rest cannot be
+        // converted (for example a number too large for a double elsewhere).
+        Err(e) => return Answer::error(raw_id(text), unreadable(text, &e)),
     };
     let id = line.id.unwrap_or(RawText::NULL);
     if let Some(version) = line.version
@@ -268,21 +298,25 @@ fn answer_line<'t>(text: &'t str, number: usize, session: &mut Session) -> Answe
             ),
         );
     }
-    let outcome = match line.kind() {
-        Ok(LineKind::Query(query)) => session.score(query),
-        Ok(LineKind::DeclareObject(name, object)) => session.declare_object(name, object, number),
-        Ok(LineKind::DeclareRoom(name, room)) => session.declare_room(name, room, number),
-        Err(e) => Err(e),
+    let declared = |name: &str| Answer::Declared {
+        id,
+        declared: name.to_owned(),
     };
-    match outcome {
-        Ok(Outcome::Score(score)) => Answer::Score {
+    let answer = match line.kind() {
+        Ok(LineKind::Query(query)) => session.score(&query).map(|score| Answer::Score {
             id,
             score,
             holds: session.holds(score),
-        },
-        Ok(Outcome::Declared(declared)) => Answer::Declared { id, declared },
-        Err(e) => Answer::error(id, e),
-    }
+        }),
+        Ok(LineKind::DeclareObject(name, object)) => session
+            .declare_object(name, object, number)
+            .map(|()| declared(name)),
+        Ok(LineKind::DeclareRoom(name, room)) => {
+            session.declare_room(name, room, number).map(|()| declared(name))
+        }
+        Err(e) => return Answer::error(id, e),
+    };
+    answer.unwrap_or_else(|e| Answer::error(id, e.to_string()))
 }
 
 #[cfg(test)]

@@ -8,6 +8,18 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use serde_json::Value;
 
+/// The renderer, or `None` on a machine without a Vulkan driver: a test that renders (through
+/// the library or the `sceneeval` binary) is then skipped, saying so once, unless
+/// `SCENEEVAL_REQUIRE_GPU=1` (CI) makes that a failure ([`sceneeval_test_support::system`]).
+pub fn renderer() -> Option<sceneeval::render::Renderer> {
+    use sceneeval_test_support::system::{GPU, available};
+    available(
+        &GPU,
+        sceneeval::render::Renderer::new(),
+        sceneeval::render::RenderError::is_missing_driver,
+    )
+}
+
 /// The bundled `fixtures/` folder.
 pub fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")

@@ -109,12 +109,17 @@ fn not_found(model_id: &str, tried: Vec<PathBuf>) -> IoError {
     }
 }
 
-fn existing(model_id: &str, path: PathBuf) -> Result<PathBuf, IoError> {
-    if path.is_file() {
-        Ok(path)
-    } else {
-        Err(not_found(model_id, vec![path]))
+/// The first of `tried` that exists, which must be a regular file (a named pipe or a folder
+/// of that name is an error saying so, not a missing asset).
+fn mesh_file(model_id: &str, tried: Vec<PathBuf>) -> Result<PathBuf, IoError> {
+    for path in &tried {
+        match sceneeval_files::check_regular(path) {
+            Ok(_) => return Ok(path.clone()),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => return Err(IoError::file(path, e)),
+        }
     }
+    Err(not_found(model_id, tried))
 }
 
 /// 3D-FUTURE: `ROOT/ID/raw_model.obj`; metadata `ROOT/model_info.json`, a list of objects with
@@ -171,7 +176,7 @@ impl ThreeDFutureSource {
 
 impl AssetSource for ThreeDFutureSource {
     fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
-        let path = existing(model_id, self.root.join(asset_id).join("raw_model.obj"))?;
+        let path = mesh_file(model_id, vec![self.root.join(asset_id).join("raw_model.obj")])?;
         let info = lazy_get(&self.metadata, || self.load_metadata())?
             .get(asset_id)
             .cloned()
@@ -243,7 +248,10 @@ impl ObjathorSource {
 
 impl AssetSource for ObjathorSource {
     fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
-        let path = existing(model_id, self.root.join(asset_id).join(format!("{asset_id}.glb")))?;
+        let path = mesh_file(
+            model_id,
+            vec![self.root.join(asset_id).join(format!("{asset_id}.glb"))],
+        )?;
         let info = lazy_get(&self.metadata, || self.load_metadata())?
             .get(asset_id)
             .cloned()
@@ -308,8 +316,9 @@ impl HssdSource {
             tracing::warn!(file = %path.display(), "HSSD metadata not found; assets get no category or alignment");
             return Ok(HashMap::new());
         }
-        let mut reader =
-            csv::Reader::from_path(&path).map_err(|e| MetadataError::new(&path, "file", e.to_string()))?;
+        let file = sceneeval_files::open_regular(&path)
+            .map_err(|e| MetadataError::new(&path, "file", e.to_string()))?;
+        let mut reader = csv::Reader::from_reader(std::io::BufReader::new(file));
         let headers = reader
             .headers()
             .map_err(|e| MetadataError::new(&path, "row 1", e.to_string()))?
@@ -402,7 +411,7 @@ impl AssetSource for HssdSource {
             let first: String = asset_id.chars().take(1).collect();
             self.root.join("glb").join(first).join(format!("{asset_id}.glb"))
         };
-        let path = existing(model_id, path)?;
+        let path = mesh_file(model_id, vec![path])?;
         let csv_path = self.root.join("fpmodels.csv");
         let Some(row) = lazy_get(&self.metadata, || self.load_metadata())?.get(asset_id) else {
             return Ok(AssetLocation {
@@ -469,7 +478,7 @@ impl LayoutVlmSource {
 impl AssetSource for LayoutVlmSource {
     fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let dir = self.root.join(asset_id);
-        let path = existing(model_id, dir.join(format!("{asset_id}.glb")))?;
+        let path = mesh_file(model_id, vec![dir.join(format!("{asset_id}.glb"))])?;
         let data_path = dir.join("data.json");
         let info = match read_json(&data_path).map_err(|e| e.to_io())? {
             None => AssetInfo::default(),
@@ -529,9 +538,7 @@ impl AssetSource for PlainFolderSource {
             .iter()
             .map(|ext| self.root.join(format!("{asset_id}.{ext}")))
             .collect();
-        let Some(path) = tried.iter().find(|p| p.is_file()).cloned() else {
-            return Err(not_found(model_id, tried));
-        };
+        let path = mesh_file(model_id, tried)?;
         let sidecar = self.root.join(format!("{asset_id}.json"));
         let info = match read_json(&sidecar).map_err(|e| e.to_io())? {
             None => AssetInfo::default(),

@@ -6,7 +6,7 @@ use std::path::Path;
 use sceneeval_geom::na::{Quaternion, Translation3, UnitQuaternion};
 use sceneeval_geom::{Isometry3, Point2, Polygon2, Real, Side, Vector3};
 use sceneeval_scene::{
-    Ceiling, Element, Floor, Opening, OpeningKind, Room, Scene, SceneError, SceneObject, SupportType,
+    ArchElement, Ceiling, Element, Floor, Opening, Room, Scene, SceneError, SceneObject, SupportType,
     WallSpec,
 };
 use serde_json::{Map, Value};
@@ -17,7 +17,7 @@ use crate::frames::{
     FrameError, PlacedObject, asset_pose_from_sstk, box_pose_from_sstk, sstk_from_asset_pose,
     sstk_from_box_pose,
 };
-use crate::{AssetLibrary, IoError};
+use crate::{AssetLibrary, IoError, MissingAsset};
 
 /// What to do about architecture when reading a sceneState file.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -146,9 +146,17 @@ fn read_objects(
     let list = doc.array(list, "/scene/object")?;
     let mut seen: HashMap<String, String> = HashMap::with_capacity(list.len());
     let mut objects = Vec::with_capacity(list.len());
+    let mut missing = Vec::new();
     for (i, entry) in list.iter().enumerate() {
         let ptr = ptr_index("/scene/object", i);
-        let object = read_object(doc, entry, &ptr, i, assets)?;
+        let object = match read_object(doc, entry, &ptr, i, assets) {
+            Ok(object) => object,
+            // Every missing asset is listed, not only the first: read on.
+            Err(e) => {
+                missing_asset(e, &mut missing)?;
+                continue;
+            }
+        };
         if let Some(first) = seen.insert(object.id().to_string(), ptr.clone()) {
             return Err(IoError::DuplicateObjectId {
                 path: doc.path_buf(),
@@ -159,7 +167,47 @@ fn read_objects(
         }
         objects.push(object);
     }
+    if !missing.is_empty() {
+        return Err(IoError::MissingAssets {
+            path: doc.path_buf(),
+            missing,
+        });
+    }
     Ok(objects)
+}
+
+/// Records `e` in `missing` when it is an object's asset that was not found; returns any other
+/// error.
+fn missing_asset(e: IoError, missing: &mut Vec<MissingAsset>) -> Result<(), IoError> {
+    let IoError::ObjectAsset {
+        path,
+        pointer,
+        model_id,
+        source,
+    } = e
+    else {
+        return Err(e);
+    };
+    let tried = match *source {
+        IoError::AssetNotFound { tried, .. } => tried,
+        other => {
+            return Err(IoError::ObjectAsset {
+                path,
+                pointer,
+                model_id,
+                source: Box::new(other),
+            });
+        }
+    };
+    match missing.iter_mut().find(|m| m.model_id == model_id) {
+        Some(m) => m.objects.push(pointer),
+        None => missing.push(MissingAsset {
+            model_id,
+            objects: vec![pointer],
+            tried,
+        }),
+    }
+    Ok(())
 }
 
 fn bad_transform(doc: &Doc<'_>, data_ptr: &str, e: &FrameError) -> IoError {
@@ -415,13 +463,6 @@ struct WallElement {
     hole_ptrs: Vec<String>,
 }
 
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum ElementType {
-    Floor,
-    Ceiling,
-    Wall,
-}
-
 fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
     let arch = doc.object(arch, "/scene/arch")?;
     check_version(doc, arch, "/scene/arch", ARCH_VERSION);
@@ -437,10 +478,9 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
         let o = doc.object(e, &ptr)?;
         let type_ptr = ptr_key(&ptr, "type");
         let kind = doc.string(doc.required(o, &ptr, "type")?, &type_ptr)?;
-        let kind = match kind.to_ascii_lowercase().as_str() {
-            "floor" => ElementType::Floor,
-            "ceiling" => ElementType::Ceiling,
-            "wall" => ElementType::Wall,
+        // sceneState's elements are floors, ceilings and walls (doors and windows are holes).
+        let kind = match ArchElement::from_name(&kind.to_ascii_lowercase()) {
+            Some(k @ (ArchElement::Floor | ArchElement::Ceiling | ArchElement::Wall)) => k,
             _ => {
                 return Err(doc.invalid(
                     &type_ptr,
@@ -455,7 +495,7 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
             .map(|v| doc.id(v, &ptr_key(&ptr, "roomId")))
             .transpose()?;
         match kind {
-            ElementType::Floor => {
+            ArchElement::Floor => {
                 let Some(room) = room else {
                     return Err(IoError::MissingField {
                         path: doc.path_buf(),
@@ -484,7 +524,7 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
                     z,
                 });
             }
-            ElementType::Ceiling => {
+            ArchElement::Ceiling => {
                 let (polygon, z) = read_polygon(doc, o, &ptr, "ceiling")?;
                 ceilings.push(CeilingElement {
                     ptr,
@@ -494,7 +534,8 @@ fn read_arch(doc: &Doc<'_>, arch: &Value) -> Result<Vec<Room>, IoError> {
                     z,
                 });
             }
-            ElementType::Wall => {
+            // A wall, the only other kind let through above.
+            _ => {
                 let id = id.unwrap_or_else(|| format!("wall_{k}"));
                 if let Some(first) = walls.iter().find(|w| w.spec.id == id) {
                     return Err(IoError::DuplicateElement {
@@ -589,10 +630,10 @@ fn read_wall(
             let ho = doc.object(hole, &hptr)?;
             let type_ptr = ptr_key(&hptr, "type");
             let kind = doc.string(doc.required(ho, &hptr, "type")?, &type_ptr)?;
-            let kind = match kind.to_ascii_lowercase().as_str() {
-                "door" => OpeningKind::Door,
-                "window" => OpeningKind::Window,
-                _ => {
+            let kind = match ArchElement::from_name(&kind.to_ascii_lowercase()).and_then(ArchElement::opening)
+            {
+                Some(kind) => kind,
+                None => {
                     tracing::warn!(file = %doc.path.display(), pointer = %type_ptr, "skipping a hole of type {kind:?} (not Door or Window)");
                     continue;
                 }

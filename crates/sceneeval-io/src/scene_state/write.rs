@@ -10,13 +10,16 @@ use crate::IoError;
 use crate::frames::{sstk_from_asset_pose, sstk_from_box_pose};
 use crate::json_out::Json;
 
-/// Writes `scene` as a sceneState JSON file at `path` (see [`scene_state_to_string`]).
+/// Writes `scene` as a sceneState JSON file at `path` (see [`scene_state_to_string`]),
+/// atomically: through a unique temporary file in the same folder and a rename
+/// ([`sceneeval_files::write_atomic`]), so a reader never sees a part of it; the folder is
+/// created if missing.
 ///
 /// # Errors
 /// As [`scene_state_to_string`], plus [`IoError::File`] when the file cannot be written.
 pub fn write_scene_state(scene: &Scene, path: &Path) -> Result<(), IoError> {
     let text = scene_state_to_string(scene)?;
-    std::fs::write(path, text).map_err(|e| IoError::file(path, e))
+    sceneeval_files::write_atomic(path, text.as_bytes()).map_err(|e| IoError::file(path, e))
 }
 
 /// The sceneState JSON text of `scene`: deterministic, pretty-printed (two spaces, arrays of

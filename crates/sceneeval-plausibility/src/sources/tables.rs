@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use sceneeval_geom::Side;
+use sceneeval_scene::label::{Synset, normalise};
 use sceneeval_scene::{Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
@@ -12,7 +13,7 @@ use crate::category::lookup_keys;
 
 /// The built-in support-type prior: `(normalised category, type, why)`.
 ///
-/// Looked up by [`crate::normalize_category`] of the object's category, then its singular,
+/// Looked up by [`normalise`] (synset suffix dropped) of the object's category, then its singular,
 /// then its head noun (last word), so `Table Lamps` finds `table_lamp` and `king_size_bed`
 /// finds `bed`. Categories not listed are unknown.
 pub const SUPPORT_TYPE_TABLE: &[(&str, SupportType, &str)] = &[
@@ -328,7 +329,7 @@ impl SupportTypePriors {
     /// Adds or overrides a row (the category is normalised).
     pub fn with(mut self, category: &str, support_type: SupportType) -> Self {
         self.extra
-            .insert(crate::normalize_category(category), support_type);
+            .insert(normalise(category, Synset::Strip), support_type);
         self
     }
 
@@ -362,7 +363,7 @@ pub struct FunctionalSidePriors {
 impl FunctionalSidePriors {
     /// Adds or overrides a row (the category is normalised).
     pub fn with(mut self, category: &str, sides: Vec<Side>) -> Self {
-        self.extra.insert(crate::normalize_category(category), sides);
+        self.extra.insert(normalise(category, Synset::Strip), sides);
         self
     }
 
@@ -394,13 +395,13 @@ mod tests {
     fn tables_have_unique_normalised_keys() {
         let mut seen = HashSet::new();
         for (k, _, why) in SUPPORT_TYPE_TABLE {
-            assert_eq!(crate::normalize_category(k), *k);
+            assert_eq!(normalise(k, Synset::Strip), *k);
             assert!(seen.insert(*k), "duplicate {k}");
             assert!(!why.is_empty());
         }
         seen.clear();
         for (k, sides, why) in FUNCTIONAL_SIDES_TABLE {
-            assert_eq!(crate::normalize_category(k), *k);
+            assert_eq!(normalise(k, Synset::Strip), *k);
             assert!(seen.insert(*k), "duplicate {k}");
             assert!(!why.is_empty());
             assert!(sides.iter().all(|s| Side::HORIZONTAL.contains(s)));

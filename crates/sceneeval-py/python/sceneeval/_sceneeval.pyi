@@ -237,8 +237,8 @@ def evaluate(
     TOML). preset: "default" or "reference" (every reference-parity switch), as --preset:
     the parameters start from it (it replaces a plan file's preset; a preset name given as
     plan=, the spelling of earlier versions, is read as preset= with a DeprecationWarning).
-    metrics: run only these
-    geometry metrics, as --metrics. matching: "vlm", "labels" or a matching file or folder in
+    metrics: run only these metrics (names or summary columns, e.g. "collision", "OOB", "cnt"),
+    as --metrics. matching: "vlm", "labels" or a matching file or folder in
     the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
     as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget:
     seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
@@ -259,5 +259,25 @@ def evaluate(
     text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
     summary.csv as a dict). A scene that fails is recorded, not raised.
     Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
-    ValueError for a bad plan, preset, metric, assets mapping or vlm dict.
+    ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
+    with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
     """
+
+def evaluation_request(
+    scenes_dir: PathLike,
+    *,
+    assets: Optional[Mapping[str, PathLike]],
+    out: PathLike,
+    annotations: Optional[PathLike] = None,
+    plan: Optional[str] = None,
+    preset: Optional[str] = None,
+    metrics: Optional[Sequence[str]] = None,
+    matching: Optional[PathLike] = None,
+    relation_mapping: Optional[str] = None,
+    time_budget: Optional[float] = None,
+    vlm: Optional[Mapping[str, Any]] = None,
+    force: bool = False,
+    threads: Optional[int] = None,
+) -> Dict[str, Any]:
+    """The evaluation request evaluate() makes of the same arguments, as a dict: what
+    `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run."""

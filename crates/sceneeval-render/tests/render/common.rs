@@ -8,12 +8,15 @@ use image::RgbaImage;
 use sceneeval_geom::{Isometry3, Vector3};
 use sceneeval_io::assets::PlainFolderSource;
 use sceneeval_io::{AssetLibrary, GlbImage, GlbMaterial, GlbMesh, write_glb};
-use sceneeval_render::Renderer;
+use sceneeval_render::{RenderError, Renderer};
 use sceneeval_scene::SceneObject;
+use sceneeval_test_support::system::{GPU, available};
 
-/// The renderer on the process-wide device. Rendering needs a Vulkan driver (lavapipe on CI).
-pub fn renderer() -> Renderer {
-    Renderer::new().expect("a renderer (install mesa-vulkan-drivers libvulkan1)")
+/// The renderer on the process-wide device, or `None` (the test is skipped, the reason
+/// printed once) on a machine without a Vulkan driver unless `SCENEEVAL_REQUIRE_GPU` is set,
+/// as on CI, which installs lavapipe ([`sceneeval_test_support::system`]).
+pub fn renderer() -> Option<Renderer> {
+    available(&GPU, Renderer::new(), RenderError::is_missing_driver)
 }
 
 /// One face of the box `[-w/2, w/2] x [0, h] x [-d/2, d/2]` (asset frame: y up, front +z) as

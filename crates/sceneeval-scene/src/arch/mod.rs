@@ -16,15 +16,23 @@
 //!
 //! Openings are rectangles in wall coordinates: `along` is measured from the wall's start
 //! point toward its end, `height` above the wall's base.
+//!
+//! Rooms are built in code with [`RoomBuilder`], or from a room described as plain data
+//! ([`RoomSpec`]: an outline, heights, thickness, doors and windows by wall index; the room of
+//! `sceneeval relate`'s JSON lines and of the Python package's dicts).
 
 mod builder;
+mod kind;
 mod opening;
 mod room;
+mod spec;
 mod wall;
 
 pub use builder::RoomBuilder;
+pub use kind::ArchElement;
 pub use opening::{Opening, OpeningKind, PlacedOpening};
 pub use room::{Ceiling, Floor, Room};
+pub use spec::{OpeningSpec, RoomSpec, RoomSpecError};
 pub use wall::{InwardEvidence, Wall, WallSpec};
 
 #[cfg(test)]

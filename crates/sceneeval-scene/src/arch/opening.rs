@@ -2,7 +2,8 @@
 
 use sceneeval_geom::{Obb, Real};
 
-/// Whether an opening is a door or a window.
+/// Whether an opening is a door or a window: the two [`crate::ArchElement`] kinds an opening
+/// can be ([`crate::ArchElement::opening`] and `From` convert).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
@@ -14,11 +15,11 @@ pub enum OpeningKind {
 }
 
 impl OpeningKind {
-    /// `"door"` or `"window"`.
+    /// `"door"` or `"window"`: the name of its [`crate::ArchElement`].
     pub const fn name(self) -> &'static str {
         match self {
-            OpeningKind::Door => "door",
-            OpeningKind::Window => "window",
+            OpeningKind::Door => crate::ArchElement::Door.name(),
+            OpeningKind::Window => crate::ArchElement::Window.name(),
         }
     }
 }

@@ -1,22 +1,23 @@
 //! `arch_relationship_mapping`: free-text object-architecture relations onto the 10
 //! object-architecture predicates.
 
-use std::fmt;
-use std::str::FromStr;
-
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use sceneeval_relations::Relation;
+use sceneeval_scene::ArchElement;
 
-use super::names::{ArchElementName, ArchRelationName};
-use super::{base_category, check_labels, json_list, keyed_lines, norm, pair_by_key};
-use crate::prompt::Template;
+use super::{
+    KeyedAnswer, KeyedRelation, base_category, check_labels, check_relations, json_list, keyed_lines, norm,
+    pair_by_key, relation_keys,
+};
+use crate::TaskKind;
+use crate::VlmError;
+use crate::names::{ArchRelationName, name_list};
 use crate::schema::Nullable;
-use crate::task::{Task, TaskKind, Validation};
-use crate::{PngImage, VlmError};
+use crate::task::{Task, Validation};
 
-const TASK: &str = "arch_relationship_mapping";
+const TASK: &str = TaskKind::ArchRelationshipMapping.name();
 
 /// The answer of `arch_relationship_mapping` as the model writes it (the reference's fields,
 /// plus `key`).
@@ -48,65 +49,37 @@ pub struct ArchRelationshipAssessment {
     pub reason: String,
 }
 
-/// The kind of architectural element an object-architecture relation refers to (the mapping
-/// prompt's six types). The distance predicates accept only walls, doors and windows
-/// ([`sceneeval_relations::ArchElement`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ArchElementType {
-    /// A wall.
-    Wall,
-    /// A floor.
-    Floor,
-    /// The ceiling.
-    Ceiling,
-    /// A room.
-    Room,
-    /// A window.
-    Window,
-    /// A door.
-    Door,
+/// The architectural element types the prompt offers, in its order (all six; the distance
+/// predicates accept only walls, doors and windows, `sceneeval_relations::DISTANCE_ELEMENTS`).
+const OFFERED_ELEMENTS: [ArchElement; 6] = [
+    ArchElement::Wall,
+    ArchElement::Floor,
+    ArchElement::Ceiling,
+    ArchElement::Room,
+    ArchElement::Window,
+    ArchElement::Door,
+];
+
+name_list!(
+    /// `architectural_element_type` values, in the prompt's order.
+    ArchElementName => OFFERED_ELEMENTS.iter().map(|t| t.name()).collect()
+);
+
+/// The offered element type `name` stands for (ASCII case and surrounding whitespace
+/// ignored), or the problem.
+fn offered_element(name: &str) -> Result<ArchElement, String> {
+    OFFERED_ELEMENTS
+        .into_iter()
+        .find(|t| t.name().eq_ignore_ascii_case(name.trim()))
+        .ok_or_else(|| {
+            let names: Vec<&str> = OFFERED_ELEMENTS.iter().map(|t| t.name()).collect();
+            format!("{name:?} is not one of {}", names.join(", "))
+        })
 }
 
-impl ArchElementType {
-    /// All six types.
-    pub const ALL: [ArchElementType; 6] = [
-        ArchElementType::Wall,
-        ArchElementType::Floor,
-        ArchElementType::Ceiling,
-        ArchElementType::Room,
-        ArchElementType::Window,
-        ArchElementType::Door,
-    ];
-
-    /// The name used in prompts and answers.
-    pub const fn name(self) -> &'static str {
-        match self {
-            ArchElementType::Wall => "wall",
-            ArchElementType::Floor => "floor",
-            ArchElementType::Ceiling => "ceiling",
-            ArchElementType::Room => "room",
-            ArchElementType::Window => "window",
-            ArchElementType::Door => "door",
-        }
-    }
-}
-
-impl fmt::Display for ArchElementType {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for ArchElementType {
-    type Err = String;
-
-    /// Parses a name, ignoring ASCII case and surrounding whitespace.
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        ArchElementType::ALL
-            .into_iter()
-            .find(|t| t.name().eq_ignore_ascii_case(s.trim()))
-            .ok_or_else(|| format!("{s:?} is not one of wall, floor, ceiling, room, window, door"))
+impl KeyedAnswer for ArchRelationshipAssessment {
+    fn key(&self) -> &str {
+        &self.key
     }
 }
 
@@ -136,6 +109,20 @@ impl ArchRelationSpec {
     }
 }
 
+impl KeyedRelation for ArchRelationSpec {
+    fn key(&self) -> &str {
+        &self.key
+    }
+
+    fn relationship(&self) -> &str {
+        &self.relationship
+    }
+
+    fn prompt_text(&self) -> String {
+        ArchRelationSpec::prompt_text(self)
+    }
+}
+
 /// The `arch_relationship_mapping` task for the relations of a scene, with the ids of its
 /// floors (one call per scene).
 #[derive(Debug, Clone)]
@@ -150,7 +137,7 @@ pub struct ArchRelationMapping {
     /// The object's category, in the caller's spelling.
     pub target_object: String,
     /// The element type the model chose.
-    pub element_type: ArchElementType,
+    pub element_type: ArchElement,
     /// The predicate (the four distance predicates carry their element: wall, door or
     /// window), or `None` when the model found that none fits (quirk Q4, as for object
     /// relations).
@@ -171,23 +158,15 @@ impl ArchRelationTask {
         relations: Vec<ArchRelationSpec>,
         floor_ids: impl IntoIterator<Item = impl Into<String>>,
     ) -> Result<Self, VlmError> {
-        if relations.is_empty() {
-            return Err(VlmError::invalid_task(TASK, "no relation to map"));
-        }
-        let keys: Vec<String> = relations.iter().map(|r| r.key.clone()).collect();
-        check_labels(TASK, "relation key", &keys, |s| s.trim().to_owned())?;
-        for r in &relations {
-            let bad = |m: &str| VlmError::invalid_task(TASK, format!("relation {:?}: {m}", r.key));
+        check_relations(TASK, &relations, |r| {
             if base_category(&r.object).is_empty() {
-                return Err(bad("no object"));
+                return Err("no object".into());
             }
             if r.architecture.is_empty() || r.architecture.iter().any(|a| a.trim().is_empty()) {
-                return Err(bad("no architecture reference"));
+                return Err("no architecture reference".into());
             }
-            if r.relationship.trim().is_empty() || r.relationship.contains('\n') {
-                return Err(bad("the relationship is empty or spans lines"));
-            }
-        }
+            Ok(())
+        })?;
         let floor_ids: Vec<String> = floor_ids.into_iter().map(Into::into).collect();
         check_labels(TASK, "floor id", &floor_ids, |s| s.trim().to_owned())?;
         Ok(ArchRelationTask { relations, floor_ids })
@@ -205,9 +184,7 @@ impl ArchRelationTask {
                 a.target_object
             ));
         }
-        let element_type: ArchElementType = a
-            .architectural_element_type
-            .parse()
+        let element_type = offered_element(&a.architectural_element_type)
             .map_err(|e| format!("architectural_element_type {e}"))?;
         let relation = match a.relationship_type.as_deref().map(str::trim) {
             None => None,
@@ -248,24 +225,15 @@ impl Task for ArchRelationTask {
         TaskKind::ArchRelationshipMapping
     }
 
-    fn template(&self) -> Template {
-        Template::ArchRelationshipMapping
-    }
-
     fn placeholders(&self) -> Vec<(&'static str, String)> {
-        let lines = keyed_lines(self.relations.iter().map(|r| (r.key.as_str(), r.prompt_text())));
         vec![
-            ("RELATIONSHIPS", lines),
+            ("RELATIONSHIPS", keyed_lines(&self.relations)),
             ("FLOOR_IDS", json_list(&self.floor_ids)),
         ]
     }
 
-    fn images(&self) -> Vec<PngImage> {
-        Vec::new()
-    }
-
     fn keys(&self) -> Vec<String> {
-        self.relations.iter().map(|r| r.key.clone()).collect()
+        relation_keys(&self.relations)
     }
 
     fn validate(
@@ -273,21 +241,13 @@ impl Task for ArchRelationTask {
         r: ArchRelationshipMappingResponse,
         out: &mut Validation<String, ArchRelationMapping>,
     ) {
-        pair_by_key(
-            &self.relations,
-            |s| &s.key,
-            r.assessments,
-            |a| &a.key,
-            |s, a| self.check(s, a),
-            out,
-        );
+        pair_by_key(&self.relations, r.assessments, |s, a| self.check(s, a), out);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sceneeval_relations::ArchElement;
 
     fn task() -> ArchRelationTask {
         ArchRelationTask::new(
@@ -351,7 +311,7 @@ mod tests {
         let m0 = v.item(&"0".to_owned()).unwrap();
         assert_eq!(
             (m0.relation, m0.element_type),
-            (Some(Relation::AgainstWall), ArchElementType::Wall)
+            (Some(Relation::AgainstWall), ArchElement::Wall)
         );
         let m1 = v.item(&"1".to_owned()).unwrap();
         assert_eq!(m1.relation, Some(Relation::CornerOfRoom));

@@ -6,11 +6,11 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::{check_labels, find_label, json_list, json_str, norm};
-use crate::prompt::Template;
-use crate::task::{Task, TaskKind, Validation};
+use crate::TaskKind;
+use crate::task::{Task, Validation};
 use crate::{PngImage, VlmError};
 
-const TASK: &str = "obj_attribute";
+const TASK: &str = TaskKind::ObjAttribute.name();
 
 /// The answer of `obj_attribute` as the model writes it (the reference's fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -117,10 +117,6 @@ impl Task for AttributeTask {
 
     fn kind(&self) -> TaskKind {
         TaskKind::ObjAttribute
-    }
-
-    fn template(&self) -> Template {
-        Template::ObjAttribute
     }
 
     fn placeholders(&self) -> Vec<(&'static str, String)> {

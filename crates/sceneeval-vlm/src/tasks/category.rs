@@ -5,11 +5,11 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::{check_labels, find_label, json_list, norm};
-use crate::prompt::Template;
-use crate::task::{Task, TaskKind, Validation};
-use crate::{PngImage, VlmError};
+use crate::TaskKind;
+use crate::VlmError;
+use crate::task::{Task, Validation};
 
-const TASK: &str = "category_matching_for_semantic_color";
+const TASK: &str = TaskKind::CategoryMatchingForSemanticColor.name();
 
 /// The answer of `category_matching_for_semantic_color` as the model writes it (the
 /// reference's fields).
@@ -81,19 +81,11 @@ impl Task for CategoryMatchingTask {
         TaskKind::CategoryMatchingForSemanticColor
     }
 
-    fn template(&self) -> Template {
-        Template::CategoryMatchingForSemanticColor
-    }
-
     fn placeholders(&self) -> Vec<(&'static str, String)> {
         vec![
             ("REFERENCE_CATEGORIES", json_list(&self.reference)),
             ("INPUT_CATEGORIES", json_list(&self.input)),
         ]
-    }
-
-    fn images(&self) -> Vec<PngImage> {
-        Vec::new()
     }
 
     fn keys(&self) -> Vec<String> {

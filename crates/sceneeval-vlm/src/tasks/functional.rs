@@ -5,13 +5,13 @@ use serde::{Deserialize, Serialize};
 
 use sceneeval_geom::Side;
 
-use super::names::HorizontalSideName;
 use super::{check_labels, json_str};
-use crate::prompt::Template;
-use crate::task::{Task, TaskKind, Validation};
-use crate::{PngImage, VlmError};
+use crate::TaskKind;
+use crate::VlmError;
+use crate::names::HorizontalSideName;
+use crate::task::{Task, Validation};
 
-const TASK: &str = "obj_functional_sides";
+const TASK: &str = TaskKind::ObjFunctionalSides.name();
 
 /// The answer of `obj_functional_sides` as the model writes it (the reference's fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -84,10 +84,6 @@ impl Task for FunctionalSidesTask {
         TaskKind::ObjFunctionalSides
     }
 
-    fn template(&self) -> Template {
-        Template::ObjFunctionalSides
-    }
-
     fn placeholders(&self) -> Vec<(&'static str, String)> {
         let lines: Vec<String> = self
             .objects
@@ -101,10 +97,6 @@ impl Task for FunctionalSidesTask {
             })
             .collect();
         vec![("OBJ_INFO", lines.join("\n"))]
-    }
-
-    fn images(&self) -> Vec<PngImage> {
-        Vec::new()
     }
 
     fn keys(&self) -> Vec<String> {

@@ -6,11 +6,12 @@ use serde::{Deserialize, Serialize};
 use sceneeval_geom::Vector3;
 
 use super::{check_labels, find_label, json_list, norm};
+use crate::TaskKind;
 use crate::prompt::Template;
-use crate::task::{Single, Task, TaskKind, Validation};
+use crate::task::{Single, Task, Validation};
 use crate::{PngImage, VlmError};
 
-const TASK: &str = "obj_matching";
+const TASK: &str = TaskKind::ObjMatching.name();
 
 /// The answer of `obj_matching` as the model writes it (the reference's fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -56,7 +57,7 @@ impl ObjectDimensions {
 
 /// The `obj_matching` task for one object: its front view and the categories offered (the
 /// annotation's ObjCount categories), optionally with its dimensions (the SceneSmith fork's
-/// size-aware prompt, [`Template::ObjMatchingSized`]).
+/// size-aware prompt, [`Template::ObjMatchingSized`](crate::prompt::Template::ObjMatchingSized)).
 #[derive(Debug, Clone)]
 pub struct ObjectMatchingTask {
     front: PngImage,
@@ -121,7 +122,7 @@ impl Task for ObjectMatchingTask {
     fn template(&self) -> Template {
         match self.dimensions {
             Some(_) => Template::ObjMatchingSized,
-            None => Template::ObjMatching,
+            None => Template::Task(TaskKind::ObjMatching),
         }
     }
 
@@ -212,7 +213,7 @@ mod tests {
         assert!(ObjectMatchingTask::new(test_image(), Vec::<String>::new()).is_err());
         assert!(ObjectMatchingTask::new(test_image(), ["bed", "Bed"]).is_err());
         let task = ObjectMatchingTask::new(test_image(), ["bed"]).unwrap();
-        assert_eq!(task.template(), Template::ObjMatching);
+        assert_eq!(task.template(), Template::Task(TaskKind::ObjMatching));
         let sized = task.with_dimensions(ObjectDimensions {
             extents_m: Vector3::new(2.0, 1.6, 0.5),
         });

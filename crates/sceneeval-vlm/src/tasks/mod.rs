@@ -17,9 +17,9 @@
 //! relation. Other answers are paired by the fields the reference already echoes: `obj_id`,
 //! `input_category`, and `instance` with `attribute`.
 //!
-//! Echoed labels (categories, attributes) are compared after trimming, lower-casing and
-//! treating spaces, hyphens and underscores alike (`Dining chair` = `dining_chair`); ids and
-//! keys after trimming only. Validated answers always use the caller's spelling.
+//! Echoed labels (categories, attributes) are compared in the one normalisation of labels,
+//! [`sceneeval_scene::label::normalise`] (trimmed, lower case, whitespace, hyphens and
+//! underscores alike: `Dining chair` = `dining_chair`); ids and keys after trimming only. Validated answers always use the caller's spelling.
 
 mod arch_relation;
 mod attribute;
@@ -30,7 +30,7 @@ mod object_relation;
 mod support;
 
 pub use arch_relation::{
-    ArchElementType, ArchRelationMapping, ArchRelationSpec, ArchRelationTask, ArchRelationshipAssessment,
+    ArchRelationMapping, ArchRelationSpec, ArchRelationTask, ArchRelationshipAssessment,
     ArchRelationshipMappingResponse,
 };
 pub use attribute::{
@@ -51,30 +51,15 @@ pub use object_relation::{
 };
 pub use support::{SupportTypeAnswer, SupportTypeResponse, SupportTypeTask};
 
+use sceneeval_scene::label::{Synset, normalise};
+
 use crate::VlmError;
 
-/// A label in comparable form: trimmed, lower case, runs of spaces, hyphens and underscores as
-/// one `_` (`"Dining  Table"` and `"dining-table"` are both `dining_table`).
-///
-/// ```
-/// assert_eq!(sceneeval_vlm::tasks::norm(" Dining  Table "), "dining_table");
-/// assert_eq!(sceneeval_vlm::tasks::norm("dining-table"), "dining_table");
-/// ```
-pub fn norm(label: &str) -> String {
-    let mut out = String::with_capacity(label.len());
-    let mut gap = false;
-    for c in label.trim().chars() {
-        if c == ' ' || c == '-' || c == '_' {
-            gap = true;
-        } else {
-            if gap && !out.is_empty() {
-                out.push('_');
-            }
-            gap = false;
-            out.extend(c.to_lowercase());
-        }
-    }
-    out
+/// A label in the form echoed labels are compared in: the one normalisation of labels
+/// ([`sceneeval_scene::label::normalise`]: trimmed, lower case, words joined by `_`), synset
+/// suffixes kept (`bed.n.01` and `bed.n.02` are different labels to offer).
+pub(crate) fn norm(label: &str) -> String {
+    normalise(label, Synset::Keep)
 }
 
 /// The offered label `label` stands for, in the offered spelling.
@@ -130,105 +115,79 @@ pub(crate) fn check_labels(
     Ok(())
 }
 
-/// Schema-only name lists: the wire fields are strings (so an unexpected value gets a clear
-/// validation message rather than a parse error), and their schemas carry these lists as
-/// `enum`s so that schema-constrained decoding only produces valid names. Each list is taken
-/// from the vocabulary's own crate, so there is one list per concept.
-pub(crate) mod names {
-    use std::borrow::Cow;
+/// A relation of the two relationship-mapping tasks: identified by a key the answer copies,
+/// shown as one prompt line.
+pub(crate) trait KeyedRelation {
+    /// The key.
+    fn key(&self) -> &str;
+    /// The free-text relationship.
+    fn relationship(&self) -> &str;
+    /// The prompt line's text after the key.
+    fn prompt_text(&self) -> String;
+}
 
-    use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
-
-    use sceneeval_geom::Side;
-    use sceneeval_relations::{LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES};
-    use sceneeval_scene::SupportType;
-
-    use super::ArchElementType;
-
-    macro_rules! name_list {
-        ($(#[$doc:meta])* $name:ident => $names:expr) => {
-            $(#[$doc])*
-            pub struct $name;
-
-            impl JsonSchema for $name {
-                fn schema_name() -> Cow<'static, str> {
-                    stringify!($name).into()
-                }
-
-                fn inline_schema() -> bool {
-                    true
-                }
-
-                fn json_schema(_: &mut SchemaGenerator) -> Schema {
-                    let names: Vec<&str> = $names;
-                    json_schema!({"type": "string", "enum": names})
-                }
-            }
-        };
+/// Checks the relations of a mapping task: at least one; keys non-empty, single-line and
+/// distinct (after trimming); for each relation, `check` (the task's own rules, a problem in
+/// words), then a non-empty, single-line relationship.
+pub(crate) fn check_relations<R: KeyedRelation>(
+    task: &'static str,
+    relations: &[R],
+    check: impl Fn(&R) -> Result<(), String>,
+) -> Result<(), VlmError> {
+    if relations.is_empty() {
+        return Err(VlmError::invalid_task(task, "no relation to map"));
     }
+    let keys = relation_keys(relations);
+    check_labels(task, "relation key", &keys, |s| s.trim().to_owned())?;
+    for r in relations {
+        let bad = |m: &str| VlmError::invalid_task(task, format!("relation {:?}: {m}", r.key()));
+        check(r).map_err(|m| bad(&m))?;
+        if r.relationship().trim().is_empty() || r.relationship().contains('\n') {
+            return Err(bad("the relationship is empty or spans lines"));
+        }
+    }
+    Ok(())
+}
 
-    name_list!(
-        /// `support_type` values.
-        SupportTypeName => SupportType::ALL.iter().map(|t| t.name()).collect()
-    );
-    name_list!(
-        /// `functional_sides` values: the horizontal sides.
-        HorizontalSideName => Side::HORIZONTAL.iter().map(|s| s.name()).collect()
-    );
-    name_list!(
-        /// `relationship_types` values: the 13 object-object predicates.
-        ObjectRelationName => OBJECT_OBJECT_NAMES.to_vec()
-    );
-    name_list!(
-        /// `sides` values: a side of `side_of`/`side_region`, or `long`/`short`.
-        SideArgumentName => Side::ALL
-            .iter()
-            .map(|s| s.name())
-            .chain([LongShort::Long.name(), LongShort::Short.name()])
-            .collect()
-    );
-    name_list!(
-        /// `relationship_type` values: the 10 object-architecture predicates.
-        ArchRelationName => OBJECT_ARCH_NAMES.to_vec()
-    );
-    name_list!(
-        /// `architectural_element_type` values.
-        ArchElementName => ArchElementType::ALL.iter().map(|t| t.name()).collect()
-    );
-    name_list!(
-        /// `colour` values of the endpoint check.
-        ColourName => crate::check::COLOURS.to_vec()
-    );
+/// The keys of the relations, in order (the task's questions).
+pub(crate) fn relation_keys<R: KeyedRelation>(relations: &[R]) -> Vec<String> {
+    relations.iter().map(|r| r.key().to_owned()).collect()
 }
 
 /// The prompt lines of keyed relations: `- key "<key>": <text>`.
-pub(crate) fn keyed_lines<'a>(relations: impl Iterator<Item = (&'a str, String)>) -> String {
+pub(crate) fn keyed_lines<R: KeyedRelation>(relations: &[R]) -> String {
     let lines: Vec<String> = relations
-        .map(|(key, text)| format!("- key {}: {text}", json_str(key)))
+        .iter()
+        .map(|r| format!("- key {}: {}", json_str(r.key()), r.prompt_text()))
         .collect();
     lines.join("\n")
 }
 
+/// An assessment of a relationship-mapping answer: the key of the relation it answers, as the
+/// model copied it.
+pub(crate) trait KeyedAnswer {
+    /// The key.
+    fn key(&self) -> &str;
+}
+
 /// Pairs keyed assessments with their relations (keys compared after trimming) and records
 /// each checked mapping, or its problem, under the relation's key.
-pub(crate) fn pair_by_key<S, A, I>(
-    specs: &[S],
-    spec_key: impl Fn(&S) -> &str,
+pub(crate) fn pair_by_key<R: KeyedRelation, A: KeyedAnswer, I>(
+    relations: &[R],
     assessments: Vec<A>,
-    answer_key: impl Fn(&A) -> &str,
-    check: impl Fn(&S, A) -> Result<I, String>,
+    check: impl Fn(&R, A) -> Result<I, String>,
     out: &mut crate::Validation<String, I>,
 ) {
     for a in assessments {
-        let Some(spec) = specs.iter().find(|s| spec_key(s).trim() == answer_key(&a).trim()) else {
+        let Some(relation) = relations.iter().find(|r| r.key().trim() == a.key().trim()) else {
             out.general_problem(format!(
                 "an assessment has key {:?}, which is not one of the relation keys",
-                answer_key(&a)
+                a.key()
             ));
             continue;
         };
-        let key = spec_key(spec).to_owned();
-        match check(spec, a) {
+        let key = relation.key().to_owned();
+        match check(relation, a) {
             Ok(item) => out.answer(key, item),
             Err(problem) => out.problem(key, problem),
         }

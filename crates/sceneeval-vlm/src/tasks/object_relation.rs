@@ -8,14 +8,16 @@ use serde::{Deserialize, Serialize};
 
 use sceneeval_relations::Relation;
 
-use super::names::{ObjectRelationName, SideArgumentName};
-use super::{base_category, check_labels, keyed_lines, norm, pair_by_key};
-use crate::prompt::Template;
+use super::{
+    KeyedAnswer, KeyedRelation, base_category, check_relations, keyed_lines, norm, pair_by_key, relation_keys,
+};
+use crate::TaskKind;
+use crate::VlmError;
+use crate::names::{ObjectRelationName, SideArgumentName};
 use crate::schema::Nullable;
-use crate::task::{Task, TaskKind, Validation};
-use crate::{PngImage, VlmError};
+use crate::task::{Task, Validation};
 
-const TASK: &str = "obj_relationship_mapping";
+const TASK: &str = TaskKind::ObjRelationshipMapping.name();
 
 /// The answer of `obj_relationship_mapping` as the model writes it (the reference's fields,
 /// plus `key`).
@@ -48,6 +50,12 @@ pub struct ObjRelationshipAssessment {
     pub sides: Vec<Option<String>>,
     /// Why.
     pub reason: String,
+}
+
+impl KeyedAnswer for ObjRelationshipAssessment {
+    fn key(&self) -> &str {
+        &self.key
+    }
 }
 
 /// One object-object relation of the annotation (an OORel entry without its count).
@@ -83,6 +91,20 @@ impl ObjectRelationSpec {
     }
 }
 
+impl KeyedRelation for ObjectRelationSpec {
+    fn key(&self) -> &str {
+        &self.key
+    }
+
+    fn relationship(&self) -> &str {
+        &self.relationship
+    }
+
+    fn prompt_text(&self) -> String {
+        ObjectRelationSpec::prompt_text(self)
+    }
+}
+
 /// The `obj_relationship_mapping` task for the relations of a scene (one call per scene).
 #[derive(Debug, Clone)]
 pub struct ObjectRelationTask {
@@ -113,29 +135,21 @@ impl ObjectRelationTask {
     /// repeats, a relation has fewer than two objects, an empty object reference or an anchor
     /// index outside its objects.
     pub fn new(relations: Vec<ObjectRelationSpec>) -> Result<Self, VlmError> {
-        if relations.is_empty() {
-            return Err(VlmError::invalid_task(TASK, "no relation to map"));
-        }
-        let keys: Vec<String> = relations.iter().map(|r| r.key.clone()).collect();
-        check_labels(TASK, "relation key", &keys, |s| s.trim().to_owned())?;
-        for r in &relations {
-            let bad = |m: String| VlmError::invalid_task(TASK, format!("relation {:?}: {m}", r.key));
+        check_relations(TASK, &relations, |r| {
             if r.objects.len() < 2 {
-                return Err(bad(format!(
+                return Err(format!(
                     "{} object(s); a relation needs at least two",
                     r.objects.len()
-                )));
+                ));
             }
             if r.objects.iter().any(|o| base_category(o).is_empty()) {
-                return Err(bad("an empty object reference".into()));
+                return Err("an empty object reference".into());
             }
             if let Some(i) = r.anchor_index.filter(|&i| i >= r.objects.len()) {
-                return Err(bad(format!("anchor index {i} but {} objects", r.objects.len())));
+                return Err(format!("anchor index {i} but {} objects", r.objects.len()));
             }
-            if r.relationship.trim().is_empty() || r.relationship.contains('\n') {
-                return Err(bad("the relationship is empty or spans lines".into()));
-            }
-        }
+            Ok(())
+        })?;
         Ok(ObjectRelationTask { relations })
     }
 
@@ -243,21 +257,12 @@ impl Task for ObjectRelationTask {
         TaskKind::ObjRelationshipMapping
     }
 
-    fn template(&self) -> Template {
-        Template::ObjRelationshipMapping
-    }
-
     fn placeholders(&self) -> Vec<(&'static str, String)> {
-        let lines = keyed_lines(self.relations.iter().map(|r| (r.key.as_str(), r.prompt_text())));
-        vec![("RELATIONSHIPS", lines)]
-    }
-
-    fn images(&self) -> Vec<PngImage> {
-        Vec::new()
+        vec![("RELATIONSHIPS", keyed_lines(&self.relations))]
     }
 
     fn keys(&self) -> Vec<String> {
-        self.relations.iter().map(|r| r.key.clone()).collect()
+        relation_keys(&self.relations)
     }
 
     fn validate(
@@ -265,14 +270,7 @@ impl Task for ObjectRelationTask {
         r: ObjRelationshipMappingResponse,
         out: &mut Validation<String, ObjectRelationMapping>,
     ) {
-        pair_by_key(
-            &self.relations,
-            |s| &s.key,
-            r.assessments,
-            |a| &a.key,
-            |s, a| self.check(s, a),
-            out,
-        );
+        pair_by_key(&self.relations, r.assessments, |s, a| self.check(s, a), out);
     }
 }
 

@@ -5,10 +5,10 @@ use serde::{Deserialize, Serialize};
 
 use sceneeval_scene::SupportType;
 
-use super::names::SupportTypeName;
 use crate::PngImage;
-use crate::prompt::Template;
-use crate::task::{Single, Task, TaskKind, Validation};
+use crate::TaskKind;
+use crate::names::SupportTypeName;
+use crate::task::{Single, Task, Validation};
 
 /// The answer of `obj_support_type` as the model writes it (the reference's fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -51,14 +51,6 @@ impl Task for SupportTypeTask {
 
     fn kind(&self) -> TaskKind {
         TaskKind::ObjSupportType
-    }
-
-    fn template(&self) -> Template {
-        Template::ObjSupportType
-    }
-
-    fn placeholders(&self) -> Vec<(&'static str, String)> {
-        Vec::new()
     }
 
     fn images(&self) -> Vec<PngImage> {

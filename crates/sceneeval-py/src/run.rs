@@ -1,0 +1,378 @@
+//! `sceneeval.evaluate` and `sceneeval.evaluation_request`: the keyword arguments mapped onto
+//! the facade's [`EvaluationRequest`], as `sceneeval evaluate` maps its flags, then run by it.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use pyo3::exceptions::PyUserWarning;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sceneeval::{EvalError, EvaluationRequest, Metric, PlanRequest, Preset, RequestField, VlmOptions};
+use serde::Serialize;
+
+use crate::convert::{to_json, to_python};
+use crate::errors::{SceneEvalError, chain, detached, eval_error, value_error};
+
+/// The keyword of `sceneeval.evaluate` that sets `field`.
+pub fn keyword(field: RequestField) -> &'static str {
+    match field {
+        RequestField::Scenes => "scenes_dir",
+        RequestField::Assets => "assets",
+        RequestField::Out => "out",
+        RequestField::Annotations => "annotations",
+        RequestField::Plan => "plan",
+        RequestField::Preset => "preset",
+        RequestField::Metrics => "metrics",
+        RequestField::TimeBudget => "time_budget",
+        RequestField::Matching => "matching",
+        RequestField::RelationMapping => "relation_mapping",
+        RequestField::Threads => "threads",
+        RequestField::VlmBaseUrl => "vlm[\"base_url\"]",
+        RequestField::VlmModel => "vlm[\"model\"]",
+        RequestField::VlmApiKeyEnv => "vlm[\"api_key_env\"]",
+        RequestField::VlmCache => "vlm[\"cache\"]",
+        RequestField::VlmConcurrency => "vlm[\"concurrency\"]",
+        RequestField::VlmRenderSize => "vlm[\"render_size\"]",
+        RequestField::VlmDetail => "vlm[\"detail\"]",
+        RequestField::VlmTemperature => "vlm[\"temperature\"]",
+        RequestField::VlmSeed => "vlm[\"seed\"]",
+        RequestField::VlmMaxTokens => "vlm[\"max_tokens\"]",
+        RequestField::VlmTokenLimitField => "vlm[\"token_limit_field\"]",
+        _ => "vlm",
+    }
+}
+
+/// A facade error as a Python exception: a request error names the keyword (`plan: ...`) and
+/// is a `ValueError` (the caller's argument), except what the machine or its files refuse (a
+/// scene folder or annotation file that cannot be read, a VLM client or renderer that cannot
+/// start), which is a `SceneEvalError`; anything else as [`eval_error`].
+pub fn request_error(e: &EvalError) -> PyErr {
+    let EvalError::Request {
+        field,
+        message,
+        source,
+    } = e
+    else {
+        return crate::errors::eval_error(e);
+    };
+    let mut text = format!("{}: {message}", keyword(*field));
+    if let Some(cause) = source {
+        let cause = chain(cause.as_ref());
+        if !text.contains(&cause) {
+            text.push_str(": ");
+            text.push_str(&cause);
+        }
+    }
+    let machine = matches!(field, RequestField::Scenes | RequestField::Vlm)
+        || (*field == RequestField::Annotations && source.is_some());
+    if machine {
+        SceneEvalError::new_err(text)
+    } else {
+        value_error(text)
+    }
+}
+
+/// `plan` and `preset` as given, except that a preset name given as the plan (`plan="reference"`,
+/// which earlier versions of the package documented) is read as that preset with the default
+/// plan, with a `DeprecationWarning`, unless a file of that name exists.
+pub fn plan_and_preset(
+    py: Python<'_>,
+    plan: Option<&str>,
+    preset: Option<&str>,
+) -> PyResult<(Option<String>, Option<Preset>)> {
+    let given = preset
+        .map(|p| Preset::from_str(p).map_err(|e| value_error(format!("preset: {}", chain(&e)))))
+        .transpose()?;
+    if let Some(name) = plan
+        && !Path::new(name).exists()
+        && let Ok(as_preset) = Preset::from_str(name)
+    {
+        if given.is_some_and(|p| p != as_preset) {
+            return Err(value_error(format!(
+                "plan={name:?} names a preset, and preset={:?} another: give the preset once, as preset=",
+                preset.unwrap_or_default()
+            )));
+        }
+        let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
+        let message = std::ffi::CString::new(format!(
+            "plan={name:?} is a preset name: pass preset={name:?} (plan= takes geometry, full, a metric list or a plan file)"
+        ))
+        .map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(py, &category, &message, 2)?;
+        return Ok((None, Some(as_preset)));
+    }
+    Ok((plan.map(str::to_owned), given))
+}
+
+/// Metrics by name (or summary column).
+pub fn metrics_of(metrics: Option<Vec<String>>) -> PyResult<Option<Vec<Metric>>> {
+    metrics
+        .map(|names| {
+            names
+                .iter()
+                .map(|n| {
+                    n.parse::<Metric>()
+                        .map_err(|e| value_error(format!("metrics: {e}")))
+                })
+                .collect::<PyResult<Vec<Metric>>>()
+        })
+        .transpose()
+}
+
+/// `{prefix: folder}` as the request's `PREFIX=DIR` asset specifications (a folder may be
+/// written `LAYOUT:folder`), in prefix order.
+pub fn asset_specs(assets: Option<BTreeMap<String, PathBuf>>) -> Vec<String> {
+    assets
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(prefix, dir)| format!("{prefix}={}", dir.display()))
+        .collect()
+}
+
+/// The `vlm=` dict as the request's VLM options: the keys are the fields of
+/// [`VlmOptions`] (unknown keys are refused); `cache` may be any path-like.
+fn vlm_options(vlm: &Bound<'_, PyDict>) -> PyResult<VlmOptions> {
+    let rest = vlm.copy()?;
+    let cache: Option<PathBuf> = match rest.get_item("cache")? {
+        Some(c) if !c.is_none() => Some(
+            c.extract()
+                .map_err(|_| value_error("vlm[\"cache\"] must be a path (str or os.PathLike)"))?,
+        ),
+        _ => None,
+    };
+    if rest.contains("cache")? {
+        rest.del_item("cache")?;
+    }
+    let mut options: VlmOptions = serde_json::from_value(to_json(rest.as_any(), "vlm")?)
+        .map_err(|e| value_error(format!("vlm: {e}")))?;
+    options.cache = cache;
+    Ok(options)
+}
+
+/// The request `sceneeval.evaluate` makes of its arguments (see there).
+#[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
+fn request(
+    py: Python<'_>,
+    scenes_dir: PathBuf,
+    assets: Option<BTreeMap<String, PathBuf>>,
+    out: PathBuf,
+    annotations: Option<PathBuf>,
+    plan: Option<&str>,
+    preset: Option<&str>,
+    metrics: Option<Vec<String>>,
+    matching: Option<PathBuf>,
+    relation_mapping: Option<&str>,
+    time_budget: Option<f64>,
+    vlm: Option<&Bound<'_, PyDict>>,
+    force: bool,
+    threads: Option<usize>,
+) -> PyResult<EvaluationRequest> {
+    let matching = matching
+        .map(|m| {
+            m.into_os_string()
+                .into_string()
+                .map_err(|m| value_error(format!("matching {m:?} is not valid Unicode")))
+        })
+        .transpose()?;
+    let (plan, preset) = plan_and_preset(py, plan, preset)?;
+    Ok(EvaluationRequest {
+        scenes: scenes_dir,
+        assets: asset_specs(assets),
+        out,
+        annotations,
+        plan: PlanRequest {
+            plan,
+            preset,
+            metrics: metrics_of(metrics)?,
+            time_budget_seconds: time_budget,
+            matching,
+            relation_mapping: relation_mapping.map(str::to_owned),
+        },
+        vlm: vlm.map(vlm_options).transpose()?,
+        threads,
+        force,
+        shard: None,
+        diagnostics: false,
+    })
+}
+
+/// The evaluation request evaluate() makes of the same arguments, as a dict: what
+/// `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
+#[pyfunction]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None))]
+#[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
+pub fn evaluation_request<'py>(
+    py: Python<'py>,
+    scenes_dir: PathBuf,
+    assets: Option<BTreeMap<String, PathBuf>>,
+    out: PathBuf,
+    annotations: Option<PathBuf>,
+    plan: Option<&str>,
+    preset: Option<&str>,
+    metrics: Option<Vec<String>>,
+    matching: Option<PathBuf>,
+    relation_mapping: Option<&str>,
+    time_budget: Option<f64>,
+    vlm: Option<Bound<'py, PyDict>>,
+    force: bool,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = request(
+        py,
+        scenes_dir,
+        assets,
+        out,
+        annotations,
+        plan,
+        preset,
+        metrics,
+        matching,
+        relation_mapping,
+        time_budget,
+        vlm.as_ref(),
+        force,
+        threads,
+    )?;
+    to_python(py, &request)
+}
+
+/// What `evaluate` returns: the summary and what happened to each scene.
+#[derive(Debug, Serialize)]
+struct RunReport {
+    out: PathBuf,
+    scenes: usize,
+    evaluated: usize,
+    reused: usize,
+    failed: usize,
+    skipped: Vec<Skipped>,
+    failures: Vec<Failure>,
+    note: Option<String>,
+    summary: sceneeval::Summary,
+}
+
+#[derive(Debug, Serialize)]
+struct Skipped {
+    path: PathBuf,
+    reason: String,
+}
+
+#[derive(Debug, Serialize)]
+struct Failure {
+    scene: String,
+    error: String,
+    causes: Vec<String>,
+}
+
+/// Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
+///
+/// assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON): the rows
+/// the text-fidelity metrics check, and rows per difficulty in the summary. plan: exactly what
+/// `sceneeval evaluate --plan` accepts: "geometry" (the default: the six geometry metrics),
+/// "full" (the paper's ten metrics, adding cnt, atr, oor, oar, which need annotations), a
+/// comma-separated metric list ("collision,cnt,oor") or the path of a plan file (JSON or
+/// TOML). preset: "default" or "reference" (every reference-parity switch), as --preset:
+/// the parameters start from it (it replaces a plan file's preset; a preset name given as
+/// plan=, the spelling of earlier versions, is read as preset= with a DeprecationWarning).
+/// metrics: run only these metrics (names or summary columns, e.g. "collision", "OOB", "cnt"),
+/// as --metrics. matching: "vlm", "labels" or a matching file or folder in
+/// the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
+/// as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget:
+/// seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
+/// vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
+/// dict with base_url and model (required), api_key_env (the variable holding the key, which
+/// must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
+/// concurrency (4), render_size (512, the object views shown), detail ("low"), temperature (0;
+/// None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens
+/// and token_limit_field ("max_tokens" or "max_completion_tokens"). Without a VLM the
+/// text-fidelity metrics match objects by labels (or a matching file) and map relations with the
+/// lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
+/// the run's note. A re-run into the same out reuses a scene's result while nothing it depends
+/// on changed (force=True evaluates every scene again). threads: worker threads (default one
+/// per core). Runs with the GIL released.
+///
+/// Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
+/// scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
+/// text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
+/// summary.csv as a dict). A scene that fails is recorded, not raised.
+/// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
+/// ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
+/// with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
+#[pyfunction]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None))]
+#[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
+pub fn evaluate<'py>(
+    py: Python<'py>,
+    scenes_dir: PathBuf,
+    assets: Option<BTreeMap<String, PathBuf>>,
+    out: PathBuf,
+    annotations: Option<PathBuf>,
+    plan: Option<&str>,
+    preset: Option<&str>,
+    metrics: Option<Vec<String>>,
+    matching: Option<PathBuf>,
+    relation_mapping: Option<&str>,
+    time_budget: Option<f64>,
+    vlm: Option<Bound<'py, PyDict>>,
+    force: bool,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = request(
+        py,
+        scenes_dir,
+        assets,
+        out,
+        annotations,
+        plan,
+        preset,
+        metrics,
+        matching,
+        relation_mapping,
+        time_budget,
+        vlm.as_ref(),
+        force,
+        threads,
+    )?;
+    let prepared = detached(py, || request.prepare().map_err(|e| request_error(&e)))?;
+    let note = prepared
+        .fallback()
+        .map(|f| format!("no VLM configured (the Python package runs without one): {f}"));
+    if let Some(note) = &note {
+        let category = py.get_type::<PyUserWarning>();
+        let message = std::ffi::CString::new(note.as_str()).map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    let outcome = detached(py, || prepared.run(&|_| {}).map_err(|e| eval_error(&e)))?;
+    let failures = outcome
+        .batch
+        .records
+        .iter()
+        .filter_map(|r| match &r.outcome {
+            sceneeval::Outcome::Failed { error, causes, .. } => Some(Failure {
+                scene: r.scene.to_string(),
+                error: error.clone(),
+                causes: causes.clone(),
+            }),
+            _ => None,
+        })
+        .collect();
+    let report = RunReport {
+        out: request.out,
+        scenes: outcome.scenes.len(),
+        evaluated: outcome.batch.evaluated,
+        reused: outcome.batch.reused,
+        failed: outcome.batch.failed,
+        skipped: outcome
+            .skipped
+            .into_iter()
+            .map(|s| Skipped {
+                path: s.path,
+                reason: s.reason,
+            })
+            .collect(),
+        failures,
+        note,
+        summary: outcome.summary,
+    };
+    to_python(py, &report)
+}

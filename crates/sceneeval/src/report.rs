@@ -1,0 +1,190 @@
+//! [`SceneReport`]: everything measured on one scene, in the one shape `eval.json` writes
+//! (`docs/formats.md`, "eval.json"), built once by [`SceneReport::new`] from what the
+//! metrics found.
+
+use serde::{Deserialize, Deserializer, Serialize};
+
+use crate::fidelity::{FidelityReport, FidelitySummary};
+use crate::plausibility::{
+    self, AccessibilityReport, CollisionReport, NavigabilityReport, OpeningClearanceReport,
+    OutOfBoundsReport, PlausibilityReport, PlausibilitySummary, SupportReport,
+};
+use crate::scene::ObjectId;
+
+/// The schema name and version written into every per-scene report.
+pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
+
+/// Everything measured on one scene: the `report` of its `eval.json`.
+///
+/// The fields are the JSON fields, in order (serde derives both directions): the schema, the
+/// scene's name, its objects, the geometry metrics that ran, the scene-level [`SceneSummary`],
+/// each geometry metric's report with its per-object evidence (`None` when it did not run),
+/// then the text-fidelity report when fidelity metrics ran.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SceneReport {
+    /// Always [`SCENE_REPORT_SCHEMA`].
+    pub schema: String,
+    /// The scene's name (its file stem, `scene_12`; the key `scene_id` is the format's
+    /// first name for it: the record's `scene_id` is the benchmark id, `12`).
+    #[serde(rename = "scene_id")]
+    pub scene: Option<String>,
+    /// The object ids, in scene order.
+    pub object_ids: Vec<ObjectId>,
+    /// The geometry metrics that ran, in the order of [`plausibility::Metric::ALL`] (the
+    /// text-fidelity metrics that ran have their sections in [`SceneReport::fidelity`]).
+    #[serde(rename = "metrics")]
+    pub geometry_metrics: Vec<plausibility::Metric>,
+    /// The scene-level numbers.
+    pub summary: SceneSummary,
+    /// Collision.
+    pub collision: Option<CollisionReport>,
+    /// Support.
+    pub support: Option<SupportReport>,
+    /// Navigability.
+    pub navigability: Option<NavigabilityReport>,
+    /// Accessibility.
+    pub accessibility: Option<AccessibilityReport>,
+    /// Out-of-bounds.
+    pub out_of_bounds: Option<OutOfBoundsReport>,
+    /// Opening clearance.
+    pub opening_clearance: Option<OpeningClearanceReport>,
+    /// What the text-fidelity metrics found, when they ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fidelity: Option<FidelityReport>,
+}
+
+/// The scene-level numbers of a [`SceneReport`]: the geometry metrics' (`null` where a metric
+/// did not run or does not apply), then, when text-fidelity metrics ran, their scores.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct SceneSummary {
+    /// The geometry metrics' numbers.
+    #[serde(flatten)]
+    pub geometry: PlausibilitySummary,
+    /// CNT, ATR, OOR, OAR when text-fidelity metrics ran (the keys are absent otherwise).
+    #[serde(
+        flatten,
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "fidelity_keys"
+    )]
+    pub fidelity: Option<FidelitySummary>,
+}
+
+impl SceneReport {
+    /// The report of a scene named `scene` from what the geometry metrics and, when they ran,
+    /// the text-fidelity metrics found.
+    pub fn new(
+        scene: Option<String>,
+        geometry: PlausibilityReport,
+        fidelity: Option<FidelityReport>,
+    ) -> Self {
+        let PlausibilityReport {
+            scene_id: _,
+            object_ids,
+            metrics,
+            summary,
+            collision,
+            support,
+            navigability,
+            accessibility,
+            out_of_bounds,
+            opening_clearance,
+        } = geometry;
+        SceneReport {
+            schema: SCENE_REPORT_SCHEMA.to_owned(),
+            scene,
+            object_ids,
+            geometry_metrics: metrics,
+            summary: SceneSummary {
+                geometry: summary,
+                fidelity: fidelity.as_ref().map(|f| f.summary),
+            },
+            collision,
+            support,
+            navigability,
+            accessibility,
+            out_of_bounds,
+            opening_clearance,
+            fidelity,
+        }
+    }
+}
+
+/// The fidelity scores of a summary: `None` when none of the keys `cnt`, `atr`, `oor`, `oar`
+/// is present (no fidelity metric ran), else each present value (`null` included).
+fn fidelity_keys<'de, D: Deserializer<'de>>(d: D) -> Result<Option<FidelitySummary>, D::Error> {
+    /// `Some(value)` for a key that is present, `null` included.
+    fn present<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Option<f64>>, D::Error> {
+        Option::<f64>::deserialize(d).map(Some)
+    }
+    #[derive(Deserialize)]
+    struct Keys {
+        #[serde(default, deserialize_with = "present")]
+        cnt: Option<Option<f64>>,
+        #[serde(default, deserialize_with = "present")]
+        atr: Option<Option<f64>>,
+        #[serde(default, deserialize_with = "present")]
+        oor: Option<Option<f64>>,
+        #[serde(default, deserialize_with = "present")]
+        oar: Option<Option<f64>>,
+    }
+    let k = Keys::deserialize(d)?;
+    if [k.cnt, k.atr, k.oor, k.oar].iter().all(Option::is_none) {
+        return Ok(None);
+    }
+    Ok(Some(FidelitySummary {
+        cnt: k.cnt.flatten(),
+        atr: k.atr.flatten(),
+        oor: k.oor.flatten(),
+        oar: k.oar.flatten(),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn geometry() -> PlausibilityReport {
+        PlausibilityReport {
+            scene_id: Some("ignored".into()),
+            object_ids: vec![ObjectId::new("bed")],
+            metrics: vec![plausibility::Metric::OutOfBounds],
+            summary: PlausibilitySummary {
+                oob: Some(0.0),
+                ..PlausibilitySummary::default()
+            },
+            collision: None,
+            support: None,
+            navigability: None,
+            accessibility: None,
+            out_of_bounds: None,
+            opening_clearance: None,
+        }
+    }
+
+    #[test]
+    fn the_summary_holds_fidelity_keys_only_when_fidelity_ran() {
+        let report = SceneReport::new(Some("scene_3".into()), geometry(), None);
+        let json = serde_json::to_string(&report).unwrap();
+        assert_eq!(
+            json,
+            r#"{"schema":"sceneeval.scene-report/1","scene_id":"scene_3","object_ids":["bed"],"metrics":["out_of_bounds"],"summary":{"col_ob":null,"col_sc":null,"sup":null,"nav":null,"all_rooms_reachable":null,"acc":null,"oob":0.0,"num_doors":null,"doors_blocked":null,"num_windows":null,"windows_blocked":null},"collision":null,"support":null,"navigability":null,"accessibility":null,"out_of_bounds":null,"opening_clearance":null}"#
+        );
+        let back: SceneReport = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, report);
+
+        // A summary with fidelity keys, `null` ones included, reads back as written.
+        let mut value: serde_json::Value = serde_json::from_str(&json).unwrap();
+        value["summary"]["cnt"] = serde_json::json!(0.5);
+        value["summary"]["atr"] = serde_json::Value::Null;
+        let back: SceneReport = serde_json::from_value(value).unwrap();
+        assert_eq!(
+            back.summary.fidelity,
+            Some(FidelitySummary {
+                cnt: Some(0.5),
+                ..FidelitySummary::default()
+            })
+        );
+        assert_eq!(back.summary.geometry.oob, Some(0.0));
+    }
+}

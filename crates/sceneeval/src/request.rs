@@ -1,0 +1,1095 @@
+//! [`EvaluationRequest`]: everything one evaluation run is asked to do, in one type with each
+//! default written once. `sceneeval evaluate` maps its flags onto it, the Python package's
+//! `sceneeval.evaluate` its keyword arguments; [`EvaluationRequest::prepare`] checks everything
+//! that can be checked before any work and [`PreparedRun::run`] evaluates the scenes, writing
+//! `<out>/<scene>/eval.json` as each finishes and then the summary tables.
+//!
+//! Errors about the request name its field ([`RequestField`]); a front end shows them under
+//! its own name for the field (`--plan`, `plan=`).
+//!
+//! ```
+//! use sceneeval::{EvaluationRequest, Metric, Preset};
+//! let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+//! let out = tempfile::tempdir().unwrap();
+//! let mut request = EvaluationRequest::new(fixtures.join("scenes"), out.path());
+//! request.assets = vec![format!("fixture={}", fixtures.join("assets").display())];
+//! request.plan.plan = Some("collision,oob".into());
+//! request.plan.preset = Some(Preset::Reference);
+//! let prepared = request.prepare().unwrap();
+//! assert_eq!(prepared.evaluator().plan().metrics, vec![Metric::Collision, Metric::OutOfBounds]);
+//! let outcome = prepared.run(&|_| {}).unwrap();
+//! assert_eq!(outcome.batch.failed, 0);
+//! assert!(out.path().join("summary.md").is_file());
+//! ```
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use serde::{Deserialize, Deserializer, Serialize};
+
+use crate::annotation::Annotations;
+use crate::fidelity::{MatchingMethod, RelationMapping};
+use crate::io::AssetLibrary;
+use crate::{
+    BatchOptions, BatchOutcome, EvalError, EvaluationPlan, Evaluator, Metric, OutputLock, Preset, RunEvent,
+    SceneFile, SkippedFile, Summary, check_output_dir, find_scenes, run_batch,
+};
+
+/// VLM requests in flight at once over a whole run, unless the request says otherwise.
+pub const DEFAULT_VLM_CONCURRENCY: usize = 4;
+
+/// The side of the square object views shown to the VLM, pixels, unless the request says
+/// otherwise.
+pub const DEFAULT_RENDER_SIZE: u32 = 512;
+
+/// The sides object views may have, pixels (a smaller view shows the VLM nothing; a larger
+/// one costs more memory than any model takes).
+pub const RENDER_SIZE_RANGE: std::ops::RangeInclusive<u32> = 16..=4096;
+
+/// The VLM response cache's folder inside the output folder, unless the request names one.
+pub const DEFAULT_VLM_CACHE_DIR: &str = "vlm-cache";
+
+/// One evaluation run: which scenes, with which assets and annotations, under which plan, with
+/// which VLM, written where. Fields left `None` take the defaults documented on them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EvaluationRequest {
+    /// The folder holding the `scene_<ID>.json` files.
+    pub scenes: PathBuf,
+    /// Asset folders, each `PREFIX=DIR` or `PREFIX=LAYOUT:DIR` (see
+    /// [`AssetLibrary::from_specs`]).
+    #[serde(default)]
+    pub assets: Vec<String>,
+    /// The output folder: `<scene>/eval.json`, `<scene>/timing.json`, the summaries.
+    pub out: PathBuf,
+    /// The SceneEval-500 annotations (CSV or JSON): rows per difficulty in the summary, each
+    /// scene's row digest in its fingerprint, and the rows the text-fidelity metrics check.
+    #[serde(default)]
+    pub annotations: Option<PathBuf>,
+    /// What to evaluate.
+    #[serde(default)]
+    pub plan: PlanRequest,
+    /// The VLM that answers the text-fidelity metrics' questions (and support types and
+    /// functional sides), if any.
+    #[serde(default)]
+    pub vlm: Option<VlmOptions>,
+    /// Worker threads (default: one per core).
+    #[serde(default)]
+    pub threads: Option<usize>,
+    /// Evaluate every scene again, even those whose earlier result still matches.
+    #[serde(default)]
+    pub force: bool,
+    /// Evaluate only this share of the scenes.
+    #[serde(default)]
+    pub shard: Option<Shard>,
+    /// Also write diagnostic images under `<out>/<scene>/diagnostics/`.
+    #[serde(default)]
+    pub diagnostics: bool,
+}
+
+/// What a run evaluates: a plan (`geometry`, `full`, a metric list or a plan file) and what
+/// replaces parts of it. Fields left `None` keep the plan's own values.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanRequest {
+    /// `geometry` (the default: the six geometry metrics), `full` (the paper's ten), a
+    /// comma-separated metric list (`collision,cnt,oor`) or the path of a plan file (JSON, or
+    /// TOML when it ends in `.toml`). See [`PlanSpec::parse`].
+    #[serde(default)]
+    pub plan: Option<String>,
+    /// The parameter preset; replaces a plan file's `preset`.
+    #[serde(default)]
+    pub preset: Option<Preset>,
+    /// The metrics to run, replacing the plan's.
+    #[serde(default)]
+    pub metrics: Option<Vec<Metric>>,
+    /// The wall-time budget per scene in seconds; 0 means no budget.
+    #[serde(default)]
+    pub time_budget_seconds: Option<f64>,
+    /// Object matching: `vlm`, `labels`, or a matching file or folder (used only when the plan
+    /// runs text-fidelity metrics).
+    #[serde(default)]
+    pub matching: Option<String>,
+    /// Relation mapping: `vlm` or `lexicon` (used only when the plan runs text-fidelity
+    /// metrics).
+    #[serde(default)]
+    pub relation_mapping: Option<String>,
+}
+
+/// An OpenAI-compatible endpoint and what is sent to it. The key is never part of a request:
+/// it is read from the environment variable `api_key_env` names (default `OPENAI_API_KEY`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VlmOptions {
+    /// The API base URL, e.g. `https://api.openai.com/v1`.
+    pub base_url: String,
+    /// The model, e.g. `gpt-4o-2024-08-06`.
+    pub model: String,
+    /// The environment variable holding the API key; it must then be set. `None`: the key in
+    /// `OPENAI_API_KEY` when set (local servers need none).
+    #[serde(default)]
+    pub api_key_env: Option<String>,
+    /// The response cache's folder (default `<out>/vlm-cache`, [`DEFAULT_VLM_CACHE_DIR`]).
+    #[serde(default)]
+    pub cache: Option<PathBuf>,
+    /// Requests in flight at once over the whole run (default [`DEFAULT_VLM_CONCURRENCY`]).
+    #[serde(default)]
+    pub concurrency: Option<usize>,
+    /// The side of the object views shown, pixels (default [`DEFAULT_RENDER_SIZE`], within
+    /// [`RENDER_SIZE_RANGE`]).
+    #[serde(default)]
+    pub render_size: Option<u32>,
+    /// Image detail: `low` (the client's default, the reference's), `high` or `auto`.
+    #[serde(default)]
+    pub detail: Option<String>,
+    /// Sampling temperature from 0 to 2; `Some(None)` sends none (OpenAI's reasoning models
+    /// accept only their own); `None` keeps the client's default (0).
+    #[serde(
+        default,
+        deserialize_with = "present",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub temperature: Option<Option<f32>>,
+    /// Sampling seed; `Some(None)` sends none; `None` keeps the client's default (42).
+    #[serde(
+        default,
+        deserialize_with = "present",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub seed: Option<Option<u64>>,
+    /// Token limit of a reply (default: none sent).
+    #[serde(default)]
+    pub max_tokens: Option<u32>,
+    /// The request field of the token limit: `max_tokens` (default) or `max_completion_tokens`.
+    #[serde(default)]
+    pub token_limit_field: Option<String>,
+}
+
+/// A key that is present, `null` included (`Some(None)`); an absent key is `None` through
+/// `#[serde(default)]`.
+fn present<'de, D: Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<Option<T>>, D::Error> {
+    Option::<T>::deserialize(d).map(Some)
+}
+
+/// A share of a run's scenes: shard `index` of `count` (1-based) holds the scenes whose
+/// position in ID order is `index - 1` modulo `count`. Written `K/N`.
+///
+/// ```
+/// use sceneeval::Shard;
+/// let s: Shard = "2/8".parse().unwrap();
+/// assert_eq!((s.index, s.count), (2, 8));
+/// assert!("9/8".parse::<Shard>().is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// Which shard, from 1.
+    pub index: usize,
+    /// How many shards.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Whether the scene at `position` (in ID order, from 0) belongs to this shard.
+    pub fn holds(&self, position: usize) -> bool {
+        position % self.count == self.index - 1
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 2/8")?;
+        let (index, count): (usize, usize) = (
+            k.trim().parse().map_err(|_| "K is not a number")?,
+            n.trim().parse().map_err(|_| "N is not a number")?,
+        );
+        if count == 0 || index == 0 || index > count {
+            return Err(format!("shard {index}/{count}: need 1 <= K <= N"));
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+impl fmt::Display for Shard {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+/// A field of an [`EvaluationRequest`], named in the errors about it. `Display` writes the
+/// request's own path (`plan`, `vlm.base_url`); front ends show their own name for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum RequestField {
+    /// [`EvaluationRequest::scenes`].
+    Scenes,
+    /// [`EvaluationRequest::assets`].
+    Assets,
+    /// [`EvaluationRequest::out`].
+    Out,
+    /// [`EvaluationRequest::annotations`].
+    Annotations,
+    /// [`PlanRequest::plan`].
+    Plan,
+    /// [`PlanRequest::preset`].
+    Preset,
+    /// [`PlanRequest::metrics`].
+    Metrics,
+    /// [`PlanRequest::time_budget_seconds`].
+    TimeBudget,
+    /// [`PlanRequest::matching`].
+    Matching,
+    /// [`PlanRequest::relation_mapping`].
+    RelationMapping,
+    /// [`EvaluationRequest::threads`].
+    Threads,
+    /// [`EvaluationRequest::vlm`] as a whole (e.g. given to a build without a VLM client).
+    Vlm,
+    /// [`VlmOptions::base_url`].
+    VlmBaseUrl,
+    /// [`VlmOptions::model`].
+    VlmModel,
+    /// [`VlmOptions::api_key_env`].
+    VlmApiKeyEnv,
+    /// [`VlmOptions::cache`].
+    VlmCache,
+    /// [`VlmOptions::concurrency`].
+    VlmConcurrency,
+    /// [`VlmOptions::render_size`].
+    VlmRenderSize,
+    /// [`VlmOptions::detail`].
+    VlmDetail,
+    /// [`VlmOptions::temperature`].
+    VlmTemperature,
+    /// [`VlmOptions::seed`].
+    VlmSeed,
+    /// [`VlmOptions::max_tokens`].
+    VlmMaxTokens,
+    /// [`VlmOptions::token_limit_field`].
+    VlmTokenLimitField,
+}
+
+impl RequestField {
+    /// The field's path in the request.
+    pub const fn path(self) -> &'static str {
+        match self {
+            RequestField::Scenes => "scenes",
+            RequestField::Assets => "assets",
+            RequestField::Out => "out",
+            RequestField::Annotations => "annotations",
+            RequestField::Plan => "plan",
+            RequestField::Preset => "preset",
+            RequestField::Metrics => "metrics",
+            RequestField::TimeBudget => "time_budget_seconds",
+            RequestField::Matching => "matching",
+            RequestField::RelationMapping => "relation_mapping",
+            RequestField::Threads => "threads",
+            RequestField::Vlm => "vlm",
+            RequestField::VlmBaseUrl => "vlm.base_url",
+            RequestField::VlmModel => "vlm.model",
+            RequestField::VlmApiKeyEnv => "vlm.api_key_env",
+            RequestField::VlmCache => "vlm.cache",
+            RequestField::VlmConcurrency => "vlm.concurrency",
+            RequestField::VlmRenderSize => "vlm.render_size",
+            RequestField::VlmDetail => "vlm.detail",
+            RequestField::VlmTemperature => "vlm.temperature",
+            RequestField::VlmSeed => "vlm.seed",
+            RequestField::VlmMaxTokens => "vlm.max_tokens",
+            RequestField::VlmTokenLimitField => "vlm.token_limit_field",
+        }
+    }
+}
+
+impl fmt::Display for RequestField {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.path())
+    }
+}
+
+/// A plan as named in a request: [`PlanRequest::plan`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PlanSpec {
+    /// `geometry`, or no plan given: the six geometry metrics.
+    Geometry,
+    /// `full`: the paper's ten metrics (the geometry metrics and CNT, ATR, OOR, OAR).
+    Full,
+    /// The path of a plan file (JSON, or TOML when it ends in `.toml`).
+    File(PathBuf),
+    /// Anything else: a comma-separated list of metric names (`collision,cnt,oor`).
+    Metrics(String),
+}
+
+impl PlanSpec {
+    /// The plan named by `spec` (surrounding white space ignored): `geometry` (also for
+    /// `None`), `full`, an existing file, a path that names no file (one with a `/` or a plan
+    /// file's extension: an error when read, rather than an unknown metric), else a metric
+    /// list. A file named `geometry` or `full` in the working folder is not read: those words
+    /// always mean the built-in plans.
+    ///
+    /// ```
+    /// use sceneeval::PlanSpec;
+    /// use std::path::PathBuf;
+    /// assert_eq!(PlanSpec::parse(None), PlanSpec::Geometry);
+    /// assert_eq!(PlanSpec::parse(Some(" full ")), PlanSpec::Full);
+    /// assert_eq!(PlanSpec::parse(Some("cnt,oor")), PlanSpec::Metrics("cnt,oor".into()));
+    /// assert_eq!(PlanSpec::parse(Some("plans/quik.json")), PlanSpec::File(PathBuf::from("plans/quik.json")));
+    /// ```
+    pub fn parse(spec: Option<&str>) -> PlanSpec {
+        match spec.map(str::trim) {
+            None | Some("geometry") => PlanSpec::Geometry,
+            Some("full") => PlanSpec::Full,
+            Some(p) if Path::new(p).is_file() || looks_like_path(p) => PlanSpec::File(PathBuf::from(p)),
+            Some(list) => PlanSpec::Metrics(list.to_owned()),
+        }
+    }
+
+    /// The plan, its parameters starting from `preset` (for a file: replacing the file's
+    /// `preset` when given; its explicit values still apply on top).
+    ///
+    /// # Errors
+    /// As [`EvaluationPlan::read_with_preset`] for a file (a missing file says so); for a
+    /// metric list, [`EvalError::Plan`] naming the unknown metric with the list of metrics
+    /// and the closest name.
+    pub fn plan(&self, preset: Option<Preset>) -> Result<EvaluationPlan, EvalError> {
+        let base = preset.unwrap_or_default();
+        match self {
+            PlanSpec::Geometry => Ok(EvaluationPlan::with_preset(base)),
+            PlanSpec::Full => Ok(EvaluationPlan::full(base)),
+            PlanSpec::File(path) => EvaluationPlan::read_with_preset(path, preset),
+            PlanSpec::Metrics(list) => EvaluationPlan::from_metric_list(list, base),
+        }
+    }
+}
+
+/// Whether a plan text that names no file was meant as a path: it has a folder separator or
+/// ends like a plan file.
+fn looks_like_path(text: &str) -> bool {
+    let lower = text.to_ascii_lowercase();
+    text.contains('/')
+        || text.contains('\\')
+        || [".json", ".toml", ".yaml", ".yml"]
+            .iter()
+            .any(|e| lower.ends_with(e))
+}
+
+/// The plan a [`PlanRequest`] resolves to.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChosenPlan {
+    /// The plan to run.
+    pub plan: EvaluationPlan,
+    /// Present when the plan runs fidelity metrics without a VLM: what they run with instead.
+    pub fallback: Option<NoVlmFallback>,
+}
+
+/// How the text-fidelity metrics run without a VLM. Its `Display` is the sentence the front
+/// ends show after "no VLM configured: ".
+#[derive(Debug, Clone, PartialEq)]
+pub struct NoVlmFallback {
+    /// The matching method used (labels or a file).
+    pub matching: MatchingMethod,
+    /// The relation mapping used (the lexicon).
+    pub relation_mapping: RelationMapping,
+    /// What replaced a choice of the VLM, e.g. "matching by labels".
+    pub replaced: Vec<&'static str>,
+}
+
+impl fmt::Display for NoVlmFallback {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.matching {
+            MatchingMethod::File { path } => {
+                write!(f, "fidelity runs with matching from {}", path.display())?
+            }
+            other => write!(f, "fidelity runs with {other} matching")?,
+        }
+        write!(f, " and the {} relation mapping", self.relation_mapping)?;
+        if !self.replaced.is_empty() {
+            write!(f, " ({} instead of the VLM)", self.replaced.join(", "))?;
+        }
+        f.write_str("; ATR is not judged.")
+    }
+}
+
+impl PlanRequest {
+    /// The plan to run: [`PlanSpec::plan`] of `plan` with `preset`, then `metrics` and the
+    /// time budget applied; when it runs text-fidelity metrics (which need `annotations`),
+    /// the matching and relation mapping chosen (the VLM by default when `vlm` is set), then,
+    /// without a VLM, labels and the lexicon in place of the VLM. The plan is not validated
+    /// again ([`Evaluator::new`] does).
+    ///
+    /// ```
+    /// use sceneeval::PlanRequest;
+    /// use sceneeval::fidelity::RelationMapping;
+    /// let request = PlanRequest { plan: Some("full".into()), relation_mapping: Some("vlm".into()), ..PlanRequest::default() };
+    /// let chosen = request.resolve(false, true).unwrap();
+    /// assert_eq!(chosen.plan.fidelity.relation_mapping, RelationMapping::Lexicon);
+    /// let note = chosen.fallback.unwrap().to_string();
+    /// assert!(note.contains("relations mapped by the lexicon instead of the VLM"), "{note}");
+    /// ```
+    ///
+    /// # Errors
+    /// [`EvalError::Request`] naming the field: a plan that cannot be read, a bad time budget,
+    /// text-fidelity metrics without annotations, an unknown relation mapping.
+    pub fn resolve(&self, vlm: bool, annotations: bool) -> Result<ChosenPlan, EvalError> {
+        let spec = PlanSpec::parse(self.plan.as_deref());
+        let mut plan = spec.plan(self.preset).map_err(|e| plan_error(&spec, e))?;
+        if let Some(metrics) = &self.metrics {
+            plan.metrics.clone_from(metrics);
+        }
+        if let Some(b) = self.time_budget_seconds {
+            if !(b.is_finite() && b >= 0.0) {
+                return Err(EvalError::request(
+                    RequestField::TimeBudget,
+                    format!("{b} is not a number of seconds (0 for no budget)"),
+                ));
+            }
+            plan.time_budget_seconds = (b != 0.0).then_some(b);
+        }
+        if !plan.has_fidelity() {
+            return Ok(ChosenPlan { plan, fallback: None });
+        }
+        if !annotations {
+            return Err(EvalError::request(
+                RequestField::Annotations,
+                "is needed: the plan runs text-fidelity metrics (cnt, atr, oor, oar), which check each scene \
+                 against its annotation row"
+                    .to_owned()));
+        }
+        match self.matching.as_deref().map(str::trim) {
+            None if vlm => plan.fidelity.matching = MatchingMethod::Vlm,
+            None => {}
+            Some("vlm") => plan.fidelity.matching = MatchingMethod::Vlm,
+            Some("labels") => plan.fidelity.matching = MatchingMethod::Labels,
+            Some(path) => {
+                plan.fidelity.matching = MatchingMethod::File {
+                    path: PathBuf::from(path),
+                }
+            }
+        }
+        match self.relation_mapping.as_deref().map(str::trim) {
+            None if vlm => plan.fidelity.relation_mapping = RelationMapping::Vlm,
+            None => {}
+            Some("vlm") => plan.fidelity.relation_mapping = RelationMapping::Vlm,
+            Some("lexicon") => plan.fidelity.relation_mapping = RelationMapping::Lexicon,
+            Some(other) => {
+                return Err(EvalError::request(
+                    RequestField::RelationMapping,
+                    format!("{other:?}: expected vlm or lexicon"),
+                ));
+            }
+        }
+        if vlm {
+            return Ok(ChosenPlan { plan, fallback: None });
+        }
+        let mut replaced = Vec::new();
+        if plan.fidelity.matching == MatchingMethod::Vlm {
+            plan.fidelity.matching = MatchingMethod::Labels;
+            replaced.push("matching by labels");
+        }
+        if plan.fidelity.relation_mapping == RelationMapping::Vlm {
+            plan.fidelity.relation_mapping = RelationMapping::Lexicon;
+            replaced.push("relations mapped by the lexicon");
+        }
+        let fallback = NoVlmFallback {
+            matching: plan.fidelity.matching.clone(),
+            relation_mapping: plan.fidelity.relation_mapping,
+            replaced,
+        };
+        Ok(ChosenPlan {
+            plan,
+            fallback: Some(fallback),
+        })
+    }
+}
+
+/// The request error for the plan named by `spec` that could not be made: the unknown metric
+/// of a list or a missing file said in the message, any other plan error as its cause.
+fn plan_error(spec: &PlanSpec, e: EvalError) -> EvalError {
+    match (spec, e) {
+        (PlanSpec::Metrics(list), EvalError::Plan { message, .. }) => EvalError::request(
+            RequestField::Plan,
+            format!("{list:?} is not geometry, full, a plan file or a metric list: {message}"),
+        ),
+        (PlanSpec::File(path), _) if !path.exists() => EvalError::request(
+            RequestField::Plan,
+            format!("plan file {} does not exist", path.display()),
+        ),
+        (PlanSpec::File(path), e) => {
+            EvalError::request_caused(RequestField::Plan, format!("plan file {}", path.display()), e)
+        }
+        (_, e) => EvalError::request_caused(RequestField::Plan, "invalid plan", e),
+    }
+}
+
+impl EvaluationRequest {
+    /// A request for the scenes of `scenes` written to `out`, every other field at its
+    /// default (the geometry plan, no assets, annotations or VLM).
+    pub fn new(scenes: impl Into<PathBuf>, out: impl Into<PathBuf>) -> Self {
+        EvaluationRequest {
+            scenes: scenes.into(),
+            assets: Vec::new(),
+            out: out.into(),
+            annotations: None,
+            plan: PlanRequest::default(),
+            vlm: None,
+            threads: None,
+            force: false,
+            shard: None,
+            diagnostics: false,
+        }
+    }
+
+    /// Checks everything that can be checked before any scene is evaluated, in order: the
+    /// scene names, the plan, the VLM settings (and sets up its client and the renderer), the
+    /// asset folders, the annotations, the output folder (a probe file is written and
+    /// removed), the worker threads.
+    ///
+    /// # Errors
+    /// [`EvalError::Request`] naming the field at fault, or [`EvalError::DuplicateSceneId`],
+    /// [`EvalError::OutputNotWritable`].
+    pub fn prepare(&self) -> Result<PreparedRun, EvalError> {
+        let set = find_scenes(&self.scenes).map_err(|e| match e {
+            EvalError::File { .. } => EvalError::request_caused(
+                RequestField::Scenes,
+                format!("cannot read the folder {}", self.scenes.display()),
+                e,
+            ),
+            other => other,
+        })?;
+        if set.scenes.is_empty() {
+            return Err(EvalError::request(
+                RequestField::Scenes,
+                format!("no scene_<ID>.json files in {}", self.scenes.display()),
+            ));
+        }
+        let mut scenes = set.scenes;
+        if let Some(shard) = self.shard {
+            scenes = scenes
+                .into_iter()
+                .enumerate()
+                .filter(|(i, _)| shard.holds(*i))
+                .map(|(_, s)| s)
+                .collect();
+        }
+        let ChosenPlan { plan, fallback } = self
+            .plan
+            .resolve(self.vlm.is_some(), self.annotations.is_some())?;
+        let mut evaluator = Evaluator::new(plan)
+            .map_err(|e| EvalError::request_caused(RequestField::Plan, "invalid plan".to_owned(), e))?;
+        if let Some(vlm) = &self.vlm
+            && evaluator.plan().has_fidelity()
+        {
+            evaluator = vlm.attach(evaluator, &self.out)?;
+        }
+        let assets = AssetLibrary::from_specs(&self.assets)
+            .map_err(|e| {
+                EvalError::request_caused(RequestField::Assets, "invalid asset folder".to_owned(), e)
+            })?
+            .with_limits(evaluator.plan().limits);
+        let annotations = self
+            .annotations
+            .as_deref()
+            .map(|p| {
+                Annotations::read(p).map_err(|e| {
+                    EvalError::request_caused(
+                        RequestField::Annotations,
+                        format!("cannot read {}", p.display()),
+                        e,
+                    )
+                })
+            })
+            .transpose()?;
+        check_output_dir(&self.out)?;
+        let lock = OutputLock::acquire(&self.out)?;
+        let replaced = earlier_results_of_other_plans(&scenes, &self.out, &evaluator.result_digest());
+        let mut pool = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = self.threads {
+            if n == 0 {
+                return Err(EvalError::request(
+                    RequestField::Threads,
+                    "must be at least 1".to_owned(),
+                ));
+            }
+            pool = pool.num_threads(n);
+        }
+        let pool = pool.build().map_err(|e| {
+            EvalError::request(
+                RequestField::Threads,
+                format!("cannot start the worker threads: {e}"),
+            )
+        })?;
+        Ok(PreparedRun {
+            scenes,
+            skipped: set.skipped,
+            fallback,
+            evaluator,
+            assets,
+            annotations,
+            options: (self.out.clone(), self.force, self.diagnostics),
+            pool,
+            replaced,
+            _lock: lock,
+        })
+    }
+
+    /// [`EvaluationRequest::prepare`], then [`PreparedRun::run`].
+    ///
+    /// # Errors
+    /// As both.
+    pub fn run(&self, on_event: &(dyn Fn(&RunEvent<'_>) + Sync)) -> Result<RunOutcome, EvalError> {
+        self.prepare()?.run(on_event)
+    }
+}
+
+impl VlmOptions {
+    /// The client's settings: `base_url`, `model` and the key, with the sampling settings given
+    /// (the others keep [`crate::vlm_openai::OpenAiConfig::new`]'s defaults) and the
+    /// concurrency (default [`DEFAULT_VLM_CONCURRENCY`]). What `sceneeval vlm check` sends
+    /// too.
+    ///
+    /// # Errors
+    /// [`EvalError::Request`] naming the field: a bad detail, temperature, token limit (field),
+    /// concurrency, or an API key variable that is named but unset.
+    #[cfg(feature = "openai")]
+    pub fn config(&self) -> Result<crate::vlm_openai::OpenAiConfig, EvalError> {
+        use crate::vlm_openai::{ApiKey, OpenAiConfig, TEMPERATURE_RANGE};
+        let key = ApiKey::from_env_or_default(self.api_key_env.as_deref())
+            .map_err(|e| EvalError::request_caused(RequestField::VlmApiKeyEnv, "no API key".to_owned(), e))?;
+        let mut config = OpenAiConfig::new(&self.base_url, &self.model).with_api_key(key);
+        if let Some(detail) = &self.detail {
+            config.detail = detail
+                .parse()
+                .map_err(|e: String| EvalError::request(RequestField::VlmDetail, e))?;
+        }
+        if let Some(t) = self.temperature {
+            if let Some(v) = t
+                && !TEMPERATURE_RANGE.contains(&v)
+            {
+                return Err(EvalError::request(
+                    RequestField::VlmTemperature,
+                    format!(
+                        "{v} is not from {} to {} (or none)",
+                        TEMPERATURE_RANGE.start(),
+                        TEMPERATURE_RANGE.end()
+                    ),
+                ));
+            }
+            config.temperature = t;
+        }
+        if let Some(seed) = self.seed {
+            config.seed = seed;
+        }
+        if let Some(n) = self.max_tokens {
+            if n == 0 {
+                return Err(EvalError::request(
+                    RequestField::VlmMaxTokens,
+                    "must be at least 1".to_owned(),
+                ));
+            }
+            config.max_tokens = Some(n);
+        }
+        if let Some(field) = &self.token_limit_field {
+            config.token_limit_field = field
+                .parse()
+                .map_err(|e: String| EvalError::request(RequestField::VlmTokenLimitField, e))?;
+        }
+        let concurrency = self.concurrency.unwrap_or(DEFAULT_VLM_CONCURRENCY);
+        if concurrency == 0 {
+            return Err(EvalError::request(
+                RequestField::VlmConcurrency,
+                "must be at least 1".to_owned(),
+            ));
+        }
+        config.max_concurrent_requests = concurrency;
+        Ok(config)
+    }
+
+    /// The side of the object views, checked against [`RENDER_SIZE_RANGE`].
+    ///
+    /// # Errors
+    /// [`EvalError::Request`] for a size out of the range.
+    pub fn render_size(&self) -> Result<u32, EvalError> {
+        let size = self.render_size.unwrap_or(DEFAULT_RENDER_SIZE);
+        if !RENDER_SIZE_RANGE.contains(&size) {
+            return Err(EvalError::request(
+                RequestField::VlmRenderSize,
+                format!(
+                    "{size} pixels is not from {} to {}",
+                    RENDER_SIZE_RANGE.start(),
+                    RENDER_SIZE_RANGE.end()
+                ),
+            ));
+        }
+        Ok(size)
+    }
+
+    /// The response cache's folder for a run writing to `out`.
+    pub fn cache_dir(&self, out: &Path) -> PathBuf {
+        self.cache
+            .clone()
+            .unwrap_or_else(|| out.join(DEFAULT_VLM_CACHE_DIR))
+    }
+
+    /// `evaluator` asking this VLM (through a runtime of its own, answers cached in
+    /// [`VlmOptions::cache_dir`]) and rendering the views it is shown.
+    ///
+    /// # Errors
+    /// [`EvalError::Request`]: a bad setting (see [`VlmOptions::config`]), a client, runtime or
+    /// renderer that cannot start, or a build without the features `openai` and `render`.
+    pub fn attach(&self, evaluator: Evaluator, out: &Path) -> Result<Evaluator, EvalError> {
+        #[cfg(all(feature = "openai", feature = "render"))]
+        {
+            use crate::render::{RenderSettings, Renderer};
+            use crate::vlm::Cached;
+            use crate::vlm_openai::{OpenAiError, OpenAiVlm, RuntimeVlm};
+            let config = self.config()?;
+            let size = self.render_size()?;
+            let client = OpenAiVlm::new(config).map_err(|e| {
+                let field = match &e {
+                    OpenAiError::InvalidBaseUrl { .. } => RequestField::VlmBaseUrl,
+                    _ => RequestField::Vlm,
+                };
+                EvalError::request_caused(field, "cannot set up the VLM client".to_owned(), e)
+            })?;
+            let client = RuntimeVlm::start(client).map_err(|e| {
+                EvalError::request_caused(RequestField::Vlm, "cannot start the VLM client".to_owned(), e)
+            })?;
+            let renderer = Renderer::new().map_err(|e| {
+                EvalError::request_caused(
+                    RequestField::Vlm,
+                    "the VLM needs object views, but the renderer cannot start".to_owned(),
+                    e,
+                )
+            })?;
+            Ok(evaluator
+                .with_vlm(crate::SharedVlm::new(Cached::new(client, self.cache_dir(out))))
+                .with_renderer(renderer, RenderSettings::square(size)))
+        }
+        #[cfg(not(all(feature = "openai", feature = "render")))]
+        {
+            let _ = (evaluator, out);
+            Err(EvalError::request(
+                RequestField::Vlm,
+                "this build of sceneeval has no VLM client (the facade's features openai and render)"
+                    .to_owned(),
+            ))
+        }
+    }
+}
+
+/// A request checked and set up by [`EvaluationRequest::prepare`], ready to run.
+#[derive(Debug)]
+pub struct PreparedRun {
+    scenes: Vec<SceneFile>,
+    skipped: Vec<SkippedFile>,
+    fallback: Option<NoVlmFallback>,
+    evaluator: Evaluator,
+    assets: AssetLibrary,
+    annotations: Option<Annotations>,
+    options: (PathBuf, bool, bool),
+    pool: rayon::ThreadPool,
+    replaced: usize,
+    _lock: OutputLock,
+}
+
+/// How many of `scenes` have a result in `out` made with another plan, preset or VLM (their
+/// plan digest differs from `digest`): the run replaces them.
+fn earlier_results_of_other_plans(scenes: &[SceneFile], out: &Path, digest: &str) -> usize {
+    #[derive(Deserialize)]
+    struct Plan {
+        plan: String,
+    }
+    #[derive(Deserialize)]
+    struct Record {
+        fingerprint: Option<Plan>,
+    }
+    scenes
+        .iter()
+        .filter_map(|s| std::fs::read(s.record_path(out)).ok())
+        .filter_map(|bytes| serde_json::from_slice::<Record>(&bytes).ok()?.fingerprint)
+        .filter(|f| f.plan != digest)
+        .count()
+}
+
+/// What a run did: what [`PreparedRun::run`] returns.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// The scenes evaluated or reused, in ID order (this shard's when sharded).
+    pub scenes: Vec<SceneFile>,
+    /// Files that look like scene files but are not evaluated, and why.
+    pub skipped: Vec<SkippedFile>,
+    /// What the text-fidelity metrics ran with instead of a VLM, if so.
+    pub fallback: Option<NoVlmFallback>,
+    /// The per-scene records, statuses and timings.
+    pub batch: BatchOutcome,
+    /// The summary written to `summary.csv` and `summary.md`.
+    pub summary: Summary,
+}
+
+impl PreparedRun {
+    /// The scenes to evaluate (this shard's when sharded), in ID order.
+    pub fn scenes(&self) -> &[SceneFile] {
+        &self.scenes
+    }
+
+    /// Files that look like scene files but are not evaluated, and why.
+    pub fn skipped(&self) -> &[SkippedFile] {
+        &self.skipped
+    }
+
+    /// What the text-fidelity metrics run with instead of a VLM, if so.
+    pub fn fallback(&self) -> Option<&NoVlmFallback> {
+        self.fallback.as_ref()
+    }
+
+    /// The evaluator: the plan and what it runs with.
+    pub fn evaluator(&self) -> &Evaluator {
+        &self.evaluator
+    }
+
+    /// How many scenes already have a result in the output folder made with another plan,
+    /// preset or VLM: the run replaces them (a front end says so before it starts).
+    pub fn replaced(&self) -> usize {
+        self.replaced
+    }
+
+    /// Evaluates the scenes on the request's worker threads with [`run_batch`] (calling
+    /// `on_event` as each scene is done), then writes `summary.csv` and `summary.md` into the
+    /// output folder (groups: all scenes, each difficulty of the annotations, unannotated).
+    ///
+    /// # Errors
+    /// As [`run_batch`]; [`EvalError::File`] or [`EvalError::Csv`] when a summary cannot be
+    /// written.
+    pub fn run(self, on_event: &(dyn Fn(&RunEvent<'_>) + Sync)) -> Result<RunOutcome, EvalError> {
+        let (out_dir, force, diagnostics) = self.options;
+        let options = BatchOptions {
+            out_dir: out_dir.clone(),
+            force,
+            diagnostics,
+            annotations: self.annotations.as_ref(),
+        };
+        let batch = self
+            .pool
+            .install(|| run_batch(&self.scenes, &self.evaluator, &self.assets, &options, on_event))?;
+        let summary =
+            Summary::from_records(&batch.records, self.annotations.as_ref()).with_plan(self.evaluator.plan());
+        summary.write_to(&out_dir)?;
+        Ok(RunOutcome {
+            scenes: self.scenes,
+            skipped: self.skipped,
+            fallback: self.fallback,
+            batch,
+            summary,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fidelity::FidelityMetric;
+
+    fn plan(text: &str) -> PlanRequest {
+        PlanRequest {
+            plan: Some(text.to_owned()),
+            ..PlanRequest::default()
+        }
+    }
+
+    fn field_of(e: &EvalError) -> Option<RequestField> {
+        match e {
+            EvalError::Request { field, .. } => Some(*field),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn the_four_spellings_of_a_plan() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("plan.toml");
+        std::fs::write(&file, "preset = \"reference\"\nmetrics = [\"support\"]\n").unwrap();
+        let path = file.to_str().unwrap();
+        assert_eq!(PlanSpec::parse(Some(path)), PlanSpec::File(file.clone()));
+        assert_eq!(PlanSpec::parse(Some("geometry")), PlanSpec::Geometry);
+
+        let geometry = plan("geometry").resolve(false, true).unwrap().plan;
+        assert_eq!(geometry, EvaluationPlan::geometry_only());
+        let full = plan("full").resolve(false, true).unwrap().plan;
+        assert_eq!(full.fidelity_metrics(), FidelityMetric::ALL.to_vec());
+        let from_file = plan(path).resolve(false, true).unwrap().plan;
+        assert_eq!(
+            (from_file.preset, from_file.metrics),
+            (Preset::Reference, vec![Metric::Support])
+        );
+        // The preset replaces the file's preset; its explicit values stay.
+        let mut r = plan(path);
+        r.preset = Some(Preset::Default);
+        let replaced = r.resolve(false, true).unwrap().plan;
+        assert_eq!(
+            (replaced.preset, replaced.metrics),
+            (Preset::Default, vec![Metric::Support])
+        );
+        let list = plan("navigability, cnt").resolve(false, true).unwrap().plan;
+        assert_eq!(list.metrics, vec![Metric::Navigability, Metric::Cnt]);
+
+        let err = plan("colision").resolve(false, true).unwrap_err();
+        assert_eq!(field_of(&err), Some(RequestField::Plan));
+        let text = err.to_string();
+        assert!(
+            text.starts_with("plan: \"colision\" is not geometry, full, a plan file or a metric list"),
+            "{text}"
+        );
+        assert!(text.contains("did you mean \"collision\""), "{text}");
+        // A path that names no file says so instead of reading it as metrics.
+        let missing = dir.path().join("nope.json");
+        let err = plan(missing.to_str().unwrap()).resolve(false, true).unwrap_err();
+        assert!(err.to_string().contains("does not exist"), "{err}");
+        let yaml = dir.path().join("plan.yaml");
+        std::fs::write(&yaml, "metrics: [collision]\n").unwrap();
+        let err = plan(yaml.to_str().unwrap()).resolve(false, true).unwrap_err();
+        let text = crate::ErrorChain::new(&err).to_string();
+        assert!(text.contains("YAML plan files are not read"), "{text}");
+    }
+
+    #[test]
+    fn metrics_and_time_budget_override_the_plan() {
+        let mut r = plan("geometry");
+        r.metrics = Some(vec![Metric::Collision]);
+        r.time_budget_seconds = Some(0.0);
+        let p = r.resolve(false, false).unwrap().plan;
+        assert_eq!(p.metrics, vec![Metric::Collision]);
+        assert_eq!(p.time_budget_seconds, None);
+        r.time_budget_seconds = Some(30.0);
+        assert_eq!(
+            r.resolve(false, false).unwrap().plan.time_budget_seconds,
+            Some(30.0)
+        );
+        for bad in [f64::NAN, -1.0, f64::INFINITY] {
+            r.time_budget_seconds = Some(bad);
+            assert_eq!(
+                field_of(&r.resolve(false, false).unwrap_err()),
+                Some(RequestField::TimeBudget)
+            );
+        }
+        // Text-fidelity metrics through `metrics`, as through the plan.
+        let mut r = plan("geometry");
+        r.metrics = Some(vec![Metric::Cnt]);
+        let p = r.resolve(false, true).unwrap().plan;
+        assert_eq!(p.fidelity_metrics(), vec![FidelityMetric::Cnt]);
+        assert!(p.geometry_metrics().is_empty());
+    }
+
+    #[test]
+    fn fidelity_needs_annotations_and_falls_back_without_a_vlm() {
+        let err = plan("full").resolve(false, false).unwrap_err();
+        assert_eq!(field_of(&err), Some(RequestField::Annotations));
+        assert!(err.to_string().contains("cnt, atr, oor, oar"), "{err}");
+        // Geometry plans need no annotations.
+        assert!(plan("collision").resolve(false, false).is_ok());
+
+        // The default preset already matches by labels and maps by the lexicon: nothing is
+        // replaced, but the run is still told that it has no VLM.
+        let fallback = plan("full").resolve(false, true).unwrap().fallback.unwrap();
+        assert!(fallback.replaced.is_empty());
+        assert_eq!(
+            fallback.to_string(),
+            "fidelity runs with labels matching and the lexicon relation mapping; ATR is not judged."
+        );
+        let mut r = plan("full");
+        r.matching = Some("runs/matching".into());
+        assert_eq!(
+            r.resolve(false, true).unwrap().fallback.unwrap().to_string(),
+            "fidelity runs with matching from runs/matching and the lexicon relation mapping; ATR is not judged."
+        );
+        // The reference preset asks the VLM for both: both are replaced.
+        let mut r = plan("full");
+        r.preset = Some(Preset::Reference);
+        let chosen = r.resolve(false, true).unwrap();
+        assert_eq!(chosen.plan.fidelity.matching, MatchingMethod::Labels);
+        assert_eq!(chosen.plan.fidelity.relation_mapping, RelationMapping::Lexicon);
+        assert_eq!(
+            chosen.fallback.unwrap().replaced,
+            vec!["matching by labels", "relations mapped by the lexicon"]
+        );
+        // With a VLM, the VLM is the default for both, and nothing falls back.
+        let chosen = plan("full").resolve(true, true).unwrap();
+        assert_eq!(chosen.plan.fidelity.matching, MatchingMethod::Vlm);
+        assert_eq!(chosen.plan.fidelity.relation_mapping, RelationMapping::Vlm);
+        assert!(chosen.fallback.is_none());
+        let mut r = plan("full");
+        r.relation_mapping = Some("dictionary".into());
+        let err = r.resolve(false, true).unwrap_err();
+        assert_eq!(field_of(&err), Some(RequestField::RelationMapping));
+        assert_eq!(
+            err.to_string(),
+            "relation_mapping: \"dictionary\": expected vlm or lexicon"
+        );
+    }
+
+    #[test]
+    fn requests_round_trip_through_json_and_refuse_unknown_fields() {
+        let mut request = EvaluationRequest::new("scenes", "out");
+        request.plan = plan("full");
+        request.shard = Some("2/3".parse().unwrap());
+        request.vlm = Some(VlmOptions {
+            base_url: "http://127.0.0.1:1/v1".into(),
+            model: "m".into(),
+            api_key_env: None,
+            cache: None,
+            concurrency: Some(8),
+            render_size: None,
+            detail: None,
+            temperature: Some(None),
+            seed: None,
+            max_tokens: None,
+            token_limit_field: None,
+        });
+        let json = serde_json::to_string(&request).unwrap();
+        assert!(json.contains(r#""temperature":null"#), "{json}");
+        assert!(!json.contains(r#""seed""#), "{json}");
+        let back: EvaluationRequest = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, request);
+        assert!(
+            serde_json::from_str::<EvaluationRequest>(r#"{"scenes":"s","out":"o","forse":true}"#).is_err()
+        );
+        let vlm = request.vlm.as_ref().unwrap();
+        assert_eq!(
+            vlm.cache_dir(Path::new("out")),
+            Path::new("out").join("vlm-cache")
+        );
+        assert_eq!(vlm.render_size().unwrap(), DEFAULT_RENDER_SIZE);
+        for bad in [0, 15, 4097, 20_000] {
+            let v = VlmOptions {
+                render_size: Some(bad),
+                ..vlm.clone()
+            };
+            assert_eq!(
+                field_of(&v.render_size().unwrap_err()),
+                Some(RequestField::VlmRenderSize)
+            );
+        }
+    }
+
+    #[test]
+    fn prepare_checks_the_scene_folder_and_the_threads() {
+        let dir = tempfile::tempdir().unwrap();
+        let empty = EvaluationRequest::new(dir.path(), dir.path().join("out"));
+        let err = empty.prepare().unwrap_err();
+        assert_eq!(field_of(&err), Some(RequestField::Scenes));
+        assert!(err.to_string().contains("no scene_<ID>.json files"), "{err}");
+        std::fs::write(dir.path().join("scene_1.json"), "{}").unwrap();
+        let mut request = EvaluationRequest::new(dir.path(), dir.path().join("out"));
+        request.threads = Some(0);
+        assert_eq!(
+            field_of(&request.prepare().unwrap_err()),
+            Some(RequestField::Threads)
+        );
+        request.threads = Some(1);
+        request.shard = Some("2/2".parse().unwrap());
+        assert!(
+            request.prepare().unwrap().scenes().is_empty(),
+            "scene 1 is in shard 1/2"
+        );
+    }
+}
