@@ -38,7 +38,8 @@ pub fn middle_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Rela
 /// together. Fewer than three targets score 0 with a zero gradient.
 ///
 /// # Errors
-/// [`RelationError::LengthMismatch`] when `d_targets` does not have one entry per target.
+/// [`RelationError::LengthMismatch`] when `d_targets` does not have one entry per target,
+/// [`RelationError::TooManyTargets`] as [`crate::score`] for the reference variant.
 ///
 /// ```
 /// use sceneeval_relations::{grad::{self, BoxGrad}, ObjectGeom, RelationParams};
@@ -60,6 +61,7 @@ pub fn surround(
     d_targets: &mut [BoxGrad],
 ) -> Result<(Real, BoxGrad), RelationError> {
     let n = targets.len();
+    crate::dispatch::surround_limit(n, params)?;
     if d_targets.len() != n {
         return Err(RelationError::LengthMismatch {
             what: "d_targets",

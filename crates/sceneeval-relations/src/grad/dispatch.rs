@@ -1,20 +1,12 @@
 //! Dispatch by [`Relation`] to the gradient kernels: the gradient counterpart of the score
-//! dispatch (`batch::score_pair`, `arch::score_rooms`), kept in one file so that it can join
-//! the crate's one dispatcher.
+//! dispatcher ([`crate::score`]), with its errors.
 
 use sceneeval_geom::Real;
 use sceneeval_scene::Room;
 
 use super::{ArchGrad, PairGrad};
+use crate::dispatch::wrong_kind;
 use crate::{ObjectGeom, Relation, RelationError, RelationKind, RelationParams};
-
-fn wrong_kind(relation: Relation, expected: &'static str) -> RelationError {
-    RelationError::WrongKind {
-        relation: relation.to_string(),
-        actual: relation.kind().describe(),
-        expected,
-    }
-}
 
 /// A two-object relation's score (bit for bit `batch::score_pair`'s) and its gradient with
 /// respect to the target and the anchor.
@@ -55,7 +47,7 @@ pub fn pair(
         Relation::Near => distance::near(target, anchor, params),
         Relation::AcrossFrom => distance::across_from(target, anchor, params),
         Relation::Far => distance::far(target, anchor, params),
-        other => return Err(wrong_kind(other, "a two-object relation")),
+        other => return Err(wrong_kind(other, RelationKind::ObjectObject)),
     })
 }
 
@@ -85,7 +77,7 @@ pub fn arch_rooms(
         Relation::HangFromCeiling => &|r| g::hang_from_ceiling(target, r, params),
         other => {
             debug_assert_ne!(other.kind(), RelationKind::ObjectArchitecture);
-            return Err(wrong_kind(other, "an object-architecture relation"));
+            return Err(wrong_kind(other, RelationKind::ObjectArchitecture));
         }
     };
     // As `rooms.iter().map(score).fold(0.0, Real::max)`, remembering the room behind it.
