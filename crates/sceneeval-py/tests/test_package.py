@@ -14,10 +14,17 @@ def words(text):
     return " ".join((text or "").split())
 
 
+def is_bare_overload(node):
+    """An @overload of a function whose documented overload comes first (the docstring is
+    written once, on that one)."""
+    overload = any(isinstance(d, ast.Name) and d.id == "overload" for d in node.decorator_list)
+    return overload and ast.get_docstring(node) is None
+
+
 def stub_items():
     tree = ast.parse(STUB.read_text())
     for node in tree.body:
-        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)) and not is_bare_overload(node):
             yield node.name, node
             if isinstance(node, ast.ClassDef):
                 for member in node.body:

@@ -12,17 +12,17 @@
 //!   over a piece is the integral of the integrand's derivative plus, along each edge, the
 //!   integrand times the edge's outward normal speed `(dc - da u - db v) / |(a, b)|` for its
 //!   line `a u + b v <= c`. The integrands are linear, so each edge integral is exact from its
-//!   end points. The integrand is the score's sensitivity to the mean (reverse mode), so each
-//!   edge costs one pass over the parameters; the lines' derivatives come from closed forms
-//!   for the anchor's corners and axes in the target's frame ([`D`] carries a value with its
-//!   derivatives). The pieces (at most six) are kept on the stack by the score's pass.
+//!   end points. It is computed in reverse mode: each edge adds its sensitivities to the
+//!   quantities its line is made of (a corner of the anchor's box, an axis, a face's offset,
+//!   a side of the cross-section: [`Adjoint`]), and these are turned into the parameters'
+//!   derivatives once at the end ([`Frame::derivatives`]), so an edge costs a few products
+//!   whatever the number of parameters. The pieces (at most six) are kept on the stack by the
+//!   score's pass.
 //! - **Mesh anchor** (a fixed grid of rays): each counted ray's hit depth moves with the ray
 //!   as `dt = -n . (do + t df) / (n . f)` for the hit triangle's normal `n`; rays starting or
 //!   ceasing to hit make jumps, not derivatives.
 //!
 //! At angle 0 (the maximum) and beyond the clip the derivative is 0.
-
-use std::ops::{Add, Mul, Neg, Sub};
 
 use sceneeval_geom::{Matrix3, Obb, Point2, Point3, RayHit, Real, Vector3};
 
@@ -39,80 +39,6 @@ const YAW: usize = 3;
 const TARGET_HALF_X: usize = 4;
 const TARGET_HALF_Z: usize = 5;
 const ANCHOR_HALF: usize = 6;
-
-/// A value with its derivatives with respect to the [`N`] parameters (forward mode).
-#[derive(Debug, Clone, Copy)]
-struct D {
-    v: Real,
-    d: [Real; N],
-}
-
-impl D {
-    /// A value moving with its derivatives `d`.
-    const fn with(v: Real, d: [Real; N]) -> D {
-        D { v, d }
-    }
-
-    fn recip(self) -> D {
-        let r = 1.0 / self.v;
-        let k = -r * r;
-        D {
-            v: r,
-            d: self.d.map(|x| x * k),
-        }
-    }
-}
-
-impl Add for D {
-    type Output = D;
-    #[inline]
-    fn add(self, o: D) -> D {
-        let mut d = self.d;
-        for (x, y) in d.iter_mut().zip(o.d) {
-            *x += y;
-        }
-        D { v: self.v + o.v, d }
-    }
-}
-
-impl Sub for D {
-    type Output = D;
-    #[inline]
-    fn sub(self, o: D) -> D {
-        self + -o
-    }
-}
-
-impl Neg for D {
-    type Output = D;
-    #[inline]
-    fn neg(self) -> D {
-        self * -1.0
-    }
-}
-
-impl Mul<Real> for D {
-    type Output = D;
-    #[inline]
-    fn mul(self, k: Real) -> D {
-        D {
-            v: self.v * k,
-            d: self.d.map(|x| x * k),
-        }
-    }
-}
-
-impl Mul for D {
-    type Output = D;
-    #[inline]
-    fn mul(self, o: D) -> D {
-        let mut d = [0.0; N];
-        for ((x, a), b) in d.iter_mut().zip(self.d).zip(o.d) {
-            *x = a * o.v + b * self.v;
-        }
-        D { v: self.v * o.v, d }
-    }
-}
 
 /// The pose of the anchor's box (or prism) in the target's frame and how it moves with the
 /// parameters. In that frame everything turns by `-w x` when the target turns (`w` the world
@@ -174,53 +100,79 @@ impl Frame {
         }
     }
 
-    /// The plan coordinates `(x, z)` of the point `c + sum_l s_l hb_l m_l` of the anchor's
-    /// box, with their derivatives.
-    fn point(&self, s: [Real; 3]) -> [D; 2] {
-        let p = self.c + self.m * Vector3::from_fn(|l, _| s[l] * self.hb[l]);
-        let turn = -self.w.cross(&p);
-        [0, 2].map(|r| {
-            let mut d = [0.0; N];
-            for (k, dc) in self.dc.iter().enumerate() {
-                d[k] = dc[r];
-            }
-            d[YAW] = turn[r];
-            for (l, &(lane, rate)) in self.hb_lane.iter().enumerate() {
-                d[lane] += s[l] * rate * self.m[(r, l)];
-            }
-            D::with(p[r], d)
-        })
+    /// The point `c + sum_l s_l hb_l m_l` of the anchor's box.
+    fn point(&self, s: [Real; 3]) -> Vector3 {
+        self.c + self.m * Vector3::from_fn(|l, _| s[l] * self.hb[l])
     }
 
-    /// Component `r` of the anchor's axis `l`, turning with the target.
-    fn axis(&self, l: usize, r: usize) -> D {
-        let mut d = [0.0; N];
-        d[YAW] = -self.w.cross(&self.m.column(l).into_owned())[r];
-        D::with(self.m[(r, l)], d)
-    }
-
-    /// The offset `m_l . c + sign hb_l`: the plane of the anchor's face on that side of its
-    /// axis `l`.
-    fn offset(&self, l: usize, sign: Real) -> D {
-        let axis = self.m.column(l).into_owned();
+    /// The derivatives with respect to the [`N`] parameters of a function of the frame whose
+    /// sensitivities to the frame's quantities are `adj`.
+    fn derivatives(&self, adj: &Adjoint) -> [Real; N] {
         let mut d = [0.0; N];
         for (k, dc) in self.dc.iter().enumerate() {
-            d[k] = axis.dot(dc);
+            d[k] = adj.c.dot(dc);
         }
-        // Turning everything together leaves the dot product as it is.
-        let (lane, rate) = self.hb_lane[l];
-        d[lane] += sign * rate;
-        D::with(axis.dot(&self.c) + sign * self.hb[l], d)
+        // Turning the target turns the centre and the axes by -w x in its frame.
+        let turn = |v: Vector3| -self.w.cross(&v);
+        d[YAW] = adj.c.dot(&turn(self.c))
+            + (0..3)
+                .map(|l| adj.m.column(l).dot(&turn(self.m.column(l).into_owned())))
+                .sum::<Real>();
+        for (l, &(lane, rate)) in self.hb_lane.iter().enumerate() {
+            d[lane] += adj.hb[l] * rate;
+        }
+        d[TARGET_HALF_X] += adj.hx * self.hx_rate;
+        d[TARGET_HALF_Z] += adj.hz * self.hz_rate;
+        d
     }
 }
 
-/// A face of the anchor in the target's frame, as `mean_hit_on_box` builds it: its outward
-/// normal `n` and offset `delta` (the plane `n . p = delta`) and its projected corners, with
-/// their derivatives.
+/// The score's sensitivities (reverse mode) to the quantities the pieces' lines are made of:
+/// the anchor's centre `c`, axes (columns of `m`) and half extents `hb` in the target's frame,
+/// and the cross-section's half width `hx` and half height `hz`.
+#[derive(Default)]
+struct Adjoint {
+    c: Vector3,
+    m: Matrix3,
+    hb: Vector3,
+    hx: Real,
+    hz: Real,
+}
+
+impl Adjoint {
+    /// Adds `(ax, az)`, sensitivities to the plan coordinates `(x, z)` of the box point
+    /// [`Frame::point`]`(s)`.
+    fn point(&mut self, f: &Frame, s: [Real; 3], ax: Real, az: Real) {
+        let a = Vector3::new(ax, 0.0, az);
+        self.c += a;
+        for (l, &sl) in s.iter().enumerate() {
+            if sl != 0.0 {
+                let mut col = self.m.column_mut(l);
+                col += a * (sl * f.hb[l]);
+                self.hb[l] += sl * f.m.column(l).dot(&a);
+            }
+        }
+    }
+
+    /// Adds `a`, a sensitivity to the offset `m_l . c + sign hb_l` (the plane of the anchor's
+    /// face on that side of its axis `l`).
+    fn offset(&mut self, f: &Frame, l: usize, sign: Real, a: Real) {
+        let axis = f.m.column(l).into_owned();
+        let mut col = self.m.column_mut(l);
+        col += f.c * a;
+        self.c += axis * a;
+        self.hb[l] += sign * a;
+    }
+}
+
+/// A face of the anchor in the target's frame, as `mean_hit_on_box` builds it: its axis and
+/// side, and its projected corners `(x, z)` with their positions on the box (`s` in
+/// [`Frame::point`]).
 struct Face {
-    n: [D; 3],
-    delta: D,
-    corners: [[D; 2]; 4],
+    axis: usize,
+    sign: Real,
+    corners: [Point2; 4],
+    at: [[Real; 3]; 4],
     /// The winding of the projected quadrilateral (`+-1`).
     winding: Real,
 }
@@ -228,90 +180,100 @@ struct Face {
 impl Face {
     fn new(f: &Frame, axis: usize, sign: Real) -> Face {
         let (j, k) = ((axis + 1) % 3, (axis + 2) % 3);
-        let corner = |sj: Real, sk: Real| {
+        let at = [(1.0, 1.0), (1.0, -1.0), (-1.0, -1.0), (-1.0, 1.0)].map(|(sj, sk)| {
             let mut s = [0.0; 3];
             s[axis] = sign;
             s[j] = sj;
             s[k] = sk;
-            f.point(s)
-        };
-        let corners = [
-            corner(1.0, 1.0),
-            corner(1.0, -1.0),
-            corner(-1.0, -1.0),
-            corner(-1.0, 1.0),
-        ];
+            s
+        });
+        let corners = at.map(|s| {
+            let p = f.point(s);
+            Point2::new(p.x, p.z)
+        });
         let mut twice = 0.0;
         for e in 0..4 {
             let (p, q) = (corners[e], corners[(e + 1) % 4]);
-            twice += p[0].v * q[1].v - q[0].v * p[1].v;
+            twice += p.x * q.y - q.x * p.y;
         }
         Face {
-            n: [0, 1, 2].map(|r| f.axis(axis, r) * sign),
-            // n . fc = sign (m . c) + hb = sign (m . c + sign hb).
-            delta: f.offset(axis, sign) * sign,
+            axis,
+            sign,
             corners,
+            at,
             winding: if twice >= 0.0 { 1.0 } else { -1.0 },
         }
     }
 
-    /// Adds to `total` the derivatives of the integral of `psi` along an edge on the line
-    /// labelled `label` (`a u + b v <= c` inside the piece) as the line moves: per parameter
-    /// `dc k0 - da ku - db kv`, where `k0`, `ku`, `kv` are the integrals of `psi`, `psi u` and
-    /// `psi v` along the edge over `|(a, b)|` ([`Face::line_norm`]).
-    fn add_flux(&self, f: &Frame, label: u8, [k0, ku, kv]: [Real; 3], total: &mut [Real; N]) {
+    /// Adds to `adj` the sensitivities of the integral of `psi` along an edge on the line
+    /// labelled `label` (`a u + b v <= c` inside the piece) as the line moves, `dc k0 - da ku -
+    /// db kv`, where `k0`, `ku`, `kv` are the integrals of `psi`, `psi u` and `psi v` along the
+    /// edge over `|(a, b)|` ([`Face::line_norm`]); the face's own normal and offset (the depth
+    /// line) go to `adj_n` and `adj_delta`.
+    fn add_flux(
+        &self,
+        f: &Frame,
+        label: u8,
+        [k0, ku, kv]: [Real; 3],
+        adj: &mut Adjoint,
+        adj_n: &mut Vector3,
+        adj_delta: &mut Real,
+    ) {
         match label {
             // u <= hx, -u <= hx: only hx moves.
-            line::RECT_X_POS | line::RECT_X_NEG => total[TARGET_HALF_X] += f.hx_rate * k0,
-            line::RECT_Z_POS | line::RECT_Z_NEG => total[TARGET_HALF_Z] += f.hz_rate * k0,
+            line::RECT_X_POS | line::RECT_X_NEG => adj.hx += k0,
+            line::RECT_Z_POS | line::RECT_Z_NEG => adj.hz += k0,
             line::DEPTH => {
                 // -n.x u - n.z v <= -delta.
-                let (nx, nz) = (&self.n[0].d, &self.n[2].d);
-                for (lane, t) in total.iter_mut().enumerate() {
-                    *t += -self.delta.d[lane] * k0 + nx[lane] * ku + nz[lane] * kv;
-                }
+                *adj_delta -= k0;
+                adj_n.x += ku;
+                adj_n.z += kv;
             }
             l if (line::QUAD..line::QUAD + 4).contains(&l) => {
-                // dy u - dx v <= dy p.x - dx p.z for the edge p -> q, (dx, dy) = (q - p) winding.
+                // dy u - dx v <= dy p.x - dx p.z for the edge p -> q, (dx, dy) = (q - p) winding:
+                // the flux is F = k0 (dy p.x - dx p.z) - ku dy + kv dx.
                 let e = usize::from(l - line::QUAD);
-                let (p, q) = (&self.corners[e], &self.corners[(e + 1) % 4]);
+                let (p, q) = (self.corners[e], self.corners[(e + 1) % 4]);
                 let s = self.winding;
-                let (dx, dy) = ((q[0].v - p[0].v) * s, (q[1].v - p[1].v) * s);
-                for (lane, t) in total.iter_mut().enumerate() {
-                    let ddx = (q[0].d[lane] - p[0].d[lane]) * s;
-                    let ddy = (q[1].d[lane] - p[1].d[lane]) * s;
-                    let dc = ddy * p[0].v + dy * p[0].d[lane] - ddx * p[1].v - dx * p[1].d[lane];
-                    *t += dc * k0 - ddy * ku + ddx * kv;
-                }
+                let (dx, dy) = ((q.x - p.x) * s, (q.y - p.y) * s);
+                let (f_dx, f_dy) = (kv - k0 * p.y, k0 * p.x - ku);
+                adj.point(f, self.at[e], k0 * dy - s * f_dx, -k0 * dx - s * f_dy);
+                adj.point(f, self.at[(e + 1) % 4], s * f_dx, s * f_dy);
             }
             l => {
                 // The anchor's slab l: m_l.x u + m_l.z v <= m_l . c + hb_l (upper side), or the
                 // same negated with -hb_l.
-                let s = usize::from(l - line::SLAB);
-                let (axis, sign) = (s / 2, if s % 2 == 0 { 1.0 } else { -1.0 });
-                let (mx, mz, off) = (f.axis(axis, 0), f.axis(axis, 2), f.offset(axis, sign));
-                for (lane, t) in total.iter_mut().enumerate() {
-                    *t += sign * (off.d[lane] * k0 - mx.d[lane] * ku - mz.d[lane] * kv);
-                }
+                let sl = usize::from(l - line::SLAB);
+                let (axis, sign) = (sl / 2, if sl % 2 == 0 { 1.0 } else { -1.0 });
+                let mut col = adj.m.column_mut(axis);
+                col -= Vector3::new(ku, 0.0, kv) * sign;
+                adj.offset(f, axis, sign, sign * k0);
             }
         }
     }
 
-    /// `|(a, b)|` of the line labelled `label`.
-    fn line_norm(&self, f: &Frame, label: u8) -> Real {
+    /// `|(a, b)|` of the line labelled `label`, `n` the face's normal.
+    fn line_norm(&self, f: &Frame, n: &Vector3, label: u8) -> Real {
         match label {
             line::RECT_X_POS | line::RECT_X_NEG | line::RECT_Z_POS | line::RECT_Z_NEG => 1.0,
-            line::DEPTH => self.n[0].v.hypot(self.n[2].v),
+            line::DEPTH => n.x.hypot(n.z),
             l if (line::QUAD..line::QUAD + 4).contains(&l) => {
                 let e = usize::from(l - line::QUAD);
-                let (p, q) = (&self.corners[e], &self.corners[(e + 1) % 4]);
-                (q[0].v - p[0].v).hypot(q[1].v - p[1].v)
+                (self.corners[(e + 1) % 4] - self.corners[e]).norm()
             }
             l => {
                 let axis = usize::from(l - line::SLAB) / 2;
                 f.m[(0, axis)].hypot(f.m[(2, axis)])
             }
         }
+    }
+
+    /// Adds to `adj` the sensitivities `adj_n` and `adj_delta` to the face's normal
+    /// `n = sign m_axis` and offset `delta = sign (m_axis . c + sign hb_axis)`.
+    fn add_plane(&self, f: &Frame, adj_n: &Vector3, adj_delta: Real, adj: &mut Adjoint) {
+        let mut col = adj.m.column_mut(self.axis);
+        col += adj_n * self.sign;
+        adj.offset(f, self.axis, self.sign, self.sign * adj_delta);
     }
 }
 
@@ -416,36 +378,35 @@ fn score_grad_wrt_hit(a: &Obb, hit: &Vector3, params: &RelationParams) -> Vector
 /// of `psi = (gm . (u, s, v) - gm . mean) / W`, linear on each piece, plus that of `gm_s ds`
 /// inside (the depth's own change).
 fn box_pieces_grad(rec: &Recorder<'_>, g: &Vector3, hit: &Vector3) -> [Real; N] {
-    let mut total = [0.0; N];
     let Some(frame) = &rec.frame else {
-        return total;
+        return [0.0; N];
     };
     let pieces = &rec.pieces[..rec.count];
     let w: Real = pieces.iter().map(|p| p.area).sum();
     if w.is_nan() || w <= 0.0 {
-        return total;
+        return [0.0; N];
     }
     let gm = Vector3::new(g.x, -g.y, g.z);
     let offset = gm.dot(&Vector3::new(hit.x, -hit.y, hit.z));
+    let mut adj = Adjoint::default();
     for piece in pieces {
         let face = Face::new(frame, piece.axis, piece.sign);
-        let n = piece.normal;
+        let (n, delta) = (piece.normal, piece.delta);
         // The depth s(u, v) of the face: (n.x u + n.z v - delta) / n.y.
-        let depth = |p: &Point2| (n.x * p.x + n.z * p.y - piece.delta) / n.y;
+        let depth = |p: &Point2| (n.x * p.x + n.z * p.y - delta) / n.y;
         let psi = |p: &Point2| (gm.x * p.x + gm.y * depth(p) + gm.z * p.y - offset) / w;
-        // Inside: the depth's own change at the centroid, times the area.
+        // Inside: the depth's own change at the centroid, times the area, k ds:
+        // ds = (dn.x u + dn.z v - ddelta - s dn.y) / n.y.
         let cen = piece.centroid;
-        let s_at = (face.n[0] * cen.x + face.n[2] * cen.y - face.delta) * face.n[1].recip();
-        let k = gm.y * piece.area / w;
-        for (t, x) in total.iter_mut().zip(s_at.d) {
-            *t += x * k;
-        }
+        let k = gm.y * piece.area / w / n.y;
+        let mut adj_n = Vector3::new(cen.x, -depth(&cen), cen.y) * k;
+        let mut adj_delta = -k;
         // Along each edge: psi times its outward normal speed (dc - da u - db v) / |(a, b)|.
         let (pts, labels) = (piece.poly.points(), piece.poly.labels());
         for (e, &label) in labels.iter().enumerate() {
             let (p, q) = (pts[e], pts[(e + 1) % pts.len()]);
             let len = (q - p).norm();
-            let norm = face.line_norm(frame, label);
+            let norm = face.line_norm(frame, &n, label);
             if len == 0.0 || norm == 0.0 {
                 continue;
             }
@@ -455,10 +416,11 @@ fn box_pieces_grad(rec: &Recorder<'_>, g: &Vector3, hit: &Vector3) -> [Real; N] 
             let k0 = 3.0 * l * (fp + fq);
             let ku = l * (2.0 * fp * p.x + fp * q.x + fq * p.x + 2.0 * fq * q.x);
             let kv = l * (2.0 * fp * p.y + fp * q.y + fq * p.y + 2.0 * fq * q.y);
-            face.add_flux(frame, label, [k0, ku, kv], &mut total);
+            face.add_flux(frame, label, [k0, ku, kv], &mut adj, &mut adj_n, &mut adj_delta);
         }
+        face.add_plane(frame, &adj_n, adj_delta, &mut adj);
     }
-    total
+    frame.derivatives(&adj)
 }
 
 /// [`crate::face_to`] and its gradient (see the module docs of [`super`] for the kinks: the
