@@ -53,6 +53,8 @@ def test_the_fixed_signatures():
     assert sig.parameters["reference"].default is False
     sig = inspect.signature(sceneeval.relation_batch)
     assert list(sig.parameters)[:3] == ["name", "targets", "anchors"]
+    assert sig.parameters["grad"].kind is inspect.Parameter.KEYWORD_ONLY
+    assert sig.parameters["grad"].default is False
     sig = inspect.signature(sceneeval.evaluate)
     assert [p for p in sig.parameters if sig.parameters[p].kind is inspect.Parameter.KEYWORD_ONLY][:4] == [
         "assets", "out", "annotations", "plan"
