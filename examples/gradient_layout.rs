@@ -8,7 +8,8 @@
 //! layout. It stops as soon as every goal holds, prints the steps, starts and time it took and
 //! the layout, and exits with failure if no layout was found within 20,000 steps.
 //!
-//! Run with `cargo run -p sceneeval-examples --example gradient_layout --release`.
+//! Run with `cargo run -p sceneeval-examples --example gradient_layout --release [-- SEED]`
+//! (the random starts' seed, 1 by default).
 
 #![allow(clippy::print_stdout)]
 
@@ -19,10 +20,10 @@ use sceneeval_examples::layout::{Descent, GOALS, Layout, LayoutError};
 
 const MAX_STEPS: usize = 20_000;
 
-fn optimise() -> Result<bool, LayoutError> {
+fn optimise(seed: u64) -> Result<bool, LayoutError> {
     let start = Instant::now();
     let mut layout = Layout::new()?;
-    let mut descent = Descent::new(&mut layout, 1)?;
+    let mut descent = Descent::new(&mut layout, seed)?;
     let solved = descent.run(&mut layout, MAX_STEPS)?;
     let elapsed = start.elapsed();
     let (steps, starts) = descent.work();
@@ -45,7 +46,15 @@ fn optimise() -> Result<bool, LayoutError> {
 }
 
 fn main() -> ExitCode {
-    match optimise() {
+    let seed = match std::env::args().nth(1).map(|a| a.parse::<u64>()) {
+        None => 1,
+        Some(Ok(seed)) => seed,
+        Some(Err(e)) => {
+            println!("gradient layout: the seed must be a whole number: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    match optimise(seed) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {

@@ -60,6 +60,17 @@ enum Goal {
     NoCollision(usize, usize),
 }
 
+impl Goal {
+    /// The objects the goal scores (indices into [`ITEMS`]).
+    fn objects(self) -> [Option<usize>; 2] {
+        match self {
+            Goal::Arch(_, t) | Goal::ClearOfDoor(t) | Goal::InBounds(t) => [Some(t), None],
+            Goal::Pair(_, t, a) => [Some(t), Some(a)],
+            Goal::NoCollision(i, j) => [Some(i), Some(j)],
+        }
+    }
+}
+
 /// Every goal, in the order of [`Layout::label`].
 const GOAL_LIST: [Goal; GOALS] = {
     use Goal::*;
@@ -492,9 +503,10 @@ impl Annealer {
 }
 
 /// Gradient descent on the energy: Adam (Kingma and Ba) on every object's `(x, y, yaw)` with
-/// the goals' analytic gradients ([`Layout::gradient`]), from a random layout, restarted
-/// from a new random layout when a start has not placed every goal within
-/// [`Descent::RESTART_AFTER`] steps. Each step moves every object.
+/// the goals' analytic gradients ([`Layout::gradient`]), from a random layout. When a start
+/// has not placed every goal within [`Descent::RESTART_AFTER`] steps, the objects of the
+/// goals that fail are placed at random again (the others stay where the descent put them)
+/// and Adam starts afresh. Each step moves every object.
 #[derive(Debug, Clone)]
 pub struct Descent {
     rng: Rng,
@@ -513,7 +525,7 @@ impl Descent {
     /// Step sizes: metres along x and y, radians of yaw.
     pub const RATE: [Real; 3] = [0.04, 0.04, 0.08];
     /// Steps from one start before the next.
-    pub const RESTART_AFTER: usize = 400;
+    pub const RESTART_AFTER: usize = 100;
     const BETA1: Real = 0.9;
     const BETA2: Real = 0.999;
 
@@ -531,13 +543,14 @@ impl Descent {
             starts: 0,
             best: (Real::INFINITY, layout.poses),
         };
-        d.restart(layout)?;
+        d.restart(layout, [true; 4])?;
         Ok(d)
     }
 
-    /// Places every object at random (uniform over the floor, any yaw) and resets Adam.
-    fn restart(&mut self, layout: &mut Layout) -> Result<(), LayoutError> {
-        for i in 0..ITEMS.len() {
+    /// Places the objects `moved` marks at random (uniform over the floor, any yaw) and
+    /// resets Adam.
+    fn restart(&mut self, layout: &mut Layout, moved: [bool; 4]) -> Result<(), LayoutError> {
+        for (i, _) in moved.iter().enumerate().filter(|(_, m)| **m) {
             let p = (
                 4.0 * self.rng.uniform(),
                 5.0 * self.rng.uniform(),
@@ -571,7 +584,16 @@ impl Descent {
             return Ok(true);
         }
         if self.t >= Self::RESTART_AFTER {
-            self.restart(layout)?;
+            // The objects of the goals that fail start again.
+            let mut moved = [false; 4];
+            for (goal, s) in GOAL_LIST.iter().zip(&scores) {
+                if !params.holds(*s) {
+                    for i in goal.objects().into_iter().flatten() {
+                        moved[i] = true;
+                    }
+                }
+            }
+            self.restart(layout, moved)?;
             return Ok(false);
         }
         self.t += 1;
