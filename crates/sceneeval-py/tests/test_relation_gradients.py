@@ -208,7 +208,7 @@ def test_layout_example_gradients_match_finite_differences(layout_example, rng):
 
 
 def test_layout_example_places_the_bedroom(layout_example):
-    placements, solved, steps, starts = layout_example.optimise_numpy(seed=1, max_steps=4000)
+    placements, solved, steps, starts = layout_example.optimise_numpy(seed=3, max_steps=2000)
     assert solved, (steps, starts)
     scores, _ = layout_example.goal_scores(layout_example.boxes_of(placements))
     assert layout_example.all_hold(scores)
