@@ -1,9 +1,9 @@
 """relation_batch(..., grad=True): the scores of grad=False bit for bit, derivatives that agree
 with central finite differences of the scores for every relation, the shapes and tuples the
-API promises, and the numpy part of the torch example (examples/python/gradient_layout.py)."""
+API promises, and the numpy part of the torch example (examples/python/gradient_layout.py).
+(Gradients from several threads: test_relations.py.)"""
 
 import sys
-import threading
 
 import numpy as np
 import pytest
@@ -162,24 +162,6 @@ def test_shapes_tuples_and_shared_anchors(rng):
         sceneeval.relation_batch("near", bad, anchors, grad=True)
     with pytest.raises(ValueError, match=r"needs room"):
         sceneeval.relation_batch("on_wall", targets, grad=True)
-
-
-def test_gradients_from_several_threads_agree(rng):
-    # The GIL is released while Rust computes, as for the scores.
-    targets, anchors = pairs(rng, 2000)
-    want = sceneeval.relation_batch("next_to", targets, anchors, grad=True)
-    results = [None] * 4
-
-    def work(i):
-        results[i] = sceneeval.relation_batch("next_to", targets, anchors, grad=True)
-
-    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    for r in results:
-        assert all(np.array_equal(a, b) for a, b in zip(r, want))
 
 
 @pytest.fixture
