@@ -59,9 +59,11 @@
 //! comparison by detecting them), and holds hand-computed gradients for each family.
 //!
 //! # Cost
-//! Score and gradient together cost at most about three times the score alone for every
-//! predicate (`docs/performance.md`, gradient benchmarks): the derivatives reuse the clip,
-//! the closest points or the pieces the score computes. No kernel allocates.
+//! Score and gradient together cost at most 2.5 times the score alone for every predicate in
+//! the benchmark configurations (`docs/performance.md`, section Gradients: instruction counts;
+//! 1.0-1.1x for the distance relations, 1.2-1.7x for the volume fractions, 2.4x for `face_to`
+//! where lines hit a box): the derivatives reuse the clip, the closest points or the pieces
+//! the score computes. No kernel allocates.
 
 pub mod arch;
 mod centroid;
