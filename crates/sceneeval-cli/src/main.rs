@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod annotations;
+mod convert;
 mod evaluate;
 mod inspect;
 mod relate;
@@ -34,6 +35,8 @@ struct Cli {
 enum Command {
     /// Load a sceneState file and print its objects, rooms, walls and openings.
     Inspect(inspect::Args),
+    /// Convert a generator's output (Holodeck, LayoutVLM, IDesign, SceneAgent) to sceneState files.
+    Convert(convert::Args),
     /// Answer spatial-relation queries given as JSON lines.
     Relate(relate::Args),
     /// Check annotation files or print their statistics.
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
     init_logging(cli.verbose);
     let result = match cli.command {
         Command::Inspect(args) => inspect::run(args),
+        Command::Convert(args) => convert::run(args),
         Command::Relate(args) => relate::run(args),
         Command::Annotations(cmd) => annotations::run(cmd),
         Command::Evaluate(args) => evaluate::run(*args),

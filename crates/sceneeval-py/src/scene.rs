@@ -293,7 +293,8 @@ impl PyScene {
     }
 
     /// Every object as a dict: id, index, model_id, category, description, is_box, center, size
-    /// (full width, depth, height), yaw, scale, support_type, functional_sides.
+    /// (full width, depth, height), yaw, front (world direction of its front), asset_front (the
+    /// front its file declared, or None), scale, support_type, functional_sides.
     #[getter]
     fn objects<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.to_python_with(py, |scene| {

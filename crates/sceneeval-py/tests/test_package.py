@@ -59,3 +59,19 @@ def test_the_fixed_signatures():
     assert [p for p in sig.parameters if sig.parameters[p].kind is inspect.Parameter.KEYWORD_ONLY][:4] == [
         "assets", "out", "annotations", "plan"
     ]
+
+
+def test_importing_turns_off_mesas_device_select_layer_unless_set():
+    # The layer made every successful render print "error: XDG_RUNTIME_DIR is invalid or not
+    # set" where that variable is unset; a value the user set is kept.
+    import os
+    import subprocess
+    import sys
+
+    code = "import os, sceneeval; print(os.environ['NODEVICE_SELECT'])"
+    env = {k: v for k, v in os.environ.items() if k != "NODEVICE_SELECT"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "1"
+    env["NODEVICE_SELECT"] = "0"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "0"

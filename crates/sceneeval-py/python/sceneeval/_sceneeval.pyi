@@ -172,7 +172,7 @@ class Scene:
         """The scene's name, if it has one."""
     @property
     def objects(self) -> List[Dict[str, Any]]:
-        """Every object as a dict: id, index, model_id, category, description, is_box, center, size (full width, depth, height), yaw, scale, support_type, functional_sides."""
+        """Every object as a dict: id, index, model_id, category, description, is_box, center, size (full width, depth, height), yaw, front (world direction of its front), asset_front (the front its file declared, or None), scale, support_type, functional_sides."""
     @property
     def rooms(self) -> List[Dict[str, Any]]:
         """Every room as a dict (id, kind, floor_id, floor_z, ceiling_z, floor_area, floor, walls), each wall with its openings."""
