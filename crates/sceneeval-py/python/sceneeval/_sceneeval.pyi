@@ -4,7 +4,7 @@ The docstrings here are the functions' runtime docstrings (a test checks that th
 """
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +63,7 @@ def relation(
     infinite number, or a bad parameter, with the message `sceneeval relate` gives.
     """
 
+@overload
 def relation_batch(
     name: str,
     targets: npt.NDArray[np.float64],
@@ -72,6 +73,7 @@ def relation_batch(
     arch: Optional[str] = None,
     room: Optional[RoomLike] = None,
     reference: bool = False,
+    grad: Literal[False] = False,
     **params: ParamValue,
 ) -> npt.NDArray[np.float64]:
     """The scores of one relation for N boxes (or N groups of boxes), as a float64 array of
@@ -88,10 +90,46 @@ def relation_batch(
     The scores equal relation() called row by row (group by group for surround). Computed
     with the GIL released.
 
+    grad=True returns the scores with their gradients, (scores, d_targets, d_anchors):
+    d_targets[i] and d_anchors[i] are the derivatives of score i with respect to the seven
+    numbers of its target and anchor rows, in the rows' order (cx, cy, cz, hx, hy, hz, yaw),
+    float64 arrays of shape (N, 7) (d_targets (N, K, 7) for surround; d_anchors has one row
+    per score also when one anchor row is shared: sum it for that row's gradient).
+    Object-architecture relations (room=) return (scores, d_targets): the room is fixed. The
+    scores are those of grad=False, bit for bit; the derivatives are exact where the score is
+    differentiable and one-sided at its kinks (see sceneeval_relations::grad in the Rust
+    documentation).
+
     Raises ValueError when an array is not a float64 numpy array of the right shape, holds a
     NaN or infinite number, or when the relation or its arguments are wrong.
     """
 
+@overload
+def relation_batch(
+    name: str,
+    targets: npt.NDArray[np.float64],
+    anchors: npt.NDArray[np.float64],
+    *,
+    side: Optional[str] = None,
+    arch: Optional[str] = None,
+    room: None = None,
+    reference: bool = False,
+    grad: Literal[True],
+    **params: ParamValue,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+@overload
+def relation_batch(
+    name: str,
+    targets: npt.NDArray[np.float64],
+    anchors: None = None,
+    *,
+    side: Optional[str] = None,
+    arch: Optional[str] = None,
+    room: RoomLike,
+    reference: bool = False,
+    grad: Literal[True],
+    **params: ParamValue,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 def relation_names() -> List[str]:
     """Every relation with every argument, in the printed form relation() accepts (side_of(left), next_to(wall), ...)."""
 
