@@ -200,7 +200,11 @@ fn scripted_vlm_judges_attributes_and_maps_unknown_words() {
         .collect();
     assert_eq!(
         got,
-        [(Some(1), Some(true)), (Some(3), Some(false)), (Some(0), Some(true))]
+        [
+            (Some(1), Some(true)),
+            (Some(3), Some(false)),
+            (Some(0), Some(true))
+        ]
     );
     assert_eq!(atr.satisfied, Some(2));
     assert_eq!(r.summary.atr, Some(2.0 / 3.0));
