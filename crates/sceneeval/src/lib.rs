@@ -93,6 +93,7 @@ pub mod relate;
 mod report;
 mod request;
 mod scene_file;
+mod schedule;
 mod summary;
 
 pub use batch::{
@@ -112,9 +113,11 @@ pub use plausibility::{Deadline, MetricTiming};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
 pub use report::{SCENE_REPORT_SCHEMA, SceneReport, SceneSummary};
 pub use request::{
-    ChosenPlan, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, EvaluationRequest,
+    ChosenPlan, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS,
+    EvaluationRequest, MAX_VLM_TIMEOUT_SECONDS,
     NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard,
     VlmOptions,
 };
+pub use schedule::BudgetSpent;
 pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
 pub use summary::{ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, Summary, UNANNOTATED};
