@@ -287,7 +287,9 @@ impl<V: Vlm> Vlm for Cached<V> {
         let answer = self.inner.answer(request).await?;
         let record = DiskCache::record(self.model(), self.settings(), request, &answer);
         match self.cache.store(&record) {
-            Ok(path) => tracing::debug!(task = %request.task, path = %path.display(), "answer stored in the cache"),
+            Ok(path) => {
+                tracing::debug!(task = %request.task, path = %path.display(), "answer stored in the cache")
+            }
             Err(e) if !self.store_failed.swap(true, std::sync::atomic::Ordering::Relaxed) => {
                 tracing::warn!(error = %e, "the VLM cache cannot be written: answers are used but not kept");
             }

@@ -13,6 +13,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::annotation::Annotations;
+use crate::dry_run::{DryRun, DryRunModel, SceneTally};
 use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::{AssetLibrary, read_scene_state};
 use crate::plausibility::{Deadline, Metric, MetricTiming};
@@ -237,7 +238,8 @@ pub fn run_batch(
                 )
             })?;
         let next = AtomicUsize::new(0);
-        let done: Vec<Mutex<Option<Result<Done, EvalError>>>> = scenes.iter().map(|_| Mutex::new(None)).collect();
+        let done: Vec<Mutex<Option<Result<Done, EvalError>>>> =
+            scenes.iter().map(|_| Mutex::new(None)).collect();
         pool.broadcast(|_| {
             loop {
                 let i = next.fetch_add(1, Ordering::Relaxed);
@@ -250,7 +252,12 @@ pub fn run_batch(
             .map(|d| {
                 d.into_inner()
                     .unwrap_or_else(PoisonError::into_inner)
-                    .unwrap_or_else(|| Err(EvalError::request(RequestField::Threads, "a scene thread stopped")))
+                    .unwrap_or_else(|| {
+                        Err(EvalError::request(
+                            RequestField::Threads,
+                            "a scene thread stopped",
+                        ))
+                    })
             })
             .collect()
     } else {
@@ -487,5 +494,88 @@ impl Batch<'_> {
         ) {
             tracing::warn!(scene = %scene.name, error = %e, "diagnostic images not written");
         }
+    }
+}
+
+/// What a dry run found for one scene.
+enum DryScene {
+    /// Its earlier result would be kept.
+    Reused,
+    /// Gone through: its requests, whether its attribute requests are estimated, and why it
+    /// would fail, if it would.
+    Done(SceneTally, bool, Option<String>),
+}
+
+/// Goes through `scenes` as [`run_batch`] would (the same reuse decisions) with `evaluator`, a
+/// dry run's (its VLM is `model`, no geometry metric), writing nothing: see [`DryRun`].
+pub(crate) fn dry_run_batch(
+    scenes: &[SceneFile],
+    evaluator: &Evaluator,
+    assets: &AssetLibrary,
+    options: &BatchOptions<'_>,
+    model: &DryRunModel,
+) -> DryRun {
+    let batch = Batch {
+        evaluator,
+        assets,
+        options,
+        fingerprints: Fingerprints::new(),
+        plan_digest: evaluator.result_digest(),
+        slots: None,
+        endpoint: EndpointGate::default(),
+    };
+    let found: Vec<DryScene> = scenes.par_iter().map(|scene| batch.dry(scene, model)).collect();
+    let mut run = DryRun {
+        scenes: scenes.len(),
+        vlm: true,
+        ..DryRun::default()
+    };
+    for (scene, found) in scenes.iter().zip(found) {
+        match found {
+            DryScene::Reused => run.reused += 1,
+            DryScene::Done(tally, estimated, failure) => {
+                run.evaluated += 1;
+                run.attributes_estimated += usize::from(estimated);
+                run.add_scene(&tally);
+                if let Some(why) = failure {
+                    run.failed.push((scene.name.to_string(), why));
+                }
+            }
+        }
+    }
+    run
+}
+
+impl Batch<'_> {
+    fn dry(&self, scene: &SceneFile, model: &DryRunModel) -> DryScene {
+        let path = scene.record_path(&self.options.out_dir);
+        let annotation = self.annotation(scene);
+        let digest = annotation.as_ref().map(|(_, d)| d.as_str());
+        if self.reuse(scene, &path, digest).is_ok() {
+            return DryScene::Reused;
+        }
+        let row = annotation.as_ref().map(|(row, _)| *row);
+        let loaded = match read_scene_state(&scene.path, self.assets, &self.evaluator.plan().read) {
+            Ok(l) => l,
+            Err(e) => {
+                return DryScene::Done(
+                    SceneTally::default(),
+                    false,
+                    Some(crate::ErrorChain::new(&e).to_string()),
+                );
+            }
+        };
+        let inputs = SceneInputs {
+            name: Some(scene.name.as_str()),
+            row,
+            assets: Some(self.assets),
+            views_dir: None,
+            deadline: None,
+        };
+        SceneTally::start();
+        let result = self.evaluator.evaluate_scene(&loaded, &inputs);
+        let (tally, estimated) = model.settle(SceneTally::finish(), row);
+        let failure = result.err().map(|e| crate::ErrorChain::new(&e).to_string());
+        DryScene::Done(tally, estimated, failure)
     }
 }

@@ -117,7 +117,10 @@ impl SharedVlm {
     /// error. [`crate::VlmOptions::attach`] sets one that sends one small request (as
     /// `sceneeval vlm check` does), so that an unreachable server or a refused key stops a run
     /// in seconds with one message.
-    pub fn with_endpoint_check(mut self, check: impl Fn() -> Result<(), EvalError> + Send + Sync + 'static) -> Self {
+    pub fn with_endpoint_check(
+        mut self,
+        check: impl Fn() -> Result<(), EvalError> + Send + Sync + 'static,
+    ) -> Self {
         self.check = Some(Arc::new(check));
         self
     }

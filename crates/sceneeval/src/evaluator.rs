@@ -45,6 +45,8 @@ pub struct Evaluator {
     fidelity: FidelityEvaluator,
     vlm: Option<SharedVlm>,
     custom_sources: bool,
+    /// A dry run's evaluator: the geometry metrics are not computed (`PreparedRun::dry_run`).
+    skip_geometry: bool,
     #[cfg(feature = "render")]
     renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
 }
@@ -96,6 +98,7 @@ impl Evaluator {
             fidelity,
             vlm: None,
             custom_sources: false,
+            skip_geometry: false,
             #[cfg(feature = "render")]
             renderer: None,
         })
@@ -112,6 +115,12 @@ impl Evaluator {
     /// The VLM, if configured.
     pub fn vlm(&self) -> Option<&SharedVlm> {
         self.vlm.as_ref()
+    }
+
+    /// The same evaluator, computing no geometry metric: what a dry run asks the VLM.
+    pub(crate) fn without_geometry(mut self) -> Self {
+        self.skip_geometry = true;
+        self
     }
 
     /// Renders the object views the VLM is shown with `renderer` at `settings` (feature
@@ -233,7 +242,11 @@ impl Evaluator {
             scene,
             &self.plan.params,
             vlm_sources.as_ref().unwrap_or(&self.sources),
-            &self.plan.geometry_metrics(),
+            &if self.skip_geometry {
+                Vec::new()
+            } else {
+                self.plan.geometry_metrics()
+            },
             deadline,
             &mut timings,
         )?;

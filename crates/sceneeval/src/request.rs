@@ -29,6 +29,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::annotation::Annotations;
+use crate::dry_run::{DryRun, DryRunModel};
 use crate::fidelity::{MatchingMethod, RelationMapping};
 use crate::io::AssetLibrary;
 use crate::{
@@ -606,10 +607,12 @@ impl EvaluationRequest {
         let mut evaluator = Evaluator::new(plan)
             .map_err(|e| EvalError::request_caused(RequestField::Plan, "invalid plan".to_owned(), e))?;
         let mut warnings = Vec::new();
+        let mut dry = None;
         if let Some(vlm) = &self.vlm {
             if evaluator.plan().has_fidelity() {
                 evaluator = vlm.attach(evaluator, &self.out)?;
                 warnings.extend(vlm.cache_problem(&self.out));
+                dry = vlm.dry_run_model(&self.out)?;
             } else {
                 // Checked whatever the plan, so that a mistake is not found only in the run
                 // that needs the VLM.
@@ -668,6 +671,7 @@ impl EvaluationRequest {
         };
         Ok(PreparedRun {
             warnings,
+            dry,
             scenes_in_flight,
             scenes,
             skipped: set.skipped,
@@ -760,10 +764,16 @@ impl VlmOptions {
         }
         config.timeout = std::time::Duration::from_secs_f64(timeout);
         if self.rpm == Some(0) {
-            return Err(EvalError::request(RequestField::VlmRpm, "must be at least 1 request per minute"));
+            return Err(EvalError::request(
+                RequestField::VlmRpm,
+                "must be at least 1 request per minute",
+            ));
         }
         if self.tpm == Some(0) {
-            return Err(EvalError::request(RequestField::VlmTpm, "must be at least 1 token per minute"));
+            return Err(EvalError::request(
+                RequestField::VlmTpm,
+                "must be at least 1 token per minute",
+            ));
         }
         config.requests_per_minute = self.rpm;
         config.tokens_per_minute = self.tpm;
@@ -776,12 +786,40 @@ impl VlmOptions {
     pub fn cache_problem(&self, out: &Path) -> Option<String> {
         let dir = self.cache_dir(out);
         check_output_dir(&dir).err().map(|e| {
-            let cause = std::error::Error::source(&e).map(ToString::to_string).unwrap_or_default();
+            let cause = std::error::Error::source(&e)
+                .map(ToString::to_string)
+                .unwrap_or_default();
             format!(
                 "the VLM cache folder {} cannot be written ({cause}): this run keeps no answer for a re-run",
                 dir.display()
             )
         })
+    }
+
+    /// The model a dry run asks in place of this VLM (the same model name, settings, cache
+    /// and token estimate); `None` in a build without the feature `openai`.
+    ///
+    /// # Errors
+    /// As [`VlmOptions::config`].
+    fn dry_run_model(&self, out: &Path) -> Result<Option<DryRunModel>, EvalError> {
+        #[cfg(feature = "openai")]
+        {
+            use crate::vlm::Vlm;
+            let client = client_of(self.config()?)?;
+            let (model, settings) = (client.model().to_owned(), client.settings().to_owned());
+            Ok(Some(DryRunModel::new(
+                &model,
+                &settings,
+                self.cache_dir(out),
+                move |r| client.estimate_tokens(r),
+                self.render_size()?,
+            )))
+        }
+        #[cfg(not(feature = "openai"))]
+        {
+            let _ = out;
+            Ok(None)
+        }
     }
 
     /// Requests in flight at once: [`VlmOptions::concurrency`] or [`DEFAULT_VLM_CONCURRENCY`].
@@ -915,7 +953,11 @@ fn endpoint_check(config: &crate::vlm_openai::OpenAiConfig, url: &str) -> Result
     })?;
     match answers.into_single() {
         Some(Outcome::Answered { answer, .. }) if answer.correct => {
-            tracing::info!(url, seconds = start.elapsed().as_secs_f64(), "the VLM endpoint answers");
+            tracing::info!(
+                url,
+                seconds = start.elapsed().as_secs_f64(),
+                "the VLM endpoint answers"
+            );
         }
         Some(Outcome::Answered { answer, .. }) => tracing::warn!(
             url,
@@ -935,6 +977,7 @@ fn endpoint_check(config: &crate::vlm_openai::OpenAiConfig, url: &str) -> Result
 #[derive(Debug)]
 pub struct PreparedRun {
     warnings: Vec<String>,
+    dry: Option<DryRunModel>,
     scenes_in_flight: Option<usize>,
     scenes: Vec<SceneFile>,
     skipped: Vec<SkippedFile>,
@@ -1026,6 +1069,32 @@ impl PreparedRun {
     /// preset or VLM: the run replaces them (a front end says so before it starts).
     pub fn replaced(&self) -> usize {
         self.replaced
+    }
+
+    /// What the run would ask the VLM, per task, without asking it, computing any metric or
+    /// writing anything: [`DryRun`] (see its module docs for how attribute requests are
+    /// estimated). Without a VLM nothing would be asked: the scenes are only counted.
+    pub fn dry_run(self) -> DryRun {
+        let Some(model) = self.dry else {
+            return DryRun {
+                scenes: self.scenes.len(),
+                ..DryRun::default()
+            };
+        };
+        let (out_dir, force, diagnostics) = self.options;
+        let options = BatchOptions {
+            out_dir,
+            force,
+            diagnostics,
+            annotations: self.annotations.as_ref(),
+            scenes_in_flight: None,
+        };
+        let evaluator = self
+            .evaluator
+            .with_vlm(crate::SharedVlm::new(model.clone()))
+            .without_geometry();
+        self.pool
+            .install(|| crate::batch::dry_run_batch(&self.scenes, &evaluator, &self.assets, &options, &model))
     }
 
     /// Evaluates the scenes on the request's worker threads with [`run_batch`] (calling

@@ -391,7 +391,10 @@ mod tests {
         let err = pollster::block_on(wait_for_model(Later(shared), "obj_matching", "m")).unwrap_err();
         assert!(!err.is_permanent());
         let cause = std::error::Error::source(&err).unwrap().to_string();
-        assert_eq!(cause, "the scene's time budget of 0.05 s ran out while waiting for the model");
+        assert_eq!(
+            cause,
+            "the scene's time budget of 0.05 s ran out while waiting for the model"
+        );
         // Outside a scene, nothing is lent and nothing bounds the wait.
         drop(_scene);
         let ready = Arc::new((Mutex::new((true, None::<Waker>)), AtomicUsize::new(0)));

@@ -173,8 +173,11 @@ fn scenes_waiting_for_the_model_do_not_hold_the_only_worker() {
         fallback: Duration::from_secs(60),
         state: state.clone(),
     };
-    let evaluator = Evaluator::new(plan(None)).unwrap().with_vlm(SharedVlm::new(model));
-    let assets = AssetLibrary::from_specs(&[format!("fixture={}", fixtures().join("assets").display())]).unwrap();
+    let evaluator = Evaluator::new(plan(None))
+        .unwrap()
+        .with_vlm(SharedVlm::new(model));
+    let assets =
+        AssetLibrary::from_specs(&[format!("fixture={}", fixtures().join("assets").display())]).unwrap();
     let set = find_scenes(dir.path()).unwrap();
     // One worker thread, five scenes in flight: the five questions are pending together.
     let options = BatchOptions {
@@ -187,7 +190,10 @@ fn scenes_waiting_for_the_model_do_not_hold_the_only_worker() {
         .install(|| run_batch(&set.scenes, &evaluator, &assets, &options, &|_| {}))
         .unwrap();
     assert_eq!((outcome.evaluated, outcome.failed), (5, 0));
-    assert!(!state.timed_out.load(Ordering::SeqCst), "the quorum of 5 was never reached");
+    assert!(
+        !state.timed_out.load(Ordering::SeqCst),
+        "the quorum of 5 was never reached"
+    );
     assert_eq!(state.peak.load(Ordering::SeqCst), 5);
     assert_eq!(state.answered.load(Ordering::SeqCst), 5);
     // The answers went where they belong: every scene's accessibility is the same, each
@@ -216,8 +222,11 @@ fn the_time_budget_ends_a_wait_for_the_model() {
         fallback: Duration::from_secs(60),
         state: state.clone(),
     };
-    let evaluator = Evaluator::new(plan(Some(0.5))).unwrap().with_vlm(SharedVlm::new(model));
-    let assets = AssetLibrary::from_specs(&[format!("fixture={}", fixtures().join("assets").display())]).unwrap();
+    let evaluator = Evaluator::new(plan(Some(0.5)))
+        .unwrap()
+        .with_vlm(SharedVlm::new(model));
+    let assets =
+        AssetLibrary::from_specs(&[format!("fixture={}", fixtures().join("assets").display())]).unwrap();
     let set = find_scenes(dir.path()).unwrap();
     let options = BatchOptions {
         out_dir: out.path().to_owned(),
