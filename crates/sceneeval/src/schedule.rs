@@ -326,8 +326,11 @@ mod tests {
     use crate::vlm::{AnswerContent, TokenUsage};
     use std::sync::atomic::{AtomicUsize, Ordering};
 
-    /// An answer that comes when `flag` is raised (polled again by whoever raises it).
-    struct Later(Arc<(Mutex<(bool, Option<Waker>)>, AtomicUsize)>);
+    /// Whether the answer came, and who to wake when it does; how often it was polled.
+    type Shared = Arc<(Mutex<(bool, Option<Waker>)>, AtomicUsize)>;
+
+    /// An answer that comes when the flag is raised (polled again by whoever raises it).
+    struct Later(Shared);
 
     impl Future for Later {
         type Output = Result<Answer, VlmError>;
