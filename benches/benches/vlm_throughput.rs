@@ -16,7 +16,12 @@
 //! again once, then unanswered). Views are 64 px (rendering cost is not what is measured).
 
 // A measurement binary prints its results and stops on a set-up failure.
-#![allow(clippy::print_stdout, clippy::print_stderr, clippy::expect_used, clippy::unwrap_used)]
+#![allow(
+    clippy::print_stdout,
+    clippy::print_stderr,
+    clippy::expect_used,
+    clippy::unwrap_used
+)]
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -129,7 +134,8 @@ fn main() {
     let dir = tempfile::tempdir().expect("a temporary folder");
     for n in 0..6 {
         let name = format!("scene_{n}.json");
-        std::fs::copy(fixtures().join("scenes").join(&name), dir.path().join(&name)).expect("a fixture scene");
+        std::fs::copy(fixtures().join("scenes").join(&name), dir.path().join(&name))
+            .expect("a fixture scene");
     }
     let l = Duration::from_secs_f64(latency);
     println!(

@@ -119,11 +119,35 @@ fn a_refused_key_stops_the_run_with_one_message() {
     }
     let (_keep, scenes, csv) = setup();
     let out = tempfile::tempdir().unwrap();
-    let server = MockEndpoint::start(Duration::ZERO, |_, _| error(401, "Incorrect API key provided"));
-    let run = full(&scenes, &csv, out.path(), &server.url(), &[]);
+    let server = MockEndpoint::start(Duration::ZERO, |_, _| {
+        error(401, "Incorrect API key provided: sk-cli-SECRET-key-0042")
+    });
+    let args = [
+        "--annotations",
+        csv.to_str().unwrap(),
+        "--plan",
+        "full",
+        "--vlm-base-url",
+        &server.url(),
+        "--vlm-model",
+        "test-model",
+        "--vlm-api-key-env",
+        "MY_TEST_VLM_KEY",
+        "-vv",
+    ];
+    let run = common::evaluate_command(&scenes, &fixtures().join("assets"), out.path(), &args)
+        .env("MY_TEST_VLM_KEY", "sk-cli-SECRET-key-0042")
+        .output()
+        .unwrap();
     assert!(!run.status.success());
     let err = stderr(&run);
     assert!(err.contains("API key refused (HTTP 401)"), "{err}");
+    assert!(
+        err.contains("the key came from environment variable MY_TEST_VLM_KEY"),
+        "{err}"
+    );
+    // Neither the message nor the debug log shows the key.
+    assert!(!err.contains("SECRET"), "{err}");
     assert_eq!(server.requests(), 1, "one check, no retry, no scene");
     assert!(!out.path().join("scene_8/eval.json").exists());
 }

@@ -43,7 +43,9 @@ pub struct BatchOptions<'a> {
     /// rayon pool. With a VLM, more (the request sets threads + VLM concurrency) let scenes
     /// that wait for the model leave the CPU to others: the scenes then run on a pool of this
     /// many threads, and at most as many of them as the current pool has threads compute at
-    /// once (the others wait for the model, or for a CPU slot). Ignored without a VLM.
+    /// once (the others wait for the model, or for a CPU slot). Ignored without a VLM, and
+    /// when not above the pool's thread count. Each scene in flight holds its scene and object
+    /// views in memory.
     pub scenes_in_flight: Option<usize>,
 }
 
@@ -318,7 +320,7 @@ impl EndpointGate {
         let passed = *self.passed.get_or_init(|| match vlm.check_endpoint() {
             Ok(()) => true,
             Err(e) => {
-                tracing::error!(error = %crate::ErrorChain::new(&e), "the VLM endpoint check failed; stopping");
+                tracing::debug!(error = %crate::ErrorChain::new(&e), "the VLM endpoint check failed; stopping");
                 *self.error.lock().unwrap_or_else(PoisonError::into_inner) = Some(e);
                 false
             }
