@@ -110,6 +110,9 @@ impl SamplingArgs {
             seed: self.seed.map(|Sent(s)| s),
             max_tokens: self.max_tokens,
             token_limit_field: self.token_limit_field.clone(),
+            timeout: None,
+            rpm: None,
+            tpm: None,
         }
     }
 }

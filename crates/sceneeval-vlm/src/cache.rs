@@ -230,11 +230,14 @@ impl DiskCache {
 /// the inner model and stores its answer.
 ///
 /// A cache file that cannot be read as a record is logged as a warning and replaced by a fresh
-/// answer (a run never stops for a damaged cache entry); [`Replay`] reports it as an error.
+/// answer (a run never stops for a damaged cache entry); [`Replay`] reports it as an error. An
+/// answer that cannot be stored (a full disk, a folder that cannot be written) is used all the
+/// same, with one warning per cache (and its clones).
 #[derive(Debug, Clone)]
 pub struct Cached<V> {
     inner: V,
     cache: DiskCache,
+    store_failed: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 impl<V: Vlm> Cached<V> {
@@ -243,6 +246,7 @@ impl<V: Vlm> Cached<V> {
         Cached {
             inner,
             cache: DiskCache::new(dir),
+            store_failed: std::sync::Arc::default(),
         }
     }
 
@@ -282,8 +286,15 @@ impl<V: Vlm> Vlm for Cached<V> {
         }
         let answer = self.inner.answer(request).await?;
         let record = DiskCache::record(self.model(), self.settings(), request, &answer);
-        let path = self.cache.store(&record)?;
-        tracing::debug!(task = %request.task, path = %path.display(), "answer stored in the cache");
+        match self.cache.store(&record) {
+            Ok(path) => {
+                tracing::debug!(task = %request.task, path = %path.display(), "answer stored in the cache")
+            }
+            Err(e) if !self.store_failed.swap(true, std::sync::atomic::Ordering::Relaxed) => {
+                tracing::warn!(error = %e, "the VLM cache cannot be written: answers are used but not kept");
+            }
+            Err(e) => tracing::debug!(error = %e, "answer not stored in the cache"),
+        }
         Ok(answer)
     }
 }

@@ -45,6 +45,8 @@ pub struct Evaluator {
     fidelity: FidelityEvaluator,
     vlm: Option<SharedVlm>,
     custom_sources: bool,
+    /// A dry run's evaluator: the geometry metrics are not computed (`PreparedRun::dry_run`).
+    skip_geometry: bool,
     #[cfg(feature = "render")]
     renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
     #[cfg(feature = "physics")]
@@ -114,6 +116,7 @@ impl Evaluator {
             fidelity,
             vlm: None,
             custom_sources: false,
+            skip_geometry: false,
             #[cfg(feature = "render")]
             renderer: None,
             #[cfg(feature = "physics")]
@@ -214,6 +217,12 @@ impl Evaluator {
     /// The VLM, if configured.
     pub fn vlm(&self) -> Option<&SharedVlm> {
         self.vlm.as_ref()
+    }
+
+    /// The same evaluator, computing no geometry metric: what a dry run asks the VLM.
+    pub(crate) fn without_geometry(mut self) -> Self {
+        self.skip_geometry = true;
+        self
     }
 
     /// Renders the object views the VLM is shown with `renderer` at `settings` (feature
@@ -340,12 +349,16 @@ impl Evaluator {
             scene,
             &self.plan.params,
             sources,
-            &self.plan.geometry_metrics(),
+            &if self.skip_geometry {
+                Vec::new()
+            } else {
+                self.plan.geometry_metrics()
+            },
             deadline,
             &mut timings,
         )?;
         #[cfg(feature = "physics")]
-        let (stability, stability_seconds) = match self.plan.runs(Metric::Stability) {
+        let (stability, stability_seconds) = match self.plan.runs(Metric::Stability) && !self.skip_geometry {
             true => {
                 let start = Instant::now();
                 let report = self.stability.evaluate(scene, sources, deadline)?;

@@ -83,6 +83,7 @@ pub use sceneeval_vlm_openai as vlm_openai;
 
 mod batch;
 mod chain;
+mod dry_run;
 mod dyn_vlm;
 mod error;
 mod evaluator;
@@ -96,12 +97,14 @@ pub mod relate;
 mod report;
 mod request;
 mod scene_file;
+mod schedule;
 mod summary;
 
 pub use batch::{
     BatchOptions, BatchOutcome, Reason, RunEvent, SceneStatus, SceneTiming, TIMING_SCHEMA, run_batch,
 };
 pub use chain::{ErrorChain, causes};
+pub use dry_run::{DryRun, TaskCost};
 pub use dyn_vlm::SharedVlm;
 pub use error::EvalError;
 pub use evaluator::{Evaluator, SceneEvaluation, SceneInputs};
@@ -116,10 +119,12 @@ pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
 pub use report::{SCENE_REPORT_SCHEMA, SceneReport, SceneSummary};
 pub use request::{
     ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR,
-    DEFAULT_VLM_CONCURRENCY, EvaluationRequest, NoVlmFallback, PlanRequest, PlanSpec, PreparedRun,
-    RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard, VlmOptions,
+    DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS, EvaluationRequest, MAX_VLM_TIMEOUT_SECONDS,
+    NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome,
+    Shard, VlmOptions,
 };
 pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
+pub use schedule::BudgetSpent;
 pub use summary::{
     ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneRow, Summary,
     UNANNOTATED,

@@ -286,6 +286,7 @@ def evaluate(
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
+    dry_run: bool = False,
 ) -> Dict[str, Any]:
     """Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
 
@@ -305,16 +306,28 @@ def evaluate(
     vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
     dict with base_url and model (required), api_key_env (the variable holding the key, which
     must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
-    concurrency (4), render_size (512, the object views shown), detail ("low"), temperature (0;
-    None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens
-    and token_limit_field ("max_tokens" or "max_completion_tokens"). Without a VLM the
+    concurrency (4: requests in flight over the whole run, whatever the threads; halved on a 429
+    and grown back), render_size (512, the object views shown), detail ("low"), temperature (0;
+    None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens,
+    token_limit_field ("max_tokens" or "max_completion_tokens"), timeout (60: seconds per
+    request attempt; time_budget bounds a scene's whole wait for the VLM), rpm and tpm (caps on
+    requests and estimated tokens per minute; none by default). The dict is checked whatever the
+    plan; VLM settings a plan without text-fidelity metrics does not use are reported with a
+    UserWarning. Before the first scene evaluated, one small request checks the endpoint: an
+    unreachable server or a refused key raises SceneEvalError at once. Without a VLM the
     text-fidelity metrics match objects by labels (or a matching file) and map relations with the
     lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
     the run's note. A re-run into the same out reuses a scene's result while nothing it depends
     on changed (force=True evaluates every scene again). threads: worker threads (default one
-    per core). Runs with the GIL released.
+    per core). dry_run=True evaluates nothing, writes nothing and sends nothing: it returns what
+    the run would ask the VLM (see below). Runs with the GIL released.
 
-    Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
+    With dry_run=True, returns scenes, evaluated (scenes the run would evaluate), reused,
+    attributes_estimated (scenes whose attribute requests are estimated: one per ObjAttr entry,
+    as their matching is not cached), failed ([scene, why] pairs), vlm (whether a VLM would be
+    asked), tasks (per task: task, requests, cached, estimated, prompt_tokens: the estimated
+    input tokens of the requests to send) and total (the same, summed), as
+    `sceneeval evaluate --dry-run` prints them. Otherwise returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
     scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
     text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
     summary.csv as a dict). A scene that fails is recorded, not raised.
@@ -338,6 +351,9 @@ def evaluation_request(
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
+    dry_run: bool = False,
 ) -> Dict[str, Any]:
     """The evaluation request evaluate() makes of the same arguments, as a dict: what
-    `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run."""
+    `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
+    dry_run is accepted as evaluate() takes it; it is not part of the request.
+    """
