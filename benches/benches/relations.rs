@@ -3,7 +3,8 @@
 //! Every predicate on boxes and on ~5k-triangle meshes (`Mesh::uv_ellipsoid` and
 //! `Mesh::subdivided_box`), the object-architecture predicates in a four-wall room with a
 //! door and a window, the scene-level evaluation by id and by index, and the batch form over
-//! 1,000 pairs. The
+//! 1,000 pairs; and each predicate's score with its gradient (`sceneeval_relations::grad`,
+//! groups ending in `_grad`) on the same configurations, to set against the score alone. The
 //! configurations are fixed (a nightstand beside a bed, four chairs around a table, a bed
 //! against a wall); the target straddles region boundaries so that the clipping kernels do
 //! real work. Run with
@@ -16,79 +17,17 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use sceneeval_geom::conventions::pose_from_yaw;
-use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Real, Side, Vector3};
-use sceneeval_relations::{
-    ArchElement, LongShort, ObjectGeom, Query, Relation, RelationParams, SceneRelations, arch, batch,
+#[path = "relations_configs/mod.rs"]
+mod configs;
+
+use configs::{
+    MeshObject, arch_relations, bed_and_stand, bx, mesh_bed_and_stand, pair_relations, room, sofa_and_tv,
+    wall_bed,
 };
-use sceneeval_scene::{Category, Room, RoomBuilder, Scene};
-
-fn bx(c: [Real; 3], h: [Real; 3], yaw: Real) -> Obb {
-    Obb::from_yaw(Point3::new(c[0], c[1], c[2]), Vector3::new(h[0], h[1], h[2]), yaw).expect("a valid box")
-}
-
-/// A mesh object: the mesh, its pose and its box.
-struct MeshObject {
-    mesh: Mesh,
-    pose: Isometry3,
-    obb: Obb,
-}
-
-impl MeshObject {
-    fn new(mesh: Mesh, center: [Real; 3], yaw: Real) -> Self {
-        let pose = Isometry3::new(Vector3::new(center[0], center[1], center[2]), Vector3::z() * yaw);
-        let obb = Obb::from_local_aabb(mesh.aabb(), &pose);
-        MeshObject { mesh, pose, obb }
-    }
-
-    fn view(&self) -> ObjectGeom<'_> {
-        ObjectGeom::with_mesh(&self.obb, &self.mesh, &self.pose)
-    }
-}
-
-/// The test bedroom with a window on wall 1 (x = 4), y in [1.5, 3.5], 0.9 to 2.0 m up.
-fn room() -> Room {
-    sceneeval_test_support::bedroom("bedroom")
-        .window(1, [1.5, 3.5], [0.9, 2.0])
-        .build()
-        .expect("a valid room")
-}
-
-/// The two-object relations benchmarked, one per base name (sides: one representative each).
-fn pair_relations() -> [(&'static str, Relation); 12] {
-    [
-        ("inside_of", Relation::InsideOf),
-        ("outside_of", Relation::OutsideOf),
-        ("face_to", Relation::FaceTo),
-        ("side_of", Relation::SideOf(Side::Left)),
-        ("side_region", Relation::SideRegion(Side::Left)),
-        ("long_short_side_of", Relation::LongShortSideOf(LongShort::Long)),
-        ("on_top", Relation::OnTop),
-        ("middle_of", Relation::MiddleOf),
-        ("next_to", Relation::NextTo),
-        ("near", Relation::Near),
-        ("across_from", Relation::AcrossFrom),
-        ("far", Relation::Far),
-    ]
-}
-
-fn arch_relations() -> [(&'static str, Relation); 10] {
-    [
-        ("next_to_wall", Relation::NextToArch(ArchElement::Wall)),
-        ("near_door", Relation::NearArch(ArchElement::Door)),
-        (
-            "across_from_window",
-            Relation::AcrossFromArch(ArchElement::Window),
-        ),
-        ("far_wall", Relation::FarArch(ArchElement::Wall)),
-        ("inside_room", Relation::InsideRoom),
-        ("middle_of_room", Relation::MiddleOfRoom),
-        ("corner_of_room", Relation::CornerOfRoom),
-        ("on_wall", Relation::OnWall),
-        ("against_wall", Relation::AgainstWall),
-        ("hang_from_ceiling", Relation::HangFromCeiling),
-    ]
-}
+use sceneeval_geom::conventions::pose_from_yaw;
+use sceneeval_geom::{Mesh, Obb, Point2, Point3, Real, Side, Vector3};
+use sceneeval_relations::{ObjectGeom, Query, Relation, RelationParams, SceneRelations, arch, batch, grad};
+use sceneeval_scene::{Category, RoomBuilder, Scene};
 
 fn configure<'c>(
     c: &'c mut Criterion,
@@ -103,8 +42,7 @@ fn configure<'c>(
 fn object_object(c: &mut Criterion) {
     let p = RelationParams::default();
     // Bed 1.6 x 2 x 0.6 m; nightstand straddling the bed's left face and its height limit.
-    let bed = bx([2.0, 4.0, 0.3], [0.8, 1.0, 0.3], 0.0);
-    let stand = bx([1.0, 4.5, 0.35], [0.25, 0.2, 0.35], 0.3);
+    let (bed, stand) = bed_and_stand();
     let (a, b) = (ObjectGeom::from_box(&stand), ObjectGeom::from_box(&bed));
     let mut g = configure(c, "relations/box");
     for (name, r) in pair_relations() {
@@ -112,6 +50,15 @@ fn object_object(c: &mut Criterion) {
             bench.iter(|| batch::score_pair(black_box(r), black_box(&a), black_box(&b), &p))
         });
     }
+    g.finish();
+    let mut g = configure(c, "relations/box_grad");
+    for (name, r) in pair_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::pair(black_box(r), black_box(&a), black_box(&b), &p))
+        });
+    }
+    g.finish();
+    let mut g = configure(c, "relations/box");
     // Worst case for the clipper: a box turned about all three axes, cut by all six faces.
     let tilted = Obb::new(
         Point3::new(2.3, 4.4, 0.4),
@@ -122,6 +69,28 @@ fn object_object(c: &mut Criterion) {
     let t = ObjectGeom::from_box(&tilted);
     g.bench_function("inside_of_six_cuts", |bench| {
         bench.iter(|| sceneeval_relations::inside_of(black_box(&t), black_box(&b), &p))
+    });
+    g.bench_function("inside_of_six_cuts_grad", |bench| {
+        bench.iter(|| grad::inside_of(black_box(&t), black_box(&b), &p))
+    });
+    // face_to where lines hit (the nightstand above faces away from the bed).
+    let (sofa, tv, mesh_tv) = sofa_and_tv();
+    let (s, tv, mtv) = (
+        ObjectGeom::from_box(&sofa),
+        ObjectGeom::from_box(&tv),
+        mesh_tv.view(),
+    );
+    g.bench_function("face_to_tv", |bench| {
+        bench.iter(|| sceneeval_relations::face_to(black_box(&s), black_box(&tv), &p))
+    });
+    g.bench_function("face_to_tv_grad", |bench| {
+        bench.iter(|| grad::face_to(black_box(&s), black_box(&tv), &p))
+    });
+    g.bench_function("face_to_mesh_tv", |bench| {
+        bench.iter(|| sceneeval_relations::face_to(black_box(&s), black_box(&mtv), &p))
+    });
+    g.bench_function("face_to_mesh_tv_grad", |bench| {
+        bench.iter(|| grad::face_to(black_box(&s), black_box(&mtv), &p))
     });
     // surround: four chairs around a table.
     let table = bx([2.0, 2.5, 0.375], [0.6, 0.6, 0.375], 0.0);
@@ -136,22 +105,24 @@ fn object_object(c: &mut Criterion) {
     g.bench_function("surround_4", |bench| {
         bench.iter(|| sceneeval_relations::surround(black_box(&views), black_box(&anchor), &p))
     });
+    let mut d = [grad::BoxGrad::ZERO; 4];
+    g.bench_function("surround_4_grad", |bench| {
+        bench.iter(|| grad::surround(black_box(&views), black_box(&anchor), &p, &mut d))
+    });
     g.finish();
 }
 
 fn object_object_meshes(c: &mut Criterion) {
     let p = RelationParams::default();
-    let bed = MeshObject::new(
-        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
-        [2.0, 4.0, 0.3],
-        0.0,
-    );
-    let stand = MeshObject::new(
-        Mesh::subdivided_box(&Vector3::new(0.25, 0.2, 0.35), 20).expect("mesh"),
-        [0.9, 4.5, 0.35],
-        0.3,
-    );
+    let (bed, stand) = mesh_bed_and_stand();
     let (a, b) = (stand.view(), bed.view());
+    let mut g = configure(c, "relations/mesh_grad");
+    for (name, r) in pair_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::pair(black_box(r), black_box(&a), black_box(&b), &p))
+        });
+    }
+    g.finish();
     let mut g = configure(c, "relations/mesh");
     for (name, r) in pair_relations() {
         g.bench_function(name, |bench| {
@@ -180,6 +151,9 @@ fn object_object_meshes(c: &mut Criterion) {
     g.bench_function("near_0.79m", |bench| {
         bench.iter(|| sceneeval_relations::near(black_box(&far_view), black_box(&b), &p))
     });
+    g.bench_function("near_0.79m_grad", |bench| {
+        bench.iter(|| grad::near(black_box(&far_view), black_box(&b), &p))
+    });
     let (x, n) = (crossing.view(), nested.view());
     g.bench_function("next_to_crossing", |bench| {
         bench.iter(|| sceneeval_relations::next_to(black_box(&x), black_box(&b), &p))
@@ -194,7 +168,7 @@ fn object_architecture(c: &mut Criterion) {
     let p = RelationParams::default();
     let rooms = [room()];
     // A bed 5 cm from the head wall, a little turned, and a mesh version of it.
-    let bed = bx([2.0, 3.93, 0.3], [0.8, 1.0, 0.3], 0.05);
+    let (bed, mesh_bed) = wall_bed();
     let a = ObjectGeom::from_box(&bed);
     let mut g = configure(c, "relations/room_box");
     for (name, r) in arch_relations() {
@@ -203,16 +177,25 @@ fn object_architecture(c: &mut Criterion) {
         });
     }
     g.finish();
-    let mesh_bed = MeshObject::new(
-        Mesh::uv_ellipsoid(&Vector3::new(0.8, 1.0, 0.3), 50, 51).expect("mesh"),
-        [2.0, 3.93, 0.3],
-        0.05,
-    );
+    let mut g = configure(c, "relations/room_box_grad");
+    for (name, r) in arch_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::arch_rooms(black_box(r), black_box(&a), &rooms, &p))
+        });
+    }
+    g.finish();
     let m = mesh_bed.view();
     let mut g = configure(c, "relations/room_mesh");
     for (name, r) in arch_relations() {
         g.bench_function(name, |bench| {
             bench.iter(|| arch::score_rooms(black_box(r), black_box(&m), &rooms, &p))
+        });
+    }
+    g.finish();
+    let mut g = configure(c, "relations/room_mesh_grad");
+    for (name, r) in arch_relations() {
+        g.bench_function(name, |bench| {
+            bench.iter(|| grad::arch_rooms(black_box(r), black_box(&m), &rooms, &p))
         });
     }
     g.finish();

@@ -6,16 +6,20 @@
 //! of the 23 relations through the dispatching kernels ([`batch::score_pair`], [`surround`],
 //! [`arch::score_rooms`]) on boxes and on ~5k-triangle meshes, in several configurations
 //! (touching, overlapping, nested, apart, far) so that the different code paths run; the batch
-//! forms; `sceneeval-geom`'s exact box and mesh distances; and the optimiser's loop: moving
-//! objects in a scene and asking relations by index ([`SceneRelations`]) and plausibility
-//! checks ([`LayoutChecks`]), as the `layout_optimizer` example's annealing steps do.
+//! forms; every gradient kernel (`grad::pair`, `grad::surround`, `grad::arch_rooms`,
+//! `grad::box_penetration`) on boxes and meshes; `sceneeval-geom`'s exact box and mesh
+//! distances; and the optimisers' loops: moving objects in a scene and asking relations by
+//! index ([`SceneRelations`]) and plausibility checks ([`LayoutChecks`]: out of bounds,
+//! pairwise contacts, door blocking), as the `layout_optimizer` example's annealing steps and
+//! the `gradient_layout` example's descent steps do.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use sceneeval_alloc_check::{CountingAllocator, allocations_during};
-use sceneeval_examples::layout::{Annealer, Layout};
+use sceneeval_examples::layout::{Annealer, Descent, Layout};
 use sceneeval_geom::{Isometry3, Mesh, Obb, Point3, Real, Vector3};
 use sceneeval_plausibility::{LayoutChecks, OutOfBoundsParams};
+use sceneeval_relations::grad::{self, BoxGrad};
 use sceneeval_relations::{
     ObjectGeom, Relation, RelationKind, RelationParams, SceneRelations, arch, batch, surround,
 };
@@ -76,7 +80,23 @@ fn assert_no_allocation(
             }
         };
         assert_eq!(n, 0, "{what}: {relation} allocated {n} times");
+        let mut d = [BoxGrad::ZERO; 8];
+        let d = &mut d[..around.len()];
+        let n = match relation.kind() {
+            RelationKind::ObjectObject => {
+                allocations_during(|| grad::pair(relation, target, anchor, params).unwrap())
+            }
+            RelationKind::MultiTarget => {
+                allocations_during(|| grad::surround(around, anchor, params, d).unwrap())
+            }
+            RelationKind::ObjectArchitecture => {
+                allocations_during(|| grad::arch_rooms(relation, target, rooms, params).unwrap())
+            }
+        };
+        assert_eq!(n, 0, "{what}: the gradient of {relation} allocated {n} times");
     }
+    let n = allocations_during(|| grad::box_penetration(target.obb, anchor.obb));
+    assert_eq!(n, 0, "{what}: box_penetration allocated {n} times");
 }
 
 /// Target positions around a bed at (2, 4): overlapping its side, touching it, nested in it,
@@ -235,6 +255,23 @@ fn the_optimiser_loop_allocates_nothing_per_step() {
 }
 
 #[test]
+fn the_gradient_descent_loop_allocates_nothing_per_step() {
+    // The gradient_layout example's loop: each step takes every goal's score and gradient and
+    // moves every object (or restarts from a random layout).
+    let mut layout = Layout::new().unwrap();
+    let mut descent = Descent::new(&mut layout, 1).unwrap();
+    for _ in 0..20 {
+        descent.step(&mut layout).unwrap();
+    }
+    let n = allocations_during(|| {
+        for _ in 0..50 {
+            descent.step(&mut layout).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "100 descent steps allocated {n} times");
+}
+
+#[test]
 fn scene_queries_by_index_and_layout_checks_allocate_nothing() {
     // Every relation by index on a scene (surround over four chairs), and the out-of-bounds
     // check, for an object moved between calls.
@@ -257,6 +294,13 @@ fn scene_queries_by_index_and_layout_checks_allocate_nothing() {
             pose([2.0 + 1.2 * a.cos(), 4.0 + 1.4 * a.sin(), 0.45], a),
         );
     }
+    // A mesh object by the door (x in [1.0, 1.9] on y = 0), for contacts with meshes.
+    builder = builder.add_mesh(
+        "ball",
+        Category::new("ball"),
+        std::sync::Arc::new(Mesh::uv_ellipsoid(&Vector3::repeat(0.3), 24, 13).unwrap()),
+        pose([1.4, 0.5, 0.3], 0.0),
+    );
     let mut scene = builder.build().unwrap();
     let rel = SceneRelations::new(RelationParams::default()).unwrap();
     let checks = LayoutChecks::new(scene.rooms(), &OutOfBoundsParams::default()).unwrap();
@@ -274,6 +318,14 @@ fn scene_queries_by_index_and_layout_checks_allocate_nothing() {
         }
         let n = allocations_during(|| checks.in_bounds_ratio(&scene.objects()[1], &mut scratch));
         assert_eq!(n, 0, "in_bounds_ratio at {center:?} allocated {n} times");
+        for other in [0, 2, 5] {
+            let n = allocations_during(|| checks.contact(&scene.objects()[1], &scene.objects()[other]));
+            assert_eq!(n, 0, "contact with {other} at {center:?} allocated {n} times");
+        }
+        for k in [1, 5] {
+            let n = allocations_during(|| checks.blocks_door(&scene.objects()[k]));
+            assert_eq!(n, 0, "blocks_door of {k} at {center:?} allocated {n} times");
+        }
         let n = allocations_during(|| scene.set_pose(2, pose(center, -yaw)).unwrap());
         assert_eq!(n, 0, "set_pose allocated {n} times");
     }

@@ -53,9 +53,22 @@ pub struct Args {
     /// What is sent with every VLM request.
     #[command(flatten)]
     pub vlm_sampling: SamplingArgs,
-    /// VLM requests in flight at once over the whole run (default 4).
+    /// VLM requests in flight at once over the whole run (default 4), whatever the number of
+    /// threads: scenes waiting for the VLM leave the CPU to others. Halved when the server
+    /// answers 429 (too many requests), grown back after successes.
     #[arg(long, value_name = "N", requires = "vlm_base_url")]
     pub vlm_concurrency: Option<usize>,
+    /// Seconds one VLM request (each attempt) may take (default 60); the scene's time budget
+    /// (--time-budget) bounds the whole wait for the VLM, retries included.
+    #[arg(long, value_name = "SECS", requires = "vlm_base_url")]
+    pub vlm_timeout: Option<f64>,
+    /// Cap on VLM requests per minute (default none): requests are spaced 60 s / N apart.
+    #[arg(long, value_name = "N", requires = "vlm_base_url")]
+    pub vlm_rpm: Option<u32>,
+    /// Cap on VLM tokens per minute (default none): requests are spaced by an estimate of
+    /// their tokens (text at 4 characters per token, images by OpenAI's rule for the detail).
+    #[arg(long, value_name = "N", requires = "vlm_base_url")]
+    pub vlm_tpm: Option<u64>,
     /// Folder of the VLM response cache (default `<out>/vlm-cache`): a re-run asks nothing
     /// already answered.
     #[arg(long, value_name = "DIR", requires = "vlm_base_url")]
@@ -97,6 +110,9 @@ pub struct Args {
     /// Also write diagnostic images under `<out>/<scene>/diagnostics/`.
     #[arg(long)]
     pub diagnostics: bool,
+    /// After the run, write its static report into `<out>/report/` (as `sceneeval report`).
+    #[arg(long)]
+    pub report: bool,
     /// Do not show a progress bar.
     #[arg(long)]
     pub no_progress: bool,
@@ -104,6 +120,11 @@ pub struct Args {
     /// what the Python package's `sceneeval.evaluation_request` gives for the same options.
     #[arg(long)]
     pub print_request: bool,
+    /// Print, per VLM task, the requests the run would send, how many the response cache
+    /// already answers and their estimated input tokens, then exit: nothing is sent, computed
+    /// or written (object views are rendered, to know what the cache holds).
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 impl Args {
@@ -118,6 +139,9 @@ impl Args {
                 cache: self.vlm_cache.clone(),
                 concurrency: self.vlm_concurrency,
                 render_size: self.render_size,
+                timeout: self.vlm_timeout,
+                rpm: self.vlm_rpm,
+                tpm: self.vlm_tpm,
                 ..self.vlm_sampling.options(base_url, model)
             }),
             _ => {
@@ -176,6 +200,9 @@ pub fn option_name(field: RequestField) -> &'static str {
         RequestField::VlmSeed => "--vlm-seed",
         RequestField::VlmMaxTokens => "--vlm-max-tokens",
         RequestField::VlmTokenLimitField => "--vlm-token-limit-field",
+        RequestField::VlmTimeout => "--vlm-timeout",
+        RequestField::VlmRpm => "--vlm-rpm",
+        RequestField::VlmTpm => "--vlm-tpm",
         _ => "--vlm-base-url",
     }
 }
@@ -220,16 +247,24 @@ impl std::error::Error for OptionError {
 /// Runs the subcommand. Exits with failure when any scene failed to load or evaluate (each
 /// failure is recorded in its `eval.json`, printed with its cause chain and counted in the
 /// summary). Everything that can be checked before evaluating (the scene names, the plan, the
-/// VLM settings, the asset folders, the annotations, the output folder) is checked first.
+/// VLM settings, the asset folders, the annotations, the output folder) is checked first, and
+/// the VLM's endpoint before the first scene that is evaluated.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let request = args.request()?;
     if args.print_request {
-        println!("{}", serde_json::to_string_pretty(&request)?);
+        crate::print_stdout(&format!("{}\n", serde_json::to_string_pretty(&request)?))?;
         return Ok(ExitCode::SUCCESS);
     }
     let prepared = request.prepare().map_err(OptionError::evaluate)?;
     for skipped in prepared.skipped() {
         eprintln!("warning: skipped {}: {}", skipped.path.display(), skipped.reason);
+    }
+    for warning in prepared.warnings() {
+        eprintln!("warning: {warning}");
+    }
+    if args.dry_run {
+        print_dry_run(&prepared.dry_run());
+        return Ok(ExitCode::SUCCESS);
     }
     if let Some(shard) = request.shard {
         eprintln!("shard {shard}: {} scenes", prepared.scenes().len());
@@ -247,16 +282,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     let has_fidelity = prepared.evaluator().plan().has_fidelity();
     let preset = prepared.evaluator().plan().preset;
+    let vlm = prepared.evaluator().vlm().cloned();
+    let total = prepared.scenes().len() as u64;
 
     let progress = if args.no_progress {
         ProgressBar::hidden()
     } else {
-        ProgressBar::new(prepared.scenes().len() as u64)
+        ProgressBar::new(total)
     };
-    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes{msg}") {
-        progress.set_style(style.progress_chars("=> "));
-    }
-    let (renders, requests, cached) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+    let tracker = Tracker::new(&progress, total, vlm.is_some());
     let hinted = AtomicBool::new(false);
     let on_event = |event: &RunEvent<'_>| {
         let RunEvent::SceneDone {
@@ -289,32 +323,37 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         {
             progress.suspend(|| eprintln!("hint: {hint}"));
         }
-        if let (SceneStatus::Evaluated { .. }, Some(f)) =
-            (status, record.report().and_then(|r| r.fidelity.as_ref()))
-        {
-            renders.fetch_add(f.views_rendered, Ordering::Relaxed);
-            if let Some(u) = f.vlm_usage {
-                requests.fetch_add(u.requests - u.cache_hits, Ordering::Relaxed);
-                cached.fetch_add(u.cache_hits, Ordering::Relaxed);
-            }
-            progress.set_message(format!(
-                ", {} renders, {} VLM requests ({} from the cache)",
-                renders.load(Ordering::Relaxed),
-                requests.load(Ordering::Relaxed),
-                cached.load(Ordering::Relaxed)
-            ));
-        }
-        progress.inc(1);
+        let fidelity = match status {
+            SceneStatus::Evaluated { .. } => record.report().and_then(|r| r.fidelity.as_ref()),
+            _ => None,
+        };
+        tracker.scene_done(fidelity);
+        tracker.show(vlm.as_ref());
     };
+    let finished = AtomicBool::new(false);
+    let outcome = std::thread::scope(|scope| {
+        // The bar advances per answered request: shown four times a second while a VLM answers.
+        if let Some(vlm) = &vlm {
+            scope.spawn(|| {
+                while !finished.load(Ordering::Relaxed) {
+                    tracker.show(Some(vlm));
+                    std::thread::sleep(std::time::Duration::from_millis(250));
+                }
+            });
+        }
+        let outcome = prepared.run(&on_event);
+        finished.store(true, Ordering::Relaxed);
+        outcome
+    });
     let RunOutcome {
         scenes,
         batch: outcome,
         summary,
         ..
-    } = prepared.run(&on_event)?;
+    } = outcome.map_err(OptionError::evaluate)?;
     progress.finish_and_clear();
 
-    print!("{}", summary.to_markdown());
+    crate::print_stdout(&summary.to_markdown())?;
     eprintln!(
         "{} scenes: {} evaluated, {} kept from an earlier run, {} failed, {} partial; preset {}; results in {}",
         scenes.len(),
@@ -326,12 +365,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         args.out.display()
     );
     if has_fidelity {
-        eprintln!(
-            "  fidelity: {} renders, {} VLM requests sent, {} answered from the cache",
-            renders.load(Ordering::Relaxed),
-            requests.load(Ordering::Relaxed),
-            cached.load(Ordering::Relaxed)
-        );
+        let renders = tracker.renders.load(Ordering::Relaxed);
+        match vlm.as_ref().map(sceneeval::SharedVlm::usage) {
+            Some(u) => eprintln!(
+                "  fidelity: {renders} renders, {} VLM requests sent ({} tokens), {} answered from the cache, {} failed",
+                u.requests - u.cache_hits,
+                u.tokens.total(),
+                u.cache_hits,
+                u.failed_requests
+            ),
+            None => eprintln!("  fidelity: {renders} renders, no VLM"),
+        }
     }
     for (reason, n) in outcome.reasons() {
         eprintln!("  evaluated because {reason}: {n}");
@@ -343,10 +387,139 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .collect();
         eprintln!("  time over the evaluated scenes: {}", parts.join(", "));
     }
+    if args.report {
+        crate::report::after_evaluate(&args.out, &args.assets, args.annotations.as_deref())?;
+    }
     // A partial scene's results are incomplete too: a re-run completes them.
     Ok(if outcome.failed + outcome.partial > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// The progress bar: per scene without a VLM; per answered VLM request with one, with the
+/// rate, an ETA (once a scene is done, from its requests per scene) and the tokens so far.
+struct Tracker<'a> {
+    bar: &'a ProgressBar,
+    total: u64,
+    done: AtomicU64,
+    /// Requests of the scenes done, from their records.
+    requests_done: AtomicU64,
+    renders: AtomicU64,
+    estimating: AtomicBool,
+}
+
+impl<'a> Tracker<'a> {
+    fn new(bar: &'a ProgressBar, total: u64, vlm: bool) -> Self {
+        let template = if vlm {
+            "{elapsed_precise} {spinner} {pos} VLM requests answered ({per_sec}){msg}"
+        } else {
+            "{elapsed_precise} [{bar:40}] {pos}/{len} scenes{msg}"
+        };
+        if let Ok(style) = ProgressStyle::with_template(template) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        if vlm {
+            bar.set_length(0);
+        }
+        Tracker {
+            bar,
+            total,
+            done: AtomicU64::new(0),
+            requests_done: AtomicU64::new(0),
+            renders: AtomicU64::new(0),
+            estimating: AtomicBool::new(false),
+        }
+    }
+
+    fn scene_done(&self, fidelity: Option<&sceneeval::fidelity::FidelityReport>) {
+        self.done.fetch_add(1, Ordering::Relaxed);
+        if let Some(f) = fidelity {
+            self.renders.fetch_add(f.views_rendered, Ordering::Relaxed);
+            if let Some(u) = f.vlm_usage {
+                self.requests_done.fetch_add(u.requests, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// Shows the counts now.
+    fn show(&self, vlm: Option<&sceneeval::SharedVlm>) {
+        let done = self.done.load(Ordering::Relaxed);
+        let Some(vlm) = vlm else {
+            self.bar.set_position(done);
+            self.bar
+                .set_message(format!(", {} renders", self.renders.load(Ordering::Relaxed)));
+            return;
+        };
+        let u = vlm.usage();
+        self.bar.set_position(u.requests);
+        if done > 0 {
+            // Requests per scene so far, over every scene of the run.
+            let per_scene = self.requests_done.load(Ordering::Relaxed) as f64 / done as f64;
+            let estimate = (per_scene * self.total as f64).round() as u64;
+            self.bar.set_length(estimate.max(u.requests));
+            if !self.estimating.swap(true, Ordering::Relaxed)
+                && let Ok(style) = ProgressStyle::with_template(
+                    "{elapsed_precise} [{bar:30}] {pos}/~{len} VLM requests ({per_sec}, ETA {eta}){msg}",
+                )
+            {
+                self.bar.set_style(style.progress_chars("=> "));
+            }
+        }
+        self.bar.set_message(format!(
+            ", {done}/{} scenes, {} tokens, {} from the cache, {} failed",
+            self.total,
+            u.tokens.total(),
+            u.cache_hits,
+            u.failed_requests
+        ));
+    }
+}
+
+/// `--dry-run`'s table.
+fn print_dry_run(dry: &sceneeval::DryRun) {
+    if !dry.vlm {
+        println!(
+            "dry run: {} scenes; no VLM would be asked (no VLM configured, or the plan asks none).",
+            dry.scenes
+        );
+        return;
+    }
+    println!(
+        "dry run: {} scenes, {} to evaluate, {} kept from an earlier run; nothing was sent.",
+        dry.scenes, dry.evaluated, dry.reused
+    );
+    println!("| task | requests | from the cache | to send | estimated input tokens to send |");
+    println!("|---|---:|---:|---:|---:|");
+    for t in dry.tasks.iter().chain(std::iter::once(&dry.total())) {
+        let estimated = if t.estimated > 0 {
+            format!(" ({} estimated)", t.estimated)
+        } else {
+            String::new()
+        };
+        println!(
+            "| {} | {} | {} | {}{estimated} | {} |",
+            t.task,
+            t.requests,
+            t.cached,
+            t.to_send(),
+            t.prompt_tokens
+        );
+    }
+    if dry.attributes_estimated > 0 {
+        println!(
+            "note: {} scenes have matching requests to send, so their attribute requests are estimated: one per \
+             ObjAttr entry of the annotation row (the most the run sends), with as many instances as the entry's \
+             quantity.",
+            dry.attributes_estimated
+        );
+    }
+    println!(
+        "note: re-asks of invalid answers (at most one per request) are not counted; tokens are estimated at 4 \
+         characters per token and by OpenAI's rule for images, plus --vlm-max-tokens when set."
+    );
+    for (scene, why) in &dry.failed {
+        println!("note: {scene} would fail: {why}");
+    }
 }

@@ -80,6 +80,52 @@ impl<'a> Report<'a> {
         }
     }
 
+    /// The objects table of [`Report::write_tables`].
+    fn write_objects(&self, out: &mut impl Write) -> io::Result<()> {
+        writeln!(
+            out,
+            "\nObjects (centre and size in metres, yaw in degrees; size = width x depth x height; \
+             asset front = the front the file declares in the object's frame, turned to -y)"
+        )?;
+        let rows = self
+            .objects
+            .iter()
+            .map(|o| {
+                vec![
+                    o.id.to_owned(),
+                    o.model_id
+                        .unwrap_or(if o.is_box { "(box)" } else { "-" })
+                        .to_owned(),
+                    o.category.unwrap_or("-").to_owned(),
+                    num(o.center[0]),
+                    num(o.center[1]),
+                    num(o.center[2]),
+                    format!("{} x {} x {}", num(o.size[0]), num(o.size[1]), num(o.size[2])),
+                    format!("{:.1}", o.yaw.to_degrees()),
+                    o.asset_front.map_or_else(|| "-".to_owned(), axis_name),
+                    o.support_type.map_or("-", SupportType::name).to_owned(),
+                ]
+            })
+            .collect();
+        table(
+            out,
+            &[
+                "id",
+                "model id",
+                "category",
+                "x",
+                "y",
+                "z",
+                "size",
+                "yaw",
+                "asset front",
+                "support",
+            ],
+            &[false, false, false, true, true, true, false, true, false, false],
+            rows,
+        )
+    }
+
     fn write_tables(&self, out: &mut impl Write) -> io::Result<()> {
         let walls: usize = self.rooms.iter().map(|r| r.walls.len()).sum();
         let openings: usize = self
@@ -99,37 +145,7 @@ impl<'a> Report<'a> {
             count(openings, "opening"),
         )?;
 
-        writeln!(
-            out,
-            "\nObjects (centre and size in metres, yaw in degrees; size = width x depth x height)"
-        )?;
-        let rows = self
-            .objects
-            .iter()
-            .map(|o| {
-                vec![
-                    o.id.to_owned(),
-                    o.model_id
-                        .unwrap_or(if o.is_box { "(box)" } else { "-" })
-                        .to_owned(),
-                    o.category.unwrap_or("-").to_owned(),
-                    num(o.center[0]),
-                    num(o.center[1]),
-                    num(o.center[2]),
-                    format!("{} x {} x {}", num(o.size[0]), num(o.size[1]), num(o.size[2])),
-                    format!("{:.1}", o.yaw.to_degrees()),
-                    o.support_type.map_or("-", SupportType::name).to_owned(),
-                ]
-            })
-            .collect();
-        table(
-            out,
-            &[
-                "id", "model id", "category", "x", "y", "z", "size", "yaw", "support",
-            ],
-            &[false, false, false, true, true, true, false, true, false],
-            rows,
-        )?;
+        self.write_objects(out)?;
 
         writeln!(out, "\nRooms")?;
         let rows = self
@@ -289,6 +305,15 @@ fn table(out: &mut impl Write, header: &[&str], right: &[bool], rows: Vec<Vec<St
     Ok(())
 }
 
+/// A declared front as an axis name (`+y`, `-x`, ...), or its components.
+fn axis_name(v: [Real; 3]) -> String {
+    match v {
+        [x, y, z] if y == 0.0 && z == 0.0 && x != 0.0 => format!("{}x", if x > 0.0 { '+' } else { '-' }),
+        [x, y, z] if x == 0.0 && z == 0.0 && y != 0.0 => format!("{}y", if y > 0.0 { '+' } else { '-' }),
+        [x, y, z] => format!("({}, {}, {})", num(x), num(y), num(z)),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -300,6 +325,8 @@ mod tests {
         assert_eq!(num(-2.5), "-2.500");
         assert_eq!(count(1, "room"), "1 room");
         assert_eq!(count(0, "room"), "0 rooms");
+        assert_eq!(axis_name([0.0, 1.0, 0.0]), "+y");
+        assert_eq!(axis_name([-1.0, 0.0, 0.0]), "-x");
     }
 
     #[test]

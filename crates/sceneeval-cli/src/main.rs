@@ -11,10 +11,14 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod annotations;
+mod compare;
+mod convert;
 mod evaluate;
 mod inspect;
 mod relate;
 mod render;
+mod report;
+mod settle;
 mod summarize;
 mod vlm;
 
@@ -34,6 +38,8 @@ struct Cli {
 enum Command {
     /// Load a sceneState file and print its objects, rooms, walls and openings.
     Inspect(inspect::Args),
+    /// Convert a generator's output (Holodeck, LayoutVLM, IDesign, SceneAgent) to sceneState files.
+    Convert(convert::Args),
     /// Answer spatial-relation queries given as JSON lines.
     Relate(relate::Args),
     /// Check annotation files or print their statistics.
@@ -43,27 +49,41 @@ enum Command {
     Evaluate(Box<evaluate::Args>),
     /// Merge the per-scene results of output folders (e.g. shards) into the summary tables.
     Summarize(summarize::Args),
+    /// Compare the runs of several methods: a paper table with ranks (Markdown, CSV, LaTeX, HTML).
+    Compare(compare::Args),
+    /// Write a browsable static report of a finished run (RUN/report/index.html).
+    Report(report::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
     Render(render::Args),
+    /// Simulate a scene under gravity and write it with every object at its settled pose.
+    Settle(settle::Args),
     /// Work with the vision-language model endpoint (check that it answers).
     #[command(subcommand)]
     Vlm(vlm::Command),
 }
 
 fn main() -> ExitCode {
+    quiet_driver_probe();
     let cli = Cli::parse();
     init_logging(cli.verbose);
     let result = match cli.command {
         Command::Inspect(args) => inspect::run(args),
+        Command::Convert(args) => convert::run(args),
         Command::Relate(args) => relate::run(args),
         Command::Annotations(cmd) => annotations::run(cmd),
         Command::Evaluate(args) => evaluate::run(*args),
         Command::Render(args) => render::run(args),
+        Command::Settle(args) => settle::run(args),
         Command::Summarize(args) => summarize::run(args),
+        Command::Compare(args) => compare::run(args),
+        Command::Report(args) => report::run(args),
         Command::Vlm(cmd) => vlm::run(cmd),
     };
     match result {
         Ok(code) => code,
+        // The reader of the output went away (`sceneeval inspect --json | head`): end quietly
+        // and successfully, as ripgrep and other command-line tools do.
+        Err(err) if is_broken_pipe(err.as_ref()) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {:#}", sceneeval::ErrorChain::new(err.as_ref()));
             if let Some(hint) = hint(err.as_ref()) {
@@ -72,6 +92,51 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The environment variable that turns off Mesa's implicit Vulkan layer
+/// `VK_LAYER_MESA_device_select` (the Vulkan loader honours it).
+pub const NODEVICE_SELECT: &str = "NODEVICE_SELECT";
+
+/// Keeps Mesa's driver noise out of the output: sets [`NODEVICE_SELECT`]`=1` for this process
+/// unless the environment sets it.
+///
+/// Without it, every render on a machine without `XDG_RUNTIME_DIR` (a container, CI, a service)
+/// printed `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` on successful
+/// runs: the layer asks libwayland for a display while it orders the adapters (see
+/// `sceneeval_render::Gpu::new`). The renders are headless and wgpu chooses the adapter itself,
+/// so the layer has nothing to do here.
+#[allow(unsafe_code)]
+fn quiet_driver_probe() {
+    if std::env::var_os(NODEVICE_SELECT).is_none() {
+        // SAFETY: the first statement of `main`, before this process starts any thread, so no
+        // other thread reads or writes the environment meanwhile.
+        unsafe { std::env::set_var(NODEVICE_SELECT, "1") };
+    }
+}
+
+/// Writes `text` to standard output and flushes it: the commands print their results through
+/// this (or their own writer), so that a closed pipe is an error [`main`] ends quietly on, not
+/// a panic as with `println!`.
+///
+/// # Errors
+/// The write's error, with the context "writing to standard output".
+pub fn print_stdout(text: &str) -> anyhow::Result<()> {
+    use anyhow::Context as _;
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .context("writing to standard output")
+}
+
+/// Whether `err` or one of its causes is a write to a closed pipe.
+fn is_broken_pipe(err: &(dyn std::error::Error + 'static)) -> bool {
+    std::iter::once(err).chain(sceneeval::causes(err)).any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// What to do about an error that a command-line option fixes, if it is one (the error or one

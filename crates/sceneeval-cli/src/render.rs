@@ -94,7 +94,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let image = image.with_context(|| format!("rendering {name}"))?;
         let path = args.out.join(&name);
         write_png(&image, &path)?;
-        progress.suspend(|| println!("{}", path.display()));
+        progress.suspend(|| crate::print_stdout(&format!("{}\n", path.display())))?;
         progress.inc(1);
     }
     progress.finish_and_clear();

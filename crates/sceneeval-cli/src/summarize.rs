@@ -76,7 +76,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
         summary.write_to(out)?;
     }
-    print!("{markdown}");
+    crate::print_stdout(&markdown)?;
     eprintln!("{} scenes from {} folder(s)", records.len(), args.dirs.len());
     Ok(ExitCode::SUCCESS)
 }

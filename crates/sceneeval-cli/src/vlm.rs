@@ -110,6 +110,9 @@ impl SamplingArgs {
             seed: self.seed.map(|Sent(s)| s),
             max_tokens: self.max_tokens,
             token_limit_field: self.token_limit_field.clone(),
+            timeout: None,
+            rpm: None,
+            tpm: None,
         }
     }
 }
@@ -179,8 +182,8 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     );
     match answers.into_single() {
         Some(Outcome::Answered { answer, attempt, .. }) if answer.correct => {
-            println!(
-                "ok: {} answers model {:?} with structured output and sees images (it called the {TEST_IMAGE_COLOUR} square {:?}{}).",
+            crate::print_stdout(&format!(
+                "ok: {} answers model {:?} with structured output and sees images (it called the {TEST_IMAGE_COLOUR} square {:?}{}).\n",
                 vlm.inner().url(),
                 args.model,
                 answer.colour,
@@ -189,8 +192,8 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
                 } else {
                     ""
                 }
-            );
-            println!("{summary}");
+            ))?;
+            crate::print_stdout(&format!("{summary}\n"))?;
             Ok(ExitCode::SUCCESS)
         }
         Some(Outcome::Answered { answer, .. }) => {

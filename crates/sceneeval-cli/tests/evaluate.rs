@@ -65,8 +65,8 @@ fn broken_scenes_are_recorded_and_the_run_goes_on() {
     assert!(
         csv.starts_with(
             "group,scenes,evaluated,failed,partial,CNT,ATR,OOR,OAR,COL_ob,COL_sc,SUP,NAV,ACC,OOB,DOOR_blk,\
-             WIN_blk,CNT_n,ATR_n,OOR_n,OAR_n,CNT_unanswered,ATR_unanswered,OOR_unanswered,OAR_unanswered,\
-             SUP_fallback,ACC_fallback\n"
+             WIN_blk,STAB,CNT_n,ATR_n,OOR_n,OAR_n,CNT_unanswered,ATR_unanswered,OOR_unanswered,\
+             OAR_unanswered,SUP_fallback,ACC_fallback\n"
         ),
         "{csv}"
     );

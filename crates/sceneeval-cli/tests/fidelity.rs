@@ -45,21 +45,26 @@ fn scores(out: &Path, scene: &str) -> [Value; 4] {
     ]
 }
 
-/// A mock OpenAI-compatible server answering like [`answer`]; after `budget` answers it
-/// refuses every request with 401 (a permanent error). `out` is the run's output folder: a
-/// matching request's object is recognised by its front view there.
+/// A mock OpenAI-compatible server answering like [`answer`] (and the endpoint check a run
+/// sends before its first scene, which is not counted); after `budget` answers it refuses
+/// every request with 401 (a permanent error). `out` is the run's output folder: a matching
+/// request's object is recognised by its front view there.
 async fn mock_server(budget: usize, out: PathBuf) -> wiremock::MockServer {
     let server = wiremock::MockServer::start().await;
-    support::mount_sequence(&server, move |i, req| {
-        if i >= budget {
-            return wiremock::ResponseTemplate::new(401)
-                .set_body_json(json!({"error": {"message": "key revoked"}}));
-        }
+    let answered = std::sync::atomic::AtomicUsize::new(0);
+    support::mount_sequence(&server, move |_, req| {
         let body: Value = req.body_json().unwrap();
         let task = body["response_format"]["json_schema"]["name"]
             .as_str()
             .unwrap_or("")
             .to_owned();
+        if task == "endpoint_check" {
+            return support::json_completion(&json!({"colour": "red", "reason": "a red square"}));
+        }
+        if answered.fetch_add(1, std::sync::atomic::Ordering::SeqCst) >= budget {
+            return wiremock::ResponseTemplate::new(401)
+                .set_body_json(json!({"error": {"message": "key revoked"}}));
+        }
         let text = support::user_text(&body).to_owned();
         let pictured = body["messages"][1]["content"][1]["image_url"]["url"]
             .as_str()
@@ -121,10 +126,10 @@ async fn interrupted_run_resumes_without_asking_again() {
     assert!(partial["report"]["collision"].is_object(), "{partial}");
     let answered_first = support::bodies(&first).await.len();
     assert!(
-        answered_first >= 4,
-        "3 answered and at least one refused: {answered_first}"
+        answered_first >= 5,
+        "the endpoint check, 3 answered and at least one refused: {answered_first}"
     );
-    // The second run asks only the 4 questions not answered before.
+    // The second run asks only the 4 questions not answered before (after its endpoint check).
     let second = mock_server(usize::MAX, out.path().to_owned()).await;
     let url = format!("{}/v1", second.uri());
     let (s, c, o) = (scenes.clone(), csv.clone(), out.path().to_owned());
@@ -132,7 +137,13 @@ async fn interrupted_run_resumes_without_asking_again() {
         .await
         .unwrap();
     assert!(b.status.success(), "{}", String::from_utf8_lossy(&b.stderr));
-    assert_eq!(support::bodies(&second).await.len(), 4);
+    let second_tasks: Vec<Value> = support::bodies(&second)
+        .await
+        .iter()
+        .map(|b| b["response_format"]["json_schema"]["name"].clone())
+        .collect();
+    assert_eq!(second_tasks.len(), 5, "{second_tasks:?}");
+    assert_eq!(second_tasks[0], "endpoint_check");
     assert_eq!(
         scores(out.path(), "scene_8"),
         [json!(4.0 / 6.0), json!(1.0), json!(0.0), json!(1.0)]
@@ -140,7 +151,8 @@ async fn interrupted_run_resumes_without_asking_again() {
     let done = record(out.path(), "scene_8");
     assert_eq!(done["status"], "ok");
     assert_eq!(done["report"]["fidelity"]["vlm_usage"]["requests"], json!(7));
-    // A third run of the finished run sends nothing at all (the record is reused).
+    // A third run of the finished run sends nothing at all, not even the endpoint check (the
+    // record is reused).
     let third = mock_server(usize::MAX, out.path().to_owned()).await;
     let url = format!("{}/v1", third.uri());
     let (s, c, o) = (scenes.clone(), csv.clone(), out.path().to_owned());
@@ -306,7 +318,7 @@ async fn sampling_options_reach_every_request_and_the_key_variable_is_used() {
     .unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let requests = server.received_requests().await.unwrap();
-    assert_eq!(requests.len(), 7, "scene 8's questions");
+    assert_eq!(requests.len(), 8, "the endpoint check and scene 8's 7 questions");
     let mut images = 0;
     for r in &requests {
         assert_eq!(

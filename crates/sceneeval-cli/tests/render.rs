@@ -141,3 +141,25 @@ fn a_missing_driver_names_the_packages_to_install() {
                 .and(predicate::str::contains("panicked").not()),
         );
 }
+
+/// Mesa's device-select layer made every successful render print `error: XDG_RUNTIME_DIR is
+/// invalid or not set in the environment.` where that variable is unset (containers, CI): the
+/// binary keeps the driver's noise out of its output.
+#[test]
+fn a_successful_render_prints_no_driver_noise() {
+    if common::renderer().is_none() {
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let assert = render()
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("NODEVICE_SELECT")
+        .args(["--views", "top", "--size", "32", "--out"])
+        .arg(out.path())
+        .assert()
+        .success();
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+    assert!(!stderr.contains("error"), "{stderr}");
+    assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
+}

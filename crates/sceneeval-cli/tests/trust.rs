@@ -250,3 +250,27 @@ fn a_scene_over_its_time_budget_fails_alone_and_the_run_goes_on() {
         .success()
         .stderr(predicate::str::contains("evaluated because failed before: 2"));
 }
+
+/// `sceneeval inspect --json | head`: a reader that closes the pipe ends the command quietly
+/// and successfully, as for other command-line tools (it printed "error: writing to standard
+/// output: Broken pipe" and failed).
+#[test]
+fn a_closed_pipe_ends_the_command_quietly() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(assert_cmd::cargo::cargo_bin("sceneeval"))
+        .arg("inspect")
+        .arg(fixtures().join("scenes/scene_0.json"))
+        .arg("--assets")
+        .arg(format!("fixture={}", fixtures().join("assets").display()))
+        .arg("--json")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The reader goes away before the command writes anything.
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{:?}: {stderr}", output.status);
+    assert!(stderr.is_empty(), "{stderr}");
+}

@@ -12,6 +12,7 @@
 //! | `expected.json` | [`expected`], measured on each scene as read back from its file |
 //! | `README.md` | [`readme`] |
 //! | `annotations/*.csv` | [`annotations`] (paper examples, malformed rows) and [`scene_annotations`] (one row per scene) |
+//! | `native/<format>/` | [`native`]: scenes in Holodeck's, LayoutVLM's, IDesign's and SceneAgent's own formats, with their assets, for `sceneeval convert` |
 //!
 //! # Frames
 //! Assets are written in the asset frame (y up, front +z, origin at the bottom centre). Scenes
@@ -50,6 +51,7 @@ pub mod assets;
 pub mod build;
 mod error;
 pub mod expected;
+pub mod native;
 pub mod primitives;
 pub mod readme;
 pub mod scene_annotations;
@@ -91,7 +93,7 @@ pub fn default_output_dir() -> PathBuf {
 }
 
 /// Writes `value` as pretty JSON with a trailing newline.
-fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<(), FixtureError> {
+pub(crate) fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<(), FixtureError> {
     let mut text = serde_json::to_string_pretty(value).map_err(|source| FixtureError::Json {
         path: path.to_owned(),
         source,
@@ -192,6 +194,7 @@ pub fn generate(dir: &Path) -> Result<Generated, FixtureError> {
             .into_iter()
             .map(|f| Path::new(ANNOTATION_DIR).join(f)),
     );
+    files.extend(native::write(dir)?);
     files.sort();
     Ok(Generated { files, expected })
 }

@@ -92,7 +92,14 @@ pub fn readme(assets: &[AssetDef], expected: &Expected) -> String {
          objects inside others, navigability, and every object's support). Lists are complete: \
          an empty list claims absence. Lengths in metres, rounded to {rounding:e}.\n\
          - `annotations/`: SceneEval-500 style annotation rows; `fixture_scenes.csv` has one row \
-         per scene above (ID = scene number).\n",
+         per scene above (ID = scene number).\n\
+         - `native/<format>/`: small scenes in the native formats of Holodeck, LayoutVLM, IDesign \
+         and SceneAgent / SceneSmith (`native/<format>/scenes/`, a generator's batch folder), with \
+         the assets they need, built from the furniture above; `sceneeval convert <format> \
+         fixtures/native/<format>/scenes --out DIR` reads them (Holodeck with \
+         `--assets objaverse=fixtures/native/holodeck/objathor`, LayoutVLM with \
+         `--assets layoutvlm-objaverse=fixtures/native/layoutvlm/assets`). The `.blend` files are \
+         placeholders, copied as they are.\n",
         prefix = expected.asset_prefix,
         dir = format_args!("fixtures/{}", expected.asset_dir),
         rounding = expected.rounding,

@@ -53,6 +53,7 @@ mod tritri;
 
 pub use aabb::Aabb;
 pub use conventions::Side;
+pub use distance::ClosestPoints;
 pub use error::GeomError;
 pub use mesh::{Mesh, RayHit};
 pub use obb::Obb;

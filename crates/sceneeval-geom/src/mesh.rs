@@ -7,7 +7,7 @@ use crate::parry::shape::TriMesh;
 use crate::parry_adapter::{point_from_parry, point_to_parry, to_parry_pose, to_parry_vec, vec_from_parry};
 use crate::penetration::{Penetration, PenetrationQuery};
 use crate::solid::SolidTables;
-use crate::{Aabb, GeomError, Isometry3, Matrix3, Obb, Point3, Ray, Real, Vector3, parry};
+use crate::{Aabb, ClosestPoints, GeomError, Isometry3, Matrix3, Obb, Point3, Ray, Real, Vector3, parry};
 
 /// A triangle mesh in its own frame (for a scene object: the object frame), with a parry
 /// [`TriMesh`] and its bounding-volume hierarchy built once at construction, and a second,
@@ -266,6 +266,12 @@ impl Mesh {
     /// they are close. No separate intersection test runs first: parry's costs hundreds of
     /// microseconds for surfaces a few centimetres apart.
     pub fn distance(&self, pose: &Isometry3, other: &Mesh, other_pose: &Isometry3) -> Real {
+        self.closest_points(pose, other, other_pose).distance
+    }
+
+    /// [`Mesh::distance`] (the same value) with a pair of closest points, this mesh's first
+    /// (none when the surfaces touch or cross). Same search, same cost.
+    pub fn closest_points(&self, pose: &Isometry3, other: &Mesh, other_pose: &Isometry3) -> ClosestPoints {
         crate::distance::mesh_mesh(self, pose, other, other_pose)
     }
 
@@ -292,8 +298,14 @@ impl Mesh {
     /// of a convex part facing a wall) is measured without GJK: 1-6 µs for a 5k-triangle mesh
     /// against a wall piece 7 cm to 3.4 m away.
     pub fn distance_to_obb(&self, pose: &Isometry3, obb: &Obb) -> Real {
+        self.closest_points_to_obb(pose, obb).distance
+    }
+
+    /// [`Mesh::distance_to_obb`] (the same value) with a pair of closest points, the mesh's
+    /// first (none when they meet).
+    pub fn closest_points_to_obb(&self, pose: &Isometry3, obb: &Obb) -> ClosestPoints {
         if obb.contains_point(&(pose * self.vertices[0])) {
-            return 0.0;
+            return ClosestPoints::MEETING;
         }
         crate::distance::mesh_box(self, pose, obb)
     }
@@ -309,6 +321,12 @@ impl Mesh {
     /// No allocation: a branch and bound over the mesh's distance tree, as
     /// [`Mesh::distance_to_obb`].
     pub fn distance_to_triangle(&self, pose: &Isometry3, tri: &[Point3; 3]) -> Real {
+        self.closest_points_to_triangle(pose, tri).distance
+    }
+
+    /// [`Mesh::distance_to_triangle`] (the same value) with a pair of closest points, the
+    /// mesh's first (none when they meet).
+    pub fn closest_points_to_triangle(&self, pose: &Isometry3, tri: &[Point3; 3]) -> ClosestPoints {
         crate::distance::mesh_triangle(self, pose, tri)
     }
 

@@ -1,6 +1,6 @@
 use crate::conventions::{Side, rotation_from_yaw, yaw_of};
 use crate::parry_adapter::{to_parry_pose, to_parry_vec};
-use crate::{Aabb, GeomError, Isometry3, Point3, Real, Rotation3, Vector3, parry};
+use crate::{Aabb, ClosestPoints, GeomError, Isometry3, Point3, Real, Rotation3, Vector3, parry};
 
 /// An oriented box: a centre, half extents along the box's own axes, and the rotation that
 /// takes box-local directions to world directions.
@@ -201,6 +201,13 @@ impl Obb {
         crate::distance::box_box(self, other)
     }
 
+    /// [`Obb::distance_to_obb`] (the same value, same cost) with a pair of closest points,
+    /// this box's first (none when the boxes touch or overlap).
+    #[inline]
+    pub fn closest_points_to_obb(&self, other: &Obb) -> ClosestPoints {
+        crate::distance::box_box_closest(self, other)
+    }
+
     /// A lower bound on the distance between the two solid boxes: the larger of the gaps
     /// between each box and the other's bounding box in its frame. Equal to the distance when
     /// the boxes are aligned; 0 when they overlap. Cheaper than [`Obb::distance_to_obb`], for
@@ -213,6 +220,12 @@ impl Obb {
     /// Distance between the solid box and the world triangle `tri` (0 when they meet).
     pub fn distance_to_triangle(&self, tri: &[Point3; 3]) -> Real {
         crate::distance::box_triangle(self, tri)
+    }
+
+    /// [`Obb::distance_to_triangle`] (the same value) with a pair of closest points, the
+    /// box's first (none when they meet).
+    pub fn closest_points_to_triangle(&self, tri: &[Point3; 3]) -> ClosestPoints {
+        crate::distance::box_triangle_closest(self, tri)
     }
 
     /// The box as a parry cuboid and its pose, for queries this crate does not wrap.

@@ -39,6 +39,17 @@ pub fn to_parry_pose(iso: &Isometry3) -> Pose {
     )
 }
 
+#[inline]
+/// A parry pose as a rigid transform (the inverse of [`to_parry_pose`]).
+pub fn pose_from_parry(pose: &Pose) -> Isometry3 {
+    let t = pose.translation;
+    let q = pose.rotation;
+    Isometry3::from_parts(
+        crate::na::Translation3::new(t.x, t.y, t.z),
+        crate::na::UnitQuaternion::new_unchecked(crate::na::Quaternion::new(q.w, q.x, q.y, q.z)),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -51,6 +62,8 @@ mod tests {
         let a = iso * p;
         let b = point_from_parry(pose.transform_point(point_to_parry(&p)));
         assert!((a - b).norm() < 1e-14);
+        // And back, bit for bit.
+        assert_eq!(pose_from_parry(&pose), iso);
         assert_eq!(
             vec_from_parry(to_parry_vec(&Vector3::new(1.0, 2.0, 3.0))),
             Vector3::new(1.0, 2.0, 3.0)

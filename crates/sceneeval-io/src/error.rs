@@ -144,6 +144,15 @@ pub enum IoError {
         /// The model id.
         model_id: String,
     },
+    /// An asset id does not have the form its source's layout needs (e.g. the
+    /// `scene_<ID>__<object id>` of the `idesign` and `scene-agent` layouts).
+    #[error("model id {model_id:?}: the asset id must be {expected}")]
+    BadAssetId {
+        /// The model id.
+        model_id: String,
+        /// The form expected.
+        expected: &'static str,
+    },
     /// No asset source is registered for a model id's prefix.
     #[error("model id {model_id:?}: no asset source for prefix {prefix:?} (registered: {})",
         if .registered.is_empty() { "none".to_owned() } else { .registered.join(", ") })]

@@ -266,6 +266,182 @@ pub fn object_from_file(alignment: Option<&Rotation3>) -> Matrix3 {
     }
 }
 
+/// How an asset object's sceneState `transform.data` is to be read, chosen by its model id's
+/// prefix as the SceneSmith fork of the reference chooses it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TransformFrame {
+    /// The sstk convention: the transform maps the asset file's coordinates (y up, front +z)
+    /// to the world, and the object frame is `T * Rx(-90 deg)`.
+    Asset,
+    /// The transform maps the object frame (z up: the mesh file's coordinates turned by
+    /// `Rx(+90 deg)`, as a glTF importer into a z-up program turns them) to the world
+    /// directly, as for box objects. Generators that export z-up scenes write this
+    /// (IDesign, SceneAgent / SceneSmith: see [`Z_UP_PREFIXES`]).
+    Object,
+}
+
+/// Model id prefixes whose transforms map the z-up object frame ([`TransformFrame::Object`]):
+/// `idesign`, `scene-agent` and `scenesmith`. The fork loads these without its
+/// `Rx(-90 deg)` correction; every other prefix uses [`TransformFrame::Asset`].
+pub const Z_UP_PREFIXES: [&str; 3] = ["idesign", "scene-agent", "scenesmith"];
+
+impl TransformFrame {
+    /// The convention of an asset object's transform, from its model id (`PREFIX.ID`; the
+    /// prefix is the part before the first dot).
+    ///
+    /// ```
+    /// use sceneeval_io::frames::TransformFrame;
+    /// assert_eq!(TransformFrame::for_model_id("scene-agent.scene_3__desk_0"), TransformFrame::Object);
+    /// assert_eq!(TransformFrame::for_model_id("objaverse.0a1b"), TransformFrame::Asset);
+    /// ```
+    pub fn for_model_id(model_id: &str) -> TransformFrame {
+        let prefix = model_id.split_once('.').map_or(model_id, |(p, _)| p);
+        if Z_UP_PREFIXES.contains(&prefix) {
+            TransformFrame::Object
+        } else {
+            TransformFrame::Asset
+        }
+    }
+
+    /// Splits a transform read in this convention into the object's pose and object-frame
+    /// scale.
+    ///
+    /// # Errors
+    /// As [`decompose_sstk`].
+    pub fn placed(self, data: &[Real; 16]) -> Result<PlacedObject, FrameError> {
+        match self {
+            TransformFrame::Asset => asset_pose_from_sstk(data),
+            TransformFrame::Object => box_pose_from_sstk(data),
+        }
+    }
+
+    /// The transform of an object with this pose and object-frame scale, in this convention
+    /// (the inverse of [`TransformFrame::placed`]).
+    pub fn sstk(self, pose: &Isometry3, scale: &Vector3) -> [Real; 16] {
+        match self {
+            TransformFrame::Asset => sstk_from_asset_pose(pose, scale),
+            TransformFrame::Object => sstk_from_box_pose(pose, scale),
+        }
+    }
+}
+
+/// The front an object's asset faces in the object frame (z up) as a scene file declares it
+/// (sceneState `objectFrontVector`): one of the four horizontal axis directions. The model's
+/// convention is [`ObjectFront::MinusY`]; an object declared otherwise is turned when it is
+/// read, so that local -y is its front again ([`ObjectFront::turn`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum ObjectFront {
+    /// `[0, -1, 0]`: the model's convention (and the default).
+    #[default]
+    MinusY,
+    /// `[0, 1, 0]` (IDesign, SceneAgent / SceneSmith).
+    PlusY,
+    /// `[1, 0, 0]`.
+    PlusX,
+    /// `[-1, 0, 0]`.
+    MinusX,
+}
+
+impl ObjectFront {
+    /// The declared front of a vector: it must be finite, horizontal (`z = 0`) and along x
+    /// or y; its length does not matter.
+    ///
+    /// ```
+    /// use sceneeval_io::frames::ObjectFront;
+    /// assert_eq!(ObjectFront::from_vector([0.0, 2.0, 0.0]), Ok(ObjectFront::PlusY));
+    /// assert!(ObjectFront::from_vector([0.6, 0.8, 0.0]).is_err());
+    /// ```
+    ///
+    /// # Errors
+    /// A message saying what is wrong with the vector.
+    pub fn from_vector(v: [Real; 3]) -> Result<ObjectFront, String> {
+        if !v.iter().all(|c| c.is_finite()) {
+            return Err(format!("{v:?} is not finite"));
+        }
+        match v {
+            [x, y, z] if z == 0.0 && x == 0.0 && y < 0.0 => Ok(ObjectFront::MinusY),
+            [x, y, z] if z == 0.0 && x == 0.0 && y > 0.0 => Ok(ObjectFront::PlusY),
+            [x, y, z] if z == 0.0 && y == 0.0 && x > 0.0 => Ok(ObjectFront::PlusX),
+            [x, y, z] if z == 0.0 && y == 0.0 && x < 0.0 => Ok(ObjectFront::MinusX),
+            _ => Err(format!(
+                "{v:?} is not a horizontal axis direction: expected [0, -1, 0], [0, 1, 0], \
+                 [1, 0, 0] or [-1, 0, 0]"
+            )),
+        }
+    }
+
+    /// The unit vector.
+    pub fn vector(self) -> Vector3 {
+        match self {
+            ObjectFront::MinusY => Vector3::new(0.0, -1.0, 0.0),
+            ObjectFront::PlusY => Vector3::new(0.0, 1.0, 0.0),
+            ObjectFront::PlusX => Vector3::new(1.0, 0.0, 0.0),
+            ObjectFront::MinusX => Vector3::new(-1.0, 0.0, 0.0),
+        }
+    }
+
+    /// The turn `Q` about +z with `Q * front = -y`, with exact entries (0 and +-1). An
+    /// object read with this front gets the mesh `Q * m` and the pose `pose * Q^-1`: the same
+    /// world geometry, with local -y now its front.
+    pub fn turn(self) -> Rotation3 {
+        let m = match self {
+            ObjectFront::MinusY => Matrix3::identity(),
+            // Rz(180): (x, y) -> (-x, -y).
+            ObjectFront::PlusY => Matrix3::new(-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0),
+            // Rz(-90): (x, y) -> (y, -x), so +x -> -y.
+            ObjectFront::PlusX => Matrix3::new(0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+            // Rz(+90): (x, y) -> (-y, x), so -x -> -y.
+            ObjectFront::MinusX => Matrix3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+        };
+        Rotation3::from_matrix_unchecked(m)
+    }
+
+    /// An object-frame scale (or box size) after the turn: `Q * diag(s) * Q^-1`, which is
+    /// diagonal because the turn only permutes axes (x and y swap for a quarter turn).
+    pub fn turn_scale(self, s: &Vector3) -> Vector3 {
+        match self {
+            ObjectFront::MinusY | ObjectFront::PlusY => *s,
+            ObjectFront::PlusX | ObjectFront::MinusX => Vector3::new(s.y, s.x, s.z),
+        }
+    }
+
+    /// The turn `Q` as a unit quaternion: its components are 0, +-1 or +-sqrt(1/2), so a
+    /// half turn composes with a pose without rounding.
+    fn turn_quaternion(self) -> UnitQuaternion<Real> {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let (w, k) = match self {
+            ObjectFront::MinusY => (1.0, 0.0),
+            ObjectFront::PlusY => (0.0, 1.0),
+            ObjectFront::PlusX => (h, -h),
+            ObjectFront::MinusX => (h, h),
+        };
+        UnitQuaternion::new_unchecked(sceneeval_geom::na::Quaternion::new(w, 0.0, 0.0, k))
+    }
+
+    /// The pose the model uses for an object placed at `pose` (in the file's object frame)
+    /// with this front: `pose * Q^-1`.
+    pub fn model_pose(self, pose: &Isometry3) -> Isometry3 {
+        if self == ObjectFront::MinusY {
+            return *pose;
+        }
+        Isometry3::from_parts(pose.translation, pose.rotation * self.turn_quaternion().inverse())
+    }
+
+    /// The pose in the file's object frame of an object the model holds at `model_pose`:
+    /// `model_pose * Q` (the inverse of [`ObjectFront::model_pose`]; exact for a half turn,
+    /// to rounding for a quarter turn).
+    pub fn file_pose(self, model_pose: &Isometry3) -> Isometry3 {
+        if self == ObjectFront::MinusY {
+            return *model_pose;
+        }
+        Isometry3::from_parts(
+            model_pose.translation,
+            model_pose.rotation * self.turn_quaternion(),
+        )
+    }
+}
+
 fn isometry(rotation: &Rotation3, translation: &Vector3) -> Isometry3 {
     Isometry3::from_parts(
         Translation3::from(*translation),
@@ -370,6 +546,75 @@ mod tests {
         assert!(
             (d.rotation.matrix() - Matrix3::from_diagonal(&Vector3::new(-1.0, 1.0, -1.0))).norm() < 1e-15
         );
+    }
+
+    #[test]
+    fn fronts_turn_to_minus_y_exactly() {
+        for front in [
+            ObjectFront::MinusY,
+            ObjectFront::PlusY,
+            ObjectFront::PlusX,
+            ObjectFront::MinusX,
+        ] {
+            let q = front.turn();
+            // Q * front = -y, exactly (entries are 0 and +-1), and Q is a rotation about +z.
+            assert_eq!(q * front.vector(), OBJECT_FRONT, "{front:?}");
+            assert_eq!(q * Vector3::z(), Vector3::z());
+            assert_eq!(q.matrix().determinant(), 1.0);
+            // The quaternion is the same rotation.
+            assert!((front.turn_quaternion().to_rotation_matrix().matrix() - q.matrix()).norm() < 1e-15);
+            // Scale: Q diag(s) Q^-1 = diag(turn_scale(s)).
+            let s = Vector3::new(1.0, 2.0, 3.0);
+            let turned = q.matrix() * Matrix3::from_diagonal(&s) * q.inverse().matrix();
+            assert_eq!(turned, Matrix3::from_diagonal(&front.turn_scale(&s)));
+            assert_eq!(ObjectFront::from_vector(front.vector().into()), Ok(front));
+        }
+        // Model pose = pose * Q^-1: the world front of the turned object is pose * front.
+        let pose = Isometry3::new(Vector3::new(1.0, 2.0, 0.0), Vector3::z() * 0.3);
+        for front in [ObjectFront::PlusY, ObjectFront::PlusX, ObjectFront::MinusX] {
+            let model = front.model_pose(&pose);
+            assert!((model.rotation * OBJECT_FRONT - pose.rotation * front.vector()).norm() < 1e-15);
+            let back = front.file_pose(&model);
+            assert!(back.rotation.angle_to(&pose.rotation) < 1e-15);
+        }
+        // A half turn composes without rounding.
+        assert_eq!(
+            ObjectFront::PlusY.file_pose(&ObjectFront::PlusY.model_pose(&pose)),
+            pose
+        );
+        for bad in [
+            [0.0, 0.0, 1.0],
+            [0.6, 0.8, 0.0],
+            [0.0, 1.0, 0.1],
+            [0.0, 0.0, 0.0],
+            [Real::NAN, 1.0, 0.0],
+        ] {
+            assert!(ObjectFront::from_vector(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn z_up_prefixes_read_transforms_in_the_object_frame() {
+        // Rz(90) at (1, 2, 3) with object-frame scale (2, 1, 1): as an object-frame transform
+        // the pose is Rz(90) and the scale (2, 1, 1) as given.
+        let rot = Rotation3::from_axis_angle(&Vector3::z_axis(), FRAC_PI_2);
+        let data = compose_sstk(&rot, &Vector3::new(2.0, 1.0, 1.0), &Vector3::new(1.0, 2.0, 3.0));
+        let frame = TransformFrame::for_model_id("idesign.scene_0__bed_1");
+        assert_eq!(frame, TransformFrame::Object);
+        let placed = frame.placed(&data).unwrap();
+        assert!((placed.pose.rotation.to_rotation_matrix().matrix() - rot.matrix()).norm() < 1e-15);
+        assert_eq!(placed.scale, Vector3::new(2.0, 1.0, 1.0));
+        let back = frame.sstk(&placed.pose, &placed.scale);
+        assert!(back.iter().zip(&data).all(|(a, b)| (a - b).abs() < 1e-15));
+        for (id, expected) in [
+            ("scenesmith.desk_0", TransformFrame::Object),
+            ("scene-agent.scene_0__desk_0", TransformFrame::Object),
+            ("objaverse.abc", TransformFrame::Asset),
+            ("idesignx.a", TransformFrame::Asset),
+            ("idesign", TransformFrame::Object),
+        ] {
+            assert_eq!(TransformFrame::for_model_id(id), expected, "{id}");
+        }
     }
 
     #[test]

@@ -244,32 +244,12 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
     });
     let mut nodes = Vec::with_capacity(meshes.len());
     for m in meshes {
-        let positions_offset = bin.len();
-        for p in &m.positions {
-            for c in p {
-                bin.extend_from_slice(&c.to_le_bytes());
-            }
-        }
-        let positions_len = bin.len() - positions_offset;
-        let indices_offset = bin.len();
-        for i in &m.indices {
-            bin.extend_from_slice(&i.to_le_bytes());
-        }
-        let indices_len = bin.len() - indices_offset;
-        let colors_range = m.colors.as_ref().map(|colors| {
-            let offset = bin.len();
-            for c in colors.iter().flatten() {
-                bin.extend_from_slice(&c.to_le_bytes());
-            }
-            (offset, bin.len() - offset)
-        });
-        let uvs_range = m.uvs.as_ref().map(|uvs| {
-            let offset = bin.len();
-            for c in uvs.iter().flatten() {
-                bin.extend_from_slice(&c.to_le_bytes());
-            }
-            (offset, bin.len() - offset)
-        });
+        let le = |c: &f32| c.to_le_bytes();
+        let (positions_offset, positions_len) = append(&mut bin, m.positions.iter().flatten().map(le));
+        let (indices_offset, indices_len) = append(&mut bin, m.indices.iter().map(|i| i.to_le_bytes()));
+        let colors_range =
+            (m.colors.as_ref()).map(|colors| append(&mut bin, colors.iter().flatten().map(le)));
+        let uvs_range = (m.uvs.as_ref()).map(|uvs| append(&mut bin, uvs.iter().flatten().map(le)));
         let image_range = match m.material.as_ref().and_then(|mat| mat.texture.as_ref()) {
             Some(GlbImage::EmbeddedPng(png)) => {
                 let offset = bin.len();
@@ -299,64 +279,32 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
             json::buffer::Target::ElementArrayBuffer,
         );
         let (min, max) = m.bounds();
-        let positions = root.push(json::Accessor {
-            buffer_view: Some(positions_view),
-            byte_offset: None,
-            count: USize64::from(m.positions.len()),
-            component_type: Valid(json::accessor::GenericComponentType(
-                json::accessor::ComponentType::F32,
-            )),
-            extensions: Default::default(),
-            extras: Default::default(),
-            type_: Valid(json::accessor::Type::Vec3),
-            min: Some(json::Value::from(min.to_vec())),
-            max: Some(json::Value::from(max.to_vec())),
-            name: None,
-            normalized: false,
-            sparse: None,
-        });
-        let indices = root.push(json::Accessor {
-            buffer_view: Some(indices_view),
-            byte_offset: None,
-            count: USize64::from(m.indices.len()),
-            component_type: Valid(json::accessor::GenericComponentType(
-                json::accessor::ComponentType::U32,
-            )),
-            extensions: Default::default(),
-            extras: Default::default(),
-            type_: Valid(json::accessor::Type::Scalar),
-            min: None,
-            max: None,
-            name: None,
-            normalized: false,
-            sparse: None,
-        });
+        use json::accessor::{ComponentType, Type};
+        let positions = push_accessor(
+            &mut root,
+            positions_view,
+            m.positions.len(),
+            (ComponentType::F32, Type::Vec3),
+            Some((min.to_vec(), max.to_vec())),
+        );
+        let indices = push_accessor(
+            &mut root,
+            indices_view,
+            m.indices.len(),
+            (ComponentType::U32, Type::Scalar),
+            None,
+        );
         let mut attributes = BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]);
         let float_accessor = |root: &mut json::Root, (offset, len): (usize, usize), count, type_| {
             let attribute_view = view(root, offset, len, json::buffer::Target::ArrayBuffer);
-            root.push(json::Accessor {
-                buffer_view: Some(attribute_view),
-                byte_offset: None,
-                count: USize64::from(count),
-                component_type: Valid(json::accessor::GenericComponentType(
-                    json::accessor::ComponentType::F32,
-                )),
-                extensions: Default::default(),
-                extras: Default::default(),
-                type_: Valid(type_),
-                min: None,
-                max: None,
-                name: None,
-                normalized: false,
-                sparse: None,
-            })
+            push_accessor(root, attribute_view, count, (ComponentType::F32, type_), None)
         };
         if let Some(range) = colors_range {
-            let acc = float_accessor(&mut root, range, m.positions.len(), json::accessor::Type::Vec4);
+            let acc = float_accessor(&mut root, range, m.positions.len(), Type::Vec4);
             attributes.insert(Valid(json::mesh::Semantic::Colors(0)), acc);
         }
         if let Some(range) = uvs_range {
-            let acc = float_accessor(&mut root, range, m.positions.len(), json::accessor::Type::Vec2);
+            let acc = float_accessor(&mut root, range, m.positions.len(), Type::Vec2);
             attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), acc);
         }
         let material = m
@@ -410,6 +358,43 @@ pub fn write_glb_to_vec(meshes: &[GlbMesh]) -> Result<Vec<u8>, IoError> {
     glb.to_vec().map_err(|e| IoError::BadGlbMesh {
         name: meshes[0].name.clone(),
         reason: format!("cannot assemble the binary glTF: {e}"),
+    })
+}
+
+/// Appends `values` (each a little-endian number) to `bin`; returns their offset and length.
+fn append<const N: usize>(bin: &mut Vec<u8>, values: impl Iterator<Item = [u8; N]>) -> (usize, usize) {
+    let offset = bin.len();
+    for v in values {
+        bin.extend_from_slice(&v);
+    }
+    (offset, bin.len() - offset)
+}
+
+/// Adds an accessor of `count` elements of `kind` (component and element type) in `view` to
+/// `root`, with the bounds `min_max` when given (glTF requires them for positions).
+fn push_accessor(
+    root: &mut json::Root,
+    view: json::Index<json::buffer::View>,
+    count: usize,
+    kind: (json::accessor::ComponentType, json::accessor::Type),
+    min_max: Option<(Vec<f32>, Vec<f32>)>,
+) -> json::Index<json::Accessor> {
+    let (min, max) = min_max.map_or((None, None), |(min, max)| {
+        (Some(json::Value::from(min)), Some(json::Value::from(max)))
+    });
+    root.push(json::Accessor {
+        buffer_view: Some(view),
+        byte_offset: None,
+        count: USize64::from(count),
+        component_type: Valid(json::accessor::GenericComponentType(kind.0)),
+        extensions: Default::default(),
+        extras: Default::default(),
+        type_: Valid(kind.1),
+        min,
+        max,
+        name: None,
+        normalized: false,
+        sparse: None,
     })
 }
 

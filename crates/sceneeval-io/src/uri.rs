@@ -166,7 +166,7 @@ pub fn read_uri(referrer: &Path, uri: &str, max_bytes: u64) -> Result<Vec<u8>, I
 
 /// Reads a whole file after checking that it is a regular file of at most `max_bytes` bytes,
 /// so that an oversized file is refused before anything is allocated for it. Every file this
-/// crate reads from scene or asset input is read here or opened through [`open_input`].
+/// crate reads from scene or asset input is read here or opened through `open_input`.
 ///
 /// # Errors
 /// [`IoError::File`] when the file cannot be opened or read, or is not a regular file (a

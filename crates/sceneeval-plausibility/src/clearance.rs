@@ -216,21 +216,10 @@ fn opening_clearance_counted(
         .par_iter()
         .map(|(room, wall, o)| {
             deadline.check("opening_clearance")?;
-            let depth = match o.kind {
-                OpeningKind::Door if params.door_depth_from_width => o.width(),
-                OpeningKind::Door => params.door_depth,
-                OpeningKind::Window => params.window_depth,
-            };
-            let mut sides = vec![OpeningSide::Room];
-            if params.far_side_when_over_floor {
-                let mid = wall.start() + wall.direction() * (0.5 * (o.along[0] + o.along[1]));
-                let probe = mid - wall.inward_normal() * (wall.thickness() + params.probe_offset);
-                if scene.is_over_floor(&probe) {
-                    sides.push(OpeningSide::Far);
-                }
-            }
+            let (depth, sides) = checked_sides(wall, o, params, |p| scene.is_over_floor(p));
             let sides: Vec<SideClearance> = sides
                 .into_iter()
+                .flatten()
                 .map(|side| {
                     let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance);
                     side_clearance(scene, &candidates, &frame, side, depth, params, deadline)
@@ -262,6 +251,30 @@ fn opening_clearance_counted(
         openings,
     };
     Ok((report, candidates.work.total()))
+}
+
+/// The clearance depth of opening `o` of `wall` and the sides the metric checks: its room's,
+/// and the far one when `over_floor` says a floor lies there.
+pub(crate) fn checked_sides(
+    wall: &Wall,
+    o: &sceneeval_scene::Opening,
+    params: &OpeningClearanceParams,
+    over_floor: impl Fn(&Point2) -> bool,
+) -> (Real, [Option<OpeningSide>; 2]) {
+    let depth = match o.kind {
+        OpeningKind::Door if params.door_depth_from_width => o.width(),
+        OpeningKind::Door => params.door_depth,
+        OpeningKind::Window => params.window_depth,
+    };
+    let mut far = None;
+    if params.far_side_when_over_floor {
+        let mid = wall.start() + wall.direction() * (0.5 * (o.along[0] + o.along[1]));
+        let probe = mid - wall.inward_normal() * (wall.thickness() + params.probe_offset);
+        if over_floor(&probe) {
+            far = Some(OpeningSide::Far);
+        }
+    }
+    (depth, [Some(OpeningSide::Room), far])
 }
 
 /// Coordinates of an opening's side: `u` along the wall from its start, `v` away from the
@@ -300,6 +313,30 @@ impl OpeningFrame {
             hi: [o.along[1], v[1], o.height[1]],
             shrink,
         }
+    }
+
+    /// The box the metric tests (shrunk by the touch tolerance on every face) as a world
+    /// oriented box, or `None` when shrinking leaves nothing.
+    pub(crate) fn shrunk_obb(&self) -> Option<sceneeval_geom::Obb> {
+        let half = |k: usize| 0.5 * (self.hi[k] - self.lo[k]) - self.shrink;
+        let mid = |k: usize| 0.5 * (self.lo[k] + self.hi[k]);
+        let h = sceneeval_geom::Vector3::new(half(0), half(1), half(2));
+        if h.iter().any(|&v| v <= 0.0) {
+            return None;
+        }
+        let p = self.start + self.dir * mid(0) + self.normal * mid(1);
+        let (u, v) = (
+            sceneeval_geom::Vector3::new(self.dir.x, self.dir.y, 0.0),
+            sceneeval_geom::Vector3::new(self.normal.x, self.normal.y, 0.0),
+        );
+        // The third axis is up or down, whichever makes a proper rotation (a box is symmetric).
+        let basis = sceneeval_geom::Matrix3::from_columns(&[u, v, u.cross(&v)]);
+        sceneeval_geom::Obb::new(
+            Point3::new(p.x, p.y, self.base_z + mid(2)),
+            h,
+            sceneeval_geom::Rotation3::from_matrix_unchecked(basis),
+        )
+        .ok()
     }
 
     fn to_frame(&self, p: &Point3) -> Point3 {

@@ -107,6 +107,7 @@ mod accessibility;
 mod category;
 mod clearance;
 mod collision;
+mod contact;
 mod deadline;
 #[cfg(feature = "images")]
 mod diagnostics;
@@ -139,6 +140,7 @@ pub use collision::{
     CollisionParams, CollisionReport, CollisionWork, ContactKind, ObjectCollision, PairContact, collision,
     collision_with_work,
 };
+pub use contact::Contact;
 pub use deadline::Deadline;
 #[cfg(feature = "images")]
 pub use diagnostics::write_diagnostics;

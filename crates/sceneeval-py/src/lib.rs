@@ -6,10 +6,11 @@
 //! `python/sceneeval/_sceneeval.pyi`):
 //!
 //! - `relation(name, target, anchor=None, *, side, arch, targets, room, reference, **params)`
-//!   and `relation_batch(name, targets, anchors=None, *, side, arch, room, reference, **params)`:
-//!   the 23 predicates on boxes given as `(cx, cy, cz, hx, hy, hz, yaw)` rows (numpy float64
-//!   arrays of shape `(N, 7)` for the batch form, `(N, K, 7)` for `surround`'s groups) or as
-//!   dicts with `sceneeval relate`'s keys. Both read their input as the facade's
+//!   and `relation_batch(name, targets, anchors=None, *, side, arch, room, reference, grad,
+//!   **params)`: the 23 predicates on boxes given as `(cx, cy, cz, hx, hy, hz, yaw)` rows
+//!   (numpy float64 arrays of shape `(N, 7)` for the batch form, `(N, K, 7)` for `surround`'s
+//!   groups) or as dicts with `sceneeval relate`'s keys; `grad=True` adds the scores'
+//!   derivatives with respect to every row ([`relations::grad_pairs`] and its siblings). Both read their input as the facade's
 //!   `sceneeval::relate` does and score through the one dispatcher, so they accept exactly
 //!   what `relate` accepts and fail with its messages; rooms given as dicts are prepared once
 //!   and kept in a `sceneeval::relate::Session` for the process, as `relate` keeps its rooms.

@@ -7,12 +7,13 @@
 
 use std::sync::{Arc, LazyLock, Mutex, PoisonError};
 
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use sceneeval::geom::Obb;
 use sceneeval::io::AssetLibrary;
 use sceneeval::relate::{BoxSpec, Session, from_value, under};
+use sceneeval::relations::grad::{self, BoxGrad};
 use sceneeval::relations::{
     self as rel, ObjectGeom, Operands, Relation, RelationError, RelationKind, RelationParams, Targets, batch,
 };
@@ -338,11 +339,21 @@ pub fn relation(
 /// The scores equal relation() called row by row (group by group for surround). Computed
 /// with the GIL released.
 ///
+/// grad=True returns the scores with their gradients, (scores, d_targets, d_anchors):
+/// d_targets[i] and d_anchors[i] are the derivatives of score i with respect to the seven
+/// numbers of its target and anchor rows, in the rows' order (cx, cy, cz, hx, hy, hz, yaw),
+/// float64 arrays of shape (N, 7) (d_targets (N, K, 7) for surround; d_anchors has one row
+/// per score also when one anchor row is shared: sum it for that row's gradient).
+/// Object-architecture relations (room=) return (scores, d_targets): the room is fixed. The
+/// scores are those of grad=False, bit for bit; the derivatives are exact where the score is
+/// differentiable and one-sided at its kinks (see sceneeval_relations::grad in the Rust
+/// documentation).
+///
 /// Raises ValueError when an array is not a float64 numpy array of the right shape, holds a
 /// NaN or infinite number, or when the relation or its arguments are wrong.
 #[pyfunction]
-#[pyo3(signature = (name, targets, anchors=None, *, side=None, arch=None, room=None, reference=false, **params))]
-#[allow(clippy::too_many_arguments)] // The Python signature is fixed by issue 15.
+#[pyo3(signature = (name, targets, anchors=None, *, side=None, arch=None, room=None, reference=false, grad=false, **params))]
+#[allow(clippy::too_many_arguments)] // The Python signature is fixed by issues 15 and 27.
 pub fn relation_batch<'py>(
     py: Python<'py>,
     name: &str,
@@ -352,8 +363,9 @@ pub fn relation_batch<'py>(
     arch: Option<&str>,
     room: Option<&Bound<'py, PyAny>>,
     reference: bool,
+    grad: bool,
     params: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let relation = Relation::from_fields(name, side, arch).map_err(|e| relation_error(&e))?;
     let params = relation_params(reference, params)?;
     let kind = relation.kind();
@@ -392,24 +404,39 @@ pub fn relation_batch<'py>(
         }
         Ok(anchor_rows)
     };
-    let scores = match kind {
+    let err = |e: RelationError| relation_error(&e);
+    match kind {
         RelationKind::ObjectObject => {
             let target_rows = rows::<BOX_COLUMNS>(targets, "targets")?;
             let anchor_rows = anchors_of(target_rows.len())?;
-            detached(py, || {
-                score_pairs(relation, &target_rows, &anchor_rows, &params).map_err(|e| relation_error(&e))
-            })?
+            if grad {
+                let g = detached(py, || {
+                    grad_pairs(relation, &target_rows, &anchor_rows, &params).map_err(err)
+                })?;
+                return g.into_python(py, &[target_rows.len()]);
+            }
+            let scores = detached(py, || {
+                score_pairs(relation, &target_rows, &anchor_rows, &params).map_err(err)
+            })?;
+            Ok(PyArray1::from_vec(py, scores).into_any())
         }
         RelationKind::MultiTarget => {
-            let (target_rows, n, _) = row_groups::<BOX_COLUMNS>(
+            let (target_rows, n, k) = row_groups::<BOX_COLUMNS>(
                 targets,
                 "targets",
                 &format!("(N, K, 7) for {relation} (N groups of K targets)"),
             )?;
             let anchor_rows = anchors_of(n)?;
-            detached(py, || {
-                score_groups(relation, &target_rows, n, &anchor_rows, &params).map_err(|e| relation_error(&e))
-            })?
+            if grad {
+                let g = detached(py, || {
+                    grad_groups(relation, &target_rows, n, &anchor_rows, &params).map_err(err)
+                })?;
+                return g.into_python(py, &[n, k]);
+            }
+            let scores = detached(py, || {
+                score_groups(relation, &target_rows, n, &anchor_rows, &params).map_err(err)
+            })?;
+            Ok(PyArray1::from_vec(py, scores).into_any())
         }
         RelationKind::ObjectArchitecture => {
             let target_rows = rows::<BOX_COLUMNS>(targets, "targets")?;
@@ -419,13 +446,146 @@ pub fn relation_batch<'py>(
                 ))
             })?;
             let room = room_arg(room)?;
-            detached(py, || {
+            if grad {
+                let g = detached(py, || {
+                    let room = room.prepare()?;
+                    grad_in_room(relation, &target_rows, &room, &params).map_err(err)
+                })?;
+                return g.into_python(py, &[target_rows.len()]);
+            }
+            let scores = detached(py, || {
                 let room = room.prepare()?;
-                score_in_room(relation, &target_rows, &room, &params).map_err(|e| relation_error(&e))
-            })?
+                score_in_room(relation, &target_rows, &room, &params).map_err(err)
+            })?;
+            Ok(PyArray1::from_vec(py, scores).into_any())
+        }
+    }
+}
+
+/// Scores with their gradients, as `relation_batch(..., grad=True)` returns them: per score
+/// the derivatives with respect to the seven numbers of its target row(s) and of its anchor
+/// row, in the rows' order `(cx, cy, cz, hx, hy, hz, yaw)` ([`BoxGrad::to_array`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BatchGradient {
+    /// The scores, bit for bit those of the score forms ([`score_pairs`], ...).
+    pub scores: Vec<f64>,
+    /// With respect to each target row, in the order of the rows (`surround`: group by group).
+    pub d_targets: Vec<[f64; BOX_COLUMNS]>,
+    /// With respect to each score's anchor row, one per score (also when the anchor row is
+    /// shared); `None` for object-architecture relations (the room is fixed).
+    pub d_anchors: Option<Vec<[f64; BOX_COLUMNS]>>,
+}
+
+impl BatchGradient {
+    fn with_capacity(scores: usize, targets: usize, anchors: bool) -> Self {
+        BatchGradient {
+            scores: Vec::with_capacity(scores),
+            d_targets: Vec::with_capacity(targets),
+            d_anchors: anchors.then(|| Vec::with_capacity(scores)),
+        }
+    }
+
+    /// The Python tuple `(scores, d_targets, d_anchors)`, or `(scores, d_targets)` without
+    /// anchors; `d_targets` has the shape `targets` followed by 7.
+    fn into_python<'py>(self, py: Python<'py>, targets: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.scores.len();
+        let scores = PyArray1::from_vec(py, self.scores).into_any();
+        let shape: Vec<usize> = targets.iter().copied().chain([BOX_COLUMNS]).collect();
+        let d_targets = PyArray1::from_vec(py, self.d_targets.into_flattened())
+            .reshape(shape)?
+            .into_any();
+        match self.d_anchors {
+            None => Ok(PyTuple::new(py, [scores, d_targets])?.into_any()),
+            Some(d) => {
+                let d_anchors = PyArray1::from_vec(py, d.into_flattened())
+                    .reshape([n, BOX_COLUMNS])?
+                    .into_any();
+                Ok(PyTuple::new(py, [scores, d_targets, d_anchors])?.into_any())
+            }
+        }
+    }
+}
+
+/// [`score_pairs`] with the gradients of the scores ([`grad::pair`]).
+///
+/// ```
+/// use sceneeval_py::relations::grad_pairs;
+/// use sceneeval::relations::{Relation, RelationParams};
+/// // A 0.5 m cube half sunk into a 1 m table (z from 0.75 to 1.25; on_top's plane is the top
+/// // face, z = 1, moved out by its 1e-6 m tolerance): (1.25 - 0.999999) / 0.5 of it is above.
+/// // Raising it by dz raises that share by dz / 0.5: d score / d cz = 2; lowering the table
+/// // raises it alike (d / d anchor cz = -2).
+/// let cube = [[0.0, 0.0, 1.0, 0.25, 0.25, 0.25, 0.0]];
+/// let table = [[0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0]];
+/// let g = grad_pairs(Relation::OnTop, &cube, &table, &RelationParams::default()).unwrap();
+/// assert!((g.scores[0] - 0.500002).abs() < 1e-9);
+/// assert!((g.d_targets[0][2] - 2.0).abs() < 1e-9);
+/// assert!((g.d_anchors.unwrap()[0][2] + 2.0).abs() < 1e-9);
+/// ```
+///
+/// # Errors
+/// As [`score_pairs`]; anchor rows that are neither one nor one per target are a
+/// [`RelationError::LengthMismatch`].
+pub fn grad_pairs(
+    relation: Relation,
+    target_rows: &[[f64; BOX_COLUMNS]],
+    anchor_rows: &[[f64; BOX_COLUMNS]],
+    params: &RelationParams,
+) -> Result<BatchGradient, RelationError> {
+    let n = target_rows.len();
+    let shared = match anchor_rows {
+        [only] if n != 1 => Some(obb_from_row(only, || "anchors[0]".to_owned())?),
+        _ if anchor_rows.len() == n => None,
+        _ => {
+            return Err(RelationError::LengthMismatch {
+                what: "anchors",
+                got: anchor_rows.len(),
+                expected: n,
+            });
         }
     };
-    Ok(PyArray1::from_vec(py, scores))
+    let mut out = BatchGradient::with_capacity(n, n, true);
+    let d_anchors = out.d_anchors.get_or_insert_default();
+    for (i, row) in target_rows.iter().enumerate() {
+        let target = obb_from_row(row, || format!("targets[{i}]"))?;
+        let anchor = match shared {
+            Some(anchor) => anchor,
+            None => obb_from_row(&anchor_rows[i], || format!("anchors[{i}]"))?,
+        };
+        let g = grad::pair(
+            relation,
+            &ObjectGeom::from_box(&target),
+            &ObjectGeom::from_box(&anchor),
+            params,
+        )?;
+        out.scores.push(g.score);
+        out.d_targets.push(g.target.to_array());
+        d_anchors.push(g.anchor.to_array());
+    }
+    Ok(out)
+}
+
+/// [`score_in_room`] with the gradients of the scores with respect to the targets
+/// ([`grad::arch_rooms`]).
+///
+/// # Errors
+/// As [`score_in_room`].
+pub fn grad_in_room(
+    relation: Relation,
+    target_rows: &[[f64; BOX_COLUMNS]],
+    room: &Room,
+    params: &RelationParams,
+) -> Result<BatchGradient, RelationError> {
+    let n = target_rows.len();
+    let mut out = BatchGradient::with_capacity(n, n, false);
+    let rooms = std::slice::from_ref(room);
+    for (i, row) in target_rows.iter().enumerate() {
+        let target = obb_from_row(row, || format!("targets[{i}]"))?;
+        let g = grad::arch_rooms(relation, &ObjectGeom::from_box(&target), rooms, params)?;
+        out.scores.push(g.score);
+        out.d_targets.push(g.target.to_array());
+    }
+    Ok(out)
 }
 
 /// `out[i]` = the relation of target row i to anchor row i (or to the only anchor row).
@@ -537,6 +697,61 @@ pub fn score_groups(
     anchor_rows: &[[f64; BOX_COLUMNS]],
     params: &RelationParams,
 ) -> Result<Vec<f64>, RelationError> {
+    let mut out = Vec::with_capacity(groups);
+    each_group(relation, target_rows, groups, anchor_rows, |targets, anchor| {
+        let centre = |j: usize| targets[j].center;
+        let group = Targets::Centres {
+            count: targets.len(),
+            centre: &centre,
+        };
+        out.push(rel::score(
+            relation,
+            &Operands::surround(group, ObjectGeom::from_box(anchor)),
+            params,
+        )?);
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// [`score_groups`] with the gradients of the scores ([`grad::surround`]): `d_targets` row
+/// by row of `target_rows`, `d_anchors` one per group.
+///
+/// # Errors
+/// As [`score_groups`].
+pub fn grad_groups(
+    relation: Relation,
+    target_rows: &[[f64; BOX_COLUMNS]],
+    groups: usize,
+    anchor_rows: &[[f64; BOX_COLUMNS]],
+    params: &RelationParams,
+) -> Result<BatchGradient, RelationError> {
+    let mut out = BatchGradient::with_capacity(groups, target_rows.len(), true);
+    let d_anchors = out.d_anchors.get_or_insert_default();
+    let mut d = Vec::new();
+    each_group(relation, target_rows, groups, anchor_rows, |targets, anchor| {
+        // One small allocation per group (the views borrow this group's boxes).
+        let views: Vec<ObjectGeom<'_>> = targets.iter().map(ObjectGeom::from_box).collect();
+        d.resize(targets.len(), BoxGrad::ZERO);
+        let (score, d_anchor) = grad::surround(&views, &ObjectGeom::from_box(anchor), params, &mut d)?;
+        out.scores.push(score);
+        out.d_targets.extend(d.iter().map(BoxGrad::to_array));
+        d_anchors.push(d_anchor.to_array());
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// Calls `each(targets, anchor)` for every group of `target_rows` (`groups` groups of equally
+/// many rows, in order) with its anchor (row i, or the only anchor row), the boxes built from
+/// the rows; checks that the relation is multi-target and the rows' counts.
+fn each_group(
+    relation: Relation,
+    target_rows: &[[f64; BOX_COLUMNS]],
+    groups: usize,
+    anchor_rows: &[[f64; BOX_COLUMNS]],
+    mut each: impl FnMut(&[Obb], &Obb) -> Result<(), RelationError>,
+) -> Result<(), RelationError> {
     if relation.kind() != RelationKind::MultiTarget {
         return Err(RelationError::WrongKind {
             relation: relation.to_string(),
@@ -560,7 +775,6 @@ pub fn score_groups(
             expected: groups,
         });
     }
-    let mut out = Vec::with_capacity(groups);
     let mut targets = Vec::with_capacity(k);
     let shared = if broadcast {
         Some(obb_from_row(&anchor_rows[0], || "anchors[0]".to_owned())?)
@@ -577,18 +791,9 @@ pub fn score_groups(
             Some(anchor) => anchor,
             None => obb_from_row(&anchor_rows[i], || format!("anchors[{i}]"))?,
         };
-        let centre = |j: usize| targets[j].center;
-        let group = Targets::Centres {
-            count: targets.len(),
-            centre: &centre,
-        };
-        out.push(rel::score(
-            relation,
-            &Operands::surround(group, ObjectGeom::from_box(&anchor)),
-            params,
-        )?);
+        each(&targets, &anchor)?;
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Every relation with every argument, in the printed form relation() accepts (side_of(left),
@@ -744,7 +949,125 @@ mod tests {
     }
 
     #[test]
+    fn gradient_forms_give_the_scores_bit_for_bit_and_the_kernels_gradients() {
+        let params = RelationParams::default();
+        let targets: Vec<_> = (0..40)
+            .map(|i| {
+                let t = f64::from(i);
+                [0.1 * t, 0.05 * t, 0.4, 0.3, 0.25, 0.4, 0.2 * t]
+            })
+            .collect();
+        let anchors: Vec<_> = (0..40)
+            .map(|i| [1.0, 0.5 + 0.02 * f64::from(i), 0.5, 0.5, 0.4, 0.5, 0.1])
+            .collect();
+        for relation in Relation::all().filter(|r| r.kind() == RelationKind::ObjectObject) {
+            let scores = score_pairs(relation, &targets, &anchors, &params).unwrap();
+            let g = grad_pairs(relation, &targets, &anchors, &params).unwrap();
+            assert_eq!(g.scores, scores, "{relation}");
+            let d_anchors = g.d_anchors.unwrap();
+            assert_eq!((g.d_targets.len(), d_anchors.len()), (40, 40));
+            let (t, a) = (
+                obbs_from_rows(&targets[7..8], "t").unwrap(),
+                obbs_from_rows(&anchors[7..8], "a").unwrap(),
+            );
+            let one = grad::pair(
+                relation,
+                &ObjectGeom::from_box(&t[0]),
+                &ObjectGeom::from_box(&a[0]),
+                &params,
+            )
+            .unwrap();
+            assert_eq!(
+                (g.d_targets[7], d_anchors[7]),
+                (one.target.to_array(), one.anchor.to_array())
+            );
+            // One anchor row for every target: one anchor gradient per score, as when repeated.
+            let shared = grad_pairs(relation, &targets, &anchors[..1], &params).unwrap();
+            let repeated = grad_pairs(relation, &targets, &vec![anchors[0]; 40], &params).unwrap();
+            assert_eq!(shared, repeated, "{relation}");
+        }
+        assert!(matches!(
+            grad_pairs(Relation::Near, &targets, &anchors[..2], &params),
+            Err(RelationError::LengthMismatch { what: "anchors", .. })
+        ));
+        assert!(grad_pairs(Relation::OnWall, &targets, &anchors, &params).is_err());
+        let room = RoomSpec::new(vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]])
+            .build()
+            .unwrap();
+        for relation in Relation::all().filter(|r| r.kind() == RelationKind::ObjectArchitecture) {
+            let g = grad_in_room(relation, &targets, &room, &params).unwrap();
+            assert_eq!(
+                g.scores,
+                score_in_room(relation, &targets, &room, &params).unwrap(),
+                "{relation}"
+            );
+            assert_eq!((g.d_targets.len(), g.d_anchors), (40, None));
+        }
+        // Row 0 (centred on the corner (0, 0) of the floor, a quarter of it over the floor):
+        // moving it by dx along +x puts dx / 0.6 more of its width over the floor, so the share
+        // grows by 0.5 dx / 0.6 (the other half of the depth stays out).
+        let g = grad_in_room(Relation::InsideRoom, &targets[..1], &room, &params).unwrap();
+        assert!((g.scores[0] - 0.25).abs() < 1e-9, "{}", g.scores[0]);
+        assert!(
+            (g.d_targets[0][0] - 0.5 / 0.6).abs() < 1e-9,
+            "{:?}",
+            g.d_targets[0]
+        );
+        let err = grad_in_room(Relation::InsideRoom, &[[f64::NAN; 7]], &room, &params).unwrap_err();
+        assert_eq!(err.to_string(), "targets[0].center is not finite");
+    }
+
+    #[test]
+    fn surround_gradients_come_per_target_and_per_group() {
+        let params = RelationParams::default();
+        let chair = |x: f64, y: f64| [x, y, 0.4, 0.25, 0.25, 0.4, 0.3];
+        let rows = [
+            chair(1.0, 0.0),
+            chair(0.0, 1.2),
+            chair(-1.0, 0.1),
+            chair(0.2, -1.0),
+            chair(1.0, 0.0),
+            chair(0.0, 1.0),
+            chair(-1.0, 0.0),
+            chair(0.0, -1.0),
+        ];
+        let anchors = [[0.0, 0.0, 0.4, 0.5, 0.5, 0.4, 0.0]];
+        let g = grad_groups(Relation::Surround, &rows, 2, &anchors, &params).unwrap();
+        assert_eq!(
+            g.scores,
+            score_groups(Relation::Surround, &rows, 2, &anchors, &params).unwrap()
+        );
+        let d_anchors = g.d_anchors.unwrap();
+        assert_eq!((g.d_targets.len(), d_anchors.len()), (8, 2));
+        // Group 1 is evenly spread (score 1, its maximum): no derivative. Group 0 is not.
+        assert_eq!(g.scores[1], 1.0);
+        assert!(g.d_targets[4..].iter().flatten().all(|d| d.abs() < 1e-12));
+        assert!(g.d_targets[..4].iter().flatten().any(|d| d.abs() > 1e-3));
+        // Moving everything together changes nothing: the anchor's centre derivative is minus
+        // the sum of the targets'.
+        for c in 0..3 {
+            let sum: f64 = g.d_targets[..4].iter().map(|d| d[c]).sum();
+            assert!((d_anchors[0][c] + sum).abs() < 1e-12);
+        }
+        assert!(grad_groups(Relation::Near, &rows, 2, &anchors, &params).is_err());
+        let many = vec![chair(1.0, 0.0); sceneeval::relations::SURROUND_REFERENCE_MAX_TARGETS + 1];
+        let err = grad_groups(
+            Relation::Surround,
+            &many,
+            1,
+            &anchors,
+            &RelationParams::reference(),
+        );
+        assert!(
+            matches!(err, Err(RelationError::TooManyTargets { .. })),
+            "{err:?}"
+        );
+    }
+
+    #[test]
     fn rooms_are_built_once_per_key_and_failures_are_not_kept() {
+        // The errors are Python exceptions: their text needs the interpreter.
+        Python::initialize();
         let session = Mutex::new(Session::new(RelationParams::default(), AssetLibrary::new(), 4));
         let arg = |key: &str, value: serde_json::Value| RoomArg {
             key: key.to_owned(),

@@ -12,7 +12,7 @@ use sceneeval::{EvalError, EvaluationRequest, Metric, PlanRequest, Preset, Reque
 use serde::Serialize;
 
 use crate::convert::{to_json, to_python};
-use crate::errors::{SceneEvalError, chain, detached, eval_error, value_error};
+use crate::errors::{SceneEvalError, chain, detached, value_error};
 
 /// The keyword of `sceneeval.evaluate` that sets `field`.
 pub fn keyword(field: RequestField) -> &'static str {
@@ -39,6 +39,9 @@ pub fn keyword(field: RequestField) -> &'static str {
         RequestField::VlmSeed => "vlm[\"seed\"]",
         RequestField::VlmMaxTokens => "vlm[\"max_tokens\"]",
         RequestField::VlmTokenLimitField => "vlm[\"token_limit_field\"]",
+        RequestField::VlmTimeout => "vlm[\"timeout\"]",
+        RequestField::VlmRpm => "vlm[\"rpm\"]",
+        RequestField::VlmTpm => "vlm[\"tpm\"]",
         _ => "vlm",
     }
 }
@@ -199,8 +202,9 @@ fn request(
 
 /// The evaluation request evaluate() makes of the same arguments, as a dict: what
 /// `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
+/// dry_run is accepted as evaluate() takes it; it is not part of the request.
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None))]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, dry_run=false))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluation_request<'py>(
     py: Python<'py>,
@@ -217,7 +221,9 @@ pub fn evaluation_request<'py>(
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
+    dry_run: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let _ = dry_run;
     let request = request(
         py,
         scenes_dir,
@@ -235,6 +241,14 @@ pub fn evaluation_request<'py>(
         threads,
     )?;
     to_python(py, &request)
+}
+
+/// What `evaluate(dry_run=True)` returns.
+#[derive(Debug, Serialize)]
+struct DryRunReport {
+    #[serde(flatten)]
+    run: sceneeval::DryRun,
+    total: sceneeval::TaskCost,
 }
 
 /// What `evaluate` returns: the summary and what happened to each scene.
@@ -282,16 +296,28 @@ struct Failure {
 /// vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
 /// dict with base_url and model (required), api_key_env (the variable holding the key, which
 /// must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
-/// concurrency (4), render_size (512, the object views shown), detail ("low"), temperature (0;
-/// None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens
-/// and token_limit_field ("max_tokens" or "max_completion_tokens"). Without a VLM the
+/// concurrency (4: requests in flight over the whole run, whatever the threads; halved on a 429
+/// and grown back), render_size (512, the object views shown), detail ("low"), temperature (0;
+/// None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens,
+/// token_limit_field ("max_tokens" or "max_completion_tokens"), timeout (60: seconds per
+/// request attempt; time_budget bounds a scene's whole wait for the VLM), rpm and tpm (caps on
+/// requests and estimated tokens per minute; none by default). The dict is checked whatever the
+/// plan; VLM settings a plan without text-fidelity metrics does not use are reported with a
+/// UserWarning. Before the first scene evaluated, one small request checks the endpoint: an
+/// unreachable server or a refused key raises SceneEvalError at once. Without a VLM the
 /// text-fidelity metrics match objects by labels (or a matching file) and map relations with the
 /// lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
 /// the run's note. A re-run into the same out reuses a scene's result while nothing it depends
 /// on changed (force=True evaluates every scene again). threads: worker threads (default one
-/// per core). Runs with the GIL released.
+/// per core). dry_run=True evaluates nothing, writes nothing and sends nothing: it returns what
+/// the run would ask the VLM (see below). Runs with the GIL released.
 ///
-/// Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
+/// With dry_run=True, returns scenes, evaluated (scenes the run would evaluate), reused,
+/// attributes_estimated (scenes whose attribute requests are estimated: one per ObjAttr entry,
+/// as their matching is not cached), failed ([scene, why] pairs), vlm (whether a VLM would be
+/// asked), tasks (per task: task, requests, cached, estimated, prompt_tokens: the estimated
+/// input tokens of the requests to send) and total (the same, summed), as
+/// `sceneeval evaluate --dry-run` prints them. Otherwise returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
 /// scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
 /// text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
 /// summary.csv as a dict). A scene that fails is recorded, not raised.
@@ -299,7 +325,7 @@ struct Failure {
 /// ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
 /// with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None))]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, dry_run=false))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluate<'py>(
     py: Python<'py>,
@@ -316,6 +342,7 @@ pub fn evaluate<'py>(
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
+    dry_run: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = request(
         py,
@@ -334,6 +361,21 @@ pub fn evaluate<'py>(
         threads,
     )?;
     let prepared = detached(py, || request.prepare().map_err(|e| request_error(&e)))?;
+    for warning in prepared.warnings() {
+        let category = py.get_type::<PyUserWarning>();
+        let message = std::ffi::CString::new(warning.as_str()).map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    if dry_run {
+        let dry = detached(py, || Ok::<_, PyErr>(prepared.dry_run()))?;
+        return to_python(
+            py,
+            &DryRunReport {
+                total: dry.total(),
+                run: dry,
+            },
+        );
+    }
     let note = prepared
         .fallback()
         .map(|f| format!("no VLM configured (the Python package runs without one): {f}"));
@@ -342,7 +384,7 @@ pub fn evaluate<'py>(
         let message = std::ffi::CString::new(note.as_str()).map_err(|e| value_error(e.to_string()))?;
         PyErr::warn(py, &category, &message, 1)?;
     }
-    let outcome = detached(py, || prepared.run(&|_| {}).map_err(|e| eval_error(&e)))?;
+    let outcome = detached(py, || prepared.run(&|_| {}).map_err(|e| request_error(&e)))?;
     let failures = outcome
         .batch
         .records

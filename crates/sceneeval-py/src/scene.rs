@@ -13,9 +13,10 @@ use sceneeval::geom::conventions::pose_from_yaw;
 use sceneeval::geom::{Point3, Vector3};
 use sceneeval::inspect::{ObjectInfo, RoomInfo, SceneInfo};
 use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
+use sceneeval::physics::WeldMode;
 use sceneeval::relations::{Query, Relation, SceneRelations};
 use sceneeval::scene::{Category, Room, Scene, SceneObject};
-use sceneeval::{EvaluationPlan, Evaluator, PlanRequest};
+use sceneeval::{Deadline, EvaluationPlan, Evaluator, PlanRequest};
 
 use crate::convert::{rows, to_json, to_python};
 use crate::errors::{chain, detached, eval_error, relation_error, scene_error, value_error};
@@ -99,6 +100,23 @@ fn plausibility_plan(
         )));
     }
     Ok(chosen.plan)
+}
+
+/// The evaluator and deadline of `Scene.stability` and `Scene.settle`: the plan file's
+/// `stability` section (default: the built-in one) with `weld` replacing its weld mode.
+fn stability_evaluator(plan: Option<PathBuf>, weld: Option<&str>) -> PyResult<(Evaluator, Deadline)> {
+    let mut plan = match plan {
+        Some(path) => EvaluationPlan::read(&path).map_err(|e| value_error(format!("plan: {}", chain(&e))))?,
+        None => EvaluationPlan::geometry_only(),
+    };
+    if let Some(weld) = weld {
+        plan.stability.weld = weld
+            .parse::<WeldMode>()
+            .map_err(|e| value_error(format!("weld: {e}")))?;
+    }
+    let deadline = plan.deadline();
+    let evaluator = Evaluator::new(plan).map_err(|e| value_error(format!("plan: {}", chain(&e))))?;
+    Ok((evaluator, deadline))
 }
 
 /// An asset library from `{prefix: folder}` (a folder may be written `LAYOUT:folder`).
@@ -293,7 +311,8 @@ impl PyScene {
     }
 
     /// Every object as a dict: id, index, model_id, category, description, is_box, center, size
-    /// (full width, depth, height), yaw, scale, support_type, functional_sides.
+    /// (full width, depth, height), yaw, front (world direction of its front), asset_front (the
+    /// front its file declared, or None), scale, support_type, functional_sides.
     #[getter]
     fn objects<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.to_python_with(py, |scene| {
@@ -453,6 +472,52 @@ impl PyScene {
                 .map_err(|e| eval_error(&e))
         })?;
         to_python(py, &report)
+    }
+
+    /// Simulates the scene under gravity (the stability metric) and returns its report as
+    /// eval.json's report.stability: per object id, stable, displacement_m, rotation_rad,
+    /// welded, weld_reason, final_pose, ...; and frac_unstable (unstable over the objects free
+    /// to move; None when none was, with frac_unstable_missing saying why).
+    ///
+    /// plan: the path of a plan file whose stability section (and time budget) applies;
+    /// weld: "architectural" (default: objects on walls and ceilings are fixed in place),
+    /// "penetration", "combined" or "none", replacing the plan's. Support types come from
+    /// what the objects state, then the category tables. The scene is not moved. Computed
+    /// with the GIL released.
+    ///
+    /// Raises ValueError for a bad plan or weld mode, SceneEvalError when the scene cannot
+    /// be simulated (no room, hence no floor; the time budget ran out).
+    #[pyo3(signature = (*, plan=None, weld=None))]
+    fn stability<'py>(
+        &self,
+        py: Python<'py>,
+        plan: Option<PathBuf>,
+        weld: Option<&str>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (evaluator, deadline) = stability_evaluator(plan, weld)?;
+        let report = detached(py, || {
+            self.with_scene(|scene| evaluator.stability(scene, &deadline))
+                .map_err(|e| eval_error(&e))
+        })?;
+        to_python(py, &report)
+    }
+
+    /// Simulates the scene as stability() does and returns (settled, report): a new Scene
+    /// with every object at its pose after the simulation (fixed objects where they were),
+    /// and the report. This scene is not moved. Arguments and errors as stability().
+    #[pyo3(signature = (*, plan=None, weld=None))]
+    fn settle<'py>(
+        &self,
+        py: Python<'py>,
+        plan: Option<PathBuf>,
+        weld: Option<&str>,
+    ) -> PyResult<(PyScene, Bound<'py, PyAny>)> {
+        let (evaluator, deadline) = stability_evaluator(plan, weld)?;
+        let (settled, report) = detached(py, || {
+            self.with_scene(|scene| evaluator.settle(scene, &deadline))
+                .map_err(|e| eval_error(&e))
+        })?;
+        Ok((PyScene::new(settled), to_python(py, &report)?))
     }
 
     /// The score of a relation between objects of this scene, by object id.

@@ -21,11 +21,13 @@ CASES = [
     (["--plan", "full", "--annotations", "a.csv", "--vlm-base-url", "http://127.0.0.1:9/v1",
       "--vlm-model", "m", "--vlm-api-key-env", "MY_KEY", "--vlm-concurrency", "16", "--render-size", "256",
       "--vlm-cache", "cache", "--vlm-detail", "high", "--vlm-temperature", "none", "--vlm-seed", "7",
-      "--vlm-max-tokens", "300", "--vlm-token-limit-field", "max_completion_tokens"],
+      "--vlm-max-tokens", "300", "--vlm-token-limit-field", "max_completion_tokens",
+      "--vlm-timeout", "30", "--vlm-rpm", "500", "--vlm-tpm", "30000"],
      {"plan": "full", "annotations": "a.csv",
       "vlm": {"base_url": "http://127.0.0.1:9/v1", "model": "m", "api_key_env": "MY_KEY", "concurrency": 16,
               "render_size": 256, "cache": "cache", "detail": "high", "temperature": None, "seed": 7,
-              "max_tokens": 300, "token_limit_field": "max_completion_tokens"}}),
+              "max_tokens": 300, "token_limit_field": "max_completion_tokens",
+              "timeout": 30, "rpm": 500, "tpm": 30000}}),
 ]
 
 

@@ -271,3 +271,41 @@ def test_a_scene_is_shared_between_threads():
     for t in threads:
         t.join()
     assert seen <= {1.0, round(np.exp(-8.0), 12)}
+
+
+def test_stability_reports_the_fallen_crate_and_settle_lands_it():
+    # A desk resting on the floor and a 0.4 m crate 5 cm above it; the crate falls 5 cm
+    # (over the 1 cm limit): 1 of the 2 free objects is unstable.
+    boxes = np.array([[1.0, 2.0, 0.4, 0.5, 0.5, 0.4, 0.0], [3.0, 2.0, 0.25, 0.2, 0.2, 0.2, 0.0]])
+    scene = sceneeval.Scene.from_boxes(boxes, ROOM, categories=["desk", "box"], ids=["desk", "crate"])
+    report = scene.stability()
+    assert report["weld"] == "architectural"
+    desk, crate = report["objects"]
+    assert desk["stable"] and not desk["welded"] and desk["weld_reason"] is None
+    assert not crate["stable"] and crate["displacement_m"] == pytest.approx(0.05, abs=5e-3)
+    assert report["frac_unstable"] == 0.5
+    assert np.array_equal(scene.boxes(), boxes), "stability() does not move the scene"
+    settled, again = scene.settle(weld="none")
+    assert again["weld"] == "none" and again["frac_unstable"] == 0.5
+    # The crate's centre came down to 0.2 m; the desk stayed.
+    assert settled.boxes()[1, 2] == pytest.approx(0.2, abs=1e-3)
+    assert settled.boxes()[0, 2] == pytest.approx(0.4, abs=1e-3)
+    assert settled.stability()["frac_unstable"] == 0.0
+    json.dumps(report)  # plain values only
+
+
+def test_stability_of_a_fixture_room_and_its_errors(tmp_path):
+    scene = sceneeval.load_scene(FIXTURES / "scenes" / "scene_0.json", {"fixture": FIXTURES / "assets"})
+    report = scene.stability()
+    # The tidy bedroom: the painting (wall) and the ceiling lamp are welded, the rest stays.
+    assert [o["weld_reason"] for o in report["objects"] if o["welded"]] == ["wall", "ceiling"]
+    assert report["frac_unstable"] == 0.0
+    with pytest.raises(ValueError, match="weld: unknown weld mode"):
+        scene.stability(weld="glued")
+    plan = tmp_path / "plan.json"
+    plan.write_text('{"stability": {"duration_s": -1}}')
+    with pytest.raises(ValueError, match="stability.duration_s"):
+        scene.settle(plan=plan)
+    roomless = sceneeval.Scene.from_boxes(np.array([[1.0, 1.0, 0.2, 0.2, 0.2, 0.2, 0.0]]), rooms=[])
+    with pytest.raises(sceneeval.SceneEvalError, match="has no room"):
+        roomless.stability()

@@ -53,6 +53,8 @@ def answer(task, user_text, pictured):
                                  "reason": "used from the front"} for i in ids]}
     if task == "obj_support_type":
         return {"support_type": "ground", "reason": "on the floor"}
+    if task == "endpoint_check":
+        return {"colour": "red", "reason": "a red square"}
     if task == "obj_relationship_mapping":
         return {"assessments": [{"key": "1", "relationship": "in_harmony_with", "anchor_object": "bed",
                                  "other_objects": ["wardrobe"], "other_object_counts": [1],
@@ -147,8 +149,10 @@ def test_evaluate_asks_the_vlm_as_the_cli_does(sceneeval_bin, scene_8, tmp_path,
     assert (run["evaluated"], run["failed"], run["note"]) == (1, 0, None)
     py_record = (tmp_path / "py" / "scene_8" / "eval.json").read_bytes()
     assert py_record == (tmp_path / "cli" / "scene_8" / "eval.json").read_bytes()
-    # Functional sides, four matchings, one attribute, one relation mapping; the settings given.
-    assert len(py_server.requests) == len(cli_server.requests) == 7
+    # The endpoint check, then functional sides, four matchings, one attribute, one relation
+    # mapping; the settings given.
+    assert len(py_server.requests) == len(cli_server.requests) == 8
+    assert py_server.requests[0][1]["response_format"]["json_schema"]["name"] == "endpoint_check"
     for headers, body in py_server.requests:
         assert headers["authorization"] == "Bearer sk-python-test"
         assert "temperature" not in body and body["seed"] == 7 and body["model"] == "test-model"
@@ -165,7 +169,8 @@ def test_evaluate_asks_the_vlm_as_the_cli_does(sceneeval_bin, scene_8, tmp_path,
         )
     finally:
         again.close()
-    assert again.requests == []
+    # Only the endpoint check made before the first scene.
+    assert [b["response_format"]["json_schema"]["name"] for _, b in again.requests] == ["endpoint_check"]
     # The record does not depend on where the answers came from: byte for byte the first one.
     assert (tmp_path / "py" / "scene_8" / "eval.json").read_bytes() == py_record
     report = json.loads(py_record)["report"]
@@ -190,7 +195,40 @@ def test_bad_vlm_settings_raise_before_any_request(scene_8, tmp_path, server, mo
         ({**base, "api_key_env": "SCENEEVAL_UNSET_KEY_VAR"}, r'^vlm\["api_key_env"\]: no API key: .*SCENEEVAL_UNSET_KEY_VAR: is not set or empty'),
         ({**base, "base_url": "localhost:9"}, r'^vlm\["base_url"\]: cannot set up the VLM client: .*base URL'),
         ({**base, "cache": 3}, r'vlm\["cache"\] must be a path'),
+        ({**base, "timeout": 0}, r'^vlm\["timeout"\]: 0 is not a number of seconds above 0'),
+        ({**base, "rpm": 0}, r'^vlm\["rpm"\]: must be at least 1 request per minute'),
+        ({**base, "tpm": 0}, r'^vlm\["tpm"\]: must be at least 1 token per minute'),
     ]:
         with pytest.raises(ValueError, match=message):
             evaluate(vlm)
     assert server.requests == []
+
+
+def test_vlm_settings_are_checked_and_reported_unused_whatever_the_plan(scene_8, tmp_path, server):
+    scenes, _ = scene_8
+    vlm = {"base_url": server.url, "model": "m"}
+    with pytest.warns(UserWarning, match="the plan runs no text-fidelity metric .* the VLM options are not used"):
+        run = sceneeval.evaluate(scenes, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "o",
+                                 plan="collision", vlm=vlm)
+    assert run["evaluated"] == 1
+    with pytest.raises(ValueError, match=r'^vlm\["detail"\]'):
+        sceneeval.evaluate(scenes, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "o",
+                           plan="collision", vlm={**vlm, "detail": "medium"})
+    assert server.requests == []
+
+
+def test_a_dry_run_sends_nothing(scene_8, tmp_path, server):
+    scenes, csv = scene_8
+    dry = sceneeval.evaluate(
+        scenes, assets={"fixture": FIXTURES / "assets"}, out=tmp_path / "o", annotations=csv, plan="full",
+        relation_mapping="lexicon", dry_run=True,
+        vlm={"base_url": server.url, "model": "test-model", "render_size": 64},
+    )
+    assert server.requests == []
+    assert not (tmp_path / "o" / "scene_8").exists()
+    assert (dry["scenes"], dry["evaluated"], dry["reused"]) == (1, 1, 0)
+    tasks = {t["task"]: t for t in dry["tasks"]}
+    # Scene 8's four objects; one ObjAttr entry, estimated (the matching is not cached).
+    assert (tasks["obj_matching"]["requests"], tasks["obj_matching"]["cached"]) == (4, 0)
+    assert (tasks["obj_attribute"]["requests"], tasks["obj_attribute"]["estimated"]) == (1, 1)
+    assert dry["total"]["prompt_tokens"] > 0

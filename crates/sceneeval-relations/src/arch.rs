@@ -12,10 +12,10 @@
 //! their distance), and the search stops when no remaining element can beat the best score:
 //! the result is the exact maximum, usually after one or two exact distance queries.
 
-use sceneeval_geom::{Obb, Point3, Real, Vector3};
+use sceneeval_geom::{ClosestPoints, Obb, Point3, Real, Vector3};
 
 use crate::clip::{HalfSpace, box_volume_inside};
-use crate::distance::{object_box, object_triangle};
+use crate::distance::{object_box_closest, object_triangle_closest};
 use crate::pairwise::{FrameBox, effective_half, fraction_in_frame_box};
 use crate::params::{CornerWalls, DistanceBand, DistanceFrom, RoomCentre};
 use crate::{ArchElement, ObjectGeom, Relation, RelationError, RelationParams};
@@ -23,13 +23,13 @@ use sceneeval_scene::{Room, Wall};
 
 /// The object as the distance terms see it (its box in [`DistanceFrom::SmallerBox`] mode),
 /// and one point of it (for upper bounds on distances).
-struct Probe<'a> {
-    geom: ObjectGeom<'a>,
+pub(crate) struct Probe<'a> {
+    pub geom: ObjectGeom<'a>,
     point: Point3,
 }
 
 impl<'a> Probe<'a> {
-    fn new(a: &ObjectGeom<'a>, params: &RelationParams) -> Self {
+    pub(crate) fn new(a: &ObjectGeom<'a>, params: &RelationParams) -> Self {
         let geom = match params.distance_from {
             DistanceFrom::Geometry => *a,
             DistanceFrom::SmallerBox => a.as_box(),
@@ -45,10 +45,10 @@ impl<'a> Probe<'a> {
         Probe { geom, point }
     }
 
-    /// Exact distance to a solid box.
+    /// Exact distance to a solid box, with closest points (the object's first).
     #[inline]
-    fn distance(&self, b: &Obb) -> Real {
-        object_box(&self.geom, b)
+    fn closest(&self, b: &Obb) -> ClosestPoints {
+        object_box_closest(&self.geom, b)
     }
 
     /// A lower bound on [`Probe::distance`] (the object lies in its box).
@@ -58,12 +58,19 @@ impl<'a> Probe<'a> {
     }
 
     /// Exact distance to the union of `pieces`, skipping pieces that cannot be nearer than
-    /// the nearest one found so far.
-    fn distance_to_union(&self, pieces: &[Obb]) -> Real {
-        let mut best = Real::INFINITY;
+    /// the nearest one found so far; with the closest points (the first of equally near
+    /// pieces').
+    fn closest_to_union(&self, pieces: &[Obb]) -> ClosestPoints {
+        let mut best = ClosestPoints {
+            distance: Real::INFINITY,
+            points: None,
+        };
         for piece in pieces {
-            if self.lower_bound(piece) < best {
-                best = best.min(self.distance(piece));
+            if self.lower_bound(piece) < best.distance {
+                let c = self.closest(piece);
+                if c.distance < best.distance {
+                    best = c;
+                }
             }
         }
         best
@@ -105,6 +112,7 @@ const ORDER_CAPACITY: usize = 32;
 
 /// Calls `visit(i)` for `i` in `0..n` in decreasing order of `upper(i)` while `upper(i)` is
 /// above the best score `visit` has returned so far; returns that best score (0 if none).
+/// The element behind it is the first `visit` call that returned it.
 /// Beyond [`ORDER_CAPACITY`] elements the rest are visited in index order, with the same
 /// test. The result is the exact maximum: only elements that cannot beat it are skipped.
 fn best_of(n: usize, upper: impl Fn(usize) -> Real, mut visit: impl FnMut(usize) -> Real) -> Real {
@@ -132,7 +140,32 @@ fn best_of(n: usize, upper: impl Fn(usize) -> Real, mut visit: impl FnMut(usize)
 /// Distance from an object to a wall's solid (its slab with doors and windows cut out),
 /// as the architecture relations measure it (the mesh when given).
 pub fn wall_distance(target: &ObjectGeom<'_>, wall: &Wall) -> Real {
-    Probe::of(*target).distance_to_union(wall.solid_boxes())
+    Probe::of(*target).closest_to_union(wall.solid_boxes()).distance
+}
+
+/// The best score over a room's elements and the closest points behind it (the object's
+/// first; `None` when no element scores above 0 or the object meets the best one).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Best {
+    pub score: Real,
+    pub closest: ClosestPoints,
+}
+
+impl Best {
+    const NONE: Best = Best {
+        score: 0.0,
+        closest: ClosestPoints::MEETING,
+    };
+
+    /// Keeps `score` with `closest` when it beats the best so far (as [`best_of`]'s maximum:
+    /// the first of equal scores).
+    #[inline]
+    fn offer(&mut self, score: Real, closest: ClosestPoints) -> Real {
+        if score > self.score {
+            *self = Best { score, closest };
+        }
+        score
+    }
 }
 
 /// The best score of `band` over the elements of one kind (0 when the room has none; floors,
@@ -144,14 +177,29 @@ fn element_band(
     band: &DistanceBand,
     params: &RelationParams,
 ) -> Real {
+    element_band_best(target, room, element, band, params).0
+}
+
+/// [`element_band`] and the element behind it.
+pub(crate) fn element_band_best(
+    target: &ObjectGeom<'_>,
+    room: &Room,
+    element: ArchElement,
+    band: &DistanceBand,
+    params: &RelationParams,
+) -> (Real, Best) {
     let probe = Probe::new(target, params);
-    match element {
+    let mut winner = Best::NONE;
+    let score = match element {
         ArchElement::Wall => {
             let walls = room.walls();
             best_of(
                 walls.len(),
                 |i| band_upper(band, probe.bounds_union(walls[i].solid_boxes())),
-                |i| band.score(probe.distance_to_union(walls[i].solid_boxes())),
+                |i| {
+                    let c = probe.closest_to_union(walls[i].solid_boxes());
+                    winner.offer(band.score(c.distance), c)
+                },
             )
         }
         _ => {
@@ -167,10 +215,14 @@ fn element_band(
                         0.0
                     }
                 },
-                |i| band.score(probe.distance(&openings[i].obb)),
+                |i| {
+                    let c = probe.closest(&openings[i].obb);
+                    winner.offer(band.score(c.distance), c)
+                },
             )
         }
-    }
+    };
+    (score, winner)
 }
 
 /// `next_to(element)`: the best [0, 0.5] m band score over the room's walls, doors or windows.
@@ -221,9 +273,25 @@ pub fn far(target: &ObjectGeom<'_>, room: &Room, element: ArchElement, params: &
 /// assert!((s - 0.5).abs() < 1e-12);
 /// ```
 pub fn inside_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
-    let obb = target.obb;
-    let h = effective_half(obb, params);
+    let h = effective_half(target.obb, params);
     let full = 8.0 * h.x * h.y * h.z;
+    match over_floor(target.obb, &h, room, params, box_volume_inside) {
+        None => 1.0,
+        Some(inside) => (inside / full).clamp(0.0, 1.0),
+    }
+}
+
+/// The sum of `measure(h, planes)` over the floor triangles near the box `obb` (with half
+/// extents `h`, the flat-box floor applied), `planes` being the triangle's prism above the
+/// floor in the box's frame; `None` when the box lies wholly over a convex floor (a fraction
+/// of 1).
+pub(crate) fn over_floor<T: std::ops::AddAssign + Default>(
+    obb: &Obb,
+    h: &Vector3,
+    room: &Room,
+    params: &RelationParams,
+    mut measure: impl FnMut(&Vector3, &[HalfSpace]) -> T,
+) -> Option<T> {
     let aabb = obb.aabb();
     // Shortcut for a convex floor: a box whose eight corners are over the floor and above it
     // lies wholly in the floor's prism.
@@ -235,13 +303,13 @@ pub fn inside_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams
             room.convex_floor_contains(p.x, p.y) == Some(true)
         });
         if corners_over_floor {
-            return 1.0;
+            return None;
         }
     }
     let r_t = obb.rotation.inverse();
     let local = |n: Vector3, offset: Real| HalfSpace::new(r_t * n, offset - n.dot(&obb.center.coords));
     let floor = local(Vector3::new(0.0, 0.0, -1.0), -(room.floor_z() - params.tolerance));
-    let mut inside = 0.0;
+    let mut inside = T::default();
     for tri in room.floor_triangles() {
         let (lo, hi) = (tri[0].inf(&tri[1]).inf(&tri[2]), tri[0].sup(&tri[1]).sup(&tri[2]));
         if hi.x < aabb.min.x || lo.x > aabb.max.x || hi.y < aabb.min.y || lo.y > aabb.max.y {
@@ -254,9 +322,9 @@ pub fn inside_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams
             // Left of p -> q (the triangle is counter-clockwise): d.y x - d.x y <= d.y p.x - d.x p.y.
             *plane = local(Vector3::new(d.y, -d.x, 0.0), d.y * p.x - d.x * p.y);
         }
-        inside += box_volume_inside(&h, &planes);
+        inside += measure(h, &planes);
     }
-    (inside / full).clamp(0.0, 1.0)
+    Some(inside)
 }
 
 /// `middle_of_room`: `exp(-d^2 / (2 sigma^2))` of the plan-view distance `d` from the room's
@@ -297,6 +365,12 @@ pub fn middle_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationPar
 /// height (enlarged by `margin`), unbounded into the room; in the wall's frame centred on the
 /// inner face.
 fn in_front_fraction(obb: &Obb, wall: &Wall, params: &RelationParams) -> Real {
+    let (origin, region) = in_front_region(wall, params);
+    fraction_in_frame_box(obb, &wall.rotation(), &origin, &region, params)
+}
+
+/// The origin of the region of [`in_front_fraction`] (in the wall's frame) and the region.
+pub(crate) fn in_front_region(wall: &Wall, params: &RelationParams) -> (Point3, FrameBox) {
     let origin = wall.point_on_inner_face(0.5 * wall.length(), 0.5 * wall.height());
     let m = 1.0 + params.region_margin;
     let (hx, hz) = (0.5 * wall.length() * m, 0.5 * wall.height() * m);
@@ -305,15 +379,27 @@ fn in_front_fraction(obb: &Obb, wall: &Wall, params: &RelationParams) -> Real {
         lo: [-hx, Real::NEG_INFINITY, -hz],
         hi: [hx, params.tolerance, hz],
     };
-    fraction_in_frame_box(obb, &wall.rotation(), &origin, &region, params)
+    (origin, region)
 }
 
 /// `on_wall` and `against_wall`: the best over walls of (fraction of the box in front of the
 /// wall) x (band score of the distance to the wall's solid).
 fn wall_contact(target: &ObjectGeom<'_>, room: &Room, band: &DistanceBand, params: &RelationParams) -> Real {
+    wall_contact_best(target, room, band, params).0
+}
+
+/// [`wall_contact`], the best wall's index and the closest points to it (`None` when no wall
+/// scores above 0).
+pub(crate) fn wall_contact_best(
+    target: &ObjectGeom<'_>,
+    room: &Room,
+    band: &DistanceBand,
+    params: &RelationParams,
+) -> (Real, Option<(usize, ClosestPoints)>) {
     let probe = Probe::new(target, params);
     let walls = room.walls();
-    best_of(
+    let mut winner = (0.0, None);
+    let score = best_of(
         walls.len(),
         |i| band_upper(band, probe.bounds_union(walls[i].solid_boxes())),
         |i| {
@@ -321,9 +407,15 @@ fn wall_contact(target: &ObjectGeom<'_>, room: &Room, band: &DistanceBand, param
             if front == 0.0 {
                 return 0.0;
             }
-            front * band.score(probe.distance_to_union(walls[i].solid_boxes()))
+            let c = probe.closest_to_union(walls[i].solid_boxes());
+            let s = front * band.score(c.distance);
+            if s > winner.0 {
+                winner = (s, Some((i, c)));
+            }
+            s
         },
-    )
+    );
+    (score, winner.1)
 }
 
 /// `on_wall`: in front of a wall and touching it: fraction in front x the [0, 0.01] m band
@@ -358,9 +450,22 @@ pub fn against_wall(target: &ObjectGeom<'_>, room: &Room, params: &RelationParam
 /// the room's ceiling surface (the explicit ceiling, else the floor outline at the top of the
 /// tallest wall); 0 for a room without a ceiling.
 pub fn hang_from_ceiling(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
+    match ceiling_distance(target, room, params) {
+        None => 0.0,
+        Some(c) => params.hang_from_ceiling.score(c.distance),
+    }
+}
+
+/// The distance `hang_from_ceiling` scores, with closest points (the object's first; for a box
+/// under the ceiling its top point and the point above it); `None` without a ceiling.
+pub(crate) fn ceiling_distance(
+    target: &ObjectGeom<'_>,
+    room: &Room,
+    params: &RelationParams,
+) -> Option<ClosestPoints> {
     let tris = room.ceiling_triangles();
     let (Some(ceiling_z), false) = (room.ceiling_z(), tris.is_empty()) else {
-        return 0.0;
+        return None;
     };
     let probe = Probe::new(target, params);
     let obb = probe.geom.obb;
@@ -382,21 +487,31 @@ pub fn hang_from_ceiling(target: &ObjectGeom<'_>, room: &Room, params: &Relation
         let top = obb.to_world(&local);
         let under = tris.iter().any(|t| in_triangle(t, top.x, top.y));
         if top.z <= ceiling_z && under {
-            return params.hang_from_ceiling.score(ceiling_z - top.z);
+            let distance = ceiling_z - top.z;
+            return Some(ClosestPoints {
+                distance,
+                points: (distance > 0.0).then(|| (top, Point3::new(top.x, top.y, ceiling_z))),
+            });
         }
     }
     let aabb = obb.aabb();
-    let mut d = Real::INFINITY;
+    let mut best = ClosestPoints {
+        distance: Real::INFINITY,
+        points: None,
+    };
     for t in tris {
         // Lower bound: the gap between the object's and the triangle's bounding boxes.
         let lo = t[0].inf(&t[1]).inf(&t[2]);
         let hi = t[0].sup(&t[1]).sup(&t[2]);
         let gap = Vector3::from_fn(|i, _| (lo[i] - aabb.max[i]).max(aabb.min[i] - hi[i]).max(0.0));
-        if gap.norm() < d {
-            d = d.min(object_triangle(&probe.geom, t));
+        if gap.norm() < best.distance {
+            let c = object_triangle_closest(&probe.geom, t);
+            if c.distance < best.distance {
+                best = c;
+            }
         }
     }
-    params.hang_from_ceiling.score(d)
+    Some(best)
 }
 
 /// Whether the plan point lies in the (closed) plan projection of a triangle, either winding.
@@ -422,14 +537,29 @@ const CORNER_CACHE: usize = 32;
 /// ([`CornerWalls::MeanDirections`], the reference, which uses random samples). Without a
 /// perpendicular pair the score is 0 (the reference returns minus infinity).
 pub fn corner_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationParams) -> Real {
+    corner_of_room_best(target, room, params).0
+}
+
+/// One wall of the best pair of `corner_of_room`: its score and the closest points to it.
+pub(crate) type CornerWall = (Real, ClosestPoints);
+
+/// [`corner_of_room`] and the pair of walls behind it (`None` when it is 0).
+pub(crate) fn corner_of_room_best(
+    target: &ObjectGeom<'_>,
+    room: &Room,
+    params: &RelationParams,
+) -> (Real, Option<(CornerWall, CornerWall)>) {
     let walls = room.walls();
     if walls.len() < 2 || inside_room(target, room, params) < params.corner_min_inside_room {
-        return 0.0;
+        return (0.0, None);
     }
     let probe = Probe::new(target, params);
     let band = &params.corner_wall;
     let upper = |w: &Wall| band_upper(band, probe.bounds_union(w.solid_boxes()));
-    let exact = |w: &Wall| band.score(probe.distance_to_union(w.solid_boxes()));
+    let exact = |w: &Wall| {
+        let c = probe.closest_to_union(w.solid_boxes());
+        (band.score(c.distance), c)
+    };
     let direction = |w: &Wall| match params.corner_walls {
         CornerWalls::WallNormals => w.inward_normal_3d(),
         CornerWalls::MeanDirections => mean_direction_to_wall(target.obb, w),
@@ -438,7 +568,7 @@ pub fn corner_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationPar
     // walls in decreasing order of their upper bound; on the stack for rooms of up to
     // CORNER_CACHE walls, in two vectors for larger ones.
     let n = walls.len();
-    type Slot = (Real, Option<Real>, Option<Vector3>);
+    type Slot = (Real, Option<CornerWall>, Option<Vector3>);
     let (mut stack, mut stack_order) = ([(0.0, None, None); CORNER_CACHE], [0usize; CORNER_CACHE]);
     let (mut heap, mut heap_order): (Vec<Slot>, Vec<usize>) = (Vec::new(), Vec::new());
     let (cache, order): (&mut [Slot], &mut [usize]) = if n <= CORNER_CACHE {
@@ -457,6 +587,7 @@ pub fn corner_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationPar
     // product of its upper bounds does not, and later pairs have smaller bounds: the result is
     // the exact maximum over perpendicular pairs, whatever the order.
     let mut best: Real = 0.0;
+    let mut pair = None;
     for p in 0..n {
         let i = order[p];
         let ub_i = cache[i].0;
@@ -475,15 +606,18 @@ pub fn corner_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationPar
             if dir_i.dot(&dir_j).abs() >= params.corner_perpendicular_threshold {
                 continue;
             }
-            let si = *cache[i].1.get_or_insert_with(|| exact(&walls[i]));
-            if si * ub_j <= best {
+            let wi = *cache[i].1.get_or_insert_with(|| exact(&walls[i]));
+            if wi.0 * ub_j <= best {
                 continue;
             }
-            let sj = *cache[j].1.get_or_insert_with(|| exact(&walls[j]));
-            best = best.max(si * sj);
+            let wj = *cache[j].1.get_or_insert_with(|| exact(&walls[j]));
+            if wi.0 * wj.0 > best {
+                pair = Some((wi, wj));
+            }
+            best = best.max(wi.0 * wj.0);
         }
     }
-    best
+    (best, pair)
 }
 
 /// The normalised mean of (closest point on the wall's solid - p) over a 4 x 4 x 4 midpoint

@@ -180,15 +180,7 @@ pub fn score(
             unexpected(operands.rooms.is_some(), "room")?;
             let anchor = operands.anchor.as_ref().ok_or_else(|| missing("anchor"))?;
             let targets = operands.targets.as_ref().ok_or_else(|| missing("targets"))?;
-            if params.surround_variant == SurroundVariant::Reference
-                && targets.len() > SURROUND_REFERENCE_MAX_TARGETS
-            {
-                return Err(RelationError::TooManyTargets {
-                    relation: relation.to_string(),
-                    got: targets.len(),
-                    limit: SURROUND_REFERENCE_MAX_TARGETS,
-                });
-            }
+            surround_limit(targets.len(), params)?;
             Ok(match targets {
                 Targets::Objects(objects) => pairwise::surround(objects, anchor, params),
                 Targets::Centres { count, centre } => {
@@ -206,6 +198,19 @@ pub fn score(
     }
 }
 
+/// `Ok` unless `surround` with `params`' variant refuses `count` targets
+/// ([`SURROUND_REFERENCE_MAX_TARGETS`]): the one check for the score and the gradient.
+pub(crate) fn surround_limit(count: usize, params: &RelationParams) -> Result<(), RelationError> {
+    if params.surround_variant == SurroundVariant::Reference && count > SURROUND_REFERENCE_MAX_TARGETS {
+        return Err(RelationError::TooManyTargets {
+            relation: Relation::Surround.to_string(),
+            got: count,
+            limit: SURROUND_REFERENCE_MAX_TARGETS,
+        });
+    }
+    Ok(())
+}
+
 /// `Ok` when `relation` is of `kind`, else [`RelationError::WrongKind`] saying which kind the
 /// call expected: for callers that accept one kind only (the batch forms, the scene queries
 /// by index) and say so before they look at their operands.
@@ -218,7 +223,7 @@ pub(crate) fn expect_kind(relation: Relation, kind: RelationKind) -> Result<(), 
 }
 
 /// [`RelationError::WrongKind`]: `relation` where a relation of `expected` was expected.
-fn wrong_kind(relation: Relation, expected: RelationKind) -> RelationError {
+pub(crate) fn wrong_kind(relation: Relation, expected: RelationKind) -> RelationError {
     RelationError::WrongKind {
         relation: relation.to_string(),
         actual: relation.kind().describe(),

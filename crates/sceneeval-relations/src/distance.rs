@@ -1,7 +1,7 @@
 //! Distances between objects as solids (boxes or meshes) and architectural elements, on
 //! top of the exact box, mesh and triangle distances of `sceneeval-geom`.
 
-use sceneeval_geom::{Isometry3, Mesh, Obb, Point3, Real};
+use sceneeval_geom::{ClosestPoints, Isometry3, Mesh, Obb, Point3, Real};
 
 use crate::ObjectGeom;
 
@@ -50,21 +50,22 @@ fn obb_within(inner: &Obb, outer: &Obb) -> bool {
     inner.corners().iter().all(|c| outer.contains_point(c))
 }
 
-/// Surface-level distance between two solids (0 when the surfaces touch or cross).
-fn surface_distance(a: &Solid<'_>, b: &Solid<'_>) -> Real {
+/// Surface-level distance between two solids (0 when the surfaces touch or cross), with a
+/// pair of closest points (`a`'s first).
+fn surface_distance(a: &Solid<'_>, b: &Solid<'_>) -> ClosestPoints {
     match (a, b) {
-        (Solid::Box(x), Solid::Box(y)) => x.distance_to_obb(y),
-        (Solid::Mesh(m, p, _), Solid::Box(o)) | (Solid::Box(o), Solid::Mesh(m, p, _)) => {
-            m.distance_to_obb(p, o)
-        }
-        (Solid::Mesh(m, p, _), Solid::Mesh(n, q, _)) => m.distance(p, n, q),
+        (Solid::Box(x), Solid::Box(y)) => x.closest_points_to_obb(y),
+        (Solid::Mesh(m, p, _), Solid::Box(o)) => m.closest_points_to_obb(p, o),
+        (Solid::Box(o), Solid::Mesh(m, p, _)) => m.closest_points_to_obb(p, o).swapped(),
+        (Solid::Mesh(m, p, _), Solid::Mesh(n, q, _)) => m.closest_points(p, n, q),
     }
 }
 
-/// Distance between two solids: 0 when they touch, overlap or one lies inside the other.
-fn solid_distance(a: &Solid<'_>, b: &Solid<'_>) -> Real {
+/// Distance between two solids: 0 when they touch, overlap or one lies inside the other;
+/// with a pair of closest points (`a`'s first) when they are apart.
+fn solid_distance(a: &Solid<'_>, b: &Solid<'_>) -> ClosestPoints {
     if let (Solid::Box(x), Solid::Box(y)) = (a, b) {
-        return x.distance_to_obb(y);
+        return x.closest_points_to_obb(y);
     }
     // One box inside the other suggests nesting: if a point of the inner object is inside the
     // outer one, the solids overlap (checking first avoids a surface search whose every
@@ -73,12 +74,12 @@ fn solid_distance(a: &Solid<'_>, b: &Solid<'_>) -> Real {
     if (obb_within(ba, bb) && b.contains(&a.some_point()))
         || (obb_within(bb, ba) && a.contains(&b.some_point()))
     {
-        return 0.0;
+        return ClosestPoints::MEETING;
     }
     let d = surface_distance(a, b);
     // Surfaces apart: the solids are apart unless one is nested in the other.
-    if d > 0.0 && (b.contains(&a.some_point()) || a.contains(&b.some_point())) {
-        return 0.0;
+    if d.distance > 0.0 && (b.contains(&a.some_point()) || a.contains(&b.some_point())) {
+        return ClosestPoints::MEETING;
     }
     d
 }
@@ -93,6 +94,16 @@ fn solid_distance(a: &Solid<'_>, b: &Solid<'_>) -> Real {
 /// are apart but one object's box contains a point of the other, a winding-number test
 /// (linear in the triangle count) decides whether they are nested.
 pub fn object_distance(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>) -> Real {
+    match (a.mesh, b.mesh) {
+        // Without the closest points (which cost a little more for boxes).
+        (None, None) => a.obb.distance_to_obb(b.obb),
+        _ => object_closest(a, b).distance,
+    }
+}
+
+/// [`object_distance`] (the same value) with a pair of closest points (`a`'s first) when the
+/// objects are apart.
+pub(crate) fn object_closest(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>) -> ClosestPoints {
     solid_distance(&Solid::of(a), &Solid::of(b))
 }
 
@@ -110,17 +121,19 @@ pub(crate) fn distance_bounds(a: &ObjectGeom<'_>, b: &ObjectGeom<'_>) -> (Real, 
     (lower, upper.max(lower))
 }
 
-/// Distance from an object to a solid box (a wall piece or an opening).
+/// Distance from an object to a solid box (a wall piece or an opening), with a pair of closest
+/// points (the object's first).
 #[inline]
-pub(crate) fn object_box(a: &ObjectGeom<'_>, b: &Obb) -> Real {
+pub(crate) fn object_box_closest(a: &ObjectGeom<'_>, b: &Obb) -> ClosestPoints {
     solid_distance(&Solid::of(a), &Solid::Box(b))
 }
 
-/// Distance from an object to a triangle (a piece of a ceiling), 0 when they meet.
-pub(crate) fn object_triangle(a: &ObjectGeom<'_>, tri: &[Point3; 3]) -> Real {
+/// Distance from an object to a triangle (a piece of a ceiling), 0 when they meet, with a pair
+/// of closest points (the object's first).
+pub(crate) fn object_triangle_closest(a: &ObjectGeom<'_>, tri: &[Point3; 3]) -> ClosestPoints {
     match a.mesh {
-        None => a.obb.distance_to_triangle(tri),
-        Some((m, pose)) => m.distance_to_triangle(pose, tri),
+        None => a.obb.closest_points_to_triangle(tri),
+        Some((m, pose)) => m.closest_points_to_triangle(pose, tri),
     }
 }
 
@@ -164,9 +177,12 @@ mod tests {
             Point3::new(5.0, -5.0, 2.8),
             Point3::new(0.0, 5.0, 2.8),
         ];
-        let d = object_triangle(&ObjectGeom::from_box(&a), &tri);
+        let d = object_triangle_closest(&ObjectGeom::from_box(&a), &tri).distance;
         assert!((d - 1.3).abs() < 1e-9, "{d}");
         let touching = cube([0.0, 0.0, 2.3], 0.5, 0.3);
-        assert_eq!(object_triangle(&ObjectGeom::from_box(&touching), &tri), 0.0);
+        assert_eq!(
+            object_triangle_closest(&ObjectGeom::from_box(&touching), &tri).distance,
+            0.0
+        );
     }
 }

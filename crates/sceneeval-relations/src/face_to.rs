@@ -1,6 +1,6 @@
 //! `face_to`: does the target's front point at the anchor?
 
-use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Ray, Real, Vector3};
+use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Ray, RayHit, Real, Vector3};
 
 use crate::clip::Poly2;
 use crate::pairwise::effective_half;
@@ -65,19 +65,103 @@ use crate::{FaceToHeights, ObjectGeom, RelationParams};
 /// assert_eq!(face_to(&ObjectGeom::from_box(&sofa), &ObjectGeom::from_box(&high), &reference), 0.0);
 /// ```
 pub fn face_to(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    let plan_view = params.face_to_heights == FaceToHeights::Any && is_upright(target.obb);
-    let mean_local = match anchor.mesh {
-        None if plan_view && is_upright(anchor.obb) => {
-            mean_hit_on_box(target.obb, &prism_over(anchor.obb, target.obb, params), params)
-        }
-        None => mean_hit_on_box(target.obb, anchor.obb, params),
-        Some((mesh, pose)) => mean_hit_on_mesh(target.obb, mesh, pose, anchor.obb, params, plan_view),
+    angle_score(target.obb, mean_hit(target, anchor, params, &mut ()), params)
+}
+
+/// What [`mean_hit`] reports to a gradient as it goes (nothing by default).
+pub(crate) trait HitSink {
+    /// The box the rays are cast at: the anchor, or (`prism`) the anchor extended vertically
+    /// over every ray ([`prism_over`]).
+    fn anchor_box(&mut self, _b: &Obb, _prism: bool) {}
+    /// A piece of the cross-section with a positive area, in the order accumulated.
+    fn piece(&mut self, _piece: &Piece) {}
+    /// A ray of the mesh grid that counts: its origin's offset in the target's frame, the
+    /// origin, and its hit.
+    fn ray(&mut self, _local: &Vector3, _origin: &Point3, _hit: &RayHit) {}
+}
+
+impl HitSink for () {}
+
+/// A piece of the target's mid-depth cross-section whose lines first meet the anchor's box on
+/// one face (in the target's frame; `(u, v)` = local `(x, z)`).
+#[derive(Clone, Copy)]
+pub(crate) struct Piece {
+    /// The anchor's face: its local axis and side (`+-1`).
+    pub axis: usize,
+    pub sign: Real,
+    /// The piece, its edges labelled with [`line`] labels.
+    pub poly: Poly2,
+    pub area: Real,
+    pub centroid: Point2,
+    /// The face's outward normal in the target's frame and its offset: the plane `n . p = delta`.
+    pub normal: Vector3,
+    pub delta: Real,
+}
+
+impl Piece {
+    /// No piece (a placeholder in fixed arrays).
+    pub(crate) const EMPTY: Piece = Piece {
+        axis: 0,
+        sign: 1.0,
+        poly: Poly2::EMPTY,
+        area: 0.0,
+        centroid: Point2::new(0.0, 0.0),
+        normal: Vector3::new(0.0, 0.0, 0.0),
+        delta: 0.0,
     };
-    let Some(hit) = mean_local else {
+}
+
+/// Labels of the lines a [`Piece`]'s edges lie on.
+pub(crate) mod line {
+    /// The cross-section's sides `u <= hx`, `-u <= hx`, `v <= hz`, `-v <= hz`.
+    pub const RECT_X_POS: u8 = 0;
+    pub const RECT_X_NEG: u8 = 1;
+    pub const RECT_Z_POS: u8 = 2;
+    pub const RECT_Z_NEG: u8 = 3;
+    /// Edge `k` (corner `k` to `k + 1`) of the face's projected quadrilateral: `QUAD + k`.
+    pub const QUAD: u8 = 4;
+    /// The mid-depth plane (entry faces: hits at a depth of at least 0).
+    pub const DEPTH: u8 = 8;
+    /// The anchor's slab of axis `l`, upper (`SLAB + 2 l`) or lower (`SLAB + 2 l + 1`) side.
+    pub const SLAB: u8 = 9;
+    /// The rectangle's edges in [`crate::clip::Poly2::rectangle`]'s order.
+    pub const RECT: [u8; 4] = [RECT_Z_NEG, RECT_X_POS, RECT_Z_POS, RECT_X_NEG];
+    /// The quadrilateral's edges.
+    pub const QUADS: [u8; 4] = [QUAD, QUAD + 1, QUAD + 2, QUAD + 3];
+}
+
+/// The mean first-hit point of the lines through the target's mid-depth cross-section on the
+/// anchor, in the target's frame (`None` when no line hits), reporting its pieces or rays to
+/// `sink`.
+pub(crate) fn mean_hit(
+    target: &ObjectGeom<'_>,
+    anchor: &ObjectGeom<'_>,
+    params: &RelationParams,
+    sink: &mut impl HitSink,
+) -> Option<Vector3> {
+    let plan_view = params.face_to_heights == FaceToHeights::Any && is_upright(target.obb);
+    match anchor.mesh {
+        None if plan_view && is_upright(anchor.obb) => {
+            let prism = prism_over(anchor.obb, target.obb, params);
+            sink.anchor_box(&prism, true);
+            mean_hit_on_box(target.obb, &prism, params, sink)
+        }
+        None => {
+            sink.anchor_box(anchor.obb, false);
+            mean_hit_on_box(target.obb, anchor.obb, params, sink)
+        }
+        Some((mesh, pose)) => mean_hit_on_mesh(target.obb, mesh, pose, anchor.obb, params, plan_view, sink),
+    }
+}
+
+/// The score of a mean hit point `hit` (target frame): `1 - angle / max`, clipped, of the
+/// plan-view angle between the target's front and the direction to the hit; 0 without a hit.
+pub(crate) fn angle_score(a: &Obb, hit: Option<Vector3>, params: &RelationParams) -> Real {
+    let Some(hit) = hit else {
         return 0.0;
     };
-    let v = target.obb.rotation * hit;
-    let front = target.obb.rotation * Vector3::new(0.0, -1.0, 0.0);
+    let v = a.rotation * hit;
+    let front = a.rotation * Vector3::new(0.0, -1.0, 0.0);
     let (fx, fy, vx, vy) = (front.x, front.y, v.x, v.y);
     let (nf, nv) = ((fx * fx + fy * fy).sqrt(), (vx * vx + vy * vy).sqrt());
     if nf == 0.0 || nv == 0.0 {
@@ -91,9 +175,9 @@ pub fn face_to(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Relati
 
 /// Mean first-hit point on a box anchor, in the target's frame (relative to its centre), over
 /// the target's mid-depth cross-section; `None` when no line hits.
-fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3> {
+fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams, sink: &mut impl HitSink) -> Option<Vector3> {
     let h = effective_half(a, params);
-    let rect = Poly2::rectangle(h.x, h.z);
+    let rect = Poly2::rectangle(h.x, h.z, line::RECT);
     // The anchor in the target's frame: axes (columns of m), centre c, half extents hb.
     let m = (a.rotation.inverse() * b.rotation).into_inner();
     let c = a.rotation.inverse_transform_vector(&(b.center - a.center));
@@ -131,12 +215,15 @@ fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3>
             let fc = c + n * hb[i];
             let (ej, ek) = (m.column(j) * hb[j], m.column(k) * hb[k]);
             let plan = |p: Vector3| Point2::new(p.x, p.z);
-            let quad = Poly2::quad([
-                plan(fc + ej + ek),
-                plan(fc + ej - ek),
-                plan(fc - ej - ek),
-                plan(fc - ej + ek),
-            ]);
+            let quad = Poly2::quad(
+                [
+                    plan(fc + ej + ek),
+                    plan(fc + ej - ek),
+                    plan(fc - ej - ek),
+                    plan(fc - ej + ek),
+                ],
+                line::QUADS,
+            );
             let delta = n.dot(&fc);
             // Depth of the face over (u, v): s = (n.x u + n.z v - delta) / n.y.
             let depth = |p: &Point2| (n.x * p.x + n.z * p.y - delta) / n.y;
@@ -145,7 +232,7 @@ fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3>
                 // enter here at depth s >= 0, i.e. ahead of the mid-depth plane.
                 let mut poly = quad;
                 clip_to_rect(&mut poly, h.x, h.z);
-                poly.clip(-n.x, -n.z, -delta);
+                poly.clip(-n.x, -n.z, -delta, line::DEPTH);
                 poly
             } else if straddles {
                 // Exit face: lines that start inside the anchor leave through it.
@@ -153,8 +240,9 @@ fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3>
                 for l in 0..3 {
                     let (mx, mz) = (m[(0, l)], m[(2, l)]);
                     let off = m.column(l).dot(&c);
-                    poly.clip(mx, mz, hb[l] + off);
-                    poly.clip(-mx, -mz, hb[l] - off);
+                    let upper = line::SLAB + 2 * l as u8;
+                    poly.clip(mx, mz, hb[l] + off, upper);
+                    poly.clip(-mx, -mz, hb[l] - off, upper + 1);
                 }
                 poly.clip_by_convex(&quad);
                 poly
@@ -165,6 +253,15 @@ fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3>
             if area > 0.0 {
                 w += area;
                 acc += Vector3::new(cen.x, depth(&cen), cen.y) * area;
+                sink.piece(&Piece {
+                    axis: i,
+                    sign,
+                    poly: piece,
+                    area,
+                    centroid: cen,
+                    normal: n.into_owned(),
+                    delta,
+                });
             }
         }
     }
@@ -176,7 +273,7 @@ fn mean_hit_on_box(a: &Obb, b: &Obb, params: &RelationParams) -> Option<Vector3>
 
 /// Whether the box is rotated about the vertical only (its local z is world z or its
 /// opposite), so that its footprint is its own and its front is horizontal.
-fn is_upright(obb: &Obb) -> bool {
+pub(crate) fn is_upright(obb: &Obb) -> bool {
     let z = obb.rotation * Vector3::z();
     z.x.abs() <= 1e-12 && z.y.abs() <= 1e-12
 }
@@ -194,10 +291,10 @@ fn prism_over(anchor: &Obb, target: &Obb, params: &RelationParams) -> Obb {
 }
 
 fn clip_to_rect(poly: &mut Poly2, hx: Real, hz: Real) {
-    poly.clip(1.0, 0.0, hx);
-    poly.clip(-1.0, 0.0, hx);
-    poly.clip(0.0, 1.0, hz);
-    poly.clip(0.0, -1.0, hz);
+    poly.clip(1.0, 0.0, hx, line::RECT_X_POS);
+    poly.clip(-1.0, 0.0, hx, line::RECT_X_NEG);
+    poly.clip(0.0, 1.0, hz, line::RECT_Z_POS);
+    poly.clip(0.0, -1.0, hz, line::RECT_Z_NEG);
 }
 
 /// Whether the ray meets the closed box (slab test).
@@ -236,6 +333,7 @@ fn mean_hit_on_mesh(
     b_box: &Obb,
     params: &RelationParams,
     plan_view: bool,
+    sink: &mut impl HitSink,
 ) -> Option<Vector3> {
     let h = effective_half(a, params);
     let n = params.face_to_mesh_rays.max(1);
@@ -249,19 +347,24 @@ fn mean_hit_on_mesh(
         let reach: Real = (0..3).map(|l| r[(2, l)].abs() * b_box.half_extents[l]).sum();
         for iu in 0..n {
             let across = step(h.x, iu);
-            let nearest = (0..n)
-                .filter_map(|iv| {
-                    let mut origin = a.center + a.rotation * Vector3::new(across, 0.0, 0.0);
-                    origin.z = b_box.center.z + step(reach, iv);
-                    ray_meets_box(b_box, &origin, &front)
-                        .then(|| mesh.cast_ray(pose, &Ray::new(origin, front), Real::MAX))
-                        .flatten()
-                        .map(|hit| hit.toi)
-                })
-                .reduce(Real::min);
-            if let Some(toi) = nearest {
+            // The column's nearest hit (the first of equally near ones).
+            let mut nearest: Option<(RayHit, Point3)> = None;
+            for iv in 0..n {
+                let mut origin = a.center + a.rotation * Vector3::new(across, 0.0, 0.0);
+                origin.z = b_box.center.z + step(reach, iv);
+                if !ray_meets_box(b_box, &origin, &front) {
+                    continue;
+                }
+                if let Some(hit) = mesh.cast_ray(pose, &Ray::new(origin, front), Real::MAX)
+                    && nearest.as_ref().is_none_or(|(best, _)| hit.toi < best.toi)
+                {
+                    nearest = Some((hit, origin));
+                }
+            }
+            if let Some((hit, origin)) = nearest {
                 count += 1;
-                acc += Vector3::new(across, -toi, 0.0);
+                acc += Vector3::new(across, -hit.toi, 0.0);
+                sink.ray(&Vector3::new(across, 0.0, 0.0), &origin, &hit);
             }
         }
         return (count > 0).then(|| acc / Real::from(count));
@@ -276,6 +379,7 @@ fn mean_hit_on_mesh(
             if let Some(hit) = mesh.cast_ray(pose, &Ray::new(origin, front), Real::MAX) {
                 count += 1;
                 acc += Vector3::new(local.x, -hit.toi, local.z);
+                sink.ray(&local, &origin, &hit);
             }
         }
     }
@@ -307,7 +411,7 @@ mod tests {
         // Every line through the 1 x 1 cross-section hits the anchor's near face at depth 1.9
         // (2 - 0.1): mean hit straight ahead, angle 0.
         assert!((score(&a, &b) - 1.0).abs() < 1e-12);
-        let hit = mean_hit_on_box(&a, &b, &RelationParams::default()).unwrap();
+        let hit = mean_hit_on_box(&a, &b, &RelationParams::default(), &mut ()).unwrap();
         assert!((hit - Vector3::new(0.0, -1.9, 0.0)).norm() < 1e-12);
         // Anchor shifted 0.6 m sideways: lines with x in [0.1, 0.5] hit, mean x = 0.3, depth
         // 1.9 -> angle atan(0.3 / 1.9) = 8.97 degrees -> score 1 - 8.97/30 = 0.7009.
@@ -351,7 +455,7 @@ mod tests {
         assert!((score(&a, &b) - 1.0).abs() < 1e-12);
         // Its nearest edge is at depth 3 - sqrt(0.5) = 2.2929; the faces recede linearly with
         // |x| up to x = 0.5 (depth 3 - sqrt(0.5) + 0.5), so the mean depth is 2.2929 + 0.25.
-        let hit = mean_hit_on_box(&a, &b, &RelationParams::default()).unwrap();
+        let hit = mean_hit_on_box(&a, &b, &RelationParams::default(), &mut ()).unwrap();
         assert!((hit.y + (3.0 - 0.5f64.sqrt() + 0.25)).abs() < 1e-12, "{hit}");
     }
 
@@ -375,7 +479,7 @@ mod tests {
         // through its far face at y = -1.0 (depth 1.0).
         let a = bx([0.0, 0.0, 0.5], [0.5, 0.3, 0.5], 0.0);
         let b = bx([0.0, -0.4, 0.5], [1.0, 0.6, 1.0], 0.0);
-        let hit = mean_hit_on_box(&a, &b, &RelationParams::default()).unwrap();
+        let hit = mean_hit_on_box(&a, &b, &RelationParams::default(), &mut ()).unwrap();
         assert!((hit - Vector3::new(0.0, -1.0, 0.0)).norm() < 1e-12, "{hit}");
         assert!((score(&a, &b) - 1.0).abs() < 1e-12);
     }

@@ -27,6 +27,11 @@
 //! fields ([`Relation::from_fields`]); every parameter, with its unit, is a field of
 //! [`RelationParams`].
 //!
+//! **Gradients**: [`grad`] gives every score with its derivatives with respect to the
+//! objects' box parameters (centre, half extents, yaw; a mesh object's pose), analytic and
+//! bit-identical in the score, for optimisers. [`prelude`] and the re-exports [`geom`] and
+//! [`scene`] let a program depend on this crate alone.
+//!
 //! # Conventions
 //! World z up, metres; object front = local -y; sides left = -x, right = +x, front = -y,
 //! back = +y, top = +z, bottom = -z of the **anchor's** frame (left is the left of a viewer
@@ -148,9 +153,11 @@ mod dispatch;
 mod distance;
 mod error;
 mod face_to;
+pub mod grad;
 mod object;
 mod pairwise;
 mod params;
+pub mod prelude;
 mod relation;
 mod scene_eval;
 
@@ -171,6 +178,11 @@ pub use relation::{
     DISTANCE_ELEMENTS, LongShort, OBJECT_ARCH_NAMES, OBJECT_OBJECT_NAMES, Relation, RelationKind,
 };
 pub use scene_eval::{Evaluation, Query, SceneRelations};
+/// The geometry crate this one is built on (boxes, meshes, points), re-exported so that a
+/// program depending on `sceneeval-relations` alone can build its inputs.
+pub use sceneeval_geom as geom;
+/// The scene crate (rooms, scenes), re-exported for the same reason.
+pub use sceneeval_scene as scene;
 /// The kinds of architectural element (the scene model's vocabulary); the distance relations
 /// take [`DISTANCE_ELEMENTS`].
 pub use sceneeval_scene::ArchElement;

@@ -35,6 +35,21 @@ impl FrameBox {
     };
 }
 
+/// How a [`FrameBox`] made from an anchor's box moves with the anchor's half extents:
+/// `lo[i]` is the derivative of the region's `lo[i]` with respect to them (gradients only).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrameBoxJacobian {
+    pub lo: [Vector3; 3],
+    pub hi: [Vector3; 3],
+}
+
+impl FrameBoxJacobian {
+    pub(crate) const ZERO: FrameBoxJacobian = FrameBoxJacobian {
+        lo: [Vector3::new(0.0, 0.0, 0.0); 3],
+        hi: [Vector3::new(0.0, 0.0, 0.0); 3],
+    };
+}
+
 /// The target's half extents with the flat-box floor applied.
 #[inline]
 pub(crate) fn effective_half(obb: &Obb, params: &RelationParams) -> Vector3 {
@@ -53,11 +68,26 @@ pub(crate) fn fraction_in_frame_box(
     BoxInFrame::new(a, frame_rot, frame_origin, params).fraction_in(region)
 }
 
+/// Which bound of a [`FrameBox`] a half-space of [`RegionPlanes`] comes from: its axis and
+/// whether it is the upper one.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct PlaneOf {
+    pub axis: usize,
+    pub upper: bool,
+}
+
+/// The half-spaces of a [`FrameBox`] in the box's own frame (finite bounds only).
+pub(crate) struct RegionPlanes {
+    pub planes: [HalfSpace; MAX_PLANES],
+    pub of: [PlaneOf; MAX_PLANES],
+    pub len: usize,
+}
+
 /// A box seen from a frame, for the fractions of its volume in regions of that frame
 /// ([`fraction_in_frame_box`] for one region; [`long_short_side_of`] asks about two).
 pub(crate) struct BoxInFrame {
     /// The box's half extents, with the flat-box floor applied.
-    h: Vector3,
+    pub h: Vector3,
     /// Columns: the frame's axes in the box's frame.
     m: Rotation3,
     /// The box's centre in the frame.
@@ -78,29 +108,64 @@ impl BoxInFrame {
         }
     }
 
-    /// The fraction of the box's volume inside `region`.
-    pub(crate) fn fraction_in(&self, region: &FrameBox) -> Real {
-        let (h, m, t) = (&self.h, &self.m, &self.t);
-        let mut planes = [HalfSpace::new(Vector3::zeros(), 0.0); MAX_PLANES];
+    /// The half-spaces bounding `region`, in the box's frame; `None` when an infinite bound
+    /// excludes everything.
+    pub(crate) fn planes(&self, region: &FrameBox) -> Option<RegionPlanes> {
+        let (m, t) = (&self.m, &self.t);
+        let mut out = RegionPlanes {
+            planes: [HalfSpace::new(Vector3::zeros(), 0.0); MAX_PLANES],
+            of: [PlaneOf::default(); MAX_PLANES],
+            len: 0,
+        };
         let mut k = 0;
         for i in 0..3 {
             let axis = m.matrix().column(i).into_owned();
             if region.hi[i].is_finite() {
-                planes[k] = HalfSpace::new(axis, region.hi[i] - t[i]);
+                out.planes[k] = HalfSpace::new(axis, region.hi[i] - t[i]);
+                out.of[k] = PlaneOf { axis: i, upper: true };
                 k += 1;
             } else if region.hi[i] < 0.0 {
-                return 0.0;
+                return None;
             }
             if region.lo[i].is_finite() {
-                planes[k] = HalfSpace::new(-axis, t[i] - region.lo[i]);
+                out.planes[k] = HalfSpace::new(-axis, t[i] - region.lo[i]);
+                out.of[k] = PlaneOf {
+                    axis: i,
+                    upper: false,
+                };
                 k += 1;
             } else if region.lo[i] > 0.0 {
-                return 0.0;
+                return None;
             }
         }
-        let full = 8.0 * h.x * h.y * h.z;
-        (box_volume_inside(h, &planes[..k]) / full).clamp(0.0, 1.0)
+        out.len = k;
+        Some(out)
     }
+
+    /// The fraction of the box's volume inside `region`.
+    pub(crate) fn fraction_in(&self, region: &FrameBox) -> Real {
+        let h = &self.h;
+        let Some(r) = self.planes(region) else {
+            return 0.0;
+        };
+        let full = 8.0 * h.x * h.y * h.z;
+        (box_volume_inside(h, &r.planes[..r.len]) / full).clamp(0.0, 1.0)
+    }
+}
+
+/// The region of [`inside_of`]: the anchor's box with its faces moved out by the tolerance.
+pub(crate) fn inside_box(b: &Obb, tol: Real) -> (FrameBox, FrameBoxJacobian) {
+    let h = b.half_extents;
+    let region = FrameBox {
+        lo: [-h.x - tol, -h.y - tol, -h.z - tol],
+        hi: [h.x + tol, h.y + tol, h.z + tol],
+    };
+    let mut jac = FrameBoxJacobian::ZERO;
+    for i in 0..3 {
+        jac.lo[i][i] = -1.0;
+        jac.hi[i][i] = 1.0;
+    }
+    (region, jac)
 }
 
 /// `inside_of`: the fraction of the target's box inside the anchor's box.
@@ -120,12 +185,7 @@ impl BoxInFrame {
 /// assert!((s - 0.75).abs() < 1e-5);
 /// ```
 pub fn inside_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    let h = anchor.obb.half_extents;
-    let tol = params.tolerance;
-    let region = FrameBox {
-        lo: [-h.x - tol, -h.y - tol, -h.z - tol],
-        hi: [h.x + tol, h.y + tol, h.z + tol],
-    };
+    let (region, _) = inside_box(anchor.obb, params.tolerance);
     fraction_in_frame_box(
         target.obb,
         &anchor.obb.rotation,
@@ -143,23 +203,87 @@ pub fn outside_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Rel
 /// The region beyond the anchor's `side` face (or beyond its centre plane when
 /// `from_centre`), unbounded outward, laterally within the anchor's half extents enlarged by
 /// `margin` (relative).
-fn side_region_box(b: &Obb, side: Side, from_centre: bool, margin: Real, tol: Real) -> FrameBox {
+pub(crate) fn side_region_box(
+    b: &Obb,
+    side: Side,
+    from_centre: bool,
+    margin: Real,
+    tol: Real,
+) -> (FrameBox, FrameBoxJacobian) {
     let (k, sign) = side.axis_and_sign();
     let h = b.half_extents;
     let mut region = FrameBox::ALL;
+    let mut jac = FrameBoxJacobian::ZERO;
     for j in 0..3 {
         if j != k {
             region.lo[j] = -h[j] * (1.0 + margin);
             region.hi[j] = h[j] * (1.0 + margin);
+            jac.lo[j][j] = -(1.0 + margin);
+            jac.hi[j][j] = 1.0 + margin;
         }
     }
-    let start = if from_centre { -tol } else { h[k] - tol };
+    let (start, d_start) = if from_centre {
+        (-tol, 0.0)
+    } else {
+        (h[k] - tol, 1.0)
+    };
     if sign > 0.0 {
         region.lo[k] = start;
+        jac.lo[k][k] = d_start;
     } else {
         region.hi[k] = -start;
+        jac.hi[k][k] = -d_start;
     }
-    region
+    (region, jac)
+}
+
+/// The region of [`side_region`]: the `side` half of the anchor's box.
+pub(crate) fn side_half_box(b: &Obb, side: Side, params: &RelationParams) -> (FrameBox, FrameBoxJacobian) {
+    let (k, sign) = side.axis_and_sign();
+    let h = b.half_extents;
+    let tol = params.tolerance;
+    let mut region = FrameBox::ALL;
+    let mut jac = FrameBoxJacobian::ZERO;
+    for j in 0..3 {
+        let (scaled, padded) = (h[j] * (1.0 + params.region_margin), h[j] + tol);
+        let lateral = scaled.min(padded);
+        // The derivative of the branch `min` takes (the scaled one on a tie).
+        let d = if scaled <= padded {
+            1.0 + params.region_margin
+        } else {
+            1.0
+        };
+        region.lo[j] = -lateral;
+        region.hi[j] = lateral;
+        jac.lo[j][j] = -d;
+        jac.hi[j][j] = d;
+    }
+    if sign > 0.0 {
+        region.lo[k] = -tol;
+        region.hi[k] = h[k] + tol;
+        jac.lo[k][k] = 0.0;
+        jac.hi[k][k] = 1.0;
+    } else {
+        region.lo[k] = -h[k] - tol;
+        region.hi[k] = tol;
+        jac.lo[k][k] = -1.0;
+        jac.hi[k][k] = 0.0;
+    }
+    (region, jac)
+}
+
+/// The two sides `long_short_side_of(which)` compares for anchor `b`, or `None` when its width
+/// and depth are equal (no long or short side).
+pub(crate) fn long_short_sides(b: &Obb, which: LongShort) -> Option<(Side, Side)> {
+    let full = b.extents();
+    if (full.x - full.y).abs() <= 1e-8 + 1e-5 * full.y.abs() {
+        return None;
+    }
+    Some(match (which, full.x < full.y) {
+        // Longer along y: the long sides face +-x.
+        (LongShort::Long, true) | (LongShort::Short, false) => (Side::Right, Side::Left),
+        (LongShort::Long, false) | (LongShort::Short, true) => (Side::Back, Side::Front),
+    })
 }
 
 /// `side_of(side)`: the fraction of the target's box beyond the anchor's `side` face, within
@@ -187,7 +311,7 @@ pub fn side_of(
     side: Side,
     params: &RelationParams,
 ) -> Real {
-    let region = side_region_box(anchor.obb, side, false, params.side_of_margin, params.tolerance);
+    let (region, _) = side_region_box(anchor.obb, side, false, params.side_of_margin, params.tolerance);
     fraction_in_frame_box(
         target.obb,
         &anchor.obb.rotation,
@@ -205,22 +329,7 @@ pub fn side_region(
     side: Side,
     params: &RelationParams,
 ) -> Real {
-    let (k, sign) = side.axis_and_sign();
-    let h = anchor.obb.half_extents;
-    let tol = params.tolerance;
-    let mut region = FrameBox::ALL;
-    for j in 0..3 {
-        let lateral = (h[j] * (1.0 + params.region_margin)).min(h[j] + tol);
-        region.lo[j] = -lateral;
-        region.hi[j] = lateral;
-    }
-    if sign > 0.0 {
-        region.lo[k] = -tol;
-        region.hi[k] = h[k] + tol;
-    } else {
-        region.lo[k] = -h[k] - tol;
-        region.hi[k] = tol;
-    }
+    let (region, _) = side_half_box(anchor.obb, side, params);
     fraction_in_frame_box(
         target.obb,
         &anchor.obb.rotation,
@@ -243,19 +352,13 @@ pub fn long_short_side_of(
     which: LongShort,
     params: &RelationParams,
 ) -> Real {
-    let full = anchor.obb.extents();
-    if (full.x - full.y).abs() <= 1e-8 + 1e-5 * full.y.abs() {
+    let Some(axis_side) = long_short_sides(anchor.obb, which) else {
         return 0.0;
-    }
-    let axis_side = match (which, full.x < full.y) {
-        // Longer along y: the long sides face +-x.
-        (LongShort::Long, true) | (LongShort::Short, false) => (Side::Right, Side::Left),
-        (LongShort::Long, false) | (LongShort::Short, true) => (Side::Back, Side::Front),
     };
     // The target in the anchor's frame, once for both sides.
     let target_box = BoxInFrame::new(target.obb, &anchor.obb.rotation, &anchor.obb.center, params);
     let score = |side: Side| {
-        let region = side_region_box(anchor.obb, side, true, params.region_margin, params.tolerance);
+        let (region, _) = side_region_box(anchor.obb, side, true, params.region_margin, params.tolerance);
         target_box.fraction_in(&region)
     };
     score(axis_side.0).max(score(axis_side.1))
@@ -279,7 +382,7 @@ pub fn long_short_side_of(
 /// ```
 pub fn on_top(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
     let from_centre = params.on_top_plane == OnTopPlane::CentrePlane;
-    let region = side_region_box(
+    let (region, _) = side_region_box(
         anchor.obb,
         Side::Top,
         from_centre,
@@ -334,7 +437,7 @@ fn band(
 }
 
 /// The two views the distance relations measure between (see [`pair_distance`]).
-fn distance_views<'a>(
+pub(crate) fn distance_views<'a>(
     target: &ObjectGeom<'a>,
     anchor: &ObjectGeom<'a>,
     params: &RelationParams,
@@ -380,7 +483,7 @@ const SURROUND_STACK: usize = 64;
 
 /// Runs `f` on a zeroed scratch slice of length `n`: on the stack up to [`SURROUND_STACK`],
 /// else in a vector.
-fn with_scratch<T: Copy + Default, R>(n: usize, f: impl FnOnce(&mut [T]) -> R) -> R {
+pub(crate) fn with_scratch<T: Copy + Default, R>(n: usize, f: impl FnOnce(&mut [T]) -> R) -> R {
     if n <= SURROUND_STACK {
         let mut buf = [T::default(); SURROUND_STACK];
         f(&mut buf[..n])
@@ -438,6 +541,18 @@ pub(crate) fn surround_centres(
     anchor: &Point3,
     params: &RelationParams,
 ) -> Real {
+    surround_core(n, centre, anchor, params, None)
+}
+
+/// [`surround_centres`], and with `grad` (of length `n`) the score's derivatives with respect
+/// to each target's centre (see [`surround_gradient`]).
+pub(crate) fn surround_core(
+    n: usize,
+    centre: impl Fn(usize) -> Point3,
+    anchor: &Point3,
+    params: &RelationParams,
+    grad: Option<&mut [Vector3]>,
+) -> Real {
     if n < 3 {
         return 0.0;
     }
@@ -458,7 +573,7 @@ pub(crate) fn surround_centres(
         }),
     };
     let ideal_a = std::f64::consts::TAU / n as Real;
-    let score = |thetas: &[Option<Real>]| {
+    let score = |thetas: &[Option<(Real, usize)>]| {
         let mut total = 0.0;
         for (i, theta) in thetas.iter().enumerate() {
             let d_i = if ideal_d > 0.0 {
@@ -467,7 +582,7 @@ pub(crate) fn surround_centres(
                 1.0
             };
             let a_i = match theta {
-                Some(t) => ((t - ideal_a).abs() / ideal_a).min(1.0),
+                Some((t, _)) => ((t - ideal_a).abs() / ideal_a).min(1.0),
                 None => 1.0,
             };
             total += params.surround_distance_weight * (1.0 - d_i).powi(2)
@@ -475,7 +590,7 @@ pub(crate) fn surround_centres(
         }
         (total / n as Real).clamp(0.0, 1.0)
     };
-    with_scratch(n, |thetas: &mut [Option<Real>]| {
+    with_scratch(n, |thetas: &mut [Option<(Real, usize)>]| {
         match params.surround_variant {
             SurroundVariant::Paper => with_scratch(n, |angles: &mut [(Real, usize)]| {
                 plan_gaps(&offset, angles, thetas);
@@ -486,20 +601,167 @@ pub(crate) fn surround_centres(
                 }
             }
         }
-        score(thetas)
+        let value = score(thetas);
+        if let Some(grad) = grad {
+            let ideal = Ideal {
+                d: ideal_d,
+                a: ideal_a,
+                median: match params.surround_variant {
+                    SurroundVariant::Paper => None,
+                    SurroundVariant::Reference => Some(median_indices(n, &r)),
+                },
+            };
+            surround_gradient(&offset, &ideal, thetas, params, grad);
+        }
+        value
     })
 }
 
+/// The ideal distance and angle of [`surround`], and for the reference variant the targets
+/// whose distances the median is taken of (the same one twice for an odd count).
+struct Ideal {
+    d: Real,
+    a: Real,
+    median: Option<(usize, usize)>,
+}
+
+/// The targets whose distances `r` make the median (as sorted by [`surround_core`]).
+fn median_indices(n: usize, r: &impl Fn(usize) -> Real) -> (usize, usize) {
+    with_scratch(n, |rs: &mut [(Real, usize)]| {
+        for (i, slot) in rs.iter_mut().enumerate() {
+            *slot = (r(i), i);
+        }
+        rs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        if n % 2 == 1 {
+            (rs[n / 2].1, rs[n / 2].1)
+        } else {
+            (rs[n / 2 - 1].1, rs[n / 2].1)
+        }
+    })
+}
+
+/// The derivatives of [`surround`]'s score with respect to the targets' centres, into `grad`,
+/// given each target's neighbour angle and neighbour (`thetas`). A deviation clipped at 1
+/// contributes nothing; at a deviation of exactly 0 (where `|x|` turns) its derivative is
+/// taken as 0, the mean of the two one-sided ones.
+fn surround_gradient(
+    offset: &impl Fn(usize) -> Vector3,
+    ideal: &Ideal,
+    thetas: &[Option<(Real, usize)>],
+    params: &RelationParams,
+    grad: &mut [Vector3],
+) {
+    let n = thetas.len();
+    for g in grad.iter_mut() {
+        *g = Vector3::zeros();
+    }
+    let sign = |x: Real| {
+        if x > 0.0 {
+            1.0
+        } else if x < 0.0 {
+            -1.0
+        } else {
+            0.0
+        }
+    };
+    let unit = |i: usize| offset(i).try_normalize(0.0).unwrap_or_else(Vector3::zeros);
+    // The total before clamping: outside [0, 1] the score is flat.
+    let mut total = 0.0;
+    // Sum over targets of d(term_i)/dD, the ideal distance's share.
+    let mut through_ideal = 0.0;
+    for (i, theta) in thetas.iter().enumerate() {
+        let (r_i, ideal_d) = (offset(i).norm(), ideal.d);
+        let d_i = if ideal_d > 0.0 {
+            ((r_i - ideal_d).abs() / ideal_d).min(1.0)
+        } else {
+            1.0
+        };
+        if ideal_d > 0.0 && d_i < 1.0 {
+            let e = r_i - ideal_d;
+            let coef = -2.0 * params.surround_distance_weight * (1.0 - d_i);
+            grad[i] += unit(i) * (coef * sign(e) / ideal_d);
+            through_ideal -= coef * (sign(e) / ideal_d + e.abs() / (ideal_d * ideal_d));
+        }
+        let mut a_i = 1.0;
+        if let Some((t, j)) = *theta {
+            a_i = ((t - ideal.a).abs() / ideal.a).min(1.0);
+            if a_i < 1.0 {
+                let coef = -2.0 * params.surround_angle_weight * (1.0 - a_i) * sign(t - ideal.a) / ideal.a;
+                let (di, dj) = match ideal.median {
+                    // The gap phi_j - phi_i (mod 2 pi).
+                    None => (-plan_angle_grad(&offset(i)), plan_angle_grad(&offset(j))),
+                    Some(_) => spatial_angle_grad(&offset(i), &offset(j), t),
+                };
+                grad[i] += di * coef;
+                grad[j] += dj * coef;
+            }
+        }
+        total += params.surround_distance_weight * (1.0 - d_i).powi(2)
+            + params.surround_angle_weight * (1.0 - a_i).powi(2);
+    }
+    let mean = total / n as Real;
+    if !(0.0..=1.0).contains(&mean) {
+        for g in grad.iter_mut() {
+            *g = Vector3::zeros();
+        }
+        return;
+    }
+    // The ideal distance: the mean of every distance, or the median's one or two.
+    match ideal.median {
+        None => {
+            for (k, g) in grad.iter_mut().enumerate() {
+                *g += unit(k) * (through_ideal / n as Real);
+            }
+        }
+        Some((m1, m2)) => {
+            grad[m1] += unit(m1) * (0.5 * through_ideal);
+            grad[m2] += unit(m2) * (0.5 * through_ideal);
+        }
+    }
+    for g in grad.iter_mut() {
+        *g /= n as Real;
+    }
+}
+
+/// The derivative of the plan angle `atan2(o.y, o.x)` with respect to `o` (0 on the axis).
+fn plan_angle_grad(o: &Vector3) -> Vector3 {
+    let q = o.x * o.x + o.y * o.y;
+    if q > 0.0 {
+        Vector3::new(-o.y / q, o.x / q, 0.0)
+    } else {
+        Vector3::zeros()
+    }
+}
+
+/// The derivatives of the signed 3-D angle `t` from direction `oi` to `oj` (the reference's
+/// neighbour angle, `+-acos` of their cosine) with respect to `oi` and `oj` (0 where the
+/// cosine is +-1).
+fn spatial_angle_grad(oi: &Vector3, oj: &Vector3, t: Real) -> (Vector3, Vector3) {
+    let (li, lj) = (oi.norm(), oj.norm());
+    let (ui, uj) = (oi / li, oj / lj);
+    let c = ui.dot(&uj);
+    let s = (1.0 - c * c).sqrt();
+    if s.is_nan() || s <= 0.0 {
+        return (Vector3::zeros(), Vector3::zeros());
+    }
+    let k = -t.signum() / s;
+    ((uj - ui * c) * (k / li), (ui - uj * c) * (k / lj))
+}
+
 /// For every target `i`, its counter-clockwise plan-view gap to the next target with a
-/// direction (`None` without a direction or without another target with one), into
-/// `gaps[i]`; `angles` is scratch of the same length.
+/// direction and that target (`None` without a direction or without another target with
+/// one), into `gaps[i]`; `angles` is scratch of the same length.
 ///
 /// The gap from `i` to `j` is `(phi_j - phi_i) mod 2 pi` for plan angles `phi` (`atan2`). Over
 /// the `j` with `phi_j >= phi_i` it is smallest for the next angle in sorted order (or 0 for
 /// an equal one just before it), over the others for the smallest angle: both are monotone in
 /// `phi_j` in floating point too, so three candidates per target after one sort give exactly
 /// the minimum over all pairs.
-fn plan_gaps(offset: &impl Fn(usize) -> Vector3, angles: &mut [(Real, usize)], gaps: &mut [Option<Real>]) {
+fn plan_gaps(
+    offset: &impl Fn(usize) -> Vector3,
+    angles: &mut [(Real, usize)],
+    gaps: &mut [Option<(Real, usize)>],
+) {
     let mut m = 0;
     for (i, gap) in gaps.iter_mut().enumerate() {
         *gap = None;
@@ -517,10 +779,13 @@ fn plan_gaps(offset: &impl Fn(usize) -> Vector3, angles: &mut [(Real, usize)], g
         let gap_to = |q: usize| {
             #[cfg(test)]
             tests::GAPS.with(|c| c.set(c.get() + 1));
-            (angles[q].0 - phi).rem_euclid(tau)
+            ((angles[q].0 - phi).rem_euclid(tau), angles[q].1)
         };
-        let mut best: Option<Real> = None;
-        let mut take = |g: Real| best = Some(best.map_or(g, |b: Real| b.min(g)));
+        let mut best: Option<(Real, usize)> = None;
+        // The smallest gap (the first of equal ones).
+        let mut take = |(g, j): (Real, usize)| {
+            best = Some(best.map_or((g, j), |b: (Real, usize)| if g < b.0 { (g, j) } else { b }));
+        };
         if p + 1 < m {
             take(gap_to(p + 1));
         }
@@ -534,11 +799,16 @@ fn plan_gaps(offset: &impl Fn(usize) -> Vector3, angles: &mut [(Real, usize)], g
     }
 }
 
-/// The reference's neighbour angle: signed 3-D angles, smallest positive, else largest.
-fn reference_neighbour_angle(offset: &impl Fn(usize) -> Vector3, n: usize, i: usize) -> Option<Real> {
+/// The reference's neighbour angle: signed 3-D angles, smallest positive, else largest; with
+/// the target it is taken to.
+fn reference_neighbour_angle(
+    offset: &impl Fn(usize) -> Vector3,
+    n: usize,
+    i: usize,
+) -> Option<(Real, usize)> {
     let ui = offset(i).try_normalize(0.0)?;
-    let mut smallest_positive: Option<Real> = None;
-    let mut largest: Option<Real> = None;
+    let mut smallest_positive: Option<(Real, usize)> = None;
+    let mut largest: Option<(Real, usize)> = None;
     for j in (0..n).filter(|&j| j != i) {
         let Some(uj) = offset(j).try_normalize(0.0) else {
             continue;
@@ -548,9 +818,10 @@ fn reference_neighbour_angle(offset: &impl Fn(usize) -> Vector3, n: usize, i: us
             theta = -theta;
         }
         if theta > 0.0 {
-            smallest_positive = Some(smallest_positive.map_or(theta, |b| b.min(theta)));
+            smallest_positive =
+                Some(smallest_positive.map_or((theta, j), |b| if theta < b.0 { (theta, j) } else { b }));
         }
-        largest = Some(largest.map_or(theta, |b| b.max(theta)));
+        largest = Some(largest.map_or((theta, j), |b| if theta > b.0 { (theta, j) } else { b }));
     }
     smallest_positive.or(largest)
 }
@@ -563,6 +834,10 @@ mod tests {
     thread_local! {
         /// Angle gaps evaluated by `plan_gaps` on this thread.
         pub(super) static GAPS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    fn gap_values(gaps: &[Option<(Real, usize)>]) -> Vec<Option<Real>> {
+        gaps.iter().map(|g| g.map(|(v, _)| v)).collect()
     }
 
     /// The pairwise definition of the plan gaps: the minimum over every other target.
@@ -611,7 +886,7 @@ mod tests {
         plan_gaps(&offset, &mut angles, &mut gaps);
         // At most three candidates per target, not n - 1.
         assert!(GAPS.with(Cell::get) <= 3 * n, "{}", GAPS.with(Cell::get));
-        assert_eq!(gaps, brute_gaps(&offsets));
+        assert_eq!(gap_values(&gaps), brute_gaps(&offsets));
         // Small cases, including ties, a single directed target and all at the centre.
         for offs in [
             vec![
@@ -631,7 +906,14 @@ mod tests {
             let mut angles = vec![(0.0, 0); offs.len()];
             let mut gaps = vec![None; offs.len()];
             plan_gaps(&|i| offs[i], &mut angles, &mut gaps);
-            assert_eq!(gaps, brute_gaps(&offs), "{offs:?}");
+            assert_eq!(gap_values(&gaps), brute_gaps(&offs), "{offs:?}");
+            // The neighbour named is one the gap is to.
+            for (i, g) in gaps.iter().enumerate() {
+                if let Some((gap, j)) = *g {
+                    let phi = |k: usize| offs[k].y.atan2(offs[k].x);
+                    assert_eq!(gap, (phi(j) - phi(i)).rem_euclid(std::f64::consts::TAU));
+                }
+            }
         }
     }
     use std::f64::consts::{FRAC_PI_2, PI};

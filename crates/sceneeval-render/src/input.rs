@@ -19,6 +19,9 @@ pub(crate) struct ObjectInput {
     pub pose: Isometry3,
     /// The object-frame scale baked into `mesh`.
     pub scale: Vector3,
+    /// The front the object's scene file declared (`objectFrontVector`), if not -y: its
+    /// asset's look is turned the same way as its mesh.
+    pub asset_front: Option<Vector3>,
     /// Whether the object is a plain box (no asset).
     pub is_box: bool,
     /// The oriented box (mesh bounds in the object frame, placed by the pose).
@@ -56,6 +59,7 @@ impl SceneInput {
                 mesh: Arc::clone(o.mesh()),
                 pose: *o.pose(),
                 scale: o.scale(),
+                asset_front: o.asset_front(),
                 is_box: o.box_half_extents().is_some(),
                 obb: *o.obb(),
                 world_aabb: *o.world_aabb(),

@@ -26,6 +26,7 @@ pub struct SceneObject {
     mesh: Arc<Mesh>,
     box_half_extents: Option<Vector3>,
     scale: Vector3,
+    asset_front: Option<Vector3>,
     pose: Isometry3,
     obb: Obb,
     world_aabb: Aabb,
@@ -52,6 +53,7 @@ impl SceneObject {
             mesh,
             box_half_extents: None,
             scale: Vector3::repeat(1.0),
+            asset_front: None,
             pose,
             obb,
             world_aabb,
@@ -146,6 +148,16 @@ impl SceneObject {
         self
     }
 
+    /// Records the front that the object's source declared for it in its own frame when that
+    /// is not the model's -y (sceneState `objectFrontVector`, e.g. `+y` for SceneAgent
+    /// assets). Informational, like [`SceneObject::with_scale`]: the loader has already turned
+    /// the mesh and the pose so that local -y is the front; writers use it to write the
+    /// file's convention back and renderers to turn the asset's look the same way.
+    pub fn with_asset_front(mut self, front: Vector3) -> Self {
+        self.asset_front = Some(front);
+        self
+    }
+
     /// Moves the object, updating its OBB and world AABB (no allocation; the mesh is shared and
     /// unchanged).
     ///
@@ -205,6 +217,13 @@ impl SceneObject {
     #[inline]
     pub fn scale(&self) -> Vector3 {
         self.scale
+    }
+
+    /// The front the object's source declared in its own frame, when not the model's -y
+    /// (see [`SceneObject::with_asset_front`]); `None` for the model's convention.
+    #[inline]
+    pub fn asset_front(&self) -> Option<Vector3> {
+        self.asset_front
     }
 
     /// `world_from_object`.

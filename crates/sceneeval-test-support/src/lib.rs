@@ -1,8 +1,9 @@
 //! Scaffolding shared by the workspace's tests, examples and benchmarks, so that each is
 //! written once: the standard 4 x 5 m bedroom, box meshes in the `f32` form asset writers
 //! take, the procedural scenes of the plausibility benchmarks ([`scenes`]), a scripted VLM for
-//! fixture scenes 2 and 8 with the annotation rows its tests check ([`fidelity_model`]), and
-//! the one decision whether a test that needs a system package (a GPU driver) runs, skips with
+//! fixture scenes 2 and 8 with the annotation rows its tests check ([`fidelity_model`]), a mock
+//! OpenAI-compatible endpoint on 127.0.0.1 with a fixed latency that counts the requests in
+//! flight at the server ([`mock_endpoint`]), and the one decision whether a test that needs a system package (a GPU driver) runs, skips with
 //! the reason or fails ([`system`]). Not published; crates use it only as a dev-dependency
 //! (tier `dev`).
 //!
@@ -21,6 +22,7 @@
 //! ```
 
 pub mod fidelity_model;
+pub mod mock_endpoint;
 pub mod scenes;
 pub mod system;
 

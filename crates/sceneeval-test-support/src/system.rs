@@ -1,6 +1,9 @@
 //! Tests that need a system package: they run when it is installed, are skipped with the reason
 //! and the package to install when it is not, and fail when the environment requires it.
 //!
+//! Two packages are needed: the GPU driver of the renderer ([`GPU`]) and the browser the
+//! report's pages are checked in ([`BROWSER`]).
+//!
 //! A fresh machine without a GPU driver still passes `cargo test --workspace` (every test that
 //! renders says once per test binary that it skipped and why), while CI, which installs the
 //! driver, sets [`GPU.require_var`](Requirement::require_var) (`SCENEEVAL_REQUIRE_GPU=1` in
@@ -43,6 +46,13 @@ pub const GPU: Requirement = Requirement {
     what: "a Vulkan driver (a GPU's, or Mesa's software driver lavapipe)",
     install: "mesa-vulkan-drivers libvulkan1",
     require_var: "SCENEEVAL_REQUIRE_GPU",
+};
+
+/// The web browser the report's tests load pages in: Debian's `chromium`, run headless.
+pub const BROWSER: Requirement = Requirement {
+    what: "a headless web browser (chromium)",
+    install: "chromium",
+    require_var: "SCENEEVAL_REQUIRE_BROWSER",
 };
 
 /// What to do with a test that needs a package.
@@ -172,6 +182,17 @@ mod tests {
         };
         assert!(fail.starts_with("SCENEEVAL_REQUIRE_GPU is set"), "{fail}");
         assert!(fail.contains("mesa-vulkan-drivers libvulkan1"), "{fail}");
+        // The browser: the same decision, its own package and variable.
+        let Decision::Skip(skip) = decide(&BROWSER, Some("chromium: not found"), false) else {
+            panic!("not a skip")
+        };
+        assert!(
+            skip.contains("apt-get install chromium") && skip.contains("SCENEEVAL_REQUIRE_BROWSER=1"),
+            "{skip}"
+        );
+        assert!(
+            matches!(decide(&BROWSER, Some("x"), true), Decision::Fail(f) if f.starts_with("SCENEEVAL_REQUIRE_BROWSER is set"))
+        );
     }
 
     /// A requirement of its own, so that the process's environment decides nothing here.

@@ -6,13 +6,13 @@ use std::time::{Duration, SystemTime};
 
 use reqwest::header::{AUTHORIZATION, CONTENT_TYPE, HeaderMap, HeaderValue};
 use serde::Serialize;
-use tokio::sync::Semaphore;
 
 use sceneeval_vlm::{Answer, AnswerContent, Vlm, VlmError, VlmRequest};
 use serde_json::Value;
 
+use crate::limits::{Limiter, RateCaps, RateLimitHeaders, Verdict};
 use crate::wire::{ChatResponse, ErrorBody, Sampling, request_body};
-use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy, TEMPERATURE_RANGE};
+use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy, TEMPERATURE_RANGE, estimate_prompt_tokens};
 
 /// A [`Vlm`] backed by an OpenAI-compatible `POST {base_url}/chat/completions` endpoint:
 /// OpenAI, vLLM, Ollama (`/v1`), LM Studio.
@@ -22,7 +22,12 @@ use crate::{ApiKey, OpenAiConfig, OpenAiError, RetryPolicy, TEMPERATURE_RANGE};
 /// `response_format: {type: "json_schema", json_schema: {name, strict: true, schema}}`.
 /// Failed attempts are retried as [`RetryPolicy`] says; 401 and 403 are not retried and are
 /// reported as [`OpenAiError::KeyRefused`]. At most `max_concurrent_requests` attempts are in
-/// flight at once. A refusal (`message.refusal`) and a reply cut off at the token limit
+/// flight at once; that limit halves when the server answers 429 and grows back by one after
+/// as many successful attempts as it allows. Attempts wait while the server's
+/// `x-ratelimit-remaining-requests` / `x-ratelimit-remaining-tokens` headers say its limit is
+/// spent (until their `x-ratelimit-reset-*` time), and are spaced to keep under the optional
+/// requests- and tokens-per-minute caps (tokens estimated by [`estimate_prompt_tokens`]).
+/// A refusal (`message.refusal`) and a reply cut off at the token limit
 /// (`finish_reason: "length"`) are answers of their own kinds, not errors.
 ///
 /// Must be polled inside a tokio runtime (with the time driver enabled).
@@ -45,7 +50,7 @@ pub struct OpenAiVlm {
     timeout: Duration,
     retry: RetryPolicy,
     http: reqwest::Client,
-    permits: Semaphore,
+    limiter: Limiter,
     stats: Counters,
 }
 
@@ -87,6 +92,12 @@ pub struct ClientStats {
     pub waited: Duration,
     /// The most requests that were in flight at once.
     pub peak_in_flight: u64,
+    /// Replies with status 429 (rate limited).
+    pub rate_limited: u64,
+    /// Total time attempts waited for the rate caps and the server's announced limits.
+    pub paced: Duration,
+    /// The concurrency limit now: `max_concurrent_requests`, or less after 429s.
+    pub concurrency_limit: u64,
 }
 
 impl fmt::Debug for OpenAiVlm {
@@ -121,7 +132,7 @@ impl OpenAiVlm {
     /// [`OpenAiError::InvalidBaseUrl`] for a base URL that is not `http(s)://...` or that
     /// holds credentials (`user:pass@`), a query string or a fragment (not shown in the error),
     /// [`OpenAiError::InvalidSetting`] for zero concurrency or timeouts, a temperature outside
-    /// 0 to 2 or a token limit of 0,
+    /// 0 to 2, a token limit of 0 or a rate cap of 0,
     /// [`OpenAiError::Client`] when the HTTP client cannot be built.
     pub fn new(config: OpenAiConfig) -> Result<Self, OpenAiError> {
         let base = config.base_url.trim().trim_end_matches('/').to_owned();
@@ -182,6 +193,12 @@ impl OpenAiVlm {
                 message: "must be at least 1".to_owned(),
             });
         }
+        if config.requests_per_minute == Some(0) || config.tokens_per_minute == Some(0) {
+            return Err(OpenAiError::InvalidSetting {
+                setting: "rate cap",
+                message: "requests and tokens per minute must be at least 1".to_owned(),
+            });
+        }
         if config.timeout.is_zero() || config.connect_timeout.is_zero() {
             return Err(OpenAiError::InvalidSetting {
                 setting: "timeout",
@@ -217,7 +234,13 @@ impl OpenAiVlm {
             timeout: config.timeout,
             retry: config.retry,
             http,
-            permits: Semaphore::new(config.max_concurrent_requests),
+            limiter: Limiter::new(
+                config.max_concurrent_requests,
+                RateCaps {
+                    requests_per_minute: config.requests_per_minute,
+                    tokens_per_minute: config.tokens_per_minute,
+                },
+            ),
             stats: Counters::default(),
         })
     }
@@ -235,12 +258,29 @@ impl OpenAiVlm {
     /// What the client did so far.
     pub fn stats(&self) -> ClientStats {
         let s = &self.stats;
+        let limits = self.limiter.stats();
         ClientStats {
             attempts: s.attempts.load(Ordering::Relaxed),
             retries: s.retries.load(Ordering::Relaxed),
             waited: Duration::from_micros(s.waited_us.load(Ordering::Relaxed)),
             peak_in_flight: s.peak_in_flight.load(Ordering::Relaxed),
+            rate_limited: limits.rate_limited,
+            paced: limits.paced,
+            concurrency_limit: limits.limit as u64,
         }
+    }
+
+    /// The tokens an attempt of `request` is counted for under a tokens-per-minute cap: its
+    /// input tokens estimated with this client's image detail ([`estimate_prompt_tokens`]),
+    /// plus the reply's token limit when one is set (OpenAI counts it against the limit too).
+    pub fn estimate_tokens(&self, request: &VlmRequest) -> u64 {
+        estimate_prompt_tokens(request, self.sampling.detail)
+            + u64::from(self.sampling.max_tokens.unwrap_or(0))
+    }
+
+    /// The image detail requests are sent with.
+    pub fn detail(&self) -> crate::ImageDetail {
+        self.sampling.detail
     }
 
     /// Sends one request, retrying as the policy says.
@@ -253,9 +293,10 @@ impl OpenAiVlm {
                 setting: "request",
                 message: format!("the request cannot be written as JSON: {e}"),
             })?;
+        let tokens = self.estimate_tokens(request);
         let mut retry = 0u32;
         loop {
-            let attempt = self.attempt(&request.task, body.clone(), retry).await;
+            let attempt = self.attempt(&request.task, body.clone(), tokens, retry).await;
             let (error, retry_after) = match attempt {
                 Attempt::Done(answer) => return Ok(answer),
                 Attempt::Fail(error) => return Err(error),
@@ -298,20 +339,23 @@ impl OpenAiVlm {
         (z >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    async fn attempt(&self, task: &str, body: Vec<u8>, retry: u32) -> Attempt {
-        let Ok(_permit) = self.permits.acquire().await else {
-            return Attempt::Fail(OpenAiError::InvalidSetting {
-                setting: "max_concurrent_requests",
-                message: "the request limiter was closed".to_owned(),
-            });
-        };
-        let _in_flight = InFlight::enter(&self.stats);
+    async fn attempt(&self, task: &str, body: Vec<u8>, tokens: u64, retry: u32) -> Attempt {
+        let slot = self.limiter.acquire(tokens).await;
+        let in_flight = InFlight::enter(&self.stats);
         self.stats.attempts.fetch_add(1, Ordering::Relaxed);
-        tracing::debug!(task, url = %self.url, model = %self.model, retry, "sending request");
-        self.exchange(body).await
+        tracing::debug!(task, url = %self.url, model = %self.model, retry, tokens, "sending request");
+        let (attempt, status) = self.exchange(body).await;
+        drop(in_flight);
+        slot.finish(match (&attempt, status) {
+            (_, Some(429)) => Verdict::RateLimited,
+            (Attempt::Done(_), _) => Verdict::Success,
+            _ => Verdict::Other,
+        });
+        attempt
     }
 
-    async fn exchange(&self, body: Vec<u8>) -> Attempt {
+    /// One HTTP exchange: what it gives, and the reply's status when there was one.
+    async fn exchange(&self, body: Vec<u8>) -> (Attempt, Option<u16>) {
         let mut builder = self.http.post(&self.url).timeout(self.timeout).body(body);
         if let Some(key) = &self.key {
             match HeaderValue::from_str(&format!("Bearer {}", key.expose())) {
@@ -320,26 +364,29 @@ impl OpenAiVlm {
                     builder = builder.header(AUTHORIZATION, value);
                 }
                 Err(_) => {
-                    return Attempt::Fail(OpenAiError::ApiKeyVariable {
+                    let error = OpenAiError::ApiKeyVariable {
                         var: key.source().to_owned(),
                         message: "the key contains characters not allowed in an HTTP header".to_owned(),
-                    });
+                    };
+                    return (Attempt::Fail(error), None);
                 }
             }
         }
         let response = match builder.send().await {
             Ok(r) => r,
-            Err(e) => return self.transport_error(e, 1),
+            Err(e) => return (self.transport_error(e, 1), None),
         };
         let status = response.status();
+        let code = status.as_u16();
         let retry_after = retry_after(response.headers());
+        self.limiter.observe(RateLimitHeaders::read(response.headers()));
         let text = match response.text().await {
             Ok(t) => t,
-            Err(e) => return self.transport_error(e, 1),
+            Err(e) => return (self.transport_error(e, 1), Some(code)),
         };
         tracing::debug!(status = status.as_u16(), bytes = text.len(), "reply received");
         if status.is_success() {
-            return match serde_json::from_str::<ChatResponse>(&text).map_err(|e| e.to_string()) {
+            let attempt = match serde_json::from_str::<ChatResponse>(&text).map_err(|e| e.to_string()) {
                 Ok(reply) => match reply.into_answer() {
                     Ok((content, usage)) => Attempt::Done(Answer::new(self.redact_content(content), usage)),
                     Err(message) => Attempt::Fail(self.invalid_response(message)),
@@ -348,10 +395,10 @@ impl OpenAiVlm {
                     Attempt::Fail(self.invalid_response(format!("not a chat completion ({message})")))
                 }
             };
+            return (attempt, Some(code));
         }
-        let code = status.as_u16();
         if code == 401 || code == 403 {
-            return Attempt::Fail(OpenAiError::KeyRefused {
+            let error = OpenAiError::KeyRefused {
                 status: code,
                 url: self.url.clone(),
                 key: match &self.key_source {
@@ -361,7 +408,8 @@ impl OpenAiVlm {
                         crate::DEFAULT_API_KEY_VAR
                     ),
                 },
-            });
+            };
+            return (Attempt::Fail(error), Some(code));
         }
         let error = OpenAiError::Status {
             status: code,
@@ -369,11 +417,12 @@ impl OpenAiVlm {
             attempts: 1,
             message: self.server_message(&text, status.canonical_reason().unwrap_or("")),
         };
-        if matches!(code, 408 | 409 | 429) || status.is_server_error() {
+        let attempt = if matches!(code, 408 | 409 | 429) || status.is_server_error() {
             Attempt::Retry { error, retry_after }
         } else {
             Attempt::Fail(error)
-        }
+        };
+        (attempt, Some(code))
     }
 
     fn transport_error(&self, e: reqwest::Error, attempts: u32) -> Attempt {

@@ -222,7 +222,9 @@ impl RetryPolicy {
 /// | `timeout` | 120 s | per attempt, including reading the reply |
 /// | `connect_timeout` | 10 s | |
 /// | `retry` | [`RetryPolicy::default`] | |
-/// | `max_concurrent_requests` | 4 | requests in flight at once, over all tasks using this client |
+/// | `max_concurrent_requests` | 4 | requests in flight at once, over all tasks using this client; halved on 429, grown back by one per window of successes |
+/// | `requests_per_minute` | none | attempts start at least 60 s / rpm apart |
+/// | `tokens_per_minute` | none | an attempt of n estimated tokens ([`crate::OpenAiVlm::estimate_tokens`]) holds the next back by n x 60 s / tpm |
 #[derive(Debug, Clone)]
 pub struct OpenAiConfig {
     /// The API base URL, ending before `/chat/completions`.
@@ -250,6 +252,10 @@ pub struct OpenAiConfig {
     pub retry: RetryPolicy,
     /// How many requests may be in flight at once.
     pub max_concurrent_requests: usize,
+    /// A cap on attempts per minute (at least 1), if any.
+    pub requests_per_minute: Option<u32>,
+    /// A cap on estimated tokens per minute (at least 1), if any.
+    pub tokens_per_minute: Option<u64>,
 }
 
 impl OpenAiConfig {
@@ -268,6 +274,8 @@ impl OpenAiConfig {
             connect_timeout: Duration::from_secs(10),
             retry: RetryPolicy::default(),
             max_concurrent_requests: 4,
+            requests_per_minute: None,
+            tokens_per_minute: None,
         }
     }
 

@@ -10,7 +10,12 @@
 //!   `detail` (default `low`, as the reference), `seed` (42) and `temperature` (0).
 //! - Retries with exponential backoff and deterministic jitter on 408, 409, 429, 5xx,
 //!   connection failures and timeouts, honouring `Retry-After`; a per-attempt timeout; a limit
-//!   on requests in flight. 401/403 are reported at once as [`OpenAiError::KeyRefused`].
+//!   on requests in flight that halves on 429 and grows back; the server's
+//!   `x-ratelimit-remaining-*` / `x-ratelimit-reset-*` headers honoured; optional requests- and
+//!   tokens-per-minute caps pacing requests by an estimate of their tokens
+//!   ([`estimate_prompt_tokens`]: text at [`CHARS_PER_TOKEN`] characters per token, images by
+//!   OpenAI's rule for their detail). 401/403 are reported at once as
+//!   [`OpenAiError::KeyRefused`].
 //! - The API key ([`ApiKey`], from `OPENAI_API_KEY` or another variable, optional for local
 //!   servers) never appears in logs, errors, `Debug` output or cache files.
 //! - [`ClientStats`] counts attempts, retries and waits; token usage is summed by
@@ -45,6 +50,8 @@
 mod client;
 mod config;
 mod error;
+mod estimate;
+mod limits;
 mod runtime;
 mod wire;
 
@@ -53,4 +60,8 @@ pub use config::{
     ApiKey, DEFAULT_API_KEY_VAR, ImageDetail, OpenAiConfig, RetryPolicy, TEMPERATURE_RANGE, TokenLimitField,
 };
 pub use error::OpenAiError;
+pub use estimate::{
+    CHARS_PER_TOKEN, HIGH_DETAIL_TILE_TOKENS, LOW_DETAIL_IMAGE_TOKENS, estimate_prompt_tokens, image_tokens,
+};
+pub use limits::parse_reset_duration;
 pub use runtime::RuntimeVlm;

@@ -13,9 +13,11 @@ use crate::OpenAiError;
 /// [`crate::OpenAiVlm`]'s futures need a tokio runtime (reqwest's connections, timers), while
 /// synchronous code, such as `sceneeval::Evaluator`'s worker threads, polls futures without
 /// one. Wrapping the client in a `RuntimeVlm` makes its futures runnable anywhere: each
-/// request is spawned onto the runtime and its answer awaited through a channel. The runtime
-/// has one thread (requests wait on the network, not on the CPU); dropping the `RuntimeVlm`
-/// stops the runtime and waits for its thread to end.
+/// request is spawned onto the runtime when its future is first polled (so that futures polled
+/// together, e.g. by `join_all`, are in flight together) and its answer awaited through a
+/// channel; dropping the future before it is done cancels the request. The runtime has one
+/// thread (requests wait on the network, not on the CPU); dropping the `RuntimeVlm` stops the
+/// runtime and waits for its thread to end.
 ///
 /// ```
 /// use sceneeval_vlm::Vlm;
@@ -91,9 +93,12 @@ impl<V: Vlm + 'static> Vlm for RuntimeVlm<V> {
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
         let (inner, request, handle) = (Arc::clone(&self.inner), request.clone(), self.handle.clone());
         async move {
-            // Spawned when first polled, like any future.
+            // Spawned when first polled: in flight from then on, whoever polls next.
             let (task, model) = (request.task.clone(), inner.model().to_owned());
             let spawned = handle.spawn(async move { inner.answer(&request).await });
+            // Dropped before the answer came (a scene's budget ran out): the request is
+            // cancelled, so that it stops holding a place among those in flight.
+            let _cancel = AbortOnDrop(spawned.abort_handle());
             spawned.await.map_err(|e| VlmError::Backend {
                 task,
                 model,
@@ -101,6 +106,15 @@ impl<V: Vlm + 'static> Vlm for RuntimeVlm<V> {
                 source: Box::new(e),
             })?
         }
+    }
+}
+
+/// Aborts a spawned task when dropped (a no-op once the task is done).
+struct AbortOnDrop(tokio::task::AbortHandle);
+
+impl Drop for AbortOnDrop {
+    fn drop(&mut self) {
+        self.0.abort();
     }
 }
 

@@ -2,7 +2,8 @@
 //! reqwest and hyper), against a server that echoes the key in its answers (in JSON, escaped,
 //! in text that is not JSON, in a refusal) and in its error bodies: neither the log, nor the
 //! errors (with their causes), nor `Debug` output, nor the cache files, nor the requests sent
-//! back (the re-ask prompt quotes the previous answer) contain the key or a part of it. Its own
+//! back (the re-ask prompt quotes the previous answer) contain the key or a part of it; nor on
+//! the rate-limit path (a 429 quoting the key, rate-limit headers, the per-minute caps). Its own
 //! test binary, because it installs the global log subscriber.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
@@ -12,11 +13,13 @@ mod support;
 use std::io::Write;
 use std::sync::{Arc, Mutex};
 
+use sceneeval_test_support::mock_endpoint::{MockEndpoint, completion as mock_completion, error};
 use sceneeval_vlm::check::{EndpointCheck, test_image};
 use sceneeval_vlm::tasks::SupportTypeTask;
 use sceneeval_vlm::{Cached, Session};
-use sceneeval_vlm_openai::{ApiKey, OpenAiVlm};
+use sceneeval_vlm_openai::{ApiKey, OpenAiConfig, OpenAiVlm};
 use serde_json::json;
+use std::time::Duration;
 use support::{bodies, completion, config, mount_sequence, user_text};
 use wiremock::{MockServer, ResponseTemplate};
 
@@ -125,6 +128,32 @@ async fn the_key_never_reaches_logs_errors_or_files() {
             &std::fs::read_to_string(&entry).unwrap(),
         );
     }
+
+    // The rate-limit path: a 429 whose body quotes the key, with rate-limit headers, then an
+    // answer, through a client with both caps (its token estimate) and the key.
+    let limited = MockEndpoint::start(Duration::ZERO, |n, _| {
+        if n == 0 {
+            error(429, &format!("Rate limit reached for key {KEY}"))
+                .with_header("x-ratelimit-remaining-requests", "0")
+                .with_header("x-ratelimit-reset-requests", "10ms")
+        } else {
+            mock_completion(&json!({"support_type": "ground", "reason": "on the floor"}))
+        }
+    });
+    let mut c = OpenAiConfig::new(limited.url(), "m").with_api_key(Some(key.clone()));
+    c.retry = config(&server).retry;
+    c.requests_per_minute = Some(6_000);
+    c.tokens_per_minute = Some(10_000_000);
+    let paced = OpenAiVlm::new(c).unwrap();
+    let answer = Session::new(&paced)
+        .ask(&SupportTypeTask::new(test_image(), test_image()))
+        .await
+        .unwrap();
+    assert_eq!(paced.stats().rate_limited, 1);
+    assert_no_key(
+        "Debug output of the paced client",
+        &format!("{paced:?} {:?} {answer:?}", paced.stats()),
+    );
 
     // The log: it recorded the run (retries included) and nothing of the key.
     let log = String::from_utf8(buffer.0.lock().unwrap().clone()).unwrap();

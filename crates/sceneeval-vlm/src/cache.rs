@@ -238,8 +238,9 @@ impl DiskCache {
 /// ([`Vlm::judged`]; see the [module docs](self)).
 ///
 /// A cache file that cannot be read as a record is logged as a warning and replaced by a fresh
-/// answer (a run never stops for a damaged cache entry); [`Replay`] reports it as an error. A
-/// cache folder that cannot be written costs a warning (once) and the cache, not the answers.
+/// answer (a run never stops for a damaged cache entry); [`Replay`] reports it as an error. An
+/// answer that cannot be stored (a full disk, a folder that cannot be written) is used all the
+/// same, with one warning per cache (and its clones).
 #[derive(Debug, Clone)]
 pub struct Cached<V> {
     inner: V,

@@ -5,17 +5,21 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::annotation::Annotations;
+use crate::dry_run::{DryRun, DryRunModel, SceneTally};
 use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::{AssetLibrary, read_scene_state};
 use crate::plausibility::{Deadline, Metric, MetricTiming};
+use crate::schedule::{CpuSlots, SceneSchedule};
 use crate::{
-    EvalError, Evaluator, Fingerprints, Outcome, SceneFile, SceneInputs, SceneRecord, Stage,
+    EvalError, Evaluator, Fingerprints, Outcome, RequestField, SceneFile, SceneInputs, SceneRecord, Stage,
     annotation_digest, matching_file_digest,
 };
 
@@ -35,6 +39,14 @@ pub struct BatchOptions<'a> {
     /// is part of its fingerprint and, when the plan runs text-fidelity metrics, what they
     /// check; a scene without a row gets no fidelity result (a warning is logged).
     pub annotations: Option<&'a Annotations>,
+    /// How many scenes are evaluated at once. `None`: one per worker thread of the current
+    /// rayon pool. With a VLM, more (the request sets threads + VLM concurrency) let scenes
+    /// that wait for the model leave the CPU to others: the scenes then run on a pool of this
+    /// many threads, and at most as many of them as the current pool has threads compute at
+    /// once (the others wait for the model, or for a CPU slot). Ignored without a VLM, and
+    /// when not above the pool's thread count. Each scene in flight holds its scene and object
+    /// views in memory.
+    pub scenes_in_flight: Option<usize>,
 }
 
 /// Something that happened during a run, as it happens (from a worker thread).
@@ -117,6 +129,9 @@ pub struct SceneTiming {
     /// The fidelity metrics together (matching, renders and VLM requests included), seconds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fidelity_seconds: Option<f64>,
+    /// The stability metric (decomposition and simulation), seconds, when it ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stability_seconds: Option<f64>,
     /// The whole scene, seconds.
     pub total_seconds: f64,
 }
@@ -195,28 +210,74 @@ pub fn run_batch(
     on_event: &(dyn Fn(&RunEvent<'_>) + Sync),
 ) -> Result<BatchOutcome, EvalError> {
     crate::check_output_dir(&options.out_dir)?;
+    let threads = rayon::current_num_threads().max(1);
+    let in_flight = options
+        .scenes_in_flight
+        .unwrap_or(threads)
+        .clamp(1, scenes.len().max(1));
+    let lend_cpu = evaluator.vlm().is_some() && in_flight > threads;
     let batch = Batch {
         evaluator,
         assets,
         options,
         fingerprints: Fingerprints::new(),
         plan_digest: evaluator.result_digest(),
+        slots: lend_cpu.then(|| CpuSlots::new(threads)),
+        endpoint: EndpointGate::default(),
     };
-    let results: Vec<Result<Done, EvalError>> = scenes
-        .par_iter()
-        .map(|scene| {
-            let result = batch.process(scene);
-            result.map(|(record, status, timing, error)| {
-                on_event(&RunEvent::SceneDone {
-                    scene,
-                    status: &status,
-                    record: &record,
-                    error: error.as_deref().map(|e| e as &(dyn std::error::Error + 'static)),
-                });
-                (record, status, timing)
+    let work = |scene: &SceneFile| -> Result<Done, EvalError> {
+        let (record, status, timing, error) = batch.process(scene)?;
+        on_event(&RunEvent::SceneDone {
+            scene,
+            status: &status,
+            record: &record,
+            error: error.as_deref().map(|e| e as &(dyn std::error::Error + 'static)),
+        });
+        Ok((record, status, timing))
+    };
+    let results: Vec<Result<Done, EvalError>> = if lend_cpu {
+        // One long-lived loop per thread of a pool of `in_flight` threads, each taking the next
+        // scene: the geometry metrics' own parallel loops run on the same pool, and a thread
+        // that waits in one steals only their pieces, never another scene.
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(in_flight)
+            .thread_name(|i| format!("sceneeval-scene-{i}"))
+            .build()
+            .map_err(|e| {
+                EvalError::request(
+                    RequestField::Threads,
+                    format!("cannot start {in_flight} scene threads: {e}"),
+                )
+            })?;
+        let next = AtomicUsize::new(0);
+        let done: Vec<Mutex<Option<Result<Done, EvalError>>>> =
+            scenes.iter().map(|_| Mutex::new(None)).collect();
+        pool.broadcast(|_| {
+            loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some(scene) = scenes.get(i) else { break };
+                let result = work(scene);
+                *done[i].lock().unwrap_or_else(PoisonError::into_inner) = Some(result);
+            }
+        });
+        done.into_iter()
+            .map(|d| {
+                d.into_inner()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .unwrap_or_else(|| {
+                        Err(EvalError::request(
+                            RequestField::Threads,
+                            "a scene thread stopped",
+                        ))
+                    })
             })
-        })
-        .collect();
+            .collect()
+    } else {
+        scenes.par_iter().map(work).collect()
+    };
+    if let Some(e) = batch.endpoint.take_error() {
+        return Err(e);
+    }
     let mut outcome = BatchOutcome {
         records: Vec::with_capacity(scenes.len()),
         statuses: Vec::with_capacity(scenes.len()),
@@ -257,6 +318,40 @@ struct Batch<'a> {
     options: &'a BatchOptions<'a>,
     fingerprints: Fingerprints,
     plan_digest: String,
+    /// The CPU slots scenes take turns in, when they lend them while waiting for the VLM.
+    slots: Option<Arc<CpuSlots>>,
+    endpoint: EndpointGate,
+}
+
+/// The endpoint check, made once, before the first scene that is evaluated.
+#[derive(Default)]
+struct EndpointGate {
+    passed: OnceLock<bool>,
+    error: Mutex<Option<EvalError>>,
+}
+
+impl EndpointGate {
+    /// Checks `vlm`'s endpoint unless it was checked (every caller waits for the one check).
+    fn ensure(&self, vlm: Option<&crate::SharedVlm>) -> Result<(), EvalError> {
+        let Some(vlm) = vlm else { return Ok(()) };
+        let passed = *self.passed.get_or_init(|| match vlm.check_endpoint() {
+            Ok(()) => true,
+            Err(e) => {
+                tracing::debug!(error = %crate::ErrorChain::new(&e), "the VLM endpoint check failed; stopping");
+                *self.error.lock().unwrap_or_else(PoisonError::into_inner) = Some(e);
+                false
+            }
+        });
+        if passed {
+            Ok(())
+        } else {
+            Err(EvalError::request(RequestField::Vlm, "the endpoint check failed"))
+        }
+    }
+
+    fn take_error(&self) -> Option<EvalError> {
+        self.error.lock().unwrap_or_else(PoisonError::into_inner).take()
+    }
 }
 
 impl Batch<'_> {
@@ -315,23 +410,29 @@ impl Batch<'_> {
             Ok(record) => return Ok((record, SceneStatus::Reused, None, None)),
             Err(why) => why,
         };
+        // The scene computes in a CPU slot (lent out while it waits for the VLM).
+        let slot = SceneSchedule::enter(self.slots.clone(), None);
+        self.endpoint.ensure(self.evaluator.vlm())?;
         tracing::info!(scene = %scene.name, reason = %why, "evaluating");
         let plan = self.evaluator.plan();
         // A budget too large for a `Duration` (validated finite and positive) is no budget.
-        let deadline = match plan
+        let budget = plan
             .time_budget_seconds
-            .and_then(|b| Duration::try_from_secs_f64(b).ok())
-        {
+            .and_then(|b| Duration::try_from_secs_f64(b).ok());
+        let start = Instant::now();
+        let deadline = match budget {
             Some(b) => Deadline::after(b),
             None => Deadline::none(),
         };
-        let start = Instant::now();
+        // Waits for the VLM end with the budget too.
+        slot.set_deadline(budget.and_then(|b| Some((start.checked_add(b)?, b))));
         let mut timing = SceneTiming {
             schema: TIMING_SCHEMA.to_owned(),
             scene: scene.name.to_string(),
             load_seconds: 0.0,
             metrics: Vec::new(),
             fidelity_seconds: None,
+            stability_seconds: None,
             total_seconds: 0.0,
         };
         let dir = scene.out_dir(&self.options.out_dir);
@@ -362,6 +463,7 @@ impl Batch<'_> {
                             Ok(done) => {
                                 timing.metrics = done.timings;
                                 timing.fidelity_seconds = done.fidelity_seconds;
+                                timing.stability_seconds = done.stability_seconds;
                                 if self.options.diagnostics {
                                     self.diagnostics(scene, &loaded, &dir);
                                 }
@@ -415,5 +517,88 @@ impl Batch<'_> {
         ) {
             tracing::warn!(scene = %scene.name, error = %e, "diagnostic images not written");
         }
+    }
+}
+
+/// What a dry run found for one scene.
+enum DryScene {
+    /// Its earlier result would be kept.
+    Reused,
+    /// Gone through: its requests, whether its attribute requests are estimated, and why it
+    /// would fail, if it would.
+    Done(SceneTally, bool, Option<String>),
+}
+
+/// Goes through `scenes` as [`run_batch`] would (the same reuse decisions) with `evaluator`, a
+/// dry run's (its VLM is `model`, no geometry metric), writing nothing: see [`DryRun`].
+pub(crate) fn dry_run_batch(
+    scenes: &[SceneFile],
+    evaluator: &Evaluator,
+    assets: &AssetLibrary,
+    options: &BatchOptions<'_>,
+    model: &DryRunModel,
+) -> DryRun {
+    let batch = Batch {
+        evaluator,
+        assets,
+        options,
+        fingerprints: Fingerprints::new(),
+        plan_digest: evaluator.result_digest(),
+        slots: None,
+        endpoint: EndpointGate::default(),
+    };
+    let found: Vec<DryScene> = scenes.par_iter().map(|scene| batch.dry(scene, model)).collect();
+    let mut run = DryRun {
+        scenes: scenes.len(),
+        vlm: true,
+        ..DryRun::default()
+    };
+    for (scene, found) in scenes.iter().zip(found) {
+        match found {
+            DryScene::Reused => run.reused += 1,
+            DryScene::Done(tally, estimated, failure) => {
+                run.evaluated += 1;
+                run.attributes_estimated += usize::from(estimated);
+                run.add_scene(&tally);
+                if let Some(why) = failure {
+                    run.failed.push((scene.name.to_string(), why));
+                }
+            }
+        }
+    }
+    run
+}
+
+impl Batch<'_> {
+    fn dry(&self, scene: &SceneFile, model: &DryRunModel) -> DryScene {
+        let path = scene.record_path(&self.options.out_dir);
+        let annotation = self.annotation(scene);
+        let digest = annotation.as_ref().map(|(_, d)| d.as_str());
+        if self.reuse(scene, &path, digest).is_ok() {
+            return DryScene::Reused;
+        }
+        let row = annotation.as_ref().map(|(row, _)| *row);
+        let loaded = match read_scene_state(&scene.path, self.assets, &self.evaluator.plan().read) {
+            Ok(l) => l,
+            Err(e) => {
+                return DryScene::Done(
+                    SceneTally::default(),
+                    false,
+                    Some(crate::ErrorChain::new(&e).to_string()),
+                );
+            }
+        };
+        let inputs = SceneInputs {
+            name: Some(scene.name.as_str()),
+            row,
+            assets: Some(self.assets),
+            views_dir: None,
+            deadline: None,
+        };
+        SceneTally::start();
+        let result = self.evaluator.evaluate_scene(&loaded, &inputs);
+        let (tally, estimated) = model.settle(SceneTally::finish(), row);
+        let failure = result.err().map(|e| crate::ErrorChain::new(&e).to_string());
+        DryScene::Done(tally, estimated, failure)
     }
 }

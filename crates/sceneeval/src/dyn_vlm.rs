@@ -1,11 +1,14 @@
 //! [`SharedVlm`]: any [`Vlm`] behind one shareable type, so that the evaluator needs no
-//! type parameter.
+//! type parameter; it counts the run's answers and waits for them as the scene's schedule
+//! says (its CPU slot lent out meanwhile, bounded by its time budget).
 
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::vlm::{Answer, Vlm, VlmError, VlmRequest};
+use crate::EvalError;
+use crate::vlm::{Answer, TokenUsage, Usage, Vlm, VlmError, VlmRequest};
 
 type BoxedAnswer<'a> = Pin<Box<dyn Future<Output = Result<Answer, VlmError>> + Send + 'a>>;
 
@@ -34,19 +37,64 @@ impl<T: Vlm> ErasedVlm for T {
     }
 }
 
+/// What checks that the endpoint answers before the first scene asks it.
+type EndpointCheckFn = dyn Fn() -> Result<(), EvalError> + Send + Sync;
+
 /// A [`Vlm`] of any type, cheap to clone (shared): what [`crate::Evaluator::with_vlm`] takes.
 /// Wrap the model in [`crate::vlm::Cached`] first so that a re-run asks nothing already
 /// answered.
 ///
+/// Its clones share the counts of the answers given so far ([`SharedVlm::usage`], what a
+/// progress display shows while a run goes on) and, when one is set, the check of the
+/// endpoint a batch makes before its first scene ([`SharedVlm::with_endpoint_check`]). In a
+/// batch, a scene waiting for an answer lends its CPU worker to another scene, and the wait
+/// ends with an error when the scene's time budget runs out ([`BudgetSpent`](crate::BudgetSpent)).
+///
 /// ```
 /// use sceneeval::SharedVlm;
-/// use sceneeval::vlm::{Scripted, Vlm};
-/// let vlm = SharedVlm::new(Scripted::queue("m", []));
+/// use sceneeval::vlm::{AnswerContent, Scripted, Session, Vlm, check::EndpointCheck};
+/// let vlm = SharedVlm::new(Scripted::queue("m", [
+///     AnswerContent::Json { value: serde_json::json!({"colour": "red", "reason": "red"}) },
+/// ]));
 /// assert_eq!(vlm.clone().model(), "m");
+/// pollster::block_on(Session::new(vlm.clone()).ask(&EndpointCheck::new())).unwrap();
+/// assert_eq!(vlm.usage().requests, 1);
 /// ```
 #[derive(Clone)]
 pub struct SharedVlm {
     inner: Arc<dyn ErasedVlm>,
+    counts: Arc<Counts>,
+    check: Option<Arc<EndpointCheckFn>>,
+}
+
+/// The answers given so far, over every scene of a run.
+#[derive(Debug, Default)]
+struct Counts {
+    requests: AtomicU64,
+    cache_hits: AtomicU64,
+    failed: AtomicU64,
+    prompt_tokens: AtomicU64,
+    completion_tokens: AtomicU64,
+    cached_prompt_tokens: AtomicU64,
+    cached_completion_tokens: AtomicU64,
+}
+
+impl Counts {
+    fn record(&self, result: &Result<Answer, VlmError>) {
+        let Ok(answer) = result else {
+            self.failed.fetch_add(1, Ordering::Relaxed);
+            return;
+        };
+        self.requests.fetch_add(1, Ordering::Relaxed);
+        let (p, c) = if answer.from_cache {
+            self.cache_hits.fetch_add(1, Ordering::Relaxed);
+            (&self.cached_prompt_tokens, &self.cached_completion_tokens)
+        } else {
+            (&self.prompt_tokens, &self.completion_tokens)
+        };
+        p.fetch_add(answer.usage.prompt_tokens, Ordering::Relaxed);
+        c.fetch_add(answer.usage.completion_tokens, Ordering::Relaxed);
+    }
 }
 
 impl std::fmt::Debug for SharedVlm {
@@ -54,6 +102,7 @@ impl std::fmt::Debug for SharedVlm {
         f.debug_struct("SharedVlm")
             .field("model", &self.inner.model())
             .field("settings", &self.inner.settings())
+            .field("endpoint_check", &self.check.is_some())
             .finish()
     }
 }
@@ -61,7 +110,55 @@ impl std::fmt::Debug for SharedVlm {
 impl SharedVlm {
     /// Shares `vlm`.
     pub fn new(vlm: impl Vlm + 'static) -> Self {
-        SharedVlm { inner: Arc::new(vlm) }
+        SharedVlm {
+            inner: Arc::new(vlm),
+            counts: Arc::default(),
+            check: None,
+        }
+    }
+
+    /// Sets what checks that the endpoint answers: a batch calls it once, before the first
+    /// scene it evaluates (not when every scene's earlier result is reused), and stops with its
+    /// error. [`crate::VlmOptions::attach`] sets one that sends one small request (as
+    /// `sceneeval vlm check` does), so that an unreachable server or a refused key stops a run
+    /// in seconds with one message.
+    pub fn with_endpoint_check(
+        mut self,
+        check: impl Fn() -> Result<(), EvalError> + Send + Sync + 'static,
+    ) -> Self {
+        self.check = Some(Arc::new(check));
+        self
+    }
+
+    /// Runs the endpoint check, if one is set.
+    ///
+    /// # Errors
+    /// The check's error.
+    pub fn check_endpoint(&self) -> Result<(), EvalError> {
+        self.check.as_ref().map_or(Ok(()), |check| check())
+    }
+
+    /// The answers given so far through this model and its clones, over all scenes: requests
+    /// answered (`requests`, of which `cache_hits` from the cache), requests that failed
+    /// (`failed_requests`) and tokens (`tokens` of fresh answers, `cached_tokens` of cached
+    /// ones). Questions and re-asks are counted by each scene's session, not here (zero).
+    pub fn usage(&self) -> Usage {
+        let c = &*self.counts;
+        let get = |a: &AtomicU64| a.load(Ordering::Relaxed);
+        Usage {
+            requests: get(&c.requests),
+            cache_hits: get(&c.cache_hits),
+            failed_requests: get(&c.failed),
+            tokens: TokenUsage {
+                prompt_tokens: get(&c.prompt_tokens),
+                completion_tokens: get(&c.completion_tokens),
+            },
+            cached_tokens: TokenUsage {
+                prompt_tokens: get(&c.cached_prompt_tokens),
+                completion_tokens: get(&c.cached_completion_tokens),
+            },
+            ..Usage::default()
+        }
     }
 }
 
@@ -76,8 +173,13 @@ impl Vlm for SharedVlm {
 
     fn answer(&self, request: &VlmRequest) -> impl Future<Output = Result<Answer, VlmError>> + Send {
         // Owned copies (the images are shared, not copied): the future borrows nothing.
-        let (inner, request) = (self.inner.clone(), request.clone());
-        async move { inner.answer_boxed(&request).await }
+        let (inner, request, counts) = (self.inner.clone(), request.clone(), self.counts.clone());
+        async move {
+            let answer = inner.answer_boxed(&request);
+            let result = crate::schedule::wait_for_model(answer, &request.task, inner.model()).await;
+            counts.record(&result);
+            result
+        }
     }
 
     fn judged(&self, request: &VlmRequest, answer: &Answer, usable: bool) {

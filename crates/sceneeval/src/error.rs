@@ -51,6 +51,12 @@ pub enum EvalError {
     /// cannot be reached, a view that cannot be rendered).
     #[error(transparent)]
     Fidelity(#[from] sceneeval_fidelity::FidelityError),
+    /// The stability metric failed (a scene without rooms, an object that cannot be made a
+    /// rigid body, a simulation that diverged, the scene's time budget ran out; feature
+    /// `physics`).
+    #[cfg(feature = "physics")]
+    #[error("stability: {0}")]
+    Physics(#[from] crate::physics::PhysicsError),
     /// Reading or writing a result file failed.
     #[error("{}: {source}", path.display())]
     File {

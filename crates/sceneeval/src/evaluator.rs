@@ -54,8 +54,21 @@ pub struct Evaluator {
     fidelity: FidelityEvaluator,
     vlm: Option<SharedVlm>,
     custom_sources: bool,
+    /// A dry run's evaluator: the geometry metrics are not computed (`PreparedRun::dry_run`).
+    skip_geometry: bool,
     #[cfg(feature = "render")]
     renderer: Option<(crate::render::Renderer, crate::render::RenderSettings)>,
+    #[cfg(feature = "physics")]
+    stability: StabilityRun,
+}
+
+/// The stability metric with the plan's parameters, and the decomposition cache its scenes
+/// share.
+#[cfg(feature = "physics")]
+#[derive(Debug)]
+struct StabilityRun {
+    metric: crate::physics::Stability,
+    cache: std::sync::Arc<crate::physics::DecompositionCache>,
 }
 
 /// What the evaluation of one scene may use besides the scene and the evaluator (all optional;
@@ -89,6 +102,8 @@ pub struct SceneEvaluation {
     /// question of the scene (fidelity and placement, asked together), the renders they need,
     /// and the fidelity metrics' scoring.
     pub fidelity_seconds: Option<f64>,
+    /// The stability metric's wall time (decomposition and simulation), seconds, when it ran.
+    pub stability_seconds: Option<f64>,
 }
 
 impl Evaluator {
@@ -100,15 +115,105 @@ impl Evaluator {
     pub fn new(plan: EvaluationPlan) -> Result<Self, EvalError> {
         plan.validate()?;
         let fidelity = FidelityEvaluator::new(plan.fidelity.clone(), plan.relations)?;
+        #[cfg(feature = "physics")]
+        let stability = StabilityRun {
+            metric: crate::physics::Stability::new(plan.stability.clone())?,
+            cache: Default::default(),
+        };
         Ok(Evaluator {
             plan,
             sources: Sources::default(),
             fidelity,
             vlm: None,
             custom_sources: false,
+            skip_geometry: false,
             #[cfg(feature = "render")]
             renderer: None,
+            #[cfg(feature = "physics")]
+            stability,
         })
+    }
+
+    /// Shares `cache` for the stability metric's convex decompositions (feature `physics`;
+    /// default: a cache in memory for this evaluator's life). A cache in a folder
+    /// ([`crate::physics::DecompositionCache::on_disk`]) lets re-runs and other weld variants
+    /// reuse them; `sceneeval evaluate` keeps one in `<out>/physics-cache`
+    /// ([`crate::DEFAULT_PHYSICS_CACHE_DIR`]).
+    #[cfg(feature = "physics")]
+    pub fn with_decomposition_cache(
+        mut self,
+        cache: std::sync::Arc<crate::physics::DecompositionCache>,
+    ) -> Self {
+        self.stability.cache = cache;
+        self
+    }
+
+    /// The stability of `scene` under the plan's `stability` parameters (whether or not the
+    /// plan lists the metric), each object's support type from [`Evaluator::sources`] (what
+    /// the scene states, then the category tables, unless replaced), stopping when
+    /// `deadline` passes (feature `physics`).
+    ///
+    /// # Errors
+    /// `EvalError::Physics` as [`crate::physics::Stability::evaluate`].
+    #[cfg(feature = "physics")]
+    pub fn stability(
+        &self,
+        scene: &Scene,
+        deadline: &Deadline,
+    ) -> Result<crate::physics::StabilityReport, EvalError> {
+        self.stability.evaluate(scene, &self.sources, deadline)
+    }
+
+    /// `scene` with every object at its pose after the stability metric's simulation (welded
+    /// objects where they were), with the report that goes with it: what `sceneeval settle`
+    /// writes. Parameters and support types as [`Evaluator::stability`] (feature `physics`).
+    ///
+    /// ```
+    /// use sceneeval::{Deadline, Evaluator, EvaluationPlan};
+    /// use sceneeval::scene::{Category, RoomBuilder, Scene};
+    /// use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
+    ///
+    /// // A 0.4 m crate 5 cm above the floor.
+    /// let scene = Scene::builder()
+    ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(3.0, 3.0)))
+    ///     .add_box("crate", Category::new("box"), Vector3::repeat(0.2),
+    ///              pose_from_yaw(Point3::new(1.5, 1.5, 0.25), 0.0))
+    ///     .build()
+    ///     .unwrap();
+    /// let evaluator = Evaluator::new(EvaluationPlan::geometry_only()).unwrap();
+    /// let (settled, report) = evaluator.settle(&scene, &Deadline::none()).unwrap();
+    /// assert!(!report.objects[0].stable);
+    /// // It landed: its centre is 0.2 m up, within a millimetre.
+    /// let z = settled.objects()[0].pose().translation.z;
+    /// assert!((z - 0.2).abs() < 1e-3, "{z}");
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Evaluator::stability`].
+    #[cfg(feature = "physics")]
+    pub fn settle(
+        &self,
+        scene: &Scene,
+        deadline: &Deadline,
+    ) -> Result<(Scene, crate::physics::StabilityReport), EvalError> {
+        let run = &self.stability;
+        let (poses, report) = run.metric.settle(
+            scene,
+            &run.support_types(scene, &self.sources),
+            &run.cache,
+            &|| deadline.expired(),
+        )?;
+        let mut settled = scene.clone();
+        for (i, pose) in poses.into_iter().enumerate() {
+            // The simulation's poses are finite (a diverged one is an error above).
+            settled
+                .set_pose(i, pose)
+                .map_err(|e| crate::physics::PhysicsError::Geometry {
+                    object: scene.objects()[i].id().to_string(),
+                    reason: e.to_string(),
+                })?;
+        }
+        Ok((settled, report))
     }
 
     /// Uses `vlm` for the text-fidelity metrics (matching, attributes, relation mapping) and
@@ -122,6 +227,12 @@ impl Evaluator {
     /// The VLM, if configured.
     pub fn vlm(&self) -> Option<&SharedVlm> {
         self.vlm.as_ref()
+    }
+
+    /// The same evaluator, computing no geometry metric: what a dry run asks the VLM.
+    pub(crate) fn without_geometry(mut self) -> Self {
+        self.skip_geometry = true;
+        self
     }
 
     /// Renders the object views the VLM is shown with `renderer` at `settings` (feature
@@ -208,18 +319,22 @@ impl Evaluator {
     ///    category tables (an object the VLM does not answer for takes the table's); where
     ///    each object's came from, and why, is recorded ([`SceneReport::placement`]).
     /// 4. The geometry metrics ([`plausibility::evaluate_metrics`], under the deadline).
-    /// 5. CNT, ATR, OOR, OAR from step 2 when the plan runs text-fidelity metrics and the scene
+    /// 5. When the plan runs stability (feature `physics`), the rigid-body simulation under
+    ///    the deadline, with the support types the support metric uses (the same sources, the
+    ///    VLM's answers included).
+    /// 6. CNT, ATR, OOR, OAR from step 2 when the plan runs text-fidelity metrics and the scene
     ///    has an annotation row. A fidelity plan without a row reports no fidelity section (a
     ///    warning is logged): a batch run gives every scene the row the annotations have for
     ///    it, if any.
-    /// 6. The report, built once ([`SceneReport::new`]).
+    /// 7. The report, built once ([`SceneReport::new`]).
     ///
     /// A metric that cannot be computed, a VLM request that gets no answer at all (the
     /// endpoint down, a refused key, a time-out), or any other error of one metric (a
-    /// malformed annotation entry, the time budget), costs only the metrics that needed it:
-    /// they are listed in [`SceneReport::incomplete`] with the reason (the record's status is
-    /// then `partial`), every other result is kept. Support and accessibility are computed
-    /// with the category tables for the objects whose question failed, and listed too.
+    /// malformed annotation entry, the time budget, a scene the stability metric cannot
+    /// simulate), costs only the metrics that needed it: they are listed in
+    /// [`SceneReport::incomplete`] with the reason (the record's status is then `partial`),
+    /// every other result is kept. Support and accessibility (and stability) are computed with
+    /// the category tables for the objects whose question failed, and listed too.
     ///
     /// # Errors
     /// None today: every failure is one metric's ([`SceneReport::incomplete`]). The `Result`
@@ -291,13 +406,26 @@ impl Evaluator {
             None => None,
         };
         let mut timings = Vec::new();
-        let geometry = self.geometry(
-            scene,
-            sources.as_ref().unwrap_or(&self.sources),
-            deadline,
-            &mut timings,
-            &mut incomplete,
-        );
+        let sources = sources.as_ref().unwrap_or(&self.sources);
+        let geometry = self.geometry(scene, sources, deadline, &mut timings, &mut incomplete);
+        #[cfg(feature = "physics")]
+        let (stability, stability_seconds) = match self.plan.runs(Metric::Stability) && !self.skip_geometry {
+            true => {
+                let start = Instant::now();
+                let report = match self.stability.evaluate(scene, sources, deadline) {
+                    Ok(report) => Some(report),
+                    Err(e) => {
+                        tracing::warn!(error = %e, "stability not computed");
+                        incomplete.push(IncompleteMetric::new(Metric::Stability, false, &e));
+                        None
+                    }
+                };
+                (report, Some(start.elapsed().as_secs_f64()))
+            }
+            false => (None, None),
+        };
+        #[cfg(not(feature = "physics"))]
+        let stability_seconds = None;
         let (fidelity, matching) = match fidelity {
             Some(mut outcome) => {
                 // The scene's whole session: placement questions included, every answer in.
@@ -315,6 +443,10 @@ impl Evaluator {
         };
         let fidelity_seconds = row.map(|_| vlm_seconds);
         let mut report = SceneReport::new(name.map(str::to_owned), geometry, fidelity);
+        #[cfg(feature = "physics")]
+        if let Some(s) = stability {
+            report = report.with_stability(s);
+        }
         if let Some(p) = placement {
             report = report.with_placement(p);
         }
@@ -330,6 +462,7 @@ impl Evaluator {
             matching,
             timings,
             fidelity_seconds,
+            stability_seconds,
         })
     }
 
@@ -344,7 +477,11 @@ impl Evaluator {
         timings: &mut Vec<MetricTiming>,
         incomplete: &mut Vec<IncompleteMetric>,
     ) -> plausibility::PlausibilityReport {
-        let metrics = self.plan.geometry_metrics();
+        // A dry run's evaluator computes no geometry metric.
+        let metrics = match self.skip_geometry {
+            true => Vec::new(),
+            false => self.plan.geometry_metrics(),
+        };
         let params = &self.plan.params;
         let mut all_timings = Vec::new();
         match plausibility::evaluate_metrics(scene, params, sources, &metrics, deadline, &mut all_timings) {
@@ -394,7 +531,12 @@ impl Evaluator {
     fn wants_vlm_sources(&self) -> bool {
         self.vlm.is_some()
             && !self.custom_sources
-            && (self.plan.runs(Metric::Support) || self.plan.runs(Metric::Accessibility))
+            && (self.wants_support_types() || self.plan.runs(Metric::Accessibility))
+    }
+
+    /// Whether the plan asks for support types: the support and stability metrics.
+    fn wants_support_types(&self) -> bool {
+        self.plan.runs(Metric::Support) || self.plan.runs(Metric::Stability)
     }
 
     /// Object views of `scene` for the VLM, when a renderer is configured; `dir` receives the
@@ -438,7 +580,7 @@ impl Evaluator {
     ) -> AskedPlacement {
         let support = async {
             match views {
-                Some(v) if self.plan.runs(Metric::Support) => {
+                Some(v) if self.wants_support_types() => {
                     Some(ask_support_types(scene, session, v, |o| o.support_type().is_some()).await)
                 }
                 _ => None,
@@ -484,12 +626,22 @@ impl Evaluator {
                 ),
             ),
         );
-        for (metric, map) in [
-            (Metric::Support, asked.support.as_ref().map(failed_first)),
-            (Metric::Accessibility, asked.sides.as_ref().map(failed_first)),
+        // A failed question costs the metrics that use its answers: support types are the
+        // support and stability metrics', functional sides accessibility's.
+        for (metrics, map) in [
+            (
+                &[Metric::Support, Metric::Stability][..],
+                asked.support.as_ref().map(failed_first),
+            ),
+            (
+                &[Metric::Accessibility][..],
+                asked.sides.as_ref().map(failed_first),
+            ),
         ] {
             if let Some(Some(e)) = map {
-                incomplete.push(IncompleteMetric::new(metric, true, e.as_ref()));
+                for &metric in metrics.iter().filter(|&&m| self.plan.runs(m)) {
+                    incomplete.push(IncompleteMetric::new(metric, true, e.as_ref()));
+                }
             }
         }
         let not_asked_support = if asked.views {
@@ -504,7 +656,7 @@ impl Evaluator {
                 let id = o.id().as_str();
                 ObjectPlacement {
                     object: o.id().clone(),
-                    support_type: self.plan.runs(Metric::Support).then(|| {
+                    support_type: self.wants_support_types().then(|| {
                         let a = sources.support_types.support_type(scene, o);
                         provenance(
                             a,
@@ -587,6 +739,33 @@ fn provenance<T: Clone>(
 
 /// The source name of the VLM's answers in the plausibility reports.
 const VLM_SOURCE: &str = "vlm";
+
+#[cfg(feature = "physics")]
+impl StabilityRun {
+    /// The stability of `scene`, each object's support type from `sources` (as the support
+    /// metric asks them), stopping when `deadline` passes.
+    fn evaluate(
+        &self,
+        scene: &Scene,
+        sources: &Sources,
+        deadline: &Deadline,
+    ) -> Result<crate::physics::StabilityReport, EvalError> {
+        Ok(self
+            .metric
+            .evaluate(scene, &self.support_types(scene, sources), &self.cache, &|| {
+                deadline.expired()
+            })?)
+    }
+
+    /// Each object's support type from `sources` (scene order; `None`: no source knows).
+    fn support_types(&self, scene: &Scene, sources: &Sources) -> Vec<Option<crate::scene::SupportType>> {
+        scene
+            .objects()
+            .iter()
+            .map(|o| sources.support_types.support_type(scene, o).map(|a| a.value))
+            .collect()
+    }
+}
 
 /// The VLM's answers as a plausibility source (named `vlm` in the reports).
 struct VlmAnswers<T>(BTreeMap<String, T>);
@@ -864,6 +1043,153 @@ mod tests {
         assert!(json.starts_with(&format!(r#"{{"schema":"{SCENE_REPORT_SCHEMA}","scene_id":"scene_7","object_ids":["bed","stray"],"metrics":["#)), "{json}");
         let back: SceneReport = serde_json::from_str(&json).unwrap();
         assert_eq!(back, full);
+    }
+
+    /// A 4 x 5 m room holding a desk resting on the floor, a crate floating 5 cm above it, a
+    /// picture hung on the far wall (support type `wall` from the category table), and a
+    /// shelf hung on the left wall whose file states `wall`, sunk 2 cm into it.
+    fn physics_scene() -> Scene {
+        use crate::scene::{SceneObject, SupportType};
+        let shelf = SceneObject::new_box(
+            "shelf",
+            Vector3::new(0.1, 0.3, 0.05),
+            pose_from_yaw(Point3::new(0.08, 2.5, 1.2), 0.0),
+        )
+        .unwrap()
+        .with_category(Category::new("shelf"))
+        .with_support_type(SupportType::Wall);
+        Scene::builder()
+            .id("scene_3")
+            .room_builder(RoomBuilder::rectangle(
+                "r0",
+                Point2::new(0.0, 0.0),
+                Point2::new(4.0, 5.0),
+            ))
+            .add_box(
+                "desk",
+                Category::new("desk"),
+                Vector3::new(0.5, 0.25, 0.375),
+                pose_from_yaw(Point3::new(1.0, 1.0, 0.375), 0.0),
+            )
+            .add_box(
+                "crate",
+                Category::new("box"),
+                Vector3::new(0.2, 0.2, 0.2),
+                pose_from_yaw(Point3::new(3.0, 1.0, 0.25), 0.0),
+            )
+            .add_box(
+                "picture",
+                Category::new("picture"),
+                Vector3::new(0.3, 0.02, 0.2),
+                pose_from_yaw(Point3::new(2.0, 4.98, 1.5), 0.0),
+            )
+            .object(shelf)
+            .build()
+            .unwrap()
+    }
+
+    #[test]
+    fn stability_runs_with_the_support_metrics_sources_and_fills_the_report() {
+        use crate::physics::WeldReason;
+        let s = physics_scene();
+        let plan = EvaluationPlan::from_json_str(r#"{"metrics": ["stability", "support"]}"#).unwrap();
+        let done = Evaluator::new(plan)
+            .unwrap()
+            .evaluate_scene(&s, &SceneInputs::default())
+            .unwrap();
+        let r = &done.report;
+        let st = r.stability.as_ref().unwrap();
+        let by_id = |id: &str| st.objects.iter().find(|o| o.id.as_str() == id).unwrap();
+        // The desk rests; the crate falls 5 cm (over the 1 cm limit); the picture (category
+        // table) and the shelf (stated in the file) are welded as wall-mounted, as support
+        // reports them.
+        assert!(by_id("desk").stable && !by_id("desk").welded);
+        let fallen = by_id("crate");
+        assert!(
+            !fallen.stable && (fallen.displacement_m - 0.05).abs() < 0.005,
+            "{fallen:?}"
+        );
+        assert_eq!(by_id("picture").weld_reason, Some(WeldReason::Wall));
+        assert_eq!(by_id("shelf").weld_reason, Some(WeldReason::Wall));
+        let support = r.support.as_ref().unwrap();
+        // The same answers, unknown (the crate: no table entry) as `null` here and checked as
+        // `ground` there.
+        for (o, sup) in st.objects.iter().zip(&support.objects) {
+            let known = sup.type_source.as_ref().map(|_| sup.support_type);
+            assert_eq!(o.support_type, known, "{}", o.id);
+        }
+        assert_eq!(by_id("crate").support_type, None);
+        // 1 of the 2 free objects moved: frac_unstable 0.5, STAB 0.5.
+        assert_eq!(st.frac_unstable, Some(0.5));
+        assert_eq!(r.summary.stab, Some(Some(0.5)));
+        assert!(done.stability_seconds.is_some());
+        // In eval.json: `stab` in the summary, the section after the metrics', read back.
+        let json = serde_json::to_value(r).unwrap();
+        assert_eq!(json["summary"]["stab"], 0.5);
+        assert_eq!(json["stability"]["objects"][2]["weld_reason"], "wall");
+        let back: SceneReport = serde_json::from_value(json).unwrap();
+        assert_eq!(&back, r);
+
+        // Every weld variant through a plan: with nothing welded the picture and the shelf
+        // fall too (3 of 4 unstable); under `penetration` the shelf, 2 cm into its wall, is
+        // welded for it and the picture falls (2 of 3).
+        for (weld, unstable, shelf) in [
+            ("none", 0.75, None),
+            ("penetration", 2.0 / 3.0, Some(WeldReason::Penetration)),
+            ("combined", 0.5, Some(WeldReason::Wall)),
+        ] {
+            let plan = EvaluationPlan::from_json_str(&format!(
+                r#"{{"metrics": ["stability"], "stability": {{"weld": "{weld}"}}}}"#
+            ))
+            .unwrap();
+            let r = Evaluator::new(plan).unwrap().evaluate(&s).unwrap();
+            let st = r.stability.unwrap();
+            assert_eq!(st.frac_unstable, Some(unstable), "{weld}");
+            assert_eq!(st.objects[3].weld_reason, shelf, "{weld}");
+            assert_eq!(r.summary.stab, Some(Some(1.0 - unstable)), "{weld}");
+        }
+    }
+
+    #[test]
+    fn stability_obeys_the_time_budget_and_reports_a_scene_without_rooms() {
+        let plan = EvaluationPlan::from_json_str(r#"{"metrics": ["stability"]}"#).unwrap();
+        let evaluator = Evaluator::new(plan).unwrap();
+        let deadline = Deadline::none();
+        deadline.cancel();
+        let inputs = SceneInputs {
+            deadline: Some(&deadline),
+            ..SceneInputs::default()
+        };
+        // A failing metric costs only itself: the scene is partial, stability listed.
+        let incomplete = |r: &SceneReport| {
+            assert_eq!(r.incomplete.len(), 1, "{:?}", r.incomplete);
+            assert_eq!((r.incomplete[0].metric, r.incomplete[0].vlm), (Metric::Stability, false));
+            let m = &r.incomplete[0];
+            crate::ErrorChain::from_parts(m.error.as_str(), &m.causes).to_string()
+        };
+        let done = evaluator.evaluate_scene(&physics_scene(), &inputs).unwrap();
+        let err = incomplete(&done.report);
+        assert!(err.contains("time budget"), "{err}");
+        assert!(done.report.stability.is_none());
+        let roomless = Scene::builder()
+            .id("scene_9")
+            .add_box(
+                "desk",
+                Category::new("desk"),
+                Vector3::new(0.5, 0.25, 0.375),
+                pose_from_yaw(Point3::new(1.0, 1.0, 0.375), 0.0),
+            )
+            .build()
+            .unwrap();
+        let err = incomplete(&evaluator.evaluate(&roomless).unwrap());
+        assert!(err.contains("has no room"), "{err}");
+        // Without the metric the report has neither section nor key.
+        let r = Evaluator::new(EvaluationPlan::geometry_only())
+            .unwrap()
+            .evaluate(&physics_scene())
+            .unwrap();
+        assert!(r.stability.is_none() && r.summary.stab.is_none());
+        assert!(!serde_json::to_string(&r).unwrap().contains("stab"));
     }
 
     #[test]

@@ -21,6 +21,8 @@
 //! assert_eq!(info.objects[0].id, "bed");
 //! // Full size = twice the half extents.
 //! assert_eq!(info.objects[0].size, [1.6, 2.0, 0.5]);
+//! // Yaw 0: the bed's front faces world -y.
+//! assert_eq!(info.objects[0].front, [0.0, -1.0, 0.0]);
 //! assert_eq!(info.rooms[0].walls.len(), 4);
 //! assert_eq!(info.rooms[0].walls[0].openings[0].kind, "door");
 //! // A 4 x 5 m floor.
@@ -64,6 +66,12 @@ pub struct ObjectInfo<'a> {
     pub size: [Real; 3],
     /// Rotation about +z; 0 means the front faces world -y.
     pub yaw: Real,
+    /// The direction the object's front faces, world coordinates (unit): its local -y.
+    pub front: [Real; 3],
+    /// The front the scene file declared for the object's asset in its own z-up frame
+    /// (sceneState `objectFrontVector`) when it is not the model's `[0, -1, 0]`; the object
+    /// was turned on reading so that `front` is right.
+    pub asset_front: Option<[Real; 3]>,
     /// Object-frame scale baked into the mesh.
     pub scale: [Real; 3],
     /// The support type the scene states (`supportType`), if any.
@@ -155,6 +163,11 @@ impl<'a> ObjectInfo<'a> {
             center: [obb.center.x, obb.center.y, obb.center.z],
             size: [size.x, size.y, size.z],
             yaw: o.yaw(),
+            front: {
+                let f = obb.side_direction(Side::Front);
+                [f.x, f.y, f.z]
+            },
+            asset_front: o.asset_front().map(|f| [f.x, f.y, f.z]),
             scale: [o.scale().x, o.scale().y, o.scale().z],
             support_type: o.support_type(),
             functional_sides: o.functional_sides(),

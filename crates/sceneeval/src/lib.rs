@@ -13,6 +13,7 @@
 //! | [`vlm`] | `sceneeval-vlm` | VLM tasks, sessions, the response cache |
 //! | [`fidelity`] | `sceneeval-fidelity` | object matching, CNT, ATR, OOR, OAR |
 //! | `vlm_openai` (feature `openai`) | `sceneeval-vlm-openai` | the OpenAI-compatible HTTP client |
+//! | `physics` (feature `physics`) | `sceneeval-physics` | physical stability (the `stability` metric) |
 //!
 //! On top of them:
 //! - an [`EvaluationPlan`] names the [`Metric`]s to run and their parameters (starting from a
@@ -69,6 +70,8 @@ pub use sceneeval_annotation as annotation;
 pub use sceneeval_fidelity as fidelity;
 pub use sceneeval_geom as geom;
 pub use sceneeval_io as io;
+#[cfg(feature = "physics")]
+pub use sceneeval_physics as physics;
 pub use sceneeval_plausibility as plausibility;
 pub use sceneeval_relations as relations;
 #[cfg(feature = "render")]
@@ -80,6 +83,7 @@ pub use sceneeval_vlm_openai as vlm_openai;
 
 mod batch;
 mod chain;
+mod dry_run;
 mod dyn_vlm;
 mod error;
 mod evaluator;
@@ -93,12 +97,14 @@ pub mod relate;
 mod report;
 mod request;
 mod scene_file;
+mod schedule;
 mod summary;
 
 pub use batch::{
     BatchOptions, BatchOutcome, Reason, RunEvent, SceneStatus, SceneTiming, TIMING_SCHEMA, run_batch,
 };
 pub use chain::{ErrorChain, causes};
+pub use dry_run::{DryRun, TaskCost};
 pub use dyn_vlm::SharedVlm;
 pub use error::EvalError;
 pub use evaluator::{Evaluator, SceneEvaluation, SceneInputs};
@@ -106,7 +112,7 @@ pub use files::{LOCK_FILE, OutputLock, check_output_dir, write_atomic, write_ato
 pub use fingerprint::{
     AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest, matching_file_digest,
 };
-pub use metric::{Metric, UnknownMetric};
+pub use metric::{Better, Metric, UnknownMetric};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
 pub use plausibility::{Deadline, MetricTiming};
 pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
@@ -115,9 +121,14 @@ pub use report::{
     SceneSummary,
 };
 pub use request::{
-    ChosenPlan, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, EvaluationRequest,
+    ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR,
+    DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS, EvaluationRequest, MAX_VLM_TIMEOUT_SECONDS,
     NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard,
     VlmOptions,
 };
 pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
-pub use summary::{ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, Summary, UNANNOTATED};
+pub use schedule::BudgetSpent;
+pub use summary::{
+    ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneRow, Summary,
+    UNANNOTATED,
+};

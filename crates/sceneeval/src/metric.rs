@@ -1,6 +1,7 @@
 //! [`Metric`]: every metric a run can evaluate, the six geometry metrics of
-//! `sceneeval-plausibility` and the four text-fidelity metrics of `sceneeval-fidelity`, under
-//! one name each, with the summary's column names as aliases.
+//! `sceneeval-plausibility`, physical stability (`sceneeval-physics`, feature `physics`) and
+//! the four text-fidelity metrics of `sceneeval-fidelity`, under one name each, with the
+//! summary's column names as aliases.
 
 use std::fmt;
 use std::str::FromStr;
@@ -14,7 +15,8 @@ use crate::plausibility;
 ///
 /// Each crate that computes metrics has its own dispatcher key ([`plausibility::Metric`],
 /// [`FidelityMetric`]); this is the one list over all of them, in the order they are reported
-/// (the geometry metrics, then CNT, ATR, OOR, OAR). Names are snake case; the summary's column
+/// (the geometry metrics, stability, then CNT, ATR, OOR, OAR). [`Metric::Stability`] is
+/// parsed in every build; a plan that runs it needs the facade's `physics` feature. Names are snake case; the summary's column
 /// names are accepted too, in any case (`OOB`, `COL_ob`, `DOOR_blk`, `cnt`):
 ///
 /// ```
@@ -24,7 +26,7 @@ use crate::plausibility;
 /// assert_eq!("cnt".parse::<Metric>().unwrap(), Metric::Cnt);
 /// let err = "colision".parse::<Metric>().unwrap_err().to_string();
 /// assert!(err.contains("did you mean \"collision\""), "{err}");
-/// assert!(err.contains("cnt, atr, oor, oar"), "{err}");
+/// assert!(err.contains("stability, cnt, atr, oor, oar"), "{err}");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Metric {
@@ -40,6 +42,9 @@ pub enum Metric {
     OutOfBounds,
     /// Door and window clearance (DOOR_blk, WIN_blk; reference v1.1).
     OpeningClearance,
+    /// Physical stability under a rigid-body simulation (STAB; `sceneeval-physics`, feature
+    /// `physics`; not in the paper).
+    Stability,
     /// Object counts (CNT).
     Cnt,
     /// Object attributes, judged by a VLM (ATR).
@@ -52,13 +57,14 @@ pub enum Metric {
 
 impl Metric {
     /// Every metric, in the order they are reported.
-    pub const ALL: [Metric; 10] = [
+    pub const ALL: [Metric; 11] = [
         Metric::Collision,
         Metric::Support,
         Metric::Navigability,
         Metric::Accessibility,
         Metric::OutOfBounds,
         Metric::OpeningClearance,
+        Metric::Stability,
         Metric::Cnt,
         Metric::Atr,
         Metric::Oor,
@@ -74,7 +80,7 @@ impl Metric {
             Metric::Accessibility => plausibility::Metric::Accessibility,
             Metric::OutOfBounds => plausibility::Metric::OutOfBounds,
             Metric::OpeningClearance => plausibility::Metric::OpeningClearance,
-            Metric::Cnt | Metric::Atr | Metric::Oor | Metric::Oar => return None,
+            Metric::Stability | Metric::Cnt | Metric::Atr | Metric::Oor | Metric::Oar => return None,
         })
     }
 
@@ -94,8 +100,8 @@ impl Metric {
         match (self.geometry(), self.fidelity()) {
             (Some(g), _) => g.name(),
             (_, Some(f)) => f.name(),
-            // Every metric is one of the two kinds.
-            (None, None) => "",
+            // The one metric of neither kind.
+            (None, None) => "stability",
         }
     }
 
@@ -108,6 +114,7 @@ impl Metric {
             Metric::Accessibility => &["ACC"],
             Metric::OutOfBounds => &["OOB"],
             Metric::OpeningClearance => &["DOOR_blk", "WIN_blk"],
+            Metric::Stability => &["STAB"],
             Metric::Cnt => &["CNT"],
             Metric::Atr => &["ATR"],
             Metric::Oor => &["OOR"],
@@ -142,6 +149,30 @@ impl Metric {
             .map(|(m, _)| m)
     }
 
+    /// Which way the metric's summary columns improve: higher for SUP, NAV, ACC, STAB, CNT,
+    /// ATR, OOR, OAR; lower for COL_ob, COL_sc, OOB, DOOR_blk, WIN_blk (every column of a metric
+    /// improves the same way).
+    ///
+    /// ```
+    /// use sceneeval::{Better, Metric};
+    /// assert_eq!(Metric::Support.better(), Better::Higher);
+    /// assert_eq!(Metric::Collision.better(), Better::Lower);
+    /// assert!(Better::Lower.prefers(2.0, 5.0));
+    /// ```
+    pub const fn better(self) -> Better {
+        match self {
+            Metric::Support
+            | Metric::Navigability
+            | Metric::Accessibility
+            | Metric::Stability
+            | Metric::Cnt
+            | Metric::Atr
+            | Metric::Oor
+            | Metric::Oar => Better::Higher,
+            Metric::Collision | Metric::OutOfBounds | Metric::OpeningClearance => Better::Lower,
+        }
+    }
+
     /// The list of metric names for messages: "collision, support, ..., cnt, atr, oor, oar".
     pub fn names() -> String {
         Metric::ALL.map(Metric::name).join(", ")
@@ -151,6 +182,34 @@ impl Metric {
 impl fmt::Display for Metric {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+/// Which way a metric improves ([`Metric::better`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Better {
+    /// Higher values are better (a share of satisfied specs, of supported objects, ...).
+    Higher,
+    /// Lower values are better (a share of objects in collision, out of bounds, ...).
+    Lower,
+}
+
+impl Better {
+    /// Whether `a` is strictly better than `b` in this direction.
+    pub fn prefers(self, a: f64, b: f64) -> bool {
+        match self {
+            Better::Higher => a > b,
+            Better::Lower => a < b,
+        }
+    }
+
+    /// `higher` or `lower`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Better::Higher => "higher",
+            Better::Lower => "lower",
+        }
     }
 }
 
@@ -234,6 +293,7 @@ mod tests {
             match (m.geometry(), m.fidelity()) {
                 (Some(g), None) => assert_eq!(Metric::from(g), m),
                 (None, Some(f)) => assert_eq!(Metric::from(f), m),
+                (None, None) => assert_eq!(m, Metric::Stability),
                 other => panic!("{m}: {other:?}"),
             }
         }
@@ -242,9 +302,26 @@ mod tests {
             Metric::OpeningClearance
         );
         assert_eq!(" win_blk ".parse::<Metric>().unwrap(), Metric::OpeningClearance);
+        assert_eq!("STAB".parse::<Metric>().unwrap(), Metric::Stability);
+        assert_eq!("stability".parse::<Metric>().unwrap(), Metric::Stability);
         // The plausibility crate's order is this order's prefix.
         let geometry: Vec<Metric> = plausibility::Metric::ALL.into_iter().map(Metric::from).collect();
         assert_eq!(geometry, Metric::ALL[..6]);
+    }
+
+    #[test]
+    fn the_direction_of_each_metric_is_the_summary_legend_s() {
+        // summary's LEGEND: lower is better for COL_ob, COL_sc, OOB, DOOR_blk and WIN_blk;
+        // higher for SUP, NAV, ACC and CNT, ATR, OOR, OAR.
+        let lower = ["COL_ob", "COL_sc", "OOB", "DOOR_blk", "WIN_blk"];
+        for m in Metric::ALL {
+            for c in m.columns() {
+                assert_eq!(m.better() == Better::Lower, lower.contains(c), "{c}");
+                assert!(crate::LEGEND.contains(c), "{c}");
+            }
+        }
+        assert!(Better::Higher.prefers(2.0, 1.0) && !Better::Higher.prefers(1.0, 1.0));
+        assert!(Better::Lower.prefers(1.0, 2.0) && !Better::Lower.prefers(2.0, 2.0));
     }
 
     #[test]
@@ -270,7 +347,7 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "unknown metric \"physics\"; the metrics are collision, support, navigability, accessibility, \
-             out_of_bounds, opening_clearance, cnt, atr, oor, oar (or their summary columns, e.g. OOB)"
+             out_of_bounds, opening_clearance, stability, cnt, atr, oor, oar (or their summary columns, e.g. OOB)"
         );
     }
 }

@@ -7,7 +7,7 @@ use serde_json::{Map, Value};
 
 use crate::fidelity::{FidelityMetric, FidelityParams};
 use crate::io::{Limits, ReadOptions};
-use crate::plausibility::{self, Footprint, PlausibilityError, PlausibilityParams};
+use crate::plausibility::{self, Deadline, Footprint, PlausibilityError, PlausibilityParams};
 use crate::relations::RelationParams;
 use crate::{EvalError, Metric};
 
@@ -111,6 +111,10 @@ pub struct EvaluationPlan {
     /// Wall-time budget per scene in seconds (loading and metrics together); a scene over it
     /// is recorded as failed and the run goes on. `null` for no budget. Default 600.
     pub time_budget_seconds: Option<f64>,
+    /// Parameters of the stability metric (`stability.weld`, `stability.duration_s`, ...;
+    /// feature `physics`): the same under both presets.
+    #[cfg(feature = "physics")]
+    pub stability: crate::physics::StabilityParams,
 }
 
 impl Default for EvaluationPlan {
@@ -132,6 +136,8 @@ impl EvaluationPlan {
             read: ReadOptions::default(),
             limits: Limits::default(),
             time_budget_seconds: Some(DEFAULT_TIME_BUDGET_SECONDS),
+            #[cfg(feature = "physics")]
+            stability: crate::physics::StabilityParams::default(),
         }
     }
 
@@ -159,8 +165,8 @@ impl EvaluationPlan {
         plan
     }
 
-    /// The paper's ten metrics (the six geometry metrics and CNT, ATR, OOR, OAR) with the
-    /// preset's parameters. The `default` preset matches by labels and maps relations with the
+    /// The paper's ten metrics (the six geometry metrics and CNT, ATR, OOR, OAR; not
+    /// stability, which the paper does not have) with the preset's parameters. The `default` preset matches by labels and maps relations with the
     /// lexicon (no VLM needed; ATR is then not judged); `reference` asks the VLM for both.
     ///
     /// ```
@@ -174,7 +180,10 @@ impl EvaluationPlan {
     /// ```
     pub fn full(preset: Preset) -> Self {
         let mut plan = EvaluationPlan::with_preset(preset);
-        plan.metrics = Metric::ALL.to_vec();
+        plan.metrics = Metric::ALL
+            .into_iter()
+            .filter(|m| *m != Metric::Stability)
+            .collect();
         plan
     }
 
@@ -289,9 +298,15 @@ impl EvaluationPlan {
     }
 
     fn from_value(value: Value, preset: Option<Preset>) -> Result<Self, EvalError> {
-        let Value::Object(given) = value else {
+        let Value::Object(mut given) = value else {
             return Err(plan_error(None, "a plan must be a JSON object".into()));
         };
+        // A build without physics reads plan files written for one with it (the example
+        // plans spell out the stability parameters): it leaves the section out, unchecked,
+        // and refuses only a plan that runs the metric (`validate`).
+        if cfg!(not(feature = "physics")) && given.remove("stability").is_some() {
+            tracing::warn!("this build has no physics feature: the plan's `stability` section is ignored");
+        }
         if given.contains_key("fidelity_metrics") {
             return Err(plan_error(
                 Some("fidelity_metrics"),
@@ -411,7 +426,18 @@ impl EvaluationPlan {
                     format!("metric {m} is listed twice"),
                 ));
             }
+            if *m == Metric::Stability && cfg!(not(feature = "physics")) {
+                return Err(plan_error(Some(&format!("metrics[{i}]")), NO_PHYSICS.to_owned()));
+            }
         }
+        #[cfg(feature = "physics")]
+        self.stability.validate().map_err(|e| {
+            let field = match &e {
+                crate::physics::PhysicsError::InvalidParameter { name, .. } => format!("stability.{name}"),
+                _ => "stability".to_owned(),
+            };
+            plan_error(Some(&field), e.to_string())
+        })?;
         self.params.validate().map_err(|e| {
             let field = match &e {
                 PlausibilityError::InvalidParameter { metric, name, .. } => format!("params.{metric}.{name}"),
@@ -444,6 +470,26 @@ impl EvaluationPlan {
         Ok(())
     }
 
+    /// A [`Deadline`] of [`EvaluationPlan::time_budget_seconds`] from now ([`Deadline::none`]
+    /// without a budget, or with one too large for a `Duration`).
+    ///
+    /// ```
+    /// use sceneeval::EvaluationPlan;
+    /// let mut plan = EvaluationPlan::geometry_only();
+    /// assert_eq!(plan.deadline().budget().map(|b| b.as_secs()), Some(600));
+    /// plan.time_budget_seconds = None;
+    /// assert!(plan.deadline().budget().is_none());
+    /// ```
+    pub fn deadline(&self) -> Deadline {
+        match self
+            .time_budget_seconds
+            .and_then(|b| std::time::Duration::try_from_secs_f64(b).ok())
+        {
+            Some(b) => Deadline::after(b),
+            None => Deadline::none(),
+        }
+    }
+
     /// Whether the plan runs `metric`.
     #[inline]
     pub fn runs(&self, metric: Metric) -> bool {
@@ -472,6 +518,10 @@ impl EvaluationPlan {
             fidelity: Option<&'a FidelityParams>,
             relations: &'a RelationParams,
             read: &'a ReadOptions,
+            // Present only when the plan runs stability, so that other digests stay as they were.
+            #[cfg(feature = "physics")]
+            #[serde(skip_serializing_if = "Option::is_none")]
+            stability: Option<&'a crate::physics::StabilityParams>,
         }
         let fidelity_metrics = self.fidelity_metrics();
         let s = Semantic {
@@ -481,12 +531,18 @@ impl EvaluationPlan {
             fidelity_metrics,
             relations: &self.relations,
             read: &self.read,
+            #[cfg(feature = "physics")]
+            stability: self.runs(Metric::Stability).then_some(&self.stability),
         };
         // Serialising plain data structs to a string cannot fail.
         let text = serde_json::to_string(&s).unwrap_or_default();
         blake3::hash(text.as_bytes()).to_hex().to_string()
     }
 }
+
+/// Why a plan of a build without the `physics` feature cannot run stability.
+const NO_PHYSICS: &str = "the stability metric needs the rigid-body simulation, which this build of sceneeval \
+                          does not have (the facade's feature `physics`; the sceneeval CLI and Python package have it)";
 
 fn plan_error(field: Option<&str>, message: String) -> EvalError {
     EvalError::Plan {
@@ -716,6 +772,73 @@ mod tests {
         let e = EvaluationPlan::from_json_str("{\n  \"metrics\": [\n}").unwrap_err();
         assert!(e.to_string().contains("line 3"), "{e}");
         assert!(EvaluationPlan::from_json_str("[1]").is_err());
+    }
+
+    #[test]
+    fn stability_parameters_are_read_checked_and_digested() {
+        use crate::physics::{MassModel, WeldMode};
+        let plan = EvaluationPlan::from_json_str(
+            r#"{"metrics": ["STAB"], "stability": {"weld": "combined", "mass": {"per_object": 1.0}}}"#,
+        )
+        .unwrap();
+        assert_eq!(plan.ordered_metrics(), vec![Metric::Stability]);
+        assert_eq!(plan.stability.weld, WeldMode::Combined);
+        assert_eq!(plan.stability.mass, MassModel::PerObject(1.0));
+        assert_eq!(plan.stability.duration_s, 5.0, "the rest stays the default");
+        let toml = EvaluationPlan::from_toml_str(
+            "metrics = [\"stability\"]\n[stability]\nweld = \"combined\"\n[stability.mass]\nper_object = 1.0\n",
+        )
+        .unwrap();
+        assert_eq!(toml, plan);
+        for (text, path, words) in [
+            (
+                r#"{"stability": {"weld": "glued"}}"#,
+                "stability.weld",
+                "unknown variant",
+            ),
+            (
+                r#"{"stability": {"duration_s": 0}}"#,
+                "stability.duration_s",
+                "(0, 60]",
+            ),
+            (
+                r#"{"stability": {"time_step_s": 0.5}}"#,
+                "stability.time_step_s",
+                "[0.0001, 0.02]",
+            ),
+            (
+                r#"{"stability": {"duraton_s": 1}}"#,
+                "stability.duraton_s",
+                "unknown field",
+            ),
+            (
+                r#"{"stability": {"decomposition": {"resolution": 4}}}"#,
+                "stability.decomposition.resolution",
+                "[8, 128]",
+            ),
+            (
+                r#"{"stability": {"mass": {"density": -1}}}"#,
+                "stability.mass.density",
+                "must lie in",
+            ),
+        ] {
+            let (field, message) = field_of(text);
+            assert_eq!(field.as_deref(), Some(path), "{text}: {message}");
+            assert!(message.contains(words), "{text}: {message}");
+        }
+        // The stability parameters enter the digest only when the metric runs, so the
+        // digests of plans without it are unchanged.
+        let mut a = EvaluationPlan::geometry_only();
+        let d = a.result_digest();
+        a.stability.weld = WeldMode::None;
+        assert_eq!(a.result_digest(), d);
+        a.metrics.push(Metric::Stability);
+        let with = a.result_digest();
+        assert_ne!(with, d);
+        a.stability.weld = WeldMode::Combined;
+        assert_ne!(a.result_digest(), with);
+        // The paper's ten metrics do not include it.
+        assert!(!EvaluationPlan::full(Preset::Default).runs(Metric::Stability));
     }
 
     #[test]

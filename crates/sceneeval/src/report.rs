@@ -55,6 +55,11 @@ pub struct SceneReport {
     /// What the text-fidelity metrics found, when they ran.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fidelity: Option<FidelityReport>,
+    /// What the stability metric found, when it ran (feature `physics`; set by
+    /// [`SceneReport::with_stability`]).
+    #[cfg(feature = "physics")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stability: Option<crate::physics::StabilityReport>,
     /// Where each object's support type and functional sides came from, and why, when the VLM
     /// was asked for them (support or accessibility with a VLM and the default sources).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -157,6 +162,15 @@ pub struct SceneSummary {
         deserialize_with = "fidelity_keys"
     )]
     pub fidelity: Option<FidelitySummary>,
+    /// STAB, the share of the objects free to move that stayed where they were put (0 to 1),
+    /// when the stability metric ran: the key `stab` is absent when it did not run, `null`
+    /// when no object was free to move (`report.stability.frac_unstable_missing` says why).
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "present"
+    )]
+    pub stab: Option<Option<f64>>,
 }
 
 impl SceneReport {
@@ -187,6 +201,7 @@ impl SceneReport {
             summary: SceneSummary {
                 geometry: summary,
                 fidelity: fidelity.as_ref().map(|f| f.summary),
+                stab: None,
             },
             collision,
             support,
@@ -195,9 +210,20 @@ impl SceneReport {
             out_of_bounds,
             opening_clearance,
             fidelity,
+            #[cfg(feature = "physics")]
+            stability: None,
             placement: None,
             incomplete: Vec::new(),
         }
+    }
+
+    /// The report with the stability metric's section, and its STAB in the summary
+    /// ([`crate::physics::StabilityReport::frac_stable`]).
+    #[cfg(feature = "physics")]
+    pub fn with_stability(mut self, stability: crate::physics::StabilityReport) -> Self {
+        self.summary.stab = Some(stability.frac_stable());
+        self.stability = Some(stability);
+        self
     }
 
     /// The report with where each object's placement values came from.
@@ -219,13 +245,14 @@ impl SceneReport {
     }
 }
 
+/// `Some(value)` for a key that is present, `null` included.
+fn present<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Option<f64>>, D::Error> {
+    Option::<f64>::deserialize(d).map(Some)
+}
+
 /// The fidelity scores of a summary: `None` when none of the keys `cnt`, `atr`, `oor`, `oar`
 /// is present (no fidelity metric ran), else each present value (`null` included).
 fn fidelity_keys<'de, D: Deserializer<'de>>(d: D) -> Result<Option<FidelitySummary>, D::Error> {
-    /// `Some(value)` for a key that is present, `null` included.
-    fn present<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Option<f64>>, D::Error> {
-        Option::<f64>::deserialize(d).map(Some)
-    }
     #[derive(Deserialize)]
     struct Keys {
         #[serde(default, deserialize_with = "present")]

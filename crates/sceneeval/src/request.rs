@@ -29,6 +29,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::annotation::Annotations;
+use crate::dry_run::{DryRun, DryRunModel};
 use crate::fidelity::{MatchingMethod, RelationMapping};
 use crate::io::AssetLibrary;
 use crate::{
@@ -38,6 +39,13 @@ use crate::{
 
 /// VLM requests in flight at once over a whole run, unless the request says otherwise.
 pub const DEFAULT_VLM_CONCURRENCY: usize = 4;
+
+/// Seconds one VLM request (each HTTP attempt) may take before it is abandoned and retried,
+/// unless the request says otherwise.
+pub const DEFAULT_VLM_TIMEOUT_SECONDS: f64 = 60.0;
+
+/// The longest VLM timeout a request may set, seconds (an hour).
+pub const MAX_VLM_TIMEOUT_SECONDS: f64 = 3600.0;
 
 /// The side of the square object views shown to the VLM, pixels, unless the request says
 /// otherwise.
@@ -49,6 +57,10 @@ pub const RENDER_SIZE_RANGE: std::ops::RangeInclusive<u32> = 16..=4096;
 
 /// The VLM response cache's folder inside the output folder, unless the request names one.
 pub const DEFAULT_VLM_CACHE_DIR: &str = "vlm-cache";
+
+/// The folder under the output folder where a run keeps the stability metric's convex
+/// decompositions, so that re-runs and other weld variants reuse them (feature `physics`).
+pub const DEFAULT_PHYSICS_CACHE_DIR: &str = "physics-cache";
 
 /// One evaluation run: which scenes, with which assets and annotations, under which plan, with
 /// which VLM, written where. Fields left `None` take the defaults documented on them.
@@ -164,6 +176,18 @@ pub struct VlmOptions {
     /// The request field of the token limit: `max_tokens` (default) or `max_completion_tokens`.
     #[serde(default)]
     pub token_limit_field: Option<String>,
+    /// Seconds one request (each HTTP attempt) may take (default
+    /// [`DEFAULT_VLM_TIMEOUT_SECONDS`], at most [`MAX_VLM_TIMEOUT_SECONDS`]); the scene's time
+    /// budget bounds the whole wait, retries included.
+    #[serde(default)]
+    pub timeout: Option<f64>,
+    /// A cap on requests per minute (default none): requests start at least 60 s / `rpm` apart.
+    #[serde(default)]
+    pub rpm: Option<u32>,
+    /// A cap on tokens per minute (default none): requests are spaced by an estimate of their
+    /// tokens (`sceneeval::vlm_openai::estimate_prompt_tokens`, plus `max_tokens` when set).
+    #[serde(default)]
+    pub tpm: Option<u64>,
 }
 
 /// A key that is present, `null` included (`Some(None)`); an absent key is `None` through
@@ -269,6 +293,12 @@ pub enum RequestField {
     VlmMaxTokens,
     /// [`VlmOptions::token_limit_field`].
     VlmTokenLimitField,
+    /// [`VlmOptions::timeout`].
+    VlmTimeout,
+    /// [`VlmOptions::rpm`].
+    VlmRpm,
+    /// [`VlmOptions::tpm`].
+    VlmTpm,
 }
 
 impl RequestField {
@@ -298,6 +328,9 @@ impl RequestField {
             RequestField::VlmSeed => "vlm.seed",
             RequestField::VlmMaxTokens => "vlm.max_tokens",
             RequestField::VlmTokenLimitField => "vlm.token_limit_field",
+            RequestField::VlmTimeout => "vlm.timeout",
+            RequestField::VlmRpm => "vlm.rpm",
+            RequestField::VlmTpm => "vlm.tpm",
         }
     }
 }
@@ -577,10 +610,25 @@ impl EvaluationRequest {
             .resolve(self.vlm.is_some(), self.annotations.is_some())?;
         let mut evaluator = Evaluator::new(plan)
             .map_err(|e| EvalError::request_caused(RequestField::Plan, "invalid plan".to_owned(), e))?;
-        if let Some(vlm) = &self.vlm
-            && evaluator.plan().has_fidelity()
-        {
-            evaluator = vlm.attach(evaluator, &self.out)?;
+        let mut warnings = Vec::new();
+        let mut dry = None;
+        if let Some(vlm) = &self.vlm {
+            if evaluator.plan().has_fidelity() {
+                evaluator = vlm.attach(evaluator, &self.out)?;
+                warnings.extend(vlm.cache_problem(&self.out));
+                dry = vlm.dry_run_model(&self.out)?;
+            } else {
+                // Checked whatever the plan, so that a mistake is not found only in the run
+                // that needs the VLM.
+                vlm.check()?;
+                warnings.push(
+                    "the plan runs no text-fidelity metric (cnt, atr, oor, oar), so the VLM options are not used"
+                        .to_owned(),
+                );
+            }
+        }
+        for w in &warnings {
+            tracing::warn!("{w}");
         }
         let assets = AssetLibrary::from_specs(&self.assets)
             .map_err(|e| {
@@ -602,6 +650,18 @@ impl EvaluationRequest {
             .transpose()?;
         check_output_dir(&self.out)?;
         let lock = OutputLock::acquire(&self.out)?;
+        #[cfg(feature = "physics")]
+        if evaluator.plan().runs(crate::Metric::Stability) {
+            let dir = self.out.join(DEFAULT_PHYSICS_CACHE_DIR);
+            let cache = crate::physics::DecompositionCache::on_disk(&dir).map_err(|e| {
+                EvalError::request_caused(
+                    RequestField::Out,
+                    format!("cannot create the decomposition cache {}", dir.display()),
+                    e,
+                )
+            })?;
+            evaluator = evaluator.with_decomposition_cache(std::sync::Arc::new(cache));
+        }
         let replaced = earlier_results_of_other_plans(&scenes, &self.out, &evaluator.result_digest());
         let mut pool = rayon::ThreadPoolBuilder::new();
         if let Some(n) = self.threads {
@@ -619,7 +679,16 @@ impl EvaluationRequest {
                 format!("cannot start the worker threads: {e}"),
             )
         })?;
+        // Scenes waiting for the model leave the CPU to others: as many more scenes in flight
+        // as requests may be.
+        let scenes_in_flight = match (&self.vlm, evaluator.vlm()) {
+            (Some(v), Some(_)) => Some(pool.current_num_threads() + v.concurrency()),
+            _ => None,
+        };
         Ok(PreparedRun {
+            warnings,
+            dry,
+            scenes_in_flight,
             scenes,
             skipped: set.skipped,
             fallback,
@@ -650,7 +719,7 @@ impl VlmOptions {
     ///
     /// # Errors
     /// [`EvalError::Request`] naming the field: a bad detail, temperature, token limit (field),
-    /// concurrency, or an API key variable that is named but unset.
+    /// concurrency, timeout or rate cap, or an API key variable that is named but unset.
     #[cfg(feature = "openai")]
     pub fn config(&self) -> Result<crate::vlm_openai::OpenAiConfig, EvalError> {
         use crate::vlm_openai::{ApiKey, OpenAiConfig, TEMPERATURE_RANGE};
@@ -694,7 +763,7 @@ impl VlmOptions {
                 .parse()
                 .map_err(|e: String| EvalError::request(RequestField::VlmTokenLimitField, e))?;
         }
-        let concurrency = self.concurrency.unwrap_or(DEFAULT_VLM_CONCURRENCY);
+        let concurrency = self.concurrency();
         if concurrency == 0 {
             return Err(EvalError::request(
                 RequestField::VlmConcurrency,
@@ -702,7 +771,88 @@ impl VlmOptions {
             ));
         }
         config.max_concurrent_requests = concurrency;
+        let timeout = self.timeout.unwrap_or(DEFAULT_VLM_TIMEOUT_SECONDS);
+        if !(timeout.is_finite() && timeout > 0.0 && timeout <= MAX_VLM_TIMEOUT_SECONDS) {
+            return Err(EvalError::request(
+                RequestField::VlmTimeout,
+                format!("{timeout} is not a number of seconds above 0 and at most {MAX_VLM_TIMEOUT_SECONDS}"),
+            ));
+        }
+        config.timeout = std::time::Duration::from_secs_f64(timeout);
+        if self.rpm == Some(0) {
+            return Err(EvalError::request(
+                RequestField::VlmRpm,
+                "must be at least 1 request per minute",
+            ));
+        }
+        if self.tpm == Some(0) {
+            return Err(EvalError::request(
+                RequestField::VlmTpm,
+                "must be at least 1 token per minute",
+            ));
+        }
+        config.requests_per_minute = self.rpm;
+        config.tokens_per_minute = self.tpm;
         Ok(config)
+    }
+
+    /// Why the response cache's folder for a run writing to `out` cannot be written, if it
+    /// cannot (a probe file is written and removed): the run then goes on without keeping
+    /// answers, using those already there.
+    pub fn cache_problem(&self, out: &Path) -> Option<String> {
+        let dir = self.cache_dir(out);
+        check_output_dir(&dir).err().map(|e| {
+            let cause = std::error::Error::source(&e)
+                .map(ToString::to_string)
+                .unwrap_or_default();
+            format!(
+                "the VLM cache folder {} cannot be written ({cause}): this run keeps no answer for a re-run",
+                dir.display()
+            )
+        })
+    }
+
+    /// The model a dry run asks in place of this VLM (the same model name, settings, cache
+    /// and token estimate); `None` in a build without the feature `openai`.
+    ///
+    /// # Errors
+    /// As [`VlmOptions::config`].
+    fn dry_run_model(&self, out: &Path) -> Result<Option<DryRunModel>, EvalError> {
+        #[cfg(feature = "openai")]
+        {
+            use crate::vlm::Vlm;
+            let client = client_of(self.config()?)?;
+            let (model, settings) = (client.model().to_owned(), client.settings().to_owned());
+            Ok(Some(DryRunModel::new(
+                &model,
+                &settings,
+                self.cache_dir(out),
+                move |r| client.estimate_tokens(r),
+                self.render_size()?,
+            )))
+        }
+        #[cfg(not(feature = "openai"))]
+        {
+            let _ = out;
+            Ok(None)
+        }
+    }
+
+    /// Requests in flight at once: [`VlmOptions::concurrency`] or [`DEFAULT_VLM_CONCURRENCY`].
+    pub fn concurrency(&self) -> usize {
+        self.concurrency.unwrap_or(DEFAULT_VLM_CONCURRENCY)
+    }
+
+    /// Checks every setting without starting anything: [`VlmOptions::config`] (with the
+    /// feature `openai`) and [`VlmOptions::render_size`].
+    ///
+    /// # Errors
+    /// As those.
+    pub fn check(&self) -> Result<(), EvalError> {
+        #[cfg(feature = "openai")]
+        self.config()?;
+        self.render_size()?;
+        Ok(())
     }
 
     /// The side of the object views, checked against [`RENDER_SIZE_RANGE`].
@@ -732,7 +882,12 @@ impl VlmOptions {
     }
 
     /// `evaluator` asking this VLM (through a runtime of its own, answers cached in
-    /// [`VlmOptions::cache_dir`]) and rendering the views it is shown.
+    /// [`VlmOptions::cache_dir`]) and rendering the views it is shown. Before the first scene
+    /// a batch evaluates, one small request checks the endpoint
+    /// ([`crate::SharedVlm::with_endpoint_check`]; the request `sceneeval vlm check` sends,
+    /// uncached, with at most one retry): an unreachable server, a refused key or a model the
+    /// server does not know stops the run with that error. An endpoint that answers but not
+    /// usably (no JSON, or the wrong colour) is only warned about.
     ///
     /// # Errors
     /// [`EvalError::Request`]: a bad setting (see [`VlmOptions::config`]), a client, runtime or
@@ -742,17 +897,10 @@ impl VlmOptions {
         {
             use crate::render::{RenderSettings, Renderer};
             use crate::vlm::Cached;
-            use crate::vlm_openai::{OpenAiError, OpenAiVlm, RuntimeVlm};
+            use crate::vlm_openai::RuntimeVlm;
             let config = self.config()?;
             let size = self.render_size()?;
-            let client = OpenAiVlm::new(config).map_err(|e| {
-                let field = match &e {
-                    OpenAiError::InvalidBaseUrl { .. } => RequestField::VlmBaseUrl,
-                    _ => RequestField::Vlm,
-                };
-                EvalError::request_caused(field, "cannot set up the VLM client".to_owned(), e)
-            })?;
-            let client = RuntimeVlm::start(client).map_err(|e| {
+            let client = RuntimeVlm::start(client_of(config.clone())?).map_err(|e| {
                 EvalError::request_caused(RequestField::Vlm, "cannot start the VLM client".to_owned(), e)
             })?;
             let renderer = Renderer::new().map_err(|e| {
@@ -762,8 +910,11 @@ impl VlmOptions {
                     e,
                 )
             })?;
+            let url = client.inner().url().to_owned();
+            let vlm = crate::SharedVlm::new(Cached::new(client, self.cache_dir(out)))
+                .with_endpoint_check(move || endpoint_check(&config, &url));
             Ok(evaluator
-                .with_vlm(crate::SharedVlm::new(Cached::new(client, self.cache_dir(out))))
+                .with_vlm(vlm)
                 .with_renderer(renderer, RenderSettings::square(size)))
         }
         #[cfg(not(all(feature = "openai", feature = "render")))]
@@ -778,9 +929,72 @@ impl VlmOptions {
     }
 }
 
+/// The OpenAI client of `config`; its errors as request errors (a bad base URL names its
+/// field).
+#[cfg(feature = "openai")]
+pub(crate) fn client_of(
+    config: crate::vlm_openai::OpenAiConfig,
+) -> Result<crate::vlm_openai::OpenAiVlm, EvalError> {
+    use crate::vlm_openai::{OpenAiError, OpenAiVlm};
+    OpenAiVlm::new(config).map_err(|e| {
+        let field = match &e {
+            OpenAiError::InvalidBaseUrl { .. } => RequestField::VlmBaseUrl,
+            _ => RequestField::Vlm,
+        };
+        EvalError::request_caused(field, "cannot set up the VLM client".to_owned(), e)
+    })
+}
+
+/// Sends the endpoint check (`sceneeval vlm check`'s request) to the endpoint of `config`, at
+/// `url`, with at most one retry; an error when no answer comes (see [`VlmOptions::attach`]).
+#[cfg(feature = "openai")]
+fn endpoint_check(config: &crate::vlm_openai::OpenAiConfig, url: &str) -> Result<(), EvalError> {
+    use crate::vlm::check::EndpointCheck;
+    use crate::vlm::{Outcome, Session};
+    use crate::vlm_openai::RuntimeVlm;
+    let mut config = config.clone();
+    config.retry.max_retries = config.retry.max_retries.min(1);
+    let model = config.model.clone();
+    let client = RuntimeVlm::start(client_of(config)?).map_err(|e| {
+        EvalError::request_caused(RequestField::Vlm, "cannot start the VLM client".to_owned(), e)
+    })?;
+    let session = Session::new(&client);
+    let start = std::time::Instant::now();
+    let answers = pollster::block_on(session.ask(&EndpointCheck::new())).map_err(|e| {
+        EvalError::request_caused(
+            RequestField::Vlm,
+            format!("the endpoint check before the first scene got no answer from model {model:?} at {url}; no scene was evaluated"),
+            e,
+        )
+    })?;
+    match answers.into_single() {
+        Some(Outcome::Answered { answer, .. }) if answer.correct => {
+            tracing::info!(
+                url,
+                seconds = start.elapsed().as_secs_f64(),
+                "the VLM endpoint answers"
+            );
+        }
+        Some(Outcome::Answered { answer, .. }) => tracing::warn!(
+            url,
+            colour = %answer.colour,
+            "the VLM endpoint answers, but called the red square of its check {:?}: does the model see images?",
+            answer.colour
+        ),
+        Some(Outcome::Unanswered(why)) => {
+            tracing::warn!(url, %why, "the VLM endpoint answers, but not usably (see `sceneeval vlm check`)");
+        }
+        None => {}
+    }
+    Ok(())
+}
+
 /// A request checked and set up by [`EvaluationRequest::prepare`], ready to run.
 #[derive(Debug)]
 pub struct PreparedRun {
+    warnings: Vec<String>,
+    dry: Option<DryRunModel>,
+    scenes_in_flight: Option<usize>,
     scenes: Vec<SceneFile>,
     skipped: Vec<SkippedFile>,
     fallback: Option<NoVlmFallback>,
@@ -843,6 +1057,25 @@ impl PreparedRun {
         self.fallback.as_ref()
     }
 
+    /// What a front end should warn about before the run (each also logged): VLM options
+    /// that the plan does not use, a VLM cache folder that cannot be written.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// How many scenes are evaluated at once ([`BatchOptions::scenes_in_flight`]): the worker
+    /// threads plus the VLM concurrency when the plan asks a VLM, else `None` (one per worker
+    /// thread).
+    pub fn scenes_in_flight(&self) -> Option<usize> {
+        self.scenes_in_flight
+    }
+
+    /// The VLM's answers so far, over all scenes (see [`crate::SharedVlm::usage`]), while the
+    /// run goes on; `None` without a VLM.
+    pub fn vlm_usage(&self) -> Option<crate::vlm::Usage> {
+        self.evaluator.vlm().map(crate::SharedVlm::usage)
+    }
+
     /// The evaluator: the plan and what it runs with.
     pub fn evaluator(&self) -> &Evaluator {
         &self.evaluator
@@ -852,6 +1085,32 @@ impl PreparedRun {
     /// preset or VLM: the run replaces them (a front end says so before it starts).
     pub fn replaced(&self) -> usize {
         self.replaced
+    }
+
+    /// What the run would ask the VLM, per task, without asking it, computing any metric or
+    /// writing anything: [`DryRun`] (see its module docs for how attribute requests are
+    /// estimated). Without a VLM nothing would be asked: the scenes are only counted.
+    pub fn dry_run(self) -> DryRun {
+        let Some(model) = self.dry else {
+            return DryRun {
+                scenes: self.scenes.len(),
+                ..DryRun::default()
+            };
+        };
+        let (out_dir, force, diagnostics) = self.options;
+        let options = BatchOptions {
+            out_dir,
+            force,
+            diagnostics,
+            annotations: self.annotations.as_ref(),
+            scenes_in_flight: None,
+        };
+        let evaluator = self
+            .evaluator
+            .with_vlm(crate::SharedVlm::new(model.clone()))
+            .without_geometry();
+        self.pool
+            .install(|| crate::batch::dry_run_batch(&self.scenes, &evaluator, &self.assets, &options, &model))
     }
 
     /// Evaluates the scenes on the request's worker threads with [`run_batch`] (calling
@@ -868,6 +1127,7 @@ impl PreparedRun {
             force,
             diagnostics,
             annotations: self.annotations.as_ref(),
+            scenes_in_flight: self.scenes_in_flight,
         };
         let batch = self
             .pool
@@ -1044,6 +1304,9 @@ mod tests {
             seed: None,
             max_tokens: None,
             token_limit_field: None,
+            timeout: Some(30.0),
+            rpm: None,
+            tpm: Some(30_000),
         });
         let json = serde_json::to_string(&request).unwrap();
         assert!(json.contains(r#""temperature":null"#), "{json}");

@@ -39,8 +39,9 @@ pub const UNANNOTATED: &str = "unannotated";
 /// | `OOB` | objects out of bounds / objects | scenes with objects |
 /// | `DOOR_blk` | blocked doors / doors | scenes with a door |
 /// | `WIN_blk` | blocked windows / windows | scenes with a window |
+/// | `STAB` | stable objects / objects free to move (stability metric) | scenes with an object free to move |
 ///
-/// Higher is better for CNT, ATR, OOR, OAR, SUP, NAV and ACC; lower for the others. A column is empty when no scene
+/// Higher is better for CNT, ATR, OOR, OAR, SUP, NAV, ACC and STAB; lower for the others. A column is empty when no scene
 /// of the group has a value (the metric did not run, or never applies).
 ///
 /// A `partial` scene (some metric could not be computed: a VLM request that got no answer,
@@ -89,7 +90,7 @@ pub struct SceneRow {
 
 /// The columns of the per-scene table: the scene, then the group table's numbers for the
 /// scene alone ([`GroupSummary::cell`]), then why it failed or is partial.
-const SCENE_COLUMNS: [&str; 23] = [
+const SCENE_COLUMNS: [&str; 24] = [
     "scene",
     "scene_id",
     "difficulty",
@@ -106,6 +107,7 @@ const SCENE_COLUMNS: [&str; 23] = [
     "OOB",
     "DOOR_blk",
     "WIN_blk",
+    "STAB",
     "CNT_unanswered",
     "ATR_unanswered",
     "OOR_unanswered",
@@ -165,6 +167,10 @@ pub struct GroupSummary {
     pub door_blocked: Option<f64>,
     /// Mean share of windows blocked, percent.
     pub window_blocked: Option<f64>,
+    /// Mean share of the objects free to move that stayed put under the stability metric,
+    /// percent.
+    #[serde(default)]
+    pub stab: Option<f64>,
     /// Objects whose support type is a fallback (the category table, or no source) because
     /// the VLM's question failed or got no usable answer, summed over the group's scenes.
     #[serde(default)]
@@ -178,16 +184,16 @@ pub struct GroupSummary {
 pub const LEGEND: &str = "Values are percentages, macro-averaged over the group's evaluated scenes \
 (`-`: no scene of the group has a value). Lower is better for COL_ob (objects in collision), \
 COL_sc (scenes with a collision), OOB (objects out of bounds), DOOR_blk and WIN_blk (blocked \
-doors and windows); higher is better for SUP (supported objects), NAV (navigable floor) and ACC \
-(accessible functional sides), and for CNT, ATR, OOR, OAR (satisfied object-count, attribute, \
-object-object and object-architecture specs; `*_n`: scenes with such specs; `*_unanswered`: specs \
-without a verdict because an answer they need is missing, left out of the scores). `failed` scenes \
-are counted but not averaged; `partial` scenes (some metric could not be computed, listed below) \
-are averaged on their complete metrics only. `SUP_fallback`, `ACC_fallback`: objects whose \
-support type or functional sides came from the category table because the VLM's question failed \
-or got no usable answer.\n";
+doors and windows); higher is better for SUP (supported objects), NAV (navigable floor), ACC \
+(accessible functional sides) and STAB (objects free to move that stay put under physics), and for \
+CNT, ATR, OOR, OAR (satisfied object-count, attribute, object-object and object-architecture specs; \
+`*_n`: scenes with such specs; `*_unanswered`: specs without a verdict because an answer they need \
+is missing, left out of the scores). `failed` scenes are counted but not averaged; `partial` scenes \
+(some metric could not be computed, listed below) are averaged on their complete metrics only. \
+`SUP_fallback`, `ACC_fallback`: objects whose support type or functional sides came from the \
+category table because the VLM's question failed or got no usable answer.\n";
 
-const COLUMNS: [&str; 27] = [
+const COLUMNS: [&str; 28] = [
     "group",
     "scenes",
     "evaluated",
@@ -205,6 +211,7 @@ const COLUMNS: [&str; 27] = [
     "OOB",
     "DOOR_blk",
     "WIN_blk",
+    "STAB",
     "CNT_n",
     "ATR_n",
     "OOR_n",
@@ -419,6 +426,7 @@ impl GroupSummary {
         let mut fidelity: Vec<FidelitySummary> = Vec::new();
         let mut unanswered = [0usize; 4];
         let (mut support_fallbacks, mut sides_fallbacks) = (0, 0);
+        let mut stab: Vec<f64> = Vec::new();
         for r in records {
             scenes += 1;
             let Some(report) = r.report() else { continue };
@@ -426,11 +434,13 @@ impl GroupSummary {
             // Incomplete metrics are left out of the averages.
             let mut geometry = report.summary.geometry.clone();
             let mut scores = report.summary.fidelity;
+            let mut stable = report.summary.stab.flatten();
             for m in &report.incomplete {
-                leave_out(&mut geometry, scores.as_mut(), m.metric);
+                leave_out(&mut geometry, scores.as_mut(), &mut stable, m.metric);
             }
             summaries.push(geometry);
             fidelity.extend(scores);
+            stab.extend(stable);
             if let Some(f) = &report.fidelity {
                 let counts = [
                     f.cnt.as_ref().map(|r| r.unanswered),
@@ -489,8 +499,31 @@ impl GroupSummary {
             oob: mean(&|s| s.oob),
             door_blocked: mean(&|s| share(s.doors_blocked, s.num_doors)),
             window_blocked: mean(&|s| share(s.windows_blocked, s.num_windows)),
+            stab: (!stab.is_empty()).then(|| 100.0 * stab.iter().sum::<f64>() / stab.len() as f64),
             support_fallbacks,
             sides_fallbacks,
+        }
+    }
+
+    /// The value of the summary column named `column` (`CNT`, `COL_ob`, ... as in
+    /// [`Metric::columns`](crate::Metric::columns), exact case), in percent; `None` when the
+    /// group has no value there or there is no such column.
+    pub fn value(&self, column: &str) -> Option<f64> {
+        match column {
+            "CNT" => self.cnt,
+            "ATR" => self.atr,
+            "OOR" => self.oor,
+            "OAR" => self.oar,
+            "COL_ob" => self.col_ob,
+            "COL_sc" => self.col_sc,
+            "SUP" => self.sup,
+            "NAV" => self.nav,
+            "ACC" => self.acc,
+            "OOB" => self.oob,
+            "DOOR_blk" => self.door_blocked,
+            "WIN_blk" => self.window_blocked,
+            "STAB" => self.stab,
+            _ => None,
         }
     }
 
@@ -504,18 +537,6 @@ impl GroupSummary {
             "evaluated" => self.evaluated.to_string(),
             "failed" => self.failed.to_string(),
             "partial" => self.partial.to_string(),
-            "CNT" => num(self.cnt),
-            "ATR" => num(self.atr),
-            "OOR" => num(self.oor),
-            "OAR" => num(self.oar),
-            "COL_ob" => num(self.col_ob),
-            "COL_sc" => num(self.col_sc),
-            "SUP" => num(self.sup),
-            "NAV" => num(self.nav),
-            "ACC" => num(self.acc),
-            "OOB" => num(self.oob),
-            "DOOR_blk" => num(self.door_blocked),
-            "WIN_blk" => num(self.window_blocked),
             "CNT_n" => self.fidelity_n[0].to_string(),
             "ATR_n" => self.fidelity_n[1].to_string(),
             "OOR_n" => self.fidelity_n[2].to_string(),
@@ -526,13 +547,19 @@ impl GroupSummary {
             "OAR_unanswered" => self.fidelity_unanswered[3].to_string(),
             "SUP_fallback" => self.support_fallbacks.to_string(),
             "ACC_fallback" => self.sides_fallbacks.to_string(),
-            _ => String::new(),
+            percent => num(self.value(percent)),
         }
     }
 }
 
-/// Leaves `metric`'s numbers out of a scene's summary (it is incomplete).
-fn leave_out(geometry: &mut PlausibilitySummary, fidelity: Option<&mut FidelitySummary>, metric: Metric) {
+/// Leaves `metric`'s numbers out of a scene's summary (it is incomplete): its geometry
+/// numbers, fidelity score or share of stable objects (`stab`).
+fn leave_out(
+    geometry: &mut PlausibilitySummary,
+    fidelity: Option<&mut FidelitySummary>,
+    stab: &mut Option<f64>,
+    metric: Metric,
+) {
     match metric {
         Metric::Collision => (geometry.col_ob, geometry.col_sc) = (None, None),
         Metric::Support => geometry.sup = None,
@@ -543,6 +570,7 @@ fn leave_out(geometry: &mut PlausibilitySummary, fidelity: Option<&mut FidelityS
             (geometry.num_doors, geometry.doors_blocked) = (None, None);
             (geometry.num_windows, geometry.windows_blocked) = (None, None);
         }
+        Metric::Stability => *stab = None,
         Metric::Cnt | Metric::Atr | Metric::Oor | Metric::Oar => {
             if let Some(f) = fidelity {
                 match metric {
@@ -637,11 +665,11 @@ mod tests {
         assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
         assert_eq!(
             csv.lines().nth(1).unwrap(),
-            "all,3,2,1,0,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,0,0,0,0,0,0,0,0,0,0"
+            "all,3,2,1,0,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,,0,0,0,0,0,0,0,0,0,0"
         );
         let md = s.to_markdown();
         assert!(
-            md.contains("| all | 3 | 2 | 1 | 0 | - | - | - | - | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 |"),
+            md.contains("| all | 3 | 2 | 1 | 0 | - | - | - | - | 25.00 | 50.00 | 75.00 | 90.00 | 25.00 | 12.50 | 25.00 | - | - | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 0 |"),
             "{md}"
         );
         assert!(md.contains("Lower is better for COL_ob"), "{md}");
@@ -661,11 +689,11 @@ mod tests {
         // windows: 0 of 0 is no value.
         assert_eq!(
             lines[1],
-            "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,0,0,0,0,0,0,"
+            "scene_0,0,,ok,,,,,50.0000,100.0000,100.0000,80.0000,,0.0000,50.0000,,,0,0,0,0,0,0,"
         );
         assert_eq!(
             lines[3],
-            "scene_2,2,,failed,,,,,,,,,,,,,0,0,0,0,0,0,load stage: broken"
+            "scene_2,2,,failed,,,,,,,,,,,,,,0,0,0,0,0,0,load stage: broken"
         );
     }
 
@@ -716,6 +744,53 @@ mod tests {
             line.ends_with(",1,0,incomplete: support: 503 Service Unavailable"),
             "{line}"
         );
+    }
+
+    #[test]
+    fn stab_averages_the_scenes_with_an_object_free_to_move() {
+        let mut recs = records();
+        // scene_0: 3 of 4 free objects stayed (0.75); scene_1: stability ran but every
+        // object was welded (no value). STAB: 75 % over one scene.
+        for (r, stab) in recs.iter_mut().zip([Some(0.75), None]) {
+            if let crate::Outcome::Ok { report } = &mut r.outcome {
+                report.summary.stab = Some(stab);
+            }
+        }
+        let s = Summary::from_records(&recs, None);
+        assert_eq!(s.groups[0].stab, Some(75.0));
+        assert_eq!(s.scenes[0].values.stab, Some(75.0));
+        assert_eq!(s.scenes[1].values.stab, None);
+        let csv = s.to_csv().unwrap();
+        assert!(csv.contains(",25.0000,,75.0000,0,0,0,0,0,0,0,0,0,0\n"), "{csv}");
+        let scenes = s.scenes_csv().unwrap();
+        assert!(
+            scenes
+                .lines()
+                .nth(1)
+                .unwrap()
+                .ends_with(",50.0000,,75.0000,0,0,0,0,0,0,"),
+            "{scenes}"
+        );
+        assert!(s.to_markdown().contains("STAB (objects free to move"));
+    }
+
+    #[test]
+    fn every_metric_column_has_a_value_accessor() {
+        let s = Summary::from_records(&records(), None);
+        let all = &s.groups[0];
+        // The accessor gives the CSV's cells of every metric column (CNT .. STAB).
+        let metric_columns: Vec<&str> = COLUMNS
+            .iter()
+            .copied()
+            .filter(|c| crate::Metric::from_name(c).is_some())
+            .collect();
+        assert_eq!(metric_columns.len(), 13);
+        for column in metric_columns {
+            let v = all.value(column).map(|v| format!("{v:.4}")).unwrap_or_default();
+            assert_eq!(v, all.cell(column, 4), "{column}");
+        }
+        assert_eq!(all.value("SUP"), Some(75.0));
+        assert_eq!(all.value("nope"), None);
     }
 
     #[test]

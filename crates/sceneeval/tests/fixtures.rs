@@ -138,60 +138,7 @@ fn fixture_scenes_match_their_expected_answers() {
             }
         }
 
-        // Doors: exactly the listed ones blocked, by the listed objects, covering the listed
-        // share of the door (on the 100 px/m occlusion raster).
-        let doors: Vec<&Value> = r["opening_clearance"]["openings"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter(|o| o["kind"] == "door")
-            .collect();
-        for door in doors {
-            let listed = scene["blocked_doors"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .find(|d| d["door"] == door["opening"]);
-            match listed {
-                None => assert_eq!(
-                    door["blocked"], false,
-                    "{name}: door {} is clear: {door}",
-                    door["opening"]
-                ),
-                Some(d) => {
-                    assert_eq!(
-                        door["blocked"], true,
-                        "{name}: door {} is blocked",
-                        door["opening"]
-                    );
-                    let side = door["sides"]
-                        .as_array()
-                        .unwrap()
-                        .iter()
-                        .find(|s| s["blocked"] == true)
-                        .unwrap();
-                    let by: BTreeSet<&str> = side["blocking"]
-                        .as_array()
-                        .unwrap()
-                        .iter()
-                        .map(|b| b["id"].as_str().unwrap())
-                        .collect();
-                    let want: BTreeSet<&str> = d["blocked_by"]
-                        .as_array()
-                        .unwrap()
-                        .iter()
-                        .map(|b| b.as_str().unwrap())
-                        .collect();
-                    assert_eq!(by, want, "{name}: blockers");
-                    close(
-                        side["occluded_fraction"].as_f64().unwrap(),
-                        d["occluded_fraction"].as_f64().unwrap(),
-                        0.02,
-                        &format!("{name}: occluded share of the door"),
-                    );
-                }
-            }
-        }
+        check_doors(&name, scene, &r);
 
         // Objects inside others are reported as containment collisions.
         for i in scene["inside"].as_array().unwrap() {
@@ -223,6 +170,63 @@ fn fixture_scenes_match_their_expected_answers() {
             assert_eq!(r["summary"]["col_sc"], false, "{name}");
             assert_eq!(r["summary"]["oob"].as_f64(), Some(0.0), "{name}");
             assert_eq!(r["summary"]["sup"].as_f64(), Some(1.0), "{name}");
+        }
+    }
+}
+
+/// Doors: exactly the listed ones blocked, by the listed objects, covering the listed
+/// share of the door (on the 100 px/m occlusion raster).
+fn check_doors(name: &str, scene: &Value, r: &Value) {
+    let doors: Vec<&Value> = r["opening_clearance"]["openings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|o| o["kind"] == "door")
+        .collect();
+    for door in doors {
+        let listed = scene["blocked_doors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|d| d["door"] == door["opening"]);
+        match listed {
+            None => assert_eq!(
+                door["blocked"], false,
+                "{name}: door {} is clear: {door}",
+                door["opening"]
+            ),
+            Some(d) => {
+                assert_eq!(
+                    door["blocked"], true,
+                    "{name}: door {} is blocked",
+                    door["opening"]
+                );
+                let side = door["sides"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|s| s["blocked"] == true)
+                    .unwrap();
+                let by: BTreeSet<&str> = side["blocking"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|b| b["id"].as_str().unwrap())
+                    .collect();
+                let want: BTreeSet<&str> = d["blocked_by"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|b| b.as_str().unwrap())
+                    .collect();
+                assert_eq!(by, want, "{name}: blockers");
+                close(
+                    side["occluded_fraction"].as_f64().unwrap(),
+                    d["occluded_fraction"].as_f64().unwrap(),
+                    0.02,
+                    &format!("{name}: occluded share of the door"),
+                );
+            }
         }
     }
 }

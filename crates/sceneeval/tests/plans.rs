@@ -64,6 +64,21 @@ fn example_plans_read_and_mean_what_they_say() {
     assert!(broken.to_string().contains("malformed TOML"), "{broken}");
     assert!(broken.to_string().contains("line 1"), "{broken}");
 
+    // Stability as close to the SceneSmith fork as the model allows: its `combined` weld
+    // variant, 1 kg per object, no sleeping (the full 5 s simulated).
+    let fork = EvaluationPlan::read(&plans().join("stability-fork.json")).unwrap();
+    assert_eq!(
+        fork.ordered_metrics(),
+        vec![Metric::Collision, Metric::Support, Metric::Stability]
+    );
+    assert_eq!(fork.stability.weld, sceneeval::physics::WeldMode::Combined);
+    assert_eq!(fork.stability.mass, sceneeval::physics::MassModel::PerObject(1.0));
+    assert_eq!(fork.stability.sleep_speed_m_s, 0.0);
+    assert_eq!(
+        fork.stability.duration_s, 5.0,
+        "unspecified values keep the preset's"
+    );
+
     // The paper's ten metrics, VLM matching with the sizes in the prompt, lexicon mapping.
     let full = EvaluationPlan::read(&plans().join("full-vlm.json")).unwrap();
     assert_eq!(full.metrics.len(), 10);

@@ -1,7 +1,8 @@
 //! Distance between two solid boxes: exact bounds first, GJK when they do not meet.
 
-use crate::parry::query::details;
-use crate::{Obb, Real};
+use super::{ClosestPoints, gjk_placed};
+use crate::parry_adapter::point_from_parry;
+use crate::{Obb, Point3, Real};
 
 /// The gap between box `b` and the bounding box of `a` in `b`'s frame: a lower bound on the
 /// distance between the solids.
@@ -32,16 +33,29 @@ pub(crate) fn frame_gap(b: &Obb, a: &Obb) -> Real {
 /// nearest corner faces a wall. Otherwise (edge against edge, or overlapping boxes with no
 /// corner inside the other) the caller runs GJK.
 #[inline]
-fn bracketed(a: &Obb, b: &Obb) -> Option<Real> {
+fn bracketed(a: &Obb, b: &Obb) -> Option<Bracketed> {
     let lower = frame_gap(b, a).max(frame_gap(a, b));
     let mut upper2 = Real::INFINITY;
-    for (x, y) in [(a, b), (b, a)] {
+    // The corner reaching the upper bound, and whether it is `b`'s.
+    let mut at = (false, a.center);
+    for (of_b, (x, y)) in [(false, (a, b)), (true, (b, a))] {
         for c in x.corners() {
-            upper2 = upper2.min(y.distance_to_point_squared(&c));
+            let d2 = y.distance_to_point_squared(&c);
+            if d2 < upper2 {
+                at = (of_b, c);
+            }
+            upper2 = upper2.min(d2);
         }
     }
     let upper = upper2.sqrt();
-    (upper - lower <= 1e-12 * (1.0 + upper)).then_some(upper)
+    (upper - lower <= 1e-12 * (1.0 + upper)).then_some(Bracketed { distance: upper, at })
+}
+
+/// The distance [`bracketed`] found and the corner that reaches it (whether it is the second
+/// box's, and the corner).
+struct Bracketed {
+    distance: Real,
+    at: (bool, Point3),
 }
 
 /// Distance between two solid boxes (0 when they touch or overlap): [`bracketed`] when its
@@ -52,17 +66,49 @@ fn bracketed(a: &Obb, b: &Obb) -> Option<Real> {
 /// an edge of one box is closest to an edge of the other.
 #[inline]
 pub(crate) fn box_box(a: &Obb, b: &Obb) -> Real {
-    if let Some(d) = bracketed(a, b) {
-        return d;
+    match bracketed(a, b) {
+        Some(br) => br.distance,
+        None => gjk_boxes(a, b).distance,
     }
+}
+
+/// [`box_box`] with a pair of closest points (`a`'s first): for a bracketed distance the
+/// corner and its closest point on the other box.
+#[inline]
+pub(crate) fn box_box_closest(a: &Obb, b: &Obb) -> ClosestPoints {
+    let Some(Bracketed {
+        distance,
+        at: (of_b, c),
+    }) = bracketed(a, b)
+    else {
+        return gjk_boxes(a, b);
+    };
+    let points = (distance > 0.0).then(|| {
+        if of_b {
+            (a.closest_point(&c), c)
+        } else {
+            (c, b.closest_point(&c))
+        }
+    });
+    ClosestPoints { distance, points }
+}
+
+/// GJK between the two cuboids.
+fn gjk_boxes(a: &Obb, b: &Obb) -> ClosestPoints {
     let (pa, ca) = a.to_parry();
     let (pb, cb) = b.to_parry();
-    details::distance_support_map_support_map(&pa.inv_mul(&pb), &ca, &cb)
+    let (distance, points) = gjk_placed(&pa.inv_mul(&pb), &ca, &cb);
+    let pose = a.pose();
+    ClosestPoints {
+        distance,
+        points: points.map(|(p, q)| (pose * point_from_parry(p), pose * point_from_parry(q))),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::parry::query::details;
     use crate::{Point3, Rotation3, Vector3};
     use std::f64::consts::FRAC_PI_4;
 
@@ -141,7 +187,7 @@ mod tests {
                 .unwrap();
                 let (pb, cb) = b.to_parry();
                 let gjk = details::distance_support_map_support_map(&pa.inv_mul(&pb), &ca, &cb);
-                if let Some(d) = bracketed(&a, &b) {
+                if let Some(d) = bracketed(&a, &b).map(|c| c.distance) {
                     shortcuts += 1;
                     assert!((d - gjk).abs() < 1e-9, "yaw {yaw} dx {dx}: {d} vs {gjk}");
                 }

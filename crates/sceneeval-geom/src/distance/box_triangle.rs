@@ -1,14 +1,24 @@
 //! Distance between a solid box and a triangle.
 
-use super::parry_triangle;
-use crate::parry::query::details;
+use super::{ClosestPoints, gjk_placed, parry_triangle};
+use crate::parry_adapter::point_from_parry;
 use crate::{Obb, Point3, Real};
 
 /// Distance between a solid box and a world triangle.
 pub(crate) fn box_triangle(b: &Obb, tri: &[Point3; 3]) -> Real {
+    box_triangle_closest(b, tri).distance
+}
+
+/// [`box_triangle`] with a pair of closest points (the box's first).
+pub(crate) fn box_triangle_closest(b: &Obb, tri: &[Point3; 3]) -> ClosestPoints {
     let (pb, cb) = b.to_parry();
     // The triangle is in world coordinates: its pose relative to the cuboid is pb^-1.
-    details::distance_support_map_support_map(&pb.inverse(), &cb, &parry_triangle(tri))
+    let (distance, points) = gjk_placed(&pb.inverse(), &cb, &parry_triangle(tri));
+    let pose = b.pose();
+    ClosestPoints {
+        distance,
+        points: points.map(|(p, q)| (pose * point_from_parry(p), pose * point_from_parry(q))),
+    }
 }
 
 #[cfg(test)]

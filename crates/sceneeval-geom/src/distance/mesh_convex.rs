@@ -3,7 +3,7 @@
 
 use super::mesh_mesh::triangle_gap;
 use super::tree::{Bx, DistanceTree, Frame, Indexed, Node, witness_rotation};
-use super::{TURN, gjk, ordered, parry_triangle};
+use super::{ClosestPoints, TURN, gjk, ordered, parry_triangle};
 use crate::parry::math::Vector;
 use crate::parry::shape::{Cuboid, Triangle};
 use crate::parry_adapter::to_parry_vec;
@@ -105,6 +105,9 @@ struct ConvexSearch<'a, T> {
     best: Real,
     /// `best` squared.
     best2: Real,
+    /// The closest points behind `best` (the mesh's first, in the target's frame; none when
+    /// they meet).
+    points: Option<(Vector, Vector)>,
 }
 
 impl<T: ConvexTarget> ConvexSearch<'_, T> {
@@ -130,6 +133,7 @@ impl<T: ConvexTarget> ConvexSearch<'_, T> {
                 {
                     self.best = d;
                     self.best2 = d * d;
+                    self.points = witness;
                     // Turn the witness frame to the new closest points.
                     if d < self.w_dist * TURN
                         && let Some((p, q)) = witness
@@ -158,14 +162,15 @@ impl<T: ConvexTarget> ConvexSearch<'_, T> {
 /// by `target_box` in its own frame), by branch and bound over the mesh's [`DistanceTree`]:
 /// depth first, nearer child first, a node pruned when its lower bound
 /// ([`ConvexSearch::bound2`]) is no less than the best distance so far. No seed: the first
-/// leaf reached gives the first bound and the witness frame.
+/// leaf reached gives the first bound and the witness frame. Returns the distance and the
+/// closest points (the mesh's first, world coordinates).
 fn mesh_convex<T: ConvexTarget>(
     mesh: &Mesh,
     mesh_pose: &Isometry3,
     target: &T,
     target_box: &Bx,
     target_pose: &Isometry3,
-) -> Real {
+) -> ClosestPoints {
     let tree = mesh.distance_tree();
     let to = Frame::between(mesh_pose, target_pose);
     let w = witness_rotation(Vector::ZERO);
@@ -180,11 +185,12 @@ fn mesh_convex<T: ConvexTarget>(
         target,
         best: Real::INFINITY,
         best2: Real::INFINITY,
+        points: None,
     };
     if let Some(root) = tree.root() {
         search.visit((0, root));
     }
-    search.best
+    ClosestPoints::placed(search.best, search.points, target_pose)
 }
 
 /// An upper bound on the distance between a placed mesh's surface and a solid box: project
@@ -196,8 +202,8 @@ pub(crate) fn mesh_box_upper_bound(mesh: &Mesh, pose: &Isometry3, b: &Obb) -> Re
 }
 
 /// Distance between a placed mesh's surface and a solid box ([`mesh_convex`], in the box's
-/// frame).
-pub(crate) fn mesh_box(mesh: &Mesh, pose: &Isometry3, b: &Obb) -> Real {
+/// frame), with the closest points (the mesh's first).
+pub(crate) fn mesh_box(mesh: &Mesh, pose: &Isometry3, b: &Obb) -> ClosestPoints {
     let target = BoxTarget {
         cuboid: Cuboid::new(to_parry_vec(&b.half_extents)),
     };
@@ -209,8 +215,8 @@ pub(crate) fn mesh_box(mesh: &Mesh, pose: &Isometry3, b: &Obb) -> Real {
 }
 
 /// Distance between a placed mesh's surface and a world triangle ([`mesh_convex`], in the
-/// world frame).
-pub(crate) fn mesh_triangle(mesh: &Mesh, pose: &Isometry3, tri: &[Point3; 3]) -> Real {
+/// world frame), with the closest points (the mesh's first).
+pub(crate) fn mesh_triangle(mesh: &Mesh, pose: &Isometry3, tri: &[Point3; 3]) -> ClosestPoints {
     let t = parry_triangle(tri);
     let bx = Bx::of_triangle(&t);
     mesh_convex(mesh, pose, &TriangleTarget { t, bx }, &bx, &Isometry3::identity())

@@ -2,7 +2,8 @@
 //! [`DistanceTree`]s, seeded by alternating closest-point projections.
 
 use super::tree::{Bx, DistanceTree, Frame, Indexed, Node, witness_rotation};
-use super::{TURN, gjk, ordered, search_limit};
+use super::{ClosestPoints, TURN, gjk, ordered, search_limit};
+use crate::parry::math::Vector;
 use crate::parry::shape::Triangle;
 use crate::parry_adapter::point_to_parry;
 use crate::{Isometry3, Mesh, Point3, Real};
@@ -71,6 +72,8 @@ struct PairSearch<'a> {
     best2: Real,
     /// Whether a triangle pair nearer than the initial limit was found (`best` is its distance).
     found: bool,
+    /// The closest points of that pair (`a`'s first, in `b`'s frame; none when they meet).
+    points: Option<(Vector, Vector)>,
 }
 
 /// A node of one tree with its box moved into the other tree's frame and into the witness
@@ -226,6 +229,7 @@ impl PairSearch<'_> {
             self.best = d;
             self.best2 = d * d;
             self.found = true;
+            self.points = witness;
             // Turn the witness frame to the new closest points.
             if d < self.w_dist * TURN
                 && let Some((p, q)) = witness
@@ -341,8 +345,9 @@ pub(crate) fn mesh_mesh_upper_bound(
 /// both [`DistanceTree`]s ([`PairSearch`]), seeded by alternating closest-point projections
 /// ([`mesh_mesh_upper_bound`]), which give the first bound and the first witness frame. Exact:
 /// the smallest GJK distance over the triangle pairs (up to the 1e-9 relative slack of
-/// [`search_limit`] when the seed itself is the answer).
-pub(crate) fn mesh_mesh(a: &Mesh, pa: &Isometry3, b: &Mesh, pb: &Isometry3) -> Real {
+/// [`search_limit`] when the seed itself is the answer). With the closest points (`a`'s
+/// first): those of the nearest triangle pair, or the seed's.
+pub(crate) fn mesh_mesh(a: &Mesh, pa: &Isometry3, b: &Mesh, pb: &Isometry3) -> ClosestPoints {
     let start = pb * b.aabb().center();
     let seed = mesh_mesh_seed(a, pa, b, pb, &start);
     let local = |p: &Point3| point_to_parry(&pb.inverse_transform_point(p));
@@ -362,6 +367,7 @@ pub(crate) fn mesh_mesh(a: &Mesh, pa: &Isometry3, b: &Mesh, pb: &Isometry3) -> R
         best,
         best2: best * best,
         found: false,
+        points: None,
     };
     if let (Some(ra), Some(rb)) = (ta.root(), tb.root()) {
         let (x, y) = (search.place_a((0, ra)), search.place_b((0, rb)));
@@ -369,7 +375,14 @@ pub(crate) fn mesh_mesh(a: &Mesh, pa: &Isometry3, b: &Mesh, pb: &Isometry3) -> R
             search.visit(&x, &y);
         }
     }
-    if search.found { search.best } else { seed.upper }
+    if search.found {
+        ClosestPoints::placed(search.best, search.points, pb)
+    } else {
+        ClosestPoints {
+            distance: seed.upper,
+            points: (seed.upper > 0.0).then_some((seed.from, seed.to)),
+        }
+    }
 }
 
 #[cfg(test)]

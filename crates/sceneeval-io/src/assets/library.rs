@@ -7,11 +7,13 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
-use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Vector3};
+use sceneeval_geom::conventions::object_from_asset;
+use sceneeval_geom::{Isometry3, Matrix3, Mesh, Point3, Rotation3, Vector3};
 use sceneeval_scene::{ObjectId, SceneObject};
 
 use super::{AssetInfo, AssetLocation, AssetSource, AssetSpec, split_model_id};
 use crate::appearance::{Appearance, load_appearance};
+use crate::frames::{ObjectFront, PlacedObject};
 use crate::mesh_load::read_mesh_file_with;
 use crate::{IoError, Limits};
 
@@ -67,9 +69,9 @@ pub struct AssetLibrary {
     sources: BTreeMap<String, Box<dyn AssetSource>>,
     limits: Limits,
     assets: Cache<String, Arc<Asset>>,
-    scaled: Cache<(String, [u64; 3]), Arc<Mesh>>,
+    scaled: Cache<(String, [u64; 3], ObjectFront), Arc<Mesh>>,
     files_read: AtomicUsize,
-    appearances: Cache<String, Arc<Appearance>>,
+    appearances: Cache<(String, ObjectFront), Arc<Appearance>>,
 }
 
 impl fmt::Debug for AssetLibrary {
@@ -190,27 +192,86 @@ impl AssetLibrary {
     /// As [`AssetLibrary::asset`]; [`IoError::BadScale`] when a scale component is zero or
     /// not finite.
     pub fn mesh(&self, model_id: &str, scale: &Vector3) -> Result<Arc<Mesh>, IoError> {
-        if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
-            return Err(IoError::BadScale {
-                model_id: model_id.to_owned(),
-                scale: [scale.x, scale.y, scale.z],
-            });
-        }
+        self.mesh_facing(model_id, scale, ObjectFront::MinusY)
+    }
+
+    /// The object-frame mesh of `model_id` scaled by `scale` and then turned so that
+    /// `front`, the front its scene file declares for it (sceneState `objectFrontVector`), is
+    /// local -y: `Q * diag(scale) * m` with `Q = front.turn()`. Its object-frame scale is then
+    /// `front.turn_scale(scale)`. Shared like [`AssetLibrary::mesh`]; the model's own front
+    /// ([`ObjectFront::MinusY`]) is [`AssetLibrary::mesh`] itself.
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::mesh`].
+    pub fn mesh_facing(
+        &self,
+        model_id: &str,
+        scale: &Vector3,
+        front: ObjectFront,
+    ) -> Result<Arc<Mesh>, IoError> {
+        check_scale(model_id, scale)?;
         let asset = self.asset(model_id)?;
-        if *scale == Vector3::repeat(1.0) {
+        if front == ObjectFront::MinusY && *scale == Vector3::repeat(1.0) {
             return Ok(Arc::clone(&asset.mesh));
         }
-        let key = (model_id.to_owned(), [scale.x, scale.y, scale.z].map(f64::to_bits));
+        let key = (
+            model_id.to_owned(),
+            [scale.x, scale.y, scale.z].map(f64::to_bits),
+            front,
+        );
         let slot = slot(&self.scaled, key);
         cached(&slot, || {
+            // The identity turn leaves diag(scale) exact.
+            let linear = front.turn().matrix() * Matrix3::from_diagonal(scale);
             asset
                 .mesh
-                .transformed(&Matrix3::from_diagonal(scale), &Vector3::zeros())
+                .transformed(&linear, &Vector3::zeros())
                 .map(Arc::new)
                 .map_err(|source| IoError::AssetGeometry {
                     path: asset.path.clone(),
                     source,
                 })
+        })
+    }
+
+    /// The look of asset `model_id` turned as [`AssetLibrary::mesh_facing`] turns its mesh,
+    /// for an object whose scene file declares the front `front` (a renderer passes
+    /// [`SceneObject::asset_front`]); `None` is [`AssetLibrary::appearance`] itself.
+    ///
+    /// # Errors
+    /// [`IoError::InvalidValue`] (naming the model id) when `front` is not a horizontal axis
+    /// direction; otherwise as [`AssetLibrary::appearance`].
+    pub fn appearance_facing(
+        &self,
+        model_id: &str,
+        front: Option<&Vector3>,
+    ) -> Result<Arc<Appearance>, IoError> {
+        let front = match front {
+            None => ObjectFront::MinusY,
+            Some(v) => ObjectFront::from_vector([v.x, v.y, v.z]).map_err(|reason| IoError::InvalidValue {
+                path: PathBuf::from(model_id),
+                pointer: "/objectFrontVector".into(),
+                reason,
+            })?,
+        };
+        self.look(model_id, front)
+    }
+
+    /// The look of `model_id` turned to `front`, loaded once.
+    fn look(&self, model_id: &str, front: ObjectFront) -> Result<Arc<Appearance>, IoError> {
+        let slot = slot(&self.appearances, (model_id.to_owned(), front));
+        cached(&slot, || {
+            let location = self.locate(model_id)?;
+            let alignment = match front {
+                ObjectFront::MinusY => location.alignment,
+                // object_from_file(A') = Rx(90) * A' must be Q * Rx(90) * A.
+                _ => {
+                    let rx = object_from_asset();
+                    let file = location.alignment.unwrap_or_else(Rotation3::identity);
+                    Some(rx.inverse() * front.turn() * rx * file)
+                }
+            };
+            load_appearance(model_id, &location.path, alignment.as_ref(), &self.limits).map(Arc::new)
         })
     }
 
@@ -227,16 +288,39 @@ impl AssetLibrary {
         pose: Isometry3,
         scale: Vector3,
     ) -> Result<SceneObject, IoError> {
+        self.object_facing(id, model_id, &PlacedObject { pose, scale }, ObjectFront::MinusY)
+    }
+
+    /// A scene object showing asset `model_id` placed as a scene file places it: `placed` is
+    /// the pose and object-frame scale in the file's own frame (see
+    /// [`crate::frames::TransformFrame::placed`]), `front` the front the file declares for it
+    /// (sceneState `objectFrontVector`). The object is turned so that local -y is its front
+    /// ([`ObjectFront::model_pose`], [`AssetLibrary::mesh_facing`]) and records the declared
+    /// front ([`SceneObject::asset_front`]): the object `read_scene_state` builds for such an
+    /// entry, which is how converters place a generator's objects.
+    ///
+    /// # Errors
+    /// As [`AssetLibrary::object`].
+    pub fn object_facing(
+        &self,
+        id: impl Into<ObjectId>,
+        model_id: &str,
+        placed: &PlacedObject,
+        front: ObjectFront,
+    ) -> Result<SceneObject, IoError> {
         let id = id.into();
         let asset = self.asset(model_id)?;
-        let mesh = self.mesh(model_id, &scale)?;
-        let mut object = SceneObject::from_mesh(id.clone(), mesh, pose)
+        let mesh = self.mesh_facing(model_id, &placed.scale, front)?;
+        let mut object = SceneObject::from_mesh(id.clone(), mesh, front.model_pose(&placed.pose))
             .map_err(|source| IoError::BadObject {
                 object: id.to_string(),
                 source,
             })?
             .with_model_id(model_id)
-            .with_scale(scale);
+            .with_scale(front.turn_scale(&placed.scale));
+        if front != ObjectFront::MinusY {
+            object = object.with_asset_front(front.vector());
+        }
         if let Some(c) = &asset.info.category {
             object = object.with_category(c.clone());
         }
@@ -255,17 +339,7 @@ impl AssetLibrary {
     /// As [`AssetLibrary::asset`] for locating and parsing the file. Missing or broken
     /// textures and material libraries are logged and fall back to the base colour.
     pub fn appearance(&self, model_id: &str) -> Result<Arc<Appearance>, IoError> {
-        let slot = slot(&self.appearances, model_id.to_owned());
-        cached(&slot, || {
-            let location = self.locate(model_id)?;
-            load_appearance(
-                model_id,
-                &location.path,
-                location.alignment.as_ref(),
-                &self.limits,
-            )
-            .map(Arc::new)
-        })
+        self.look(model_id, ObjectFront::MinusY)
     }
 
     /// How many appearances have been loaded so far (0 in a run that never rendered).
@@ -325,6 +399,17 @@ impl AssetLibrary {
             info: location.info,
             mesh: Arc::new(mesh),
             files,
+        })
+    }
+}
+
+fn check_scale(model_id: &str, scale: &Vector3) -> Result<(), IoError> {
+    if scale.iter().all(|s| s.is_finite() && *s != 0.0) {
+        Ok(())
+    } else {
+        Err(IoError::BadScale {
+            model_id: model_id.to_owned(),
+            scale: [scale.x, scale.y, scale.z],
         })
     }
 }

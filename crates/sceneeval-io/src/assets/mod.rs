@@ -1,7 +1,7 @@
 //! Asset sources and the per-run asset cache.
 //!
 //! A model id `PREFIX.ID` (split on the **first** dot) resolves through the [`AssetSource`]
-//! registered for `PREFIX` in an [`AssetLibrary`]. Five directory layouts are provided (see
+//! registered for `PREFIX` in an [`AssetLibrary`]. Seven directory layouts are provided (see
 //! [`Layout`] and `docs/formats.md`, "Asset folders"):
 //!
 //! | layout | default prefix | mesh | metadata |
@@ -10,15 +10,19 @@
 //! | [`Layout::Objathor`] | `objaverse` | `ID/ID.glb` | `annotations.json` |
 //! | [`Layout::Hssd`] | `fpModel` | `glb/<first char>/ID.glb` (`decomposed/<base>/ID.glb` for parts) | `fpmodels.csv` |
 //! | [`Layout::LayoutVlm`] | `layoutvlm-objaverse` | `ID/ID.glb` | `ID/data.json` |
+//! | [`Layout::IDesign`] | `idesign` | `scene_<S>/assets/<O>.glb` for ID `scene_<S>__<O>` | `scene_<S>.json` |
+//! | [`Layout::SceneAgent`] | `scene-agent`, `scenesmith` | the glTF of the SDF named by the `sdfPath` of object `<O>` in `scene_<S>.json` | `scene_<S>.json` |
 //! | [`Layout::Plain`] | any other | `ID.glb`, `ID.gltf` or `ID.obj` | optional `ID.json` |
 //!
 //! The [`AssetLibrary`] loads each asset once per run and hands out `Arc<Mesh>`es, so every
 //! object of one asset (at one scale) shares one mesh and one BVH. It is `Sync`: share one
 //! library by reference across scenes and threads.
 
+mod generated;
 mod library;
 mod sources;
 
+pub use generated::{IDesignSource, SceneAgentSource, humanize_object_id, split_scene_asset_id};
 pub use library::{Asset, AssetLibrary};
 pub use sources::{HssdSource, LayoutVlmSource, ObjathorSource, PlainFolderSource, ThreeDFutureSource};
 
@@ -86,17 +90,26 @@ pub enum Layout {
     /// LayoutVLM's Objathor subset: `ID/ID.glb`, metadata `ID/data.json`.
     #[serde(rename = "layoutvlm")]
     LayoutVlm,
+    /// IDesign scenes converted by `sceneeval convert idesign` (or the SceneSmith fork):
+    /// `scene_<S>/assets/<O>.glb` for asset id `scene_<S>__<O>` ([`IDesignSource`]).
+    #[serde(rename = "idesign")]
+    IDesign,
+    /// SceneAgent / SceneSmith scenes converted by `sceneeval convert scene-agent` (or the
+    /// SceneSmith fork): the glTF of each object's SDF ([`SceneAgentSource`]).
+    SceneAgent,
     /// A plain folder: `ID.glb`, `ID.gltf` or `ID.obj`, optional sidecar `ID.json`.
     Plain,
 }
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 5] = [
+    pub const ALL: [Layout; 7] = [
         Layout::ThreeDFuture,
         Layout::Objathor,
         Layout::Hssd,
         Layout::LayoutVlm,
+        Layout::IDesign,
+        Layout::SceneAgent,
         Layout::Plain,
     ];
 
@@ -107,19 +120,25 @@ impl Layout {
             Layout::Objathor => "objathor",
             Layout::Hssd => "hssd",
             Layout::LayoutVlm => "layoutvlm",
+            Layout::IDesign => "idesign",
+            Layout::SceneAgent => "scene-agent",
             Layout::Plain => "plain",
         }
     }
 
-    /// The layout the reference uses for a model id prefix: `3dfModel` 3D-FUTURE, `objaverse`
-    /// Objathor, `fpModel` HSSD, `layoutvlm-objaverse` LayoutVLM, anything else the plain
-    /// folder.
+    /// The layout the reference (or its SceneSmith fork) uses for a model id prefix:
+    /// `3dfModel` 3D-FUTURE, `objaverse` Objathor, `fpModel` HSSD, `layoutvlm-objaverse`
+    /// LayoutVLM, `idesign` IDesign, `scene-agent` and `scenesmith` SceneAgent (the fork
+    /// registers no source for `scenesmith`, SceneSmith's own prefix), anything else the
+    /// plain folder.
     pub fn for_prefix(prefix: &str) -> Layout {
         match prefix {
             "3dfModel" => Layout::ThreeDFuture,
             "objaverse" => Layout::Objathor,
             "fpModel" => Layout::Hssd,
             "layoutvlm-objaverse" => Layout::LayoutVlm,
+            "idesign" => Layout::IDesign,
+            "scene-agent" | "scenesmith" => Layout::SceneAgent,
             _ => Layout::Plain,
         }
     }
@@ -132,6 +151,8 @@ impl Layout {
             Layout::Objathor => Box::new(ObjathorSource::new(dir)),
             Layout::Hssd => Box::new(HssdSource::new(dir)),
             Layout::LayoutVlm => Box::new(LayoutVlmSource::new(dir)),
+            Layout::IDesign => Box::new(IDesignSource::new(dir)),
+            Layout::SceneAgent => Box::new(SceneAgentSource::new(dir)),
             Layout::Plain => Box::new(PlainFolderSource::new(dir)),
         }
     }
@@ -146,8 +167,8 @@ impl std::fmt::Display for Layout {
 impl FromStr for Layout {
     type Err = String;
 
-    /// Parses a layout name (`3d-future`, `objathor`, `hssd`, `layoutvlm`, `plain`), ignoring
-    /// ASCII case.
+    /// Parses a layout name (`3d-future`, `objathor`, `hssd`, `layoutvlm`, `idesign`,
+    /// `scene-agent`, `plain`), ignoring ASCII case.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Layout::ALL
             .into_iter()
@@ -281,6 +302,10 @@ mod tests {
             ("x=3D-FUTURE:/d", "x", Layout::ThreeDFuture, "/d"),
             ("objaverse=plain:/d", "objaverse", Layout::Plain, "/d"),
             ("x=C:/assets", "x", Layout::Plain, "C:/assets"),
+            ("idesign=/d", "idesign", Layout::IDesign, "/d"),
+            ("scene-agent=/d", "scene-agent", Layout::SceneAgent, "/d"),
+            ("scenesmith=/d", "scenesmith", Layout::SceneAgent, "/d"),
+            ("x=scene-agent:/d", "x", Layout::SceneAgent, "/d"),
         ] {
             let s = AssetSpec::parse(spec).unwrap();
             assert_eq!(s.prefix, prefix, "{spec}");

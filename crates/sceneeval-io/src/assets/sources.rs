@@ -12,14 +12,14 @@ use crate::IoError;
 
 /// A metadata problem, kept so that every lookup can report it (an [`IoError`] is not `Clone`).
 #[derive(Debug, Clone)]
-struct MetadataError {
+pub(super) struct MetadataError {
     path: PathBuf,
     location: String,
     message: String,
 }
 
 impl MetadataError {
-    fn new(path: &Path, location: impl Into<String>, message: impl Into<String>) -> Self {
+    pub(super) fn new(path: &Path, location: impl Into<String>, message: impl Into<String>) -> Self {
         MetadataError {
             path: path.to_owned(),
             location: location.into(),
@@ -27,7 +27,7 @@ impl MetadataError {
         }
     }
 
-    fn to_io(&self) -> IoError {
+    pub(super) fn to_io(&self) -> IoError {
         IoError::BadMetadata {
             path: self.path.clone(),
             location: self.location.clone(),
@@ -48,7 +48,7 @@ fn lazy_get<T>(
 
 /// Reads a JSON metadata file of at most [`crate::Limits::default`]'s `max_file_bytes`;
 /// `Ok(None)` when it does not exist.
-fn read_json(path: &Path) -> Result<Option<Value>, MetadataError> {
+pub(super) fn read_json(path: &Path) -> Result<Option<Value>, MetadataError> {
     let bytes = match crate::uri::read_file_limited(path, crate::Limits::default().max_file_bytes) {
         Ok(b) => b,
         Err(IoError::File { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
@@ -102,7 +102,7 @@ fn describe(head: Option<&str>, dash: Option<&str>, rest: &[Option<&str>]) -> Op
     (!out.is_empty()).then_some(out)
 }
 
-fn not_found(model_id: &str, tried: Vec<PathBuf>) -> IoError {
+pub(super) fn not_found(model_id: &str, tried: Vec<PathBuf>) -> IoError {
     IoError::AssetNotFound {
         model_id: model_id.to_owned(),
         tried,
@@ -111,7 +111,7 @@ fn not_found(model_id: &str, tried: Vec<PathBuf>) -> IoError {
 
 /// The first of `tried` that exists, which must be a regular file (a named pipe or a folder
 /// of that name is an error saying so, not a missing asset).
-fn mesh_file(model_id: &str, tried: Vec<PathBuf>) -> Result<PathBuf, IoError> {
+pub(super) fn mesh_file(model_id: &str, tried: Vec<PathBuf>) -> Result<PathBuf, IoError> {
     for path in &tried {
         match sceneeval_files::check_regular(path) {
             Ok(_) => return Ok(path.clone()),

@@ -1,5 +1,22 @@
 //! Walking a parsed JSON document with JSON pointers, turning every type problem into an
-//! [`IoError`] that names the file and the pointer.
+//! [`IoError`] that names the file and the pointer. The sceneState reader uses it, and so do
+//! the converters of generators' own files (`sceneeval-convert`), so that a bad input names
+//! its file and JSON pointer the same way everywhere.
+//!
+//! ```
+//! use std::path::Path;
+//! use sceneeval_io::scene_state::json_in::{Doc, parse, ptr_index, ptr_key};
+//!
+//! let path = Path::new("layout.json");
+//! let root = parse(r#"{"bed-0": {"position": [1, 2, "x"]}}"#, path).unwrap();
+//! let doc = Doc { path };
+//! let bed = doc.object(doc.required(doc.object(&root, "").unwrap(), "", "bed-0").unwrap(), "/bed-0").unwrap();
+//! let err = doc
+//!     .numbers::<3>(&bed["position"], &ptr_key("/bed-0", "position"), "an array of 3 numbers")
+//!     .unwrap_err();
+//! assert_eq!(err.to_string(), "layout.json: /bed-0/position/2: expected a number, found the string \"x\"");
+//! assert_eq!(ptr_index("/a", 2), "/a/2");
+//! ```
 
 use std::path::{Path, PathBuf};
 
@@ -7,18 +24,18 @@ use serde_json::{Map, Value};
 
 use crate::IoError;
 
-/// An RFC 6901 pointer to `key` inside the value at `base`.
-pub(crate) fn ptr_key(base: &str, key: &str) -> String {
+/// An RFC 6901 pointer to `key` inside the value at `base` (`~` and `/` escaped).
+pub fn ptr_key(base: &str, key: &str) -> String {
     format!("{base}/{}", key.replace('~', "~0").replace('/', "~1"))
 }
 
 /// An RFC 6901 pointer to element `i` of the array at `base`.
-pub(crate) fn ptr_index(base: &str, i: usize) -> String {
+pub fn ptr_index(base: &str, i: usize) -> String {
     format!("{base}/{i}")
 }
 
 /// A short description of a JSON value's type, for error messages.
-pub(crate) fn describe(v: &Value) -> String {
+pub fn describe(v: &Value) -> String {
     match v {
         Value::Null => "null".into(),
         Value::Bool(_) => "a boolean".into(),
@@ -30,18 +47,21 @@ pub(crate) fn describe(v: &Value) -> String {
     }
 }
 
-/// The file being read, for error messages.
+/// The file being read: its typed accessors name it and the value's pointer in every error.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Doc<'a> {
-    pub(crate) path: &'a Path,
+pub struct Doc<'a> {
+    /// The file, for error messages.
+    pub path: &'a Path,
 }
 
 impl<'a> Doc<'a> {
-    pub(crate) fn path_buf(&self) -> PathBuf {
+    /// The file as an owned path.
+    pub fn path_buf(&self) -> PathBuf {
         self.path.to_owned()
     }
 
-    pub(crate) fn wrong(&self, ptr: &str, expected: &'static str, found: &Value) -> IoError {
+    /// [`IoError::WrongType`]: the value at `ptr` is not `expected`.
+    pub fn wrong(&self, ptr: &str, expected: &'static str, found: &Value) -> IoError {
         IoError::WrongType {
             path: self.path_buf(),
             pointer: ptr.to_owned(),
@@ -50,7 +70,8 @@ impl<'a> Doc<'a> {
         }
     }
 
-    pub(crate) fn invalid(&self, ptr: &str, reason: impl Into<String>) -> IoError {
+    /// [`IoError::InvalidValue`]: the value at `ptr` has the right type but is not acceptable.
+    pub fn invalid(&self, ptr: &str, reason: impl Into<String>) -> IoError {
         IoError::InvalidValue {
             path: self.path_buf(),
             pointer: ptr.to_owned(),
@@ -58,16 +79,27 @@ impl<'a> Doc<'a> {
         }
     }
 
-    pub(crate) fn object<'v>(&self, v: &'v Value, ptr: &str) -> Result<&'v Map<String, Value>, IoError> {
+    /// The value at `ptr` as a JSON object.
+    ///
+    /// # Errors
+    /// [`IoError::WrongType`].
+    pub fn object<'v>(&self, v: &'v Value, ptr: &str) -> Result<&'v Map<String, Value>, IoError> {
         v.as_object().ok_or_else(|| self.wrong(ptr, "an object", v))
     }
 
-    pub(crate) fn array<'v>(&self, v: &'v Value, ptr: &str) -> Result<&'v Vec<Value>, IoError> {
+    /// The value at `ptr` as a JSON array.
+    ///
+    /// # Errors
+    /// [`IoError::WrongType`].
+    pub fn array<'v>(&self, v: &'v Value, ptr: &str) -> Result<&'v Vec<Value>, IoError> {
         v.as_array().ok_or_else(|| self.wrong(ptr, "an array", v))
     }
 
     /// A field that must be present and not null.
-    pub(crate) fn required<'v>(
+    ///
+    /// # Errors
+    /// [`IoError::MissingField`] naming `ptr` (the object) and the field.
+    pub fn required<'v>(
         &self,
         o: &'v Map<String, Value>,
         ptr: &str,
@@ -82,7 +114,10 @@ impl<'a> Doc<'a> {
 
     /// A finite number. (JSON has no NaN or infinity and serde_json rejects numbers out of the
     /// f64 range while parsing, so the finiteness check is a safeguard.)
-    pub(crate) fn number(&self, v: &Value, ptr: &str) -> Result<f64, IoError> {
+    ///
+    /// # Errors
+    /// [`IoError::WrongType`], or [`IoError::InvalidValue`] for a non-finite number.
+    pub fn number(&self, v: &Value, ptr: &str) -> Result<f64, IoError> {
         let x = v.as_f64().ok_or_else(|| self.wrong(ptr, "a number", v))?;
         if x.is_finite() {
             Ok(x)
@@ -91,16 +126,27 @@ impl<'a> Doc<'a> {
         }
     }
 
-    pub(crate) fn integer(&self, v: &Value, ptr: &str) -> Result<i64, IoError> {
+    /// An integer.
+    ///
+    /// # Errors
+    /// [`IoError::WrongType`].
+    pub fn integer(&self, v: &Value, ptr: &str) -> Result<i64, IoError> {
         v.as_i64().ok_or_else(|| self.wrong(ptr, "an integer", v))
     }
 
-    pub(crate) fn string<'v>(&self, v: &'v Value, ptr: &str) -> Result<&'v str, IoError> {
+    /// A string.
+    ///
+    /// # Errors
+    /// [`IoError::WrongType`].
+    pub fn string<'v>(&self, v: &'v Value, ptr: &str) -> Result<&'v str, IoError> {
         v.as_str().ok_or_else(|| self.wrong(ptr, "a string", v))
     }
 
     /// An id: a string, or an integer written as its decimal text.
-    pub(crate) fn id(&self, v: &Value, ptr: &str) -> Result<String, IoError> {
+    ///
+    /// # Errors
+    /// [`IoError::WrongType`].
+    pub fn id(&self, v: &Value, ptr: &str) -> Result<String, IoError> {
         match v {
             Value::String(s) => Ok(s.clone()),
             Value::Number(n) if n.is_i64() || n.is_u64() => Ok(n.to_string()),
@@ -108,8 +154,11 @@ impl<'a> Doc<'a> {
         }
     }
 
-    /// An array of exactly `N` numbers.
-    pub(crate) fn numbers<const N: usize>(
+    /// An array of exactly `N` finite numbers.
+    ///
+    /// # Errors
+    /// [`IoError::WrongType`] naming `expected`, or the element's error.
+    pub fn numbers<const N: usize>(
         &self,
         v: &Value,
         ptr: &str,
@@ -128,13 +177,26 @@ impl<'a> Doc<'a> {
 }
 
 /// A field that is present and not null.
-pub(crate) fn optional<'v>(o: &'v Map<String, Value>, key: &str) -> Option<&'v Value> {
+pub fn optional<'v>(o: &'v Map<String, Value>, key: &str) -> Option<&'v Value> {
     o.get(key).filter(|v| !v.is_null())
+}
+
+/// Reads the JSON file at `path`: at most `max_bytes` long, UTF-8, well-formed.
+///
+/// # Errors
+/// [`IoError::File`], [`IoError::TooLarge`], [`IoError::InvalidUtf8`] or
+/// [`IoError::MalformedJson`], each naming the file.
+pub fn read_json_file(path: &Path, max_bytes: u64) -> Result<Value, IoError> {
+    let bytes = crate::uri::read_file_limited(path, max_bytes)?;
+    parse(IoError::utf8(path, &bytes)?, path)
 }
 
 /// Parses JSON text, reporting line and column (and a hint for NaN/Infinity, which some
 /// Python writers emit) on failure.
-pub(crate) fn parse(text: &str, path: &Path) -> Result<Value, IoError> {
+///
+/// # Errors
+/// [`IoError::MalformedJson`] naming `path`.
+pub fn parse(text: &str, path: &Path) -> Result<Value, IoError> {
     serde_json::from_str(text).map_err(|e| {
         let (line, column) = (e.line(), e.column());
         let full = e.to_string();

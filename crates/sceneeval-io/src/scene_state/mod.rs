@@ -2,7 +2,7 @@
 //! ([`write_scene_state`]). The format, with this crate's extensions, is described in
 //! `docs/formats.md` and in the crate docs.
 
-mod json_in;
+pub mod json_in;
 mod read;
 mod write;
 

@@ -13,10 +13,7 @@ use serde_json::{Map, Value};
 
 use super::json_in::{Doc, optional, parse, ptr_index, ptr_key};
 use super::{ARCH_VERSION, FORMAT, SCENE_VERSION, derived_object_id};
-use crate::frames::{
-    FrameError, PlacedObject, asset_pose_from_sstk, box_pose_from_sstk, sstk_from_asset_pose,
-    sstk_from_box_pose,
-};
+use crate::frames::{FrameError, ObjectFront, PlacedObject, TransformFrame};
 use crate::{AssetLibrary, IoError, MissingAsset};
 
 /// What to do about architecture when reading a sceneState file.
@@ -103,7 +100,8 @@ pub fn read_scene_state_str(
     let scene = doc.object(doc.required(root, "", "scene")?, "/scene")?;
     check_version(&doc, scene, "/scene", SCENE_VERSION);
 
-    let objects = read_objects(&doc, scene, assets)?;
+    let scene_front = read_front(&doc, scene, "/scene")?.unwrap_or_default();
+    let objects = read_objects(&doc, scene, assets, scene_front)?;
     let arch = optional(scene, "arch");
     let rooms = match (options.architecture, arch) {
         (ArchitectureMode::AlwaysSimple, _) | (ArchitectureMode::FileOrSimple, None) => {
@@ -135,10 +133,33 @@ fn check_version(doc: &Doc<'_>, o: &Map<String, Value>, ptr: &str, expected: &st
 // ------------------------------------------------------------------------------------------
 // Objects
 
+/// The `objectFrontVector` of the JSON object at `ptr`, if it has one.
+fn read_front(doc: &Doc<'_>, o: &Map<String, Value>, ptr: &str) -> Result<Option<ObjectFront>, IoError> {
+    let Some(v) = optional(o, "objectFrontVector") else {
+        return Ok(None);
+    };
+    let p = ptr_key(ptr, "objectFrontVector");
+    let v = doc.numbers::<3>(v, &p, "an array of 3 numbers")?;
+    ObjectFront::from_vector(v)
+        .map(Some)
+        .map_err(|reason| doc.invalid(&p, format!("objectFrontVector {reason}")))
+}
+
+/// Whether the object entry at `ptr` is marked `isArchitecture: true` (part of the building,
+/// which the reader leaves out before looking up any asset).
+fn is_architecture(doc: &Doc<'_>, o: &Map<String, Value>, ptr: &str) -> Result<bool, IoError> {
+    match optional(o, "isArchitecture") {
+        None => Ok(false),
+        Some(Value::Bool(b)) => Ok(*b),
+        Some(v) => Err(doc.wrong(&ptr_key(ptr, "isArchitecture"), "a boolean", v)),
+    }
+}
+
 fn read_objects(
     doc: &Doc<'_>,
     scene: &Map<String, Value>,
     assets: &AssetLibrary,
+    scene_front: ObjectFront,
 ) -> Result<Vec<SceneObject>, IoError> {
     let Some(list) = optional(scene, "object") else {
         return Ok(Vec::new());
@@ -146,10 +167,15 @@ fn read_objects(
     let list = doc.array(list, "/scene/object")?;
     let mut seen: HashMap<String, String> = HashMap::with_capacity(list.len());
     let mut objects = Vec::with_capacity(list.len());
+    let mut architecture = 0usize;
     let mut missing = Vec::new();
     for (i, entry) in list.iter().enumerate() {
         let ptr = ptr_index("/scene/object", i);
-        let object = match read_object(doc, entry, &ptr, i, assets) {
+        if is_architecture(doc, doc.object(entry, &ptr)?, &ptr)? {
+            architecture += 1;
+            continue;
+        }
+        let object = match read_object(doc, entry, &ptr, i, assets, scene_front) {
             Ok(object) => object,
             // Every missing asset is listed, not only the first: read on.
             Err(e) => {
@@ -166,6 +192,14 @@ fn read_objects(
             });
         }
         objects.push(object);
+    }
+    if architecture > 0 {
+        tracing::warn!(
+            file = %doc.path.display(),
+            left_out = architecture,
+            kept = objects.len(),
+            "object entries marked isArchitecture left out: {architecture} (part of the building, not furniture)"
+        );
     }
     if !missing.is_empty() {
         return Err(IoError::MissingAssets {
@@ -232,8 +266,10 @@ fn read_object(
     ptr: &str,
     position: usize,
     assets: &AssetLibrary,
+    scene_front: ObjectFront,
 ) -> Result<SceneObject, IoError> {
     let o = doc.object(entry, ptr)?;
+    let front = read_front(doc, o, ptr)?.unwrap_or(scene_front);
     let field = |key: &str| optional(o, key).map(|v| (v, ptr_key(ptr, key)));
     let index = match field("index") {
         Some((v, p)) => doc.integer(v, &p)?,
@@ -291,23 +327,28 @@ fn read_object(
         }
     };
     let is_box = box_size.is_some();
-    let placed = if is_box {
-        box_pose_from_sstk(&data)
-    } else {
-        asset_pose_from_sstk(&data)
-    }
-    .map_err(|e| bad_transform(doc, &data_ptr, &e))?;
-    // The pose, the scale applied to the geometry, and the scale recorded on the object. A
-    // box written by this crate has its scale already in its size and a rigid transform; its
-    // `objectPose.scale` only records the scale that was baked in.
+    // Boxes, and assets of the z-up generators, have transforms in the object frame.
+    let frame = match model_id {
+        Some(m) if !is_box => TransformFrame::for_model_id(m),
+        _ => TransformFrame::Object,
+    };
+    let placed = frame
+        .placed(&data)
+        .map_err(|e| bad_transform(doc, &data_ptr, &e))?;
+    // The model's pose (turned so that local -y is the declared front), and the scale applied
+    // to the geometry and the scale recorded on the object, both in the file's object frame
+    // (before the turn). A box written by this crate has its scale already in its size and a
+    // rigid transform; its `objectPose.scale` only records the scale that was baked in.
+    let unturned = (front.model_pose(&placed.pose), placed.scale, placed.scale);
     let (pose, applied_scale, recorded_scale) = match field("objectPose") {
-        Some((v, p)) => match exact_pose(doc, v, &p, &data, is_box)? {
+        Some((v, p)) => match exact_pose(doc, v, &p, &data, frame, is_box, front)? {
             Some(exact) if is_box => (exact.pose, Vector3::repeat(1.0), exact.scale),
             Some(exact) => (exact.pose, exact.scale, exact.scale),
-            None => (placed.pose, placed.scale, placed.scale),
+            None => unturned,
         },
-        None => (placed.pose, placed.scale, placed.scale),
+        None => unturned,
     };
+    let recorded_scale = front.turn_scale(&recorded_scale);
 
     let scene_err = |source: SceneError| IoError::Scene {
         path: doc.path_buf(),
@@ -317,7 +358,7 @@ fn read_object(
     let unit = Vector3::repeat(1.0);
     let mut object = match box_size {
         Some(size) => {
-            let half = (size * 0.5).component_mul(&applied_scale.abs());
+            let half = front.turn_scale(&(size * 0.5).component_mul(&applied_scale.abs()));
             let obj = SceneObject::new_box(id, half, pose).map_err(scene_err)?;
             if let Some(m) = model_id {
                 obj.with_model_id(m)
@@ -335,7 +376,9 @@ fn read_object(
                 source: Box::new(source),
             };
             let asset = assets.asset(model_id).map_err(wrap)?;
-            let mesh = assets.mesh(model_id, &applied_scale).map_err(wrap)?;
+            let mesh = assets
+                .mesh_facing(model_id, &applied_scale, front)
+                .map_err(wrap)?;
             let obj = SceneObject::from_mesh(id, mesh, pose)
                 .map_err(scene_err)?
                 .with_model_id(model_id);
@@ -352,6 +395,9 @@ fn read_object(
     object = object.with_index(index);
     if recorded_scale != unit {
         object = object.with_scale(recorded_scale);
+    }
+    if front != ObjectFront::MinusY {
+        object = object.with_asset_front(front.vector());
     }
     if let Some(c) = category {
         object = object.with_category(c);
@@ -395,13 +441,17 @@ fn functional_sides(doc: &Doc<'_>, v: &Value, ptr: &str) -> Result<Vec<Side>, Io
 
 /// The exact pose from `objectPose` (written by this crate), if it reproduces
 /// `transform.data` exactly; `None` (with a debug message) when it does not, e.g. because the
-/// matrix was edited by hand.
+/// matrix was edited by hand. `objectPose` holds the model's pose and scale (after the turn
+/// to the declared `front`); the result has the model's pose and the scale in the file's
+/// object frame.
 fn exact_pose(
     doc: &Doc<'_>,
     v: &Value,
     ptr: &str,
     data: &[Real; 16],
+    frame: TransformFrame,
     is_box: bool,
+    front: ObjectFront,
 ) -> Result<Option<PlacedObject>, IoError> {
     let o = doc.object(v, ptr)?;
     let rotation_ptr = ptr_key(ptr, "rotation");
@@ -423,11 +473,9 @@ fn exact_pose(
         Translation3::new(data[12], data[13], data[14]),
         UnitQuaternion::new_unchecked(quaternion),
     );
-    let recomposed = if is_box {
-        sstk_from_box_pose(&pose, &Vector3::repeat(1.0))
-    } else {
-        sstk_from_asset_pose(&pose, &scale)
-    };
+    let scale = front.turn_scale(&scale);
+    let applied = if is_box { Vector3::repeat(1.0) } else { scale };
+    let recomposed = frame.sstk(&front.file_pose(&pose), &applied);
     if recomposed == *data {
         Ok(Some(PlacedObject { pose, scale }))
     } else {

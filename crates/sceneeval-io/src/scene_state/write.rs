@@ -7,7 +7,7 @@ use sceneeval_scene::{OpeningKind, Room, Scene, SceneObject, Wall};
 
 use super::{ARCH_VERSION, FORMAT, SCENE_VERSION, derived_object_id};
 use crate::IoError;
-use crate::frames::{sstk_from_asset_pose, sstk_from_box_pose};
+use crate::frames::{ObjectFront, TransformFrame};
 use crate::json_out::Json;
 
 /// Writes `scene` as a sceneState JSON file at `path` (see [`scene_state_to_string`]),
@@ -60,30 +60,45 @@ pub fn scene_state_to_string(scene: &Scene) -> Result<String, IoError> {
     for room in scene.rooms() {
         room_elements(room, &mut elements);
     }
+    let fronts = scene
+        .objects()
+        .iter()
+        .map(object_front)
+        .collect::<Result<Vec<_>, _>>()?;
+    // One front shared by every object (and not the default) is written once for the scene,
+    // as the SceneSmith fork writes it; otherwise each object that differs says so.
+    let shared = match fronts.split_first() {
+        Some((&first, rest)) if first != ObjectFront::MinusY && rest.iter().all(|&f| f == first) => {
+            Some(first)
+        }
+        _ => None,
+    };
     let objects = scene
         .objects()
         .iter()
+        .zip(&fronts)
         .enumerate()
-        .map(|(position, object)| object_entry(object, position))
+        .map(|(position, (object, &front))| object_entry(object, position, front, shared.is_none()))
         .collect::<Result<Vec<_>, _>>()?;
+    let mut scene_fields = vec![
+        ("version", Json::str(SCENE_VERSION)),
+        ("up", Json::nums(&[0.0, 0.0, 1.0])),
+        ("unit", Json::Num(1.0)),
+    ];
+    if let Some(front) = shared {
+        scene_fields.push(("objectFrontVector", Json::nums(front.vector().as_slice())));
+    }
+    scene_fields.push((
+        "arch",
+        Json::Obj(vec![
+            ("version", Json::str(ARCH_VERSION)),
+            ("elements", Json::Arr(elements)),
+        ]),
+    ));
+    scene_fields.push(("object", Json::Arr(objects)));
     let doc = Json::Obj(vec![
         ("format", Json::str(FORMAT)),
-        (
-            "scene",
-            Json::Obj(vec![
-                ("version", Json::str(SCENE_VERSION)),
-                ("up", Json::nums(&[0.0, 0.0, 1.0])),
-                ("unit", Json::Num(1.0)),
-                (
-                    "arch",
-                    Json::Obj(vec![
-                        ("version", Json::str(ARCH_VERSION)),
-                        ("elements", Json::Arr(elements)),
-                    ]),
-                ),
-                ("object", Json::Arr(objects)),
-            ]),
-        ),
+        ("scene", Json::Obj(scene_fields)),
     ]);
     if let Some(v) = doc.find_non_finite() {
         return Err(IoError::Unwritable {
@@ -166,7 +181,25 @@ fn wall_element(room_id: &str, wall: &Wall) -> Json {
     ])
 }
 
-fn object_entry(object: &SceneObject, position: usize) -> Result<Json, IoError> {
+/// The front an object's file declares for it (see [`SceneObject::asset_front`]).
+fn object_front(object: &SceneObject) -> Result<ObjectFront, IoError> {
+    match object.asset_front() {
+        None => Ok(ObjectFront::MinusY),
+        Some(v) => ObjectFront::from_vector([v.x, v.y, v.z]).map_err(|reason| IoError::Unwritable {
+            object: object.id().to_string(),
+            reason: format!("its asset front {reason}"),
+        }),
+    }
+}
+
+/// The entry of `object`; `front` is the front its file declares, written on the entry when
+/// `own_front` and it is not the default.
+fn object_entry(
+    object: &SceneObject,
+    position: usize,
+    front: ObjectFront,
+    own_front: bool,
+) -> Result<Json, IoError> {
     let index = object.index().unwrap_or(position as i64);
     let model_id = object.model_id();
     let is_box = object.box_half_extents();
@@ -201,18 +234,25 @@ fn object_entry(object: &SceneObject, position: usize) -> Result<Json, IoError> 
             Json::Arr(sides.iter().map(|s| Json::str(s.name())).collect()),
         ));
     }
+    if own_front && front != ObjectFront::MinusY {
+        fields.push(("objectFrontVector", Json::nums(front.vector().as_slice())));
+    }
     let scale = object.scale();
+    // The file holds the object in its declared frame: the pose turned back by the front,
+    // sizes and scales in that frame.
+    let file_pose = front.file_pose(&pose);
     let data = match is_box {
         Some(half) => {
             // A box's scale is already in its size: the transform is the rigid pose, and
             // `objectPose.scale` only records the scale that was baked in.
-            fields.push((
-                "box",
-                Json::Obj(vec![("size", Json::nums((half * 2.0).as_slice()))]),
-            ));
-            sstk_from_box_pose(&pose, &Vector3::repeat(1.0))
+            let size = front.turn_scale(&(half * 2.0));
+            fields.push(("box", Json::Obj(vec![("size", Json::nums(size.as_slice()))])));
+            TransformFrame::Object.sstk(&file_pose, &Vector3::repeat(1.0))
         }
-        None => sstk_from_asset_pose(&pose, &scale),
+        None => {
+            let frame = TransformFrame::for_model_id(model_id.unwrap_or_default());
+            frame.sstk(&file_pose, &front.turn_scale(&scale))
+        }
     };
     let scale = (scale != Vector3::repeat(1.0)).then_some(scale);
     fields.push((

@@ -6,7 +6,16 @@ about +z; yaw 0 means the object's front faces world -y). World z is up. See ``h
 function, the type stubs, and the README's Python section.
 """
 
-from ._sceneeval import (
+import os as _os
+
+# Mesa's device-select Vulkan layer asks libwayland for a display while the renderer picks its
+# adapter, and libwayland prints "error: XDG_RUNTIME_DIR is invalid or not set" where that
+# variable is unset (containers, CI, services), on renders that succeed. The renders are
+# headless and wgpu picks the adapter itself: turn the layer off unless the environment says
+# otherwise (the `sceneeval` command does the same).
+_os.environ.setdefault("NODEVICE_SELECT", "1")
+
+from ._sceneeval import (  # noqa: E402
     OBJECT_ARCHITECTURE_RELATIONS,
     OBJECT_OBJECT_RELATIONS,
     Scene,

@@ -4,7 +4,7 @@ The docstrings here are the functions' runtime docstrings (a test checks that th
 """
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +63,7 @@ def relation(
     infinite number, or a bad parameter, with the message `sceneeval relate` gives.
     """
 
+@overload
 def relation_batch(
     name: str,
     targets: npt.NDArray[np.float64],
@@ -72,6 +73,7 @@ def relation_batch(
     arch: Optional[str] = None,
     room: Optional[RoomLike] = None,
     reference: bool = False,
+    grad: Literal[False] = False,
     **params: ParamValue,
 ) -> npt.NDArray[np.float64]:
     """The scores of one relation for N boxes (or N groups of boxes), as a float64 array of
@@ -88,10 +90,46 @@ def relation_batch(
     The scores equal relation() called row by row (group by group for surround). Computed
     with the GIL released.
 
+    grad=True returns the scores with their gradients, (scores, d_targets, d_anchors):
+    d_targets[i] and d_anchors[i] are the derivatives of score i with respect to the seven
+    numbers of its target and anchor rows, in the rows' order (cx, cy, cz, hx, hy, hz, yaw),
+    float64 arrays of shape (N, 7) (d_targets (N, K, 7) for surround; d_anchors has one row
+    per score also when one anchor row is shared: sum it for that row's gradient).
+    Object-architecture relations (room=) return (scores, d_targets): the room is fixed. The
+    scores are those of grad=False, bit for bit; the derivatives are exact where the score is
+    differentiable and one-sided at its kinks (see sceneeval_relations::grad in the Rust
+    documentation).
+
     Raises ValueError when an array is not a float64 numpy array of the right shape, holds a
     NaN or infinite number, or when the relation or its arguments are wrong.
     """
 
+@overload
+def relation_batch(
+    name: str,
+    targets: npt.NDArray[np.float64],
+    anchors: npt.NDArray[np.float64],
+    *,
+    side: Optional[str] = None,
+    arch: Optional[str] = None,
+    room: None = None,
+    reference: bool = False,
+    grad: Literal[True],
+    **params: ParamValue,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+@overload
+def relation_batch(
+    name: str,
+    targets: npt.NDArray[np.float64],
+    anchors: None = None,
+    *,
+    side: Optional[str] = None,
+    arch: Optional[str] = None,
+    room: RoomLike,
+    reference: bool = False,
+    grad: Literal[True],
+    **params: ParamValue,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 def relation_names() -> List[str]:
     """Every relation with every argument, in the printed form relation() accepts (side_of(left), next_to(wall), ...)."""
 
@@ -134,7 +172,7 @@ class Scene:
         """The scene's name, if it has one."""
     @property
     def objects(self) -> List[Dict[str, Any]]:
-        """Every object as a dict: id, index, model_id, category, description, is_box, center, size (full width, depth, height), yaw, scale, support_type, functional_sides."""
+        """Every object as a dict: id, index, model_id, category, description, is_box, center, size (full width, depth, height), yaw, front (world direction of its front), asset_front (the front its file declared, or None), scale, support_type, functional_sides."""
     @property
     def rooms(self) -> List[Dict[str, Any]]:
         """Every room as a dict (id, kind, floor_id, floor_z, ceiling_z, floor_area, floor, walls), each wall with its openings."""
@@ -178,6 +216,28 @@ class Scene:
         accessibility, out_of_bounds, opening_clearance).
         The report holds the scene-level summary and each metric's per-object evidence.
         Computed with the GIL released.
+        """
+    def stability(self, *, plan: Optional[PathLike] = None, weld: Optional[str] = None) -> Dict[str, Any]:
+        """Simulates the scene under gravity (the stability metric) and returns its report as
+        eval.json's report.stability: per object id, stable, displacement_m, rotation_rad,
+        welded, weld_reason, final_pose, ...; and frac_unstable (unstable over the objects free
+        to move; None when none was, with frac_unstable_missing saying why).
+
+        plan: the path of a plan file whose stability section (and time budget) applies;
+        weld: "architectural" (default: objects on walls and ceilings are fixed in place),
+        "penetration", "combined" or "none", replacing the plan's. Support types come from
+        what the objects state, then the category tables. The scene is not moved. Computed
+        with the GIL released.
+
+        Raises ValueError for a bad plan or weld mode, SceneEvalError when the scene cannot
+        be simulated (no room, hence no floor; the time budget ran out).
+        """
+    def settle(
+        self, *, plan: Optional[PathLike] = None, weld: Optional[str] = None
+    ) -> Tuple["Scene", Dict[str, Any]]:
+        """Simulates the scene as stability() does and returns (settled, report): a new Scene
+        with every object at its pose after the simulation (fixed objects where they were),
+        and the report. This scene is not moved. Arguments and errors as stability().
         """
     def relation(
         self,
@@ -226,6 +286,7 @@ def evaluate(
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
+    dry_run: bool = False,
 ) -> Dict[str, Any]:
     """Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
 
@@ -245,16 +306,28 @@ def evaluate(
     vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
     dict with base_url and model (required), api_key_env (the variable holding the key, which
     must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
-    concurrency (4), render_size (512, the object views shown), detail ("low"), temperature (0;
-    None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens
-    and token_limit_field ("max_tokens" or "max_completion_tokens"). Without a VLM the
+    concurrency (4: requests in flight over the whole run, whatever the threads; halved on a 429
+    and grown back), render_size (512, the object views shown), detail ("low"), temperature (0;
+    None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens,
+    token_limit_field ("max_tokens" or "max_completion_tokens"), timeout (60: seconds per
+    request attempt; time_budget bounds a scene's whole wait for the VLM), rpm and tpm (caps on
+    requests and estimated tokens per minute; none by default). The dict is checked whatever the
+    plan; VLM settings a plan without text-fidelity metrics does not use are reported with a
+    UserWarning. Before the first scene evaluated, one small request checks the endpoint: an
+    unreachable server or a refused key raises SceneEvalError at once. Without a VLM the
     text-fidelity metrics match objects by labels (or a matching file) and map relations with the
     lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
     the run's note. A re-run into the same out reuses a scene's result while nothing it depends
     on changed (force=True evaluates every scene again). threads: worker threads (default one
-    per core). Runs with the GIL released.
+    per core). dry_run=True evaluates nothing, writes nothing and sends nothing: it returns what
+    the run would ask the VLM (see below). Runs with the GIL released.
 
-    Returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
+    With dry_run=True, returns scenes, evaluated (scenes the run would evaluate), reused,
+    attributes_estimated (scenes whose attribute requests are estimated: one per ObjAttr entry,
+    as their matching is not cached), failed ([scene, why] pairs), vlm (whether a VLM would be
+    asked), tasks (per task: task, requests, cached, estimated, prompt_tokens: the estimated
+    input tokens of the requests to send) and total (the same, summed), as
+    `sceneeval evaluate --dry-run` prints them. Otherwise returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
     scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
     text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
     summary.csv as a dict). A scene that fails is recorded, not raised.
@@ -278,6 +351,9 @@ def evaluation_request(
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
+    dry_run: bool = False,
 ) -> Dict[str, Any]:
     """The evaluation request evaluate() makes of the same arguments, as a dict: what
-    `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run."""
+    `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
+    dry_run is accepted as evaluate() takes it; it is not part of the request.
+    """

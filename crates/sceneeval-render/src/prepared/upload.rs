@@ -96,7 +96,7 @@ fn object_appearance(object: &ObjectInput, assets: &AssetLibrary) -> Option<Arc<
         return None;
     }
     let model_id = object.model_id.as_deref()?;
-    let look = match assets.appearance(model_id) {
+    let look = match assets.appearance_facing(model_id, object.asset_front.as_ref()) {
         Ok(look) => look,
         Err(e) => {
             tracing::warn!(object = %object.id, model_id, error = %e, "appearance not loaded; drawing the geometry in grey");

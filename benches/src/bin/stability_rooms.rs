@@ -1,0 +1,208 @@
+//! The stability metric on twelve small rooms (`fixtures/scenes/scene_0.json` to
+//! `scene_11.json`: eleven with the fixtures' furniture meshes, one of boxes), every weld
+//! variant, decomposition included: the measurement of the issue's target (the SceneSmith
+//! fork takes about 1,800 s for twelve small rooms over its four variants).
+//!
+//! ```text
+//! stability-rooms [--fixtures DIR] [--cache DIR] [--threads T] [--time-step S] [--verbose]
+//! stability-rooms --scaling boxes|mesh8k N
+//! ```
+//!
+//! Prints one line per scene and variant (objects, free, unstable, simulated time, steps,
+//! seconds) and the totals: the first pass over the four variants with an empty
+//! decomposition cache (`--cache DIR`: an empty folder; default in memory), then a second pass
+//! over the same variants reusing it. Support types are the ones the scene files state.
+//!
+//! `--scaling KIND N` instead evaluates the benchmark's scaling room of `N` objects
+//! (`sceneeval_test_support::scenes::scaling_scene`, support types from the category tables)
+//! once with an empty cache and once warm, and prints what the simulation did (simulated time,
+//! steps, free, unstable and welded objects, pieces) with both times: the figures behind the
+//! `physics/simulate` benchmark.
+
+#![allow(clippy::print_stdout, clippy::print_stderr, clippy::expect_used)]
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use sceneeval_io::assets::PlainFolderSource;
+use sceneeval_io::{AssetLibrary, ReadOptions, read_scene_state};
+use sceneeval_physics::{DecompositionCache, Stability, StabilityParams, WeldMode};
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("stability-rooms: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<(), String> {
+    let mut fixtures = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures"));
+    let mut cache_dir = None;
+    let mut threads = None;
+    let mut verbose = false;
+    let mut scaling = None;
+    let mut time_step_s = StabilityParams::default().time_step_s;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = || args.next().ok_or_else(|| format!("{a} needs a value"));
+        match a.as_str() {
+            "--fixtures" => fixtures = PathBuf::from(value()?),
+            "--cache" => cache_dir = Some(PathBuf::from(value()?)),
+            "--verbose" => verbose = true,
+            "--time-step" => time_step_s = value()?.parse::<f64>().map_err(|e| e.to_string())?,
+            "--scaling" => {
+                let kind = value()?;
+                let n = args
+                    .next()
+                    .ok_or("--scaling needs a kind and a count")?
+                    .parse::<usize>()
+                    .map_err(|e| e.to_string())?;
+                scaling = Some((kind, n));
+            }
+            "--threads" => threads = Some(value()?.parse::<usize>().map_err(|e| e.to_string())?),
+            _ => return Err(format!("unknown argument {a}")),
+        }
+    }
+    if let Some(t) = threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+            .map_err(|e| e.to_string())?;
+    }
+    if let Some((kind, n)) = scaling {
+        return scaling_room(&kind, n);
+    }
+    let library = AssetLibrary::new().with_source("fixture", PlainFolderSource::new(fixtures.join("assets")));
+    let load = Instant::now();
+    let scenes = (0..12)
+        .map(|n| {
+            let path = fixtures.join(format!("scenes/scene_{n}.json"));
+            read_scene_state(&path, &library, &ReadOptions::default())
+                .map_err(|e| format!("{}: {e}", path.display()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    println!("loaded 12 scenes in {:.3} s", load.elapsed().as_secs_f64());
+    let cache = match cache_dir {
+        Some(d) => DecompositionCache::on_disk(d).map_err(|e| e.to_string())?,
+        None => DecompositionCache::in_memory(),
+    };
+    for pass in ["cold cache", "warm cache"] {
+        let start = Instant::now();
+        let cpu = cpu_seconds();
+        for weld in WeldMode::ALL {
+            let stability = Stability::new(StabilityParams {
+                weld,
+                time_step_s,
+                ..StabilityParams::default()
+            })
+            .map_err(|e| e.to_string())?;
+            for scene in &scenes {
+                let support: Vec<_> = scene.objects().iter().map(|o| o.support_type()).collect();
+                let t = Instant::now();
+                let r = stability
+                    .evaluate(scene, &support, &cache, &|| false)
+                    .map_err(|e| format!("{}: {e}", scene.id().unwrap_or("?")))?;
+                let unstable: Vec<&str> = r
+                    .objects
+                    .iter()
+                    .filter(|o| !o.stable)
+                    .map(|o| o.id.as_str())
+                    .collect();
+                println!(
+                    "{pass:10} {:13} {:9}: {:3} objects, {:3} free, {:2} unstable, {:.3} s simulated in {:5} steps, {:.3} s  {:?}",
+                    weld.name(),
+                    scene.id().unwrap_or("?"),
+                    r.objects.len(),
+                    r.num_free,
+                    r.num_unstable,
+                    r.simulated_s,
+                    r.steps,
+                    t.elapsed().as_secs_f64(),
+                    unstable
+                );
+                if verbose {
+                    for o in r
+                        .objects
+                        .iter()
+                        .filter(|o| o.displacement_m > 1e-3 || o.rotation_rad > 1e-2)
+                    {
+                        println!(
+                            "    {:28} moved {:.4} m, turned {:.4} rad, welded {:?}, {:?}, {:?}",
+                            o.id.as_str(),
+                            o.displacement_m,
+                            o.rotation_rad,
+                            o.weld_reason,
+                            o.interpenetration,
+                            o.body
+                        );
+                    }
+                }
+            }
+        }
+        let s = cache.stats();
+        let cpu = cpu_seconds().zip(cpu).map_or(f64::NAN, |(b, a)| b - a);
+        println!(
+            "{pass}: 12 rooms x 4 variants in {:.3} s, {cpu:.2} s of CPU (decomposed {}, memory hits {}, disk hits {})",
+            start.elapsed().as_secs_f64(),
+            s.decomposed,
+            s.memory_hits,
+            s.disk_hits
+        );
+    }
+    Ok(())
+}
+
+fn scaling_room(kind: &str, n: usize) -> Result<(), String> {
+    use sceneeval_plausibility::{SupportTypePriors, SupportTypeSource};
+    use sceneeval_test_support::scenes::{box_set, mesh8k_set, scaling_scene};
+    let set = match kind {
+        "boxes" => box_set(),
+        "mesh8k" => mesh8k_set(),
+        _ => return Err(format!("unknown kind {kind}: boxes or mesh8k")),
+    };
+    let scene = scaling_scene(n, &set);
+    let priors = SupportTypePriors::default();
+    let support: Vec<_> = scene
+        .objects()
+        .iter()
+        .map(|o| priors.support_type(&scene, o).map(|a| a.value))
+        .collect();
+    let stability = Stability::new(StabilityParams::default()).map_err(|e| e.to_string())?;
+    let cache = DecompositionCache::in_memory();
+    for pass in ["cold cache", "warm cache"] {
+        let t = Instant::now();
+        let cpu = cpu_seconds();
+        let r = stability
+            .evaluate(&scene, &support, &cache, &|| false)
+            .map_err(|e| e.to_string())?;
+        let pieces: usize = r.objects.iter().map(|o| o.body.pieces).sum();
+        let cpu = cpu_seconds().zip(cpu).map_or(f64::NAN, |(b, a)| b - a);
+        println!(
+            "{kind} {n} {pass}: {:.3} s, {cpu:.2} s of CPU; simulated {:.3} s in {} steps; {} free, {} unstable, {} welded; {pieces} pieces",
+            t.elapsed().as_secs_f64(),
+            r.simulated_s,
+            r.steps,
+            r.num_free,
+            r.num_unstable,
+            r.objects.len() - r.num_free,
+        );
+    }
+    Ok(())
+}
+
+/// CPU time (user + system) this process has used so far, seconds (Linux `/proc/self/stat`,
+/// at the usual 100 clock ticks per second): on a loaded machine the honest figure next to
+/// the wall time.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which ends with the last ')'): utime and stime are the
+    // 12th and 13th.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}

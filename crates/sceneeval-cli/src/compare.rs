@@ -1,0 +1,137 @@
+//! `sceneeval compare RUN...`: the runs of several methods side by side, as a paper table
+//! (Markdown, CSV, LaTeX or HTML) with ranks and rank points, compared only on what they share.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+use sceneeval::annotation::Annotations;
+use sceneeval_report::{CompareOptions, Run, compare};
+
+/// Arguments of `sceneeval compare`.
+#[derive(Debug, clap::Args)]
+#[command(
+    after_help = "Runs are compared on the scenes every run evaluated in full and on the metrics every run \
+ran; every difference (scenes left out and why, metrics not shared, other plans, presets or tool versions) is a \
+note under the table. Ranks are competition ranks (1224) per column among the runs with a value; a run ranked r \
+of N gets N - r + 1 points. Bold: best value, italic: second. The formats are described in docs/formats.md."
+)]
+pub struct Args {
+    /// Output folders of `sceneeval evaluate`, one per method, in the order of the table's rows.
+    #[arg(required = true, value_name = "RUN")]
+    pub runs: Vec<PathBuf>,
+    /// The runs' names in the table, comma-separated, one per RUN (default: each folder's name).
+    #[arg(long, value_delimiter = ',', value_name = "A,B,...")]
+    pub names: Option<Vec<String>>,
+    /// Output format: md (GitHub Markdown), csv (one row per group, run and metric column),
+    /// latex (a booktabs tabular a paper can \input), html (a page linking each run's report,
+    /// with the specs satisfied in one run and not another).
+    #[arg(long, value_enum, default_value_t = Format::Md)]
+    pub format: Format,
+    /// Also one table per difficulty (easy, medium, hard, ...), after the table of every scene.
+    #[arg(long, value_enum, value_name = "difficulty")]
+    pub by: Option<By>,
+    /// Write into this file (atomically) instead of standard output.
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The annotation CSV (or JSON) the runs used: each scene's difficulty (default: the
+    /// difficulty in each run's summary_scenes.csv).
+    #[arg(long, value_name = "FILE")]
+    pub annotations: Option<PathBuf>,
+    /// A bootstrap confidence interval at this level beside each value, e.g. 0.95 (resampling
+    /// the scenes 1000 times with a fixed seed; percentile method).
+    #[arg(long, value_name = "LEVEL")]
+    pub ci: Option<f64>,
+}
+
+/// The output formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// GitHub Markdown.
+    Md,
+    /// CSV, one row per group, run and metric column.
+    Csv,
+    /// A booktabs tabular.
+    Latex,
+    /// An HTML page.
+    Html,
+}
+
+/// What `--by` groups by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum By {
+    /// The annotation rows' difficulty.
+    Difficulty,
+}
+
+/// Runs the subcommand.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    if let Some(names) = &args.names
+        && names.len() != args.runs.len()
+    {
+        bail!("--names gives {} names for {} runs", names.len(), args.runs.len());
+    }
+    let annotations = args
+        .annotations
+        .as_deref()
+        .map(|p| Annotations::read(p).with_context(|| format!("reading annotations {}", p.display())))
+        .transpose()?;
+    let mut runs = Vec::new();
+    for (k, dir) in args.runs.iter().enumerate() {
+        let mut run = Run::open(dir)?;
+        if let Some(names) = &args.names {
+            run = run.with_name(names[k].trim());
+        }
+        if let Some(a) = &annotations {
+            run = run.with_annotations(a);
+        }
+        if let Some(twin) = runs.iter().find(|r: &&Run| r.name == run.name) {
+            bail!(
+                "two runs are named {:?} ({} and {}): give --names",
+                run.name,
+                twin.dir.display(),
+                dir.display()
+            );
+        }
+        runs.push(run);
+    }
+    let comparison = compare(
+        &runs,
+        &CompareOptions {
+            by_difficulty: args.by == Some(By::Difficulty),
+            ci: args.ci,
+        },
+    )?;
+    // The folder the page will be in: links to the runs' reports are relative to it.
+    let page_dir = args
+        .out
+        .as_deref()
+        .and_then(std::path::Path::parent)
+        .filter(|p| !p.as_os_str().is_empty())
+        .map_or_else(|| PathBuf::from("."), PathBuf::from);
+    let text = match args.format {
+        Format::Md => comparison.to_markdown(),
+        Format::Csv => comparison.to_csv()?,
+        Format::Latex => comparison.to_latex(),
+        Format::Html => comparison.to_html(&page_dir),
+    };
+    match &args.out {
+        Some(out) => {
+            sceneeval::write_atomic(out, text.as_bytes())?;
+            eprintln!(
+                "{} runs compared on {} scenes: {}",
+                runs.len(),
+                comparison.scenes.len(),
+                out.display()
+            );
+        }
+        None => print!("{text}"),
+    }
+    // CSV has no place for the notes: they go to standard error (every other format has them).
+    if args.format == Format::Csv || args.out.is_some() {
+        for note in &comparison.notes {
+            eprintln!("note: {note}");
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

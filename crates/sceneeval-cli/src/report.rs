@@ -1,0 +1,94 @@
+//! `sceneeval report RUN`: the static report of a finished run (`RUN/report/index.html` and a
+//! page per scene), made from what the run wrote, without evaluating anything.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context;
+use sceneeval::annotation::Annotations;
+use sceneeval_report::{DEFAULT_DIR, ReportOptions, Run, Written, write_report};
+
+/// Arguments of `sceneeval report`.
+#[derive(Debug, clap::Args)]
+#[command(
+    after_help = "The report opens from disk in any browser (no server, no network) and prints. Each \
+scene's top view is drawn from the scene file its record names and the asset files the run read (recorded in \
+eval.json); relative paths there are relative to the folder `sceneeval evaluate` ran in, so run this command \
+from that folder or give --scenes and --assets. The folder's layout is described in docs/formats.md."
+)]
+pub struct Args {
+    /// Output folder of `sceneeval evaluate` (holding `<scene>/eval.json`).
+    #[arg(value_name = "RUN")]
+    pub run: PathBuf,
+    /// Folder to write the report into (default: RUN/report). Outside RUN, the images the run
+    /// wrote are copied into it.
+    #[arg(long, short = 'o', value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Asset folder for a model-id prefix, as for `sceneeval evaluate` (`PREFIX=DIR` or
+    /// `PREFIX=LAYOUT:DIR`); default: the folders the run's records name.
+    #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
+    pub assets: Vec<String>,
+    /// Folder holding the scene files (`<scene>.json`); default: the file each record names.
+    #[arg(long, value_name = "DIR")]
+    pub scenes: Option<PathBuf>,
+    /// The annotation CSV (or JSON) the run used: each scene's difficulty (default: the run's
+    /// summary_scenes.csv).
+    #[arg(long, value_name = "FILE")]
+    pub annotations: Option<PathBuf>,
+    /// The run's name in the report (default: the folder's name).
+    #[arg(long, value_name = "NAME")]
+    pub name: Option<String>,
+}
+
+/// Runs the subcommand.
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let mut run = Run::open(&args.run)?;
+    if let Some(name) = &args.name {
+        run = run.with_name(name.as_str());
+    }
+    if let Some(path) = &args.annotations {
+        let a = Annotations::read(path).with_context(|| format!("reading annotations {}", path.display()))?;
+        run = run.with_annotations(&a);
+    }
+    let out = args.out.clone().unwrap_or_else(|| args.run.join(DEFAULT_DIR));
+    let options = ReportOptions {
+        assets: args.assets,
+        scenes: args.scenes,
+    };
+    let written = write_report(&run, &out, &options)?;
+    tell(&written);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Writes the report of the run just evaluated into `OUT/report` (`sceneeval evaluate
+/// --report`), with the run's own asset folders and annotations.
+pub fn after_evaluate(out: &Path, assets: &[String], annotations: Option<&Path>) -> anyhow::Result<()> {
+    let mut run = Run::open(out)?;
+    if let Some(path) = annotations {
+        run = run.with_annotations(&Annotations::read(path)?);
+    }
+    let options = ReportOptions {
+        assets: assets.to_vec(),
+        scenes: None,
+    };
+    tell(&write_report(&run, &out.join(DEFAULT_DIR), &options)?);
+    Ok(())
+}
+
+/// Says where the report is and which scenes have no top view.
+fn tell(written: &Written) {
+    eprintln!(
+        "report: {} ({} scene pages)",
+        written.index.display(),
+        written.pages
+    );
+    for (scene, why) in written.without_top_view.iter().take(5) {
+        eprintln!("warning: no top view of {scene}: {why}");
+    }
+    if written.without_top_view.len() > 5 {
+        eprintln!(
+            "warning: and {} more scenes without a top view",
+            written.without_top_view.len() - 5
+        );
+    }
+}

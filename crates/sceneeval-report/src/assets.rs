@@ -1,0 +1,124 @@
+//! The asset folders a run read, recovered from the files its records name, so that a report
+//! can draw a scene's objects without the `--assets` options the run was given.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use sceneeval::SceneRecord;
+use sceneeval::io::AssetLibrary;
+use sceneeval::io::assets::{Layout, split_model_id};
+
+/// An [`AssetLibrary`] with, for each model-id prefix of the records, the folder and layout
+/// the run read its assets from.
+///
+/// Every record's fingerprint lists, per model id, the files read for it, the mesh first. For
+/// each prefix the folder is recovered from one mesh path under each layout in turn (the
+/// prefix's default layout first: `PLAIN/ID.glb`, `3D-FUTURE/ID/raw_model.obj`,
+/// `OBJATHOR/ID/ID.glb`, `HSSD/glb/<c>/ID.glb`, ...) and kept only when that folder and layout
+/// resolve every model id of the prefix to the mesh file the records name. A prefix whose
+/// folder cannot be recovered (files moved, paths relative to another working folder) is left
+/// out: reading a scene that uses it then fails naming the prefix.
+pub fn recorded_assets(records: &[SceneRecord]) -> AssetLibrary {
+    let mut meshes: BTreeMap<String, BTreeMap<String, PathBuf>> = BTreeMap::new();
+    for record in records {
+        for asset in record.fingerprint.iter().flat_map(|f| &f.assets) {
+            let (Ok((prefix, _)), Some(mesh)) = (split_model_id(&asset.model_id), asset.files.first()) else {
+                continue;
+            };
+            meshes
+                .entry(prefix.to_owned())
+                .or_default()
+                .insert(asset.model_id.clone(), PathBuf::from(&mesh.path));
+        }
+    }
+    let mut library = AssetLibrary::new();
+    for (prefix, assets) in meshes {
+        let Some((first_id, first_mesh)) = assets.iter().next() else {
+            continue;
+        };
+        let Ok((_, asset_id)) = split_model_id(first_id) else {
+            continue;
+        };
+        let default = Layout::for_prefix(&prefix);
+        let layouts = std::iter::once(default).chain(Layout::ALL.into_iter().filter(|l| *l != default));
+        let found = layouts
+            .filter_map(|layout| Some((layout, root(layout, first_mesh, asset_id)?)))
+            .find(|(layout, root)| {
+                let source = layout.source(root.clone());
+                assets.iter().all(|(model_id, mesh)| {
+                    split_model_id(model_id)
+                        .ok()
+                        .and_then(|(_, id)| source.locate(model_id, id).ok())
+                        .is_some_and(|l| l.path == *mesh)
+                })
+            });
+        match found {
+            Some((layout, root)) => {
+                tracing::debug!(%prefix, %layout, root = %root.display(), "asset folder recovered from the records");
+                if let Err(e) = library.add_source(prefix.clone(), layout.source(root)) {
+                    tracing::warn!(%prefix, error = %e, "asset folder not registered");
+                }
+            }
+            None => {
+                tracing::info!(%prefix, mesh = %first_mesh.display(), "asset folder not recovered from the records")
+            }
+        }
+    }
+    library
+}
+
+/// The folder of `layout` holding `mesh`, the mesh file of asset `id`, when the path has that
+/// layout's shape.
+fn root(layout: Layout, mesh: &Path, id: &str) -> Option<PathBuf> {
+    let name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());
+    let stem = mesh.file_stem()?.to_string_lossy().into_owned();
+    let parent = mesh.parent()?;
+    let up = |p: &Path, n: usize| -> Option<PathBuf> { p.ancestors().nth(n).map(Path::to_path_buf) };
+    match layout {
+        Layout::Plain => (stem == id).then(|| parent.to_path_buf()),
+        Layout::ThreeDFuture => (name(mesh)? == "raw_model.obj" && name(parent)? == id)
+            .then(|| up(parent, 1))
+            .flatten(),
+        Layout::Objathor | Layout::LayoutVlm => (stem == id && name(parent)? == id)
+            .then(|| up(parent, 1))
+            .flatten(),
+        Layout::Hssd => {
+            let kind = name(parent.parent()?)?;
+            (stem == id && (kind == "glb" || kind == "decomposed"))
+                .then(|| up(parent, 2))
+                .flatten()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_layout_s_folder_from_a_mesh_path() {
+        let p = Path::new;
+        assert_eq!(
+            root(Layout::Plain, p("a/assets/bed.glb"), "bed"),
+            Some(PathBuf::from("a/assets"))
+        );
+        assert_eq!(root(Layout::Plain, p("a/assets/bed.glb"), "chair"), None);
+        assert_eq!(
+            root(Layout::ThreeDFuture, p("/d/3df/abc/raw_model.obj"), "abc"),
+            Some(PathBuf::from("/d/3df"))
+        );
+        assert_eq!(
+            root(Layout::Objathor, p("/d/o/abc/abc.glb"), "abc"),
+            Some(PathBuf::from("/d/o"))
+        );
+        assert_eq!(
+            root(Layout::Hssd, p("/d/h/glb/a/abc.glb"), "abc"),
+            Some(PathBuf::from("/d/h"))
+        );
+        assert_eq!(
+            root(Layout::Hssd, p("/d/h/decomposed/abc/abc_part1.glb"), "abc_part1"),
+            Some(PathBuf::from("/d/h"))
+        );
+        assert_eq!(root(Layout::Hssd, p("/d/h/x/a/abc.glb"), "abc"), None);
+    }
+}

@@ -1,0 +1,196 @@
+//! The report's `index.html`: the run's summary table per difficulty, charts of the metrics,
+//! and the scenes with their scores, sortable and filterable by the metric they fail.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use sceneeval::{Better, Metric, Outcome, Summary};
+
+use super::chart::{GROUP_COLOURS, bars};
+use super::scene::problem_keys;
+use super::topview::Problem;
+use super::{legend, num_cell, page};
+use crate::compare::text_arrow;
+use crate::escape::html;
+use crate::run::{Run, scene_values};
+
+/// Whether a scene's value of a column is not the best possible: below 100 % where higher is
+/// better, above 0 % where lower is better.
+pub(crate) fn fails(value: f64, better: Better) -> bool {
+    match better {
+        Better::Higher => value < 100.0 - 1e-9,
+        Better::Lower => value > 1e-9,
+    }
+}
+
+/// The overview page. `pages` maps a scene to its page's URL.
+pub(crate) fn overview(
+    run: &Run,
+    columns: &[(&'static str, Metric)],
+    pages: &BTreeMap<String, String>,
+) -> String {
+    let summary = Summary::from_records(&run.records, None);
+    let groups = run.summary();
+    let evaluated = run.records.iter().filter(|r| r.report().is_some()).count();
+    let mut b = String::new();
+    let _ = write!(
+        b,
+        "<h1>SceneEval report: {}</h1><p class=\"meta\">Run folder <code>{}</code>: {} scenes, {} evaluated, {} failed. \
+         Preset <code>{}</code>; plan digest <code>{}</code>.</p>",
+        html(&run.name),
+        html(&run.dir.display().to_string()),
+        run.records.len(),
+        evaluated,
+        run.records.len() - evaluated,
+        html(summary.preset.as_deref().unwrap_or("not recorded")),
+        html(
+            &summary
+                .plan_digest
+                .as_deref()
+                .map_or_else(|| "not recorded".to_owned(), |d| d.chars().take(16).collect())
+        )
+    );
+
+    b.push_str(
+        "<h2>Summary</h2><div class=\"wide\"><table id=\"summary\"><thead><tr><th>group</th>\
+                <th class=\"num\">scenes</th><th class=\"num\">evaluated</th><th class=\"num\">failed</th>",
+    );
+    for (c, m) in columns {
+        let _ = write!(b, "<th class=\"num\">{} {}</th>", html(c), text_arrow(m.better()));
+    }
+    b.push_str("</tr></thead><tbody>");
+    for g in &groups {
+        let _ = write!(
+            b,
+            "<tr><th>{}</th><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>",
+            html(&g.group),
+            g.scenes,
+            g.evaluated,
+            g.failed
+        );
+        for (c, _) in columns {
+            b.push_str(&num_cell(g.value(c)));
+        }
+        b.push_str("</tr>");
+    }
+    b.push_str(
+        "</tbody></table></div><p class=\"muted\">Percent, macro-averaged over each group's evaluated scenes, as in \
+         summary.md; ↑ higher is better, ↓ lower is better; - no scene of the group has a value.</p>",
+    );
+
+    b.push_str("<h2>Charts</h2><div class=\"wide\">");
+    let chart_columns: Vec<(&str, Better)> = columns.iter().map(|(c, m)| (*c, m.better())).collect();
+    let chart_groups: Vec<(&str, Vec<Option<f64>>)> = groups
+        .iter()
+        .map(|g| {
+            (
+                g.group.as_str(),
+                columns.iter().map(|(c, _)| g.value(c)).collect(),
+            )
+        })
+        .collect();
+    b.push_str(&bars(&chart_columns, &chart_groups));
+    b.push_str("</div>");
+    let items: Vec<(&str, &str, bool)> = groups
+        .iter()
+        .enumerate()
+        .map(|(k, g)| (GROUP_COLOURS[k % GROUP_COLOURS.len()], g.group.as_str(), false))
+        .collect();
+    b.push_str(&legend(&items));
+
+    b.push_str(
+        "<h2>Scenes</h2><div class=\"controls\"><label for=\"fails\">Show </label><select id=\"fails\">\
+         <option value=\"\">every scene</option><option value=\"failed\">scenes that failed to evaluate</option>",
+    );
+    for (c, m) in columns {
+        let _ = write!(
+            b,
+            "<option value=\"{c}\">scenes that fail {c} ({})</option>",
+            match m.better() {
+                Better::Higher => "below 100 %",
+                Better::Lower => "above 0 %",
+            },
+            c = html(c)
+        );
+    }
+    for p in Problem::ALL {
+        let _ = write!(
+            b,
+            "<option value=\"{}\">scenes with an object {}</option>",
+            p.key(),
+            html(p.label())
+        );
+    }
+    b.push_str("</select> <span class=\"muted\"><span id=\"shown\"></span> shown</span></div>");
+    let numbered = run.records.iter().all(|r| r.scene.number().is_some());
+    let _ = write!(
+        b,
+        "<div class=\"wide\"><table id=\"scenes\" class=\"sortable\"><thead><tr><th data-type=\"{}\">scene</th>\
+         <th>difficulty</th><th>status</th>",
+        if numbered { "num" } else { "text" }
+    );
+    for (c, m) in columns {
+        let _ = write!(
+            b,
+            "<th class=\"num\" data-type=\"num\">{} {}</th>",
+            html(c),
+            text_arrow(m.better())
+        );
+    }
+    b.push_str("</tr></thead><tbody>");
+    for r in &run.records {
+        let name = r.scene.as_str();
+        let values = scene_values(r);
+        let mut tokens: Vec<&str> = Vec::new();
+        match &r.outcome {
+            Outcome::Failed { .. } => {
+                tokens.push("failed");
+                tokens.extend(columns.iter().map(|(c, _)| *c));
+            }
+            Outcome::Ok { report } | Outcome::Partial { report } => {
+                if matches!(r.outcome, Outcome::Partial { .. }) {
+                    tokens.push("partial");
+                }
+                for (c, m) in columns {
+                    if values.value(c).is_some_and(|v| fails(v, m.better())) {
+                        tokens.push(c);
+                    }
+                }
+                tokens.extend(problem_keys(report));
+            }
+        }
+        let link = match pages.get(name) {
+            Some(href) => format!("<a href=\"{}\">{}</a>", html(href), html(name)),
+            None => html(name),
+        };
+        let _ = write!(
+            b,
+            "<tr data-scene=\"{}\" data-fails=\"{}\"><td data-v=\"{}\">{link}</td><td>{}</td><td class=\"{}\">{}</td>",
+            html(name),
+            html(&tokens.join(" ")),
+            r.scene.number().map_or_else(|| html(name), |n| n.to_string()),
+            html(run.difficulty(name).unwrap_or("-")),
+            match r.status() {
+                "ok" => "good",
+                "partial" => "unknown",
+                _ => "bad",
+            },
+            r.status()
+        );
+        for (c, _) in columns {
+            b.push_str(&num_cell(if r.report().is_some() {
+                values.value(c)
+            } else {
+                None
+            }));
+        }
+        b.push_str("</tr>");
+    }
+    let _ = write!(
+        b,
+        "</tbody></table></div><p class=\"muted\">Click a column's name to sort. Values in percent, each scene \
+         alone; a scene fails a column when its value is not the best possible. {} of the run's scenes have a page.</p>",
+        pages.len()
+    );
+    page(&format!("SceneEval report: {}", run.name), &b)
+}

@@ -1,0 +1,284 @@
+//! A finished run: the records of an output folder of `sceneeval evaluate`, with the
+//! difficulty of each scene, read without evaluating anything.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use sceneeval::annotation::Annotations;
+use sceneeval::{
+    ALL_SCENES, GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneRecord, SceneReport, Summary,
+    UNANNOTATED,
+};
+
+use crate::ReportError;
+
+/// The records of one run folder and the difficulty of each scene.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// The name shown in tables: `--names`, else the folder's name.
+    pub name: String,
+    /// The folder.
+    pub dir: PathBuf,
+    /// One record per scene, in scene order (benchmark id, then name).
+    pub records: Vec<SceneRecord>,
+    /// Scene name to difficulty (`easy`, `medium`, `hard`, ...), for scenes that have one.
+    difficulty: BTreeMap<String, String>,
+}
+
+impl Run {
+    /// Reads every `<scene>/eval.json` of `dir`, and each scene's difficulty from the run's
+    /// `summary_scenes.csv` when it has one (the difficulty the annotations of the run gave;
+    /// [`Run::with_annotations`] replaces them).
+    ///
+    /// # Errors
+    /// [`ReportError::File`] when the folder cannot be listed, [`ReportError::Eval`] for a
+    /// record that cannot be read, [`ReportError::NoRecords`] when there is none,
+    /// [`ReportError::Csv`] for a malformed `summary_scenes.csv`.
+    pub fn open(dir: &Path) -> Result<Run, ReportError> {
+        let entries = std::fs::read_dir(dir).map_err(|e| ReportError::file(dir, e))?;
+        let mut records = Vec::new();
+        for entry in entries {
+            let entry = entry.map_err(|e| ReportError::file(dir, e))?;
+            let path = entry.path().join(RECORD_FILE);
+            if path.is_file() {
+                records.push(SceneRecord::read(&path)?);
+            }
+        }
+        if records.is_empty() {
+            return Err(ReportError::NoRecords { dir: dir.to_owned() });
+        }
+        let name = dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| dir.display().to_string());
+        let difficulty = read_difficulties(&dir.join(SUMMARY_SCENES_CSV))?;
+        Ok(Run::from_records(name, dir, records).with_difficulties(difficulty))
+    }
+
+    /// A run of `records` (put in scene order), named `name`, whose files are in `dir`.
+    pub fn from_records(
+        name: impl Into<String>,
+        dir: impl Into<PathBuf>,
+        mut records: Vec<SceneRecord>,
+    ) -> Run {
+        records.sort_by(|a, b| {
+            let key = |r: &SceneRecord| (r.scene.number().unwrap_or(u64::MAX), r.scene.to_string());
+            key(a).cmp(&key(b))
+        });
+        Run {
+            name: name.into(),
+            dir: dir.into(),
+            records,
+            difficulty: BTreeMap::new(),
+        }
+    }
+
+    /// The run under another name.
+    pub fn with_name(mut self, name: impl Into<String>) -> Self {
+        self.name = name.into();
+        self
+    }
+
+    /// The run with these difficulties (scene name to difficulty), replacing its own.
+    pub fn with_difficulties(mut self, difficulty: BTreeMap<String, String>) -> Self {
+        self.difficulty = difficulty;
+        self
+    }
+
+    /// The run with each scene's difficulty from its row in `annotations`
+    /// ([`sceneeval::SceneName::annotation_row`], the rule the run itself used).
+    pub fn with_annotations(mut self, annotations: &Annotations) -> Self {
+        self.difficulty = self
+            .records
+            .iter()
+            .filter_map(|r| {
+                let row = r.scene.annotation_row(annotations)?;
+                Some((r.scene.to_string(), row.difficulty.as_str().to_owned()))
+            })
+            .collect();
+        self
+    }
+
+    /// The difficulty of `scene`, if known.
+    pub fn difficulty(&self, scene: &str) -> Option<&str> {
+        self.difficulty.get(scene).map(String::as_str)
+    }
+
+    /// Whether any scene has a difficulty.
+    pub fn has_difficulties(&self) -> bool {
+        !self.difficulty.is_empty()
+    }
+
+    /// The record of `scene`.
+    pub fn record(&self, scene: &str) -> Option<&SceneRecord> {
+        self.records.iter().find(|r| r.scene.as_str() == scene)
+    }
+
+    /// The metrics any evaluated scene of the run ran, in [`Metric::ALL`] order.
+    pub fn metrics(&self) -> Vec<Metric> {
+        let set: BTreeSet<Metric> = self
+            .records
+            .iter()
+            .filter_map(SceneRecord::report)
+            .flat_map(metrics_in)
+            .collect();
+        set.into_iter().collect()
+    }
+
+    /// The run's table: the group of every scene, then one per difficulty (easy, medium, hard,
+    /// others by name, then scenes without one), each a [`GroupSummary`] as `summary.csv` has
+    /// it.
+    pub fn summary(&self) -> Vec<GroupSummary> {
+        let names: Vec<&str> = self.records.iter().map(|r| r.scene.as_str()).collect();
+        groups(&names, |s| self.difficulty(s))
+            .into_iter()
+            .map(|(group, scenes)| {
+                let records = scenes.iter().filter_map(|s| self.record(s));
+                group_summary(&group, records)
+            })
+            .collect()
+    }
+}
+
+/// The metrics that ran on a scene, in [`Metric::ALL`] order: its geometry metrics and the
+/// fidelity metrics that have a section, without those the scene could not compute
+/// ([`SceneReport::incomplete`], status partial).
+pub fn metrics_in(report: &SceneReport) -> Vec<Metric> {
+    let mut metrics: Vec<Metric> = report.geometry_metrics.iter().map(|&m| Metric::from(m)).collect();
+    if let Some(f) = &report.fidelity {
+        for (present, m) in [
+            (f.cnt.is_some(), Metric::Cnt),
+            (f.atr.is_some(), Metric::Atr),
+            (f.oor.is_some(), Metric::Oor),
+            (f.oar.is_some(), Metric::Oar),
+        ] {
+            if present {
+                metrics.push(m);
+            }
+        }
+    }
+    // A metric the scene could not compute (status partial) has no value to compare.
+    metrics.retain(|m| !report.incomplete.iter().any(|i| i.metric == *m));
+    metrics.sort();
+    metrics.dedup();
+    metrics
+}
+
+/// The summary's metric columns in the summary's order (`summary.csv`: CNT, ATR, OOR, OAR, then
+/// COL_ob ... WIN_blk), each with its metric.
+pub fn summary_columns() -> Vec<(&'static str, Metric)> {
+    let fidelity = Metric::ALL.into_iter().filter(|m| m.fidelity().is_some());
+    let geometry = Metric::ALL.into_iter().filter(|m| m.geometry().is_some());
+    fidelity
+        .chain(geometry)
+        .flat_map(|m| m.columns().iter().map(move |&c| (c, m)))
+        .collect()
+}
+
+/// The table row of `records` as `summary.csv` computes it, named `group`.
+pub(crate) fn group_summary<'a>(
+    group: &str,
+    records: impl IntoIterator<Item = &'a SceneRecord>,
+) -> GroupSummary {
+    let mut summary = Summary::from_records(records, None);
+    let mut row = summary.groups.swap_remove(0);
+    row.group = group.to_owned();
+    row
+}
+
+/// A scene's own numbers (a group of one), as `summary_scenes.csv` has them.
+pub fn scene_values(record: &SceneRecord) -> GroupSummary {
+    group_summary(record.scene.as_str(), std::iter::once(record))
+}
+
+/// The groups of `scenes`: [`ALL_SCENES`], then one per difficulty (easy, medium, hard, others
+/// by name) and [`UNANNOTATED`] for scenes without one when some have one; each with its scenes
+/// in the given order.
+pub fn groups<'s, 'd>(
+    scenes: &[&'s str],
+    difficulty: impl Fn(&str) -> Option<&'d str>,
+) -> Vec<(String, Vec<&'s str>)> {
+    let mut out = vec![(ALL_SCENES.to_owned(), scenes.to_vec())];
+    let mut by: BTreeMap<(u8, String), Vec<&str>> = BTreeMap::new();
+    let mut none = Vec::new();
+    for &s in scenes {
+        match difficulty(s) {
+            Some(d) => {
+                let rank = match d {
+                    "easy" => 0,
+                    "medium" => 1,
+                    "hard" => 2,
+                    _ => 3,
+                };
+                by.entry((rank, d.to_owned())).or_default().push(s);
+            }
+            None => none.push(s),
+        }
+    }
+    let any = !by.is_empty();
+    out.extend(by.into_iter().map(|((_, d), s)| (d, s)));
+    if any && !none.is_empty() {
+        out.push((UNANNOTATED.to_owned(), none));
+    }
+    out
+}
+
+/// Scene name to difficulty from a run's `summary_scenes.csv` (columns `scene` and
+/// `difficulty`); empty when the file does not exist.
+fn read_difficulties(path: &Path) -> Result<BTreeMap<String, String>, ReportError> {
+    if !path.is_file() {
+        return Ok(BTreeMap::new());
+    }
+    let csv_error = |source| ReportError::Csv {
+        path: path.to_owned(),
+        source,
+    };
+    let file = sceneeval_files::open_regular(path).map_err(|e| ReportError::file(path, e))?;
+    let mut reader = csv::Reader::from_reader(file);
+    let headers = reader.headers().map_err(csv_error)?.clone();
+    let column = |name: &str| headers.iter().position(|h| h == name);
+    let (Some(scene), Some(difficulty)) = (column("scene"), column("difficulty")) else {
+        return Ok(BTreeMap::new());
+    };
+    let mut out = BTreeMap::new();
+    for row in reader.records() {
+        let row = row.map_err(csv_error)?;
+        if let (Some(s), Some(d)) = (row.get(scene), row.get(difficulty))
+            && !d.is_empty()
+        {
+            out.insert(s.to_owned(), d.to_owned());
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_columns_are_the_summary_s_in_its_order() {
+        let csv = Summary::from_records(std::iter::empty::<&SceneRecord>(), None)
+            .to_csv()
+            .unwrap_or_default();
+        let header: Vec<&str> = csv.lines().next().unwrap_or_default().split(',').collect();
+        let columns: Vec<&str> = summary_columns().into_iter().map(|(c, _)| c).collect();
+        assert_eq!(columns, header[4..16]);
+    }
+
+    #[test]
+    fn groups_in_difficulty_order_with_the_unannotated_last() {
+        let d = |s: &str| match s {
+            "a" => Some("hard"),
+            "b" => Some("easy"),
+            "c" => Some("weird"),
+            _ => None,
+        };
+        let g = groups(&["a", "b", "c", "x"], d);
+        let names: Vec<&str> = g.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["all", "easy", "hard", "weird", "unannotated"]);
+        assert_eq!(g[0].1, ["a", "b", "c", "x"]);
+        // Without any difficulty, only the group of every scene.
+        assert_eq!(groups(&["x"], |_| None).len(), 1);
+    }
+}

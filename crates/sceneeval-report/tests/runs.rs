@@ -1,0 +1,343 @@
+//! Two runs of the bundled fixture scenes, evaluated here (the geometry metrics and CNT, ATR,
+//! OOR, OAR with labels and the lexicon, against the test-support annotation rows, as the
+//! facade's pipeline test does), then compared and reported; the pages are loaded in a
+//! headless browser when one is installed.
+//!
+//! - `method-a`: scenes 2, 5, 7, 8, preset `default`, with diagnostic images.
+//! - `method-b`: scenes 2, 5, 8, preset `reference` (an unmapped relation counts as satisfied).
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+use sceneeval::{EvaluationRequest, Metric, Preset, SceneName, SceneRecord, Stage};
+use sceneeval_report::compare::Verdict;
+use sceneeval_report::{CompareOptions, ReportOptions, Run, compare, write_report};
+use sceneeval_test_support::fidelity_model::CSV;
+use sceneeval_test_support::system::{BROWSER, available};
+
+struct Runs {
+    root: PathBuf,
+    a: PathBuf,
+    b: PathBuf,
+}
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+/// Evaluates the two runs once per test binary, under the target's temporary folder.
+fn runs() -> &'static Runs {
+    static RUNS: OnceLock<Runs> = OnceLock::new();
+    RUNS.get_or_init(|| {
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sceneeval-report-runs");
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(&root).unwrap();
+        let annotations = root.join("annotations.csv");
+        std::fs::write(&annotations, CSV).unwrap();
+        let run = |name: &str, scenes: &[u32], preset: Preset, diagnostics: bool| {
+            let dir = root.join(format!("scenes-{name}"));
+            std::fs::create_dir_all(&dir).unwrap();
+            for n in scenes {
+                let file = format!("scene_{n}.json");
+                std::fs::copy(fixtures().join("scenes").join(&file), dir.join(&file)).unwrap();
+            }
+            let out = root.join(name);
+            let mut request = EvaluationRequest::new(&dir, &out);
+            request.assets = vec![format!(
+                "fixture={}",
+                fixtures().join("assets").canonicalize().unwrap().display()
+            )];
+            request.annotations = Some(annotations.clone());
+            request.plan.plan = Some("full".into());
+            request.plan.preset = Some(preset);
+            request.diagnostics = diagnostics;
+            let outcome = request.run(&|_| {}).unwrap();
+            assert_eq!(outcome.batch.failed, 0);
+            out
+        };
+        let a = run("method-a", &[2, 5, 7, 8], Preset::Default, true);
+        let b = run("method-b", &[2, 5, 8], Preset::Reference, false);
+        // The report of each run where `sceneeval report RUN` writes it.
+        for dir in [&a, &b] {
+            let written = write_report(
+                &Run::open(dir).unwrap(),
+                &dir.join("report"),
+                &ReportOptions::default(),
+            )
+            .unwrap();
+            assert!(
+                written.without_top_view.is_empty(),
+                "{:?}",
+                written.without_top_view
+            );
+        }
+        Runs { root, a, b }
+    })
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[test]
+fn two_fixture_runs_compared_on_what_they_share() {
+    let r = runs();
+    let a = Run::open(&r.a).unwrap();
+    let b = Run::open(&r.b).unwrap();
+    // Difficulties come from each run's summary_scenes.csv: scene 8 easy, scene 2 hard.
+    assert_eq!(
+        (a.difficulty("scene_8"), a.difficulty("scene_2")),
+        (Some("easy"), Some("hard"))
+    );
+    assert_eq!(a.difficulty("scene_5"), None);
+    let c = compare(
+        &[a, b],
+        &CompareOptions {
+            by_difficulty: true,
+            ci: None,
+        },
+    )
+    .unwrap();
+    assert_eq!(c.scenes, ["scene_2", "scene_5", "scene_8"]);
+    assert_eq!(c.columns.len(), 12, "both runs ran the ten metrics");
+    let notes = c.notes.join("\n");
+    assert!(
+        notes.contains("different presets: method-a default, method-b reference"),
+        "{notes}"
+    );
+    assert!(notes.contains("different plans"), "{notes}");
+    assert!(notes.contains("left out: scene_7 (not in method-b)"), "{notes}");
+    let groups: Vec<(&str, usize)> = c.tables.iter().map(|t| (t.group.as_str(), t.scenes)).collect();
+    assert_eq!(groups, [("all", 3), ("easy", 1), ("hard", 1), ("unannotated", 1)]);
+    // method-a's CNT (the pipeline test's numbers): scene 8 5/6, scene 2 7/7, scene 5 has no
+    // row. Over every common scene: (5/6 + 1) / 2 = 91.67 % from 2 scenes; easy: 83.33 %.
+    let cnt = c.columns.iter().position(|c| c.metric == Metric::Cnt).unwrap();
+    let all = &c.tables[0].cells[0][cnt];
+    assert!((all.value.unwrap() - 100.0 * (5.0 / 6.0 + 1.0) / 2.0).abs() < 1e-9);
+    assert_eq!(all.n, 2);
+    assert!((c.tables[1].cells[0][cnt].value.unwrap() - 500.0 / 6.0).abs() < 1e-9);
+    // ATR is not judged without a VLM: no value, no rank.
+    let atr = c.columns.iter().position(|c| c.metric == Metric::Atr).unwrap();
+    assert_eq!((all.rank.is_some(), c.tables[0].cells[0][atr].rank), (true, None));
+    // Scene 8's in_harmony_with is unmapped: not satisfied by default, satisfied under the
+    // reference preset (unmapped_is_satisfied).
+    let d = c
+        .differences
+        .iter()
+        .find(|d| d.scene == "scene_8" && d.spec.contains("in_harmony_with"))
+        .unwrap_or_else(|| panic!("{:?}", c.differences));
+    assert_eq!(d.metric, Metric::Oor);
+    assert_eq!(d.verdicts, [Verdict::NotSatisfied, Verdict::Satisfied]);
+    // The HTML page links each run's report and its scene page.
+    let html = c.to_html(&r.root);
+    assert!(html.contains("href=\"method-a/report/index.html\""), "{html}");
+    assert!(html.contains("href=\"method-b/report/scenes/scene_8.html\">satisfied</a>"));
+}
+
+#[test]
+fn scene_pages_show_what_is_wrong_where() {
+    let r = runs();
+    let report = r.a.join("report");
+    let index = read(&report.join("index.html"));
+    for scene in ["scene_2", "scene_5", "scene_7", "scene_8"] {
+        assert!(
+            index.contains(&format!("<a href=\"scenes/{scene}.html\">{scene}</a>")),
+            "{scene}"
+        );
+    }
+    // Scene 5: the wardrobe and the nightstand collide, in the scene list's filter tokens and
+    // on the page.
+    assert!(
+        index.contains("data-scene=\"scene_5\" data-fails=\"COL_ob COL_sc"),
+        "{index}"
+    );
+    let s5 = read(&report.join("scenes/scene_5.html"));
+    assert!(s5.contains("<g class=\"object\" data-object=\"idx0_fixture.wardrobe\"><title>1. idx0_fixture.wardrobe (wardrobe)\nin collision with idx1_fixture.nightstand"), "{s5}");
+    // Scene 7: the sofa is out of bounds (purple), half of its surface over no floor.
+    let s7 = read(&report.join("scenes/scene_7.html"));
+    assert!(s7.contains("fill=\"#9467bd\""), "{s7}");
+    assert!(s7.contains("idx0_fixture.sofa"), "{s7}");
+    // Scene 8: the door is blocked by the wardrobe, drawn dashed red; the navigability map of
+    // the diagnostics lies under the objects; the fidelity specs with their verdicts.
+    let s8 = read(&report.join("scenes/scene_8.html"));
+    assert!(s8.contains("blocked by idx0_fixture.wardrobe"), "{s8}");
+    assert!(
+        s8.contains("<image class=\"navigable\" href=\"../../scene_8/diagnostics/navigability.png\""),
+        "{s8}"
+    );
+    assert!(s8.contains("id=\"specs-cnt\""));
+    assert!(
+        s8.contains("<code>eq,2,chair</code></td><td class=\"bad\">not satisfied</td>"),
+        "{s8}"
+    );
+    assert!(s8.contains("mapping: unmapped (none)"), "{s8}");
+    assert!(s8.contains("<figcaption>navigability.png</figcaption>"));
+}
+
+#[test]
+fn a_report_outside_its_run_copies_the_images_and_escapes_everything() {
+    let r = runs();
+    let mut run = Run::open(&r.a)
+        .unwrap()
+        .with_name("<script>alert('name')</script>");
+    let err = std::io::Error::other("<img src=x onerror=alert(1)> & \"quotes\"");
+    run.records.push(SceneRecord::failed(
+        SceneName::new("scene_9<b>"),
+        Stage::Load,
+        &err,
+    ));
+    let out = tempfile::tempdir().unwrap();
+    let written = write_report(&run, out.path(), &ReportOptions::default()).unwrap();
+    assert_eq!(written.pages, 5);
+    // The failed scene has no file recorded: its page says why there is no top view.
+    assert_eq!(written.without_top_view.len(), 1);
+    assert!(
+        out.path()
+            .join("files/scene_8/diagnostics/navigability.png")
+            .is_file()
+    );
+    let index = read(&out.path().join("index.html"));
+    assert!(!index.contains("<script>alert"), "the run's name is escaped");
+    assert!(index.contains("&lt;script&gt;alert(&#39;name&#39;)&lt;/script&gt;"));
+    assert!(index.contains("href=\"scenes/scene_9~3Cb~3E.html\""), "{index}");
+    let failed = read(&out.path().join("scenes/scene_9~3Cb~3E.html"));
+    assert!(!failed.contains("<img src=x"), "{failed}");
+    assert!(
+        failed.contains("&lt;img src=x onerror=alert(1)&gt; &amp; &quot;quotes&quot;"),
+        "{failed}"
+    );
+    let s8 = read(&out.path().join("scenes/scene_8.html"));
+    assert!(
+        s8.contains("href=\"../files/scene_8/diagnostics/navigability.png\""),
+        "{s8}"
+    );
+}
+
+/// Runs chromium headless on `url` with `args`, returning its standard output and error; fails
+/// the test after two minutes.
+fn chromium(profile: &Path, url: &str, args: &[String]) -> (String, String) {
+    let mut child = Command::new("chromium")
+        .args([
+            "--headless=new",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--allow-file-access-from-files",
+            "--enable-logging=stderr",
+            "--hide-scrollbars",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(args)
+        .arg(url)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("chromium did not finish on {url} in two minutes");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "chromium on {url}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn the_pages_work_in_a_browser_from_disk() {
+    let probe = Command::new("chromium")
+        .arg("--version")
+        .output()
+        .map_err(|e| format!("chromium: {e}"))
+        .and_then(|o| {
+            if o.status.success() {
+                Ok(())
+            } else {
+                Err(format!("chromium --version: {}", o.status))
+            }
+        });
+    if available(&BROWSER, probe, |_| true).is_none() {
+        return;
+    }
+    let r = runs();
+    // The comparison page next to the runs.
+    let c = compare(
+        &[Run::open(&r.a).unwrap(), Run::open(&r.b).unwrap()],
+        &CompareOptions::default(),
+    )
+    .unwrap();
+    std::fs::write(r.root.join("compare.html"), c.to_html(&r.root)).unwrap();
+    let shots = Path::new(env!("CARGO_TARGET_TMPDIR")).join("../report-screenshots");
+    std::fs::create_dir_all(&shots).unwrap();
+    let profile = tempfile::tempdir().unwrap();
+    let pages = [
+        (
+            "overview",
+            r.a.join("report/index.html"),
+            vec![
+                "id=\"summary\"",
+                "class=\"chart\"",
+                "id=\"scenes\"",
+                "<span id=\"shown\">4</span>",
+            ],
+        ),
+        (
+            "scene_8",
+            r.a.join("report/scenes/scene_8.html"),
+            vec![
+                "id=\"topview\"",
+                "class=\"navigable\"",
+                "data-object=\"idx0_fixture.wardrobe\"",
+                "id=\"specs-oor\"",
+            ],
+        ),
+        (
+            "compare",
+            r.root.join("compare.html"),
+            vec!["id=\"runs\"", "id=\"values-0\"", "id=\"differences\""],
+        ),
+    ];
+    for (name, path, expected) in pages {
+        let url = format!("file://{}", path.canonicalize().unwrap().display());
+        let (dom, log) = chromium(profile.path(), &url, &["--dump-dom".to_owned()]);
+        // The page's script ran to its end and saw no error.
+        let root = dom.lines().find(|l| l.starts_with("<html")).unwrap_or_default();
+        assert!(
+            root.contains("data-script=\"ok\""),
+            "{name}: the script did not finish: {root}\n{log}"
+        );
+        assert!(!root.contains("data-script-error"), "{name}: {root}");
+        assert!(!log.contains("Uncaught"), "{name}: {log}");
+        for e in expected {
+            assert!(dom.contains(e), "{name}: {e} is missing from the DOM");
+        }
+        let shot = shots.join(format!("{name}.png"));
+        let _ = std::fs::remove_file(&shot);
+        chromium(
+            profile.path(),
+            &url,
+            &[
+                format!("--screenshot={}", shot.display()),
+                "--window-size=1280,1600".to_owned(),
+            ],
+        );
+        assert!(
+            std::fs::metadata(&shot).map(|m| m.len() > 1000).unwrap_or(false),
+            "{name}: no screenshot"
+        );
+    }
+}
