@@ -88,6 +88,16 @@ fn root(layout: Layout, mesh: &Path, id: &str) -> Option<PathBuf> {
                 .then(|| up(parent, 2))
                 .flatten()
         }
+        // `DIR/scene_<S>/assets/<O>.glb` for the id `scene_<S>__<O>`.
+        Layout::IDesign => {
+            let (scene, object) = id.split_once("__")?;
+            (stem == object && name(parent)? == "assets" && name(parent.parent()?)? == scene)
+                .then(|| up(parent, 2))
+                .flatten()
+        }
+        // The mesh is the glTF an SDF names, anywhere below the scene's assets: its folder is
+        // not recoverable from the path alone.
+        Layout::SceneAgent => None,
     }
 }
 
@@ -120,5 +130,29 @@ mod tests {
             Some(PathBuf::from("/d/h"))
         );
         assert_eq!(root(Layout::Hssd, p("/d/h/x/a/abc.glb"), "abc"), None);
+        assert_eq!(
+            root(
+                Layout::IDesign,
+                p("/c/scene_3/assets/bed_0.glb"),
+                "scene_3__bed_0"
+            ),
+            Some(PathBuf::from("/c"))
+        );
+        assert_eq!(
+            root(
+                Layout::IDesign,
+                p("/c/scene_4/assets/bed_0.glb"),
+                "scene_3__bed_0"
+            ),
+            None
+        );
+        assert_eq!(
+            root(
+                Layout::SceneAgent,
+                p("/c/scene_3/assets/bed/bed.gltf"),
+                "scene_3__bed"
+            ),
+            None
+        );
     }
 }

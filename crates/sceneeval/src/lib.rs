@@ -120,8 +120,8 @@ pub use report::{SCENE_REPORT_SCHEMA, SceneReport, SceneSummary};
 pub use request::{
     ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR,
     DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS, EvaluationRequest, MAX_VLM_TIMEOUT_SECONDS,
-    NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome,
-    Shard, VlmOptions,
+    NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard,
+    VlmOptions,
 };
 pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
 pub use schedule::BudgetSpent;

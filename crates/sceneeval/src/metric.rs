@@ -149,8 +149,8 @@ impl Metric {
             .map(|(m, _)| m)
     }
 
-    /// Which way the metric's summary columns improve: higher for SUP, NAV, ACC, CNT, ATR,
-    /// OOR, OAR; lower for COL_ob, COL_sc, OOB, DOOR_blk, WIN_blk (every column of a metric
+    /// Which way the metric's summary columns improve: higher for SUP, NAV, ACC, STAB, CNT,
+    /// ATR, OOR, OAR; lower for COL_ob, COL_sc, OOB, DOOR_blk, WIN_blk (every column of a metric
     /// improves the same way).
     ///
     /// ```
@@ -164,6 +164,7 @@ impl Metric {
             Metric::Support
             | Metric::Navigability
             | Metric::Accessibility
+            | Metric::Stability
             | Metric::Cnt
             | Metric::Atr
             | Metric::Oor
