@@ -23,16 +23,7 @@ fn setup() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
 }
 
 fn setup_with(csv_text: &str) -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let scenes = dir.path().join("scenes");
-    std::fs::create_dir(&scenes).unwrap();
-    for n in [2, 8] {
-        let name = format!("scene_{n}.json");
-        std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
-    }
-    let csv = dir.path().join("annotations.csv");
-    std::fs::write(&csv, csv_text).unwrap();
-    (dir, scenes, csv)
+    common::scenes_2_and_8(csv_text)
 }
 
 fn scores(out: &Path, scene: &str) -> [Value; 4] {

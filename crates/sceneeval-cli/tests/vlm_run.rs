@@ -18,40 +18,35 @@ use serde_json::Value;
 
 /// Fixture scenes 2 and 8 with their annotation rows, in a new folder.
 fn setup() -> (tempfile::TempDir, PathBuf, PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let scenes = dir.path().join("scenes");
-    std::fs::create_dir(&scenes).unwrap();
-    for n in [2, 8] {
-        let name = format!("scene_{n}.json");
-        std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
-    }
-    let csv = dir.path().join("annotations.csv");
-    std::fs::write(&csv, CSV).unwrap();
-    (dir, scenes, csv)
+    common::scenes_2_and_8(CSV)
 }
 
-/// The full plan with the VLM at `url` (views of 64 px, relations by the lexicon, one thread).
-fn full(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> std::process::Output {
+/// The options of the full plan with the VLM at `url` (views of 64 px, relations by the
+/// lexicon, one thread), then `extra`.
+fn full_args(csv: &Path, url: &str, extra: &[&str]) -> Vec<String> {
     let args = [
-        &[
-            "--annotations",
-            csv.to_str().unwrap(),
-            "--plan",
-            "full",
-            "--vlm-base-url",
-            url,
-            "--vlm-model",
-            "test-model",
-            "--relation-mapping",
-            "lexicon",
-            "--render-size",
-            "64",
-            "--threads",
-            "1",
-        ],
-        extra,
-    ]
-    .concat();
+        "--annotations",
+        csv.to_str().unwrap(),
+        "--plan",
+        "full",
+        "--vlm-base-url",
+        url,
+        "--vlm-model",
+        "test-model",
+        "--relation-mapping",
+        "lexicon",
+        "--render-size",
+        "64",
+        "--threads",
+        "1",
+    ];
+    args.iter().chain(extra).map(|a| (*a).to_owned()).collect()
+}
+
+/// `sceneeval evaluate` with [`full_args`], without `OPENAI_API_KEY`.
+fn full(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> std::process::Output {
+    let args = full_args(csv, url, extra);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     common::evaluate_command(scenes, &fixtures().join("assets"), out, &args)
         .env_remove("OPENAI_API_KEY")
         .output()
@@ -122,19 +117,12 @@ fn a_refused_key_stops_the_run_with_one_message() {
     let server = MockEndpoint::start(Duration::ZERO, |_, _| {
         error(401, "Incorrect API key provided: sk-cli-SECRET-key-0042")
     });
-    let args = [
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
+    let args = full_args(
+        &csv,
         &server.url(),
-        "--vlm-model",
-        "test-model",
-        "--vlm-api-key-env",
-        "MY_TEST_VLM_KEY",
-        "-vv",
-    ];
+        &["--vlm-api-key-env", "MY_TEST_VLM_KEY", "-vv"],
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let run = common::evaluate_command(&scenes, &fixtures().join("assets"), out.path(), &args)
         .env("MY_TEST_VLM_KEY", "sk-cli-SECRET-key-0042")
         .output()
@@ -290,24 +278,7 @@ fn ctrl_c_keeps_every_answer_already_received() {
         }
         completion(&generic_answer(body))
     });
-    let args = [
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
-        &server.url(),
-        "--vlm-model",
-        "test-model",
-        "--vlm-concurrency",
-        "1",
-        "--relation-mapping",
-        "lexicon",
-        "--render-size",
-        "64",
-        "--threads",
-        "1",
-    ];
+    let args = full_args(&csv, &server.url(), &["--vlm-concurrency", "1"]);
     let assets = format!("fixture={}", fixtures().join("assets").display());
     let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("sceneeval"))
         .arg("evaluate")

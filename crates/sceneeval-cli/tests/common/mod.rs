@@ -42,6 +42,21 @@ pub fn evaluate_command(scenes: &Path, assets: &Path, out: &Path, extra: &[&str]
     cmd
 }
 
+/// Fixture scenes 2 and 8 copied into `<tmp>/scenes`, and the annotation rows `csv` written to
+/// `<tmp>/annotations.csv`: the folder (kept while it lives), the scene folder and the rows.
+pub fn scenes_2_and_8(csv: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    for n in [2, 8] {
+        let name = format!("scene_{n}.json");
+        std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
+    }
+    let rows = dir.path().join("annotations.csv");
+    std::fs::write(&rows, csv).unwrap();
+    (dir, scenes, rows)
+}
+
 /// The `eval.json` of `scene` under `out`.
 pub fn record(out: &Path, scene: &str) -> Value {
     serde_json::from_str(&std::fs::read_to_string(out.join(scene).join("eval.json")).unwrap()).unwrap()
