@@ -70,24 +70,7 @@ fn cli_run(scenes: &Path, csv: &Path, out: &Path, url: &str) -> assert_cmd::asse
 
 /// `sceneeval evaluate` with the full plan, the VLM at `url`, and `extra` options.
 fn cli_command(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> assert_cmd::Command {
-    let mut args = vec![
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
-        url,
-        "--vlm-model",
-        "test-model",
-        "--relation-mapping",
-        "lexicon",
-        "--render-size",
-        "64",
-        "--threads",
-        "1",
-    ];
-    args.extend_from_slice(extra);
-    common::evaluate_command(scenes, &fixtures().join("assets"), out, &args)
+    common::full_plan_command(scenes, csv, out, url, extra)
 }
 
 #[tokio::test]

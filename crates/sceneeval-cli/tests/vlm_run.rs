@@ -21,33 +21,10 @@ fn setup() -> (tempfile::TempDir, PathBuf, PathBuf) {
     common::scenes_2_and_8(CSV)
 }
 
-/// The options of the full plan with the VLM at `url` (views of 64 px, relations by the
-/// lexicon, one thread), then `extra`.
-fn full_args(csv: &Path, url: &str, extra: &[&str]) -> Vec<String> {
-    let args = [
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
-        url,
-        "--vlm-model",
-        "test-model",
-        "--relation-mapping",
-        "lexicon",
-        "--render-size",
-        "64",
-        "--threads",
-        "1",
-    ];
-    args.iter().chain(extra).map(|a| (*a).to_owned()).collect()
-}
-
-/// `sceneeval evaluate` with [`full_args`], without `OPENAI_API_KEY`.
+/// `sceneeval evaluate` with the full plan and the VLM at `url`
+/// ([`common::full_plan_command`]), without `OPENAI_API_KEY`.
 fn full(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> std::process::Output {
-    let args = full_args(csv, url, extra);
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    common::evaluate_command(scenes, &fixtures().join("assets"), out, &args)
+    common::full_plan_command(scenes, csv, out, url, extra)
         .env_remove("OPENAI_API_KEY")
         .output()
         .unwrap()
@@ -117,13 +94,8 @@ fn a_refused_key_stops_the_run_with_one_message() {
     let server = MockEndpoint::start(Duration::ZERO, |_, _| {
         error(401, "Incorrect API key provided: sk-cli-SECRET-key-0042")
     });
-    let args = full_args(
-        &csv,
-        &server.url(),
-        &["--vlm-api-key-env", "MY_TEST_VLM_KEY", "-vv"],
-    );
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let run = common::evaluate_command(&scenes, &fixtures().join("assets"), out.path(), &args)
+    let extra = ["--vlm-api-key-env", "MY_TEST_VLM_KEY", "-vv"];
+    let run = common::full_plan_command(&scenes, &csv, out.path(), &server.url(), &extra)
         .env("MY_TEST_VLM_KEY", "sk-cli-SECRET-key-0042")
         .output()
         .unwrap();
@@ -278,7 +250,7 @@ fn ctrl_c_keeps_every_answer_already_received() {
         }
         completion(&generic_answer(body))
     });
-    let args = full_args(&csv, &server.url(), &["--vlm-concurrency", "1"]);
+    let args = common::full_plan_args(&csv, &server.url(), &["--vlm-concurrency", "1"]);
     let assets = format!("fixture={}", fixtures().join("assets").display());
     let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("sceneeval"))
         .arg("evaluate")
