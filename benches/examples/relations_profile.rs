@@ -10,7 +10,8 @@
 //!
 //! Arguments: the configuration (`box`, `mesh`, `room_box`, `room_mesh`), `score` or `grad`,
 //! the predicate's benchmark name (`inside_of`, ..., and with `box` also `surround_4`,
-//! `face_to_tv` and `face_to_mesh_tv`), and the number of calls. The difference between the counts of `N` and `0` calls, over `N`, is one call's.
+//! `face_to_tv` and `face_to_mesh_tv`), and the number of calls. The difference between the
+//! counts of `N` and `0` calls, over `N`, is one call's (docs/performance.md, Gradients).
 
 // A measuring tool: it stops on a set-up failure or a bad argument.
 #![allow(clippy::expect_used, clippy::panic)]

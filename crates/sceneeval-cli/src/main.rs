@@ -133,9 +133,12 @@ pub fn print_stdout(text: &str) -> anyhow::Result<()> {
 /// Whether `err` or one of its causes is a write to a closed pipe.
 fn is_broken_pipe(err: &(dyn std::error::Error + 'static)) -> bool {
     std::iter::once(err).chain(sceneeval::causes(err)).any(|cause| {
-        cause
+        // serde_json's error does not list its I/O error as a cause: ask it.
+        let kind = cause
             .downcast_ref::<std::io::Error>()
-            .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+            .map(std::io::Error::kind)
+            .or_else(|| cause.downcast_ref::<serde_json::Error>()?.io_error_kind());
+        kind == Some(std::io::ErrorKind::BrokenPipe)
     })
 }
 

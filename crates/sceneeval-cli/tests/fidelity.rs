@@ -23,16 +23,7 @@ fn setup() -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
 }
 
 fn setup_with(csv_text: &str) -> (tempfile::TempDir, std::path::PathBuf, std::path::PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let scenes = dir.path().join("scenes");
-    std::fs::create_dir(&scenes).unwrap();
-    for n in [2, 8] {
-        let name = format!("scene_{n}.json");
-        std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
-    }
-    let csv = dir.path().join("annotations.csv");
-    std::fs::write(&csv, csv_text).unwrap();
-    (dir, scenes, csv)
+    common::scenes_2_and_8(csv_text)
 }
 
 fn scores(out: &Path, scene: &str) -> [Value; 4] {
@@ -83,24 +74,7 @@ fn cli_run(scenes: &Path, csv: &Path, out: &Path, url: &str) -> assert_cmd::asse
 
 /// `sceneeval evaluate` with the full plan, the VLM at `url`, and `extra` options.
 fn cli_command(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> assert_cmd::Command {
-    let mut args = vec![
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
-        url,
-        "--vlm-model",
-        "test-model",
-        "--relation-mapping",
-        "lexicon",
-        "--render-size",
-        "64",
-        "--threads",
-        "1",
-    ];
-    args.extend_from_slice(extra);
-    common::evaluate_command(scenes, &fixtures().join("assets"), out, &args)
+    common::full_plan_command(scenes, csv, out, url, extra)
 }
 
 #[tokio::test]

@@ -18,41 +18,13 @@ use serde_json::Value;
 
 /// Fixture scenes 2 and 8 with their annotation rows, in a new folder.
 fn setup() -> (tempfile::TempDir, PathBuf, PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let scenes = dir.path().join("scenes");
-    std::fs::create_dir(&scenes).unwrap();
-    for n in [2, 8] {
-        let name = format!("scene_{n}.json");
-        std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
-    }
-    let csv = dir.path().join("annotations.csv");
-    std::fs::write(&csv, CSV).unwrap();
-    (dir, scenes, csv)
+    common::scenes_2_and_8(CSV)
 }
 
-/// The full plan with the VLM at `url` (views of 64 px, relations by the lexicon, one thread).
+/// `sceneeval evaluate` with the full plan and the VLM at `url`
+/// ([`common::full_plan_command`]), without `OPENAI_API_KEY`.
 fn full(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> std::process::Output {
-    let args = [
-        &[
-            "--annotations",
-            csv.to_str().unwrap(),
-            "--plan",
-            "full",
-            "--vlm-base-url",
-            url,
-            "--vlm-model",
-            "test-model",
-            "--relation-mapping",
-            "lexicon",
-            "--render-size",
-            "64",
-            "--threads",
-            "1",
-        ],
-        extra,
-    ]
-    .concat();
-    common::evaluate_command(scenes, &fixtures().join("assets"), out, &args)
+    common::full_plan_command(scenes, csv, out, url, extra)
         .env_remove("OPENAI_API_KEY")
         .output()
         .unwrap()
@@ -122,20 +94,8 @@ fn a_refused_key_stops_the_run_with_one_message() {
     let server = MockEndpoint::start(Duration::ZERO, |_, _| {
         error(401, "Incorrect API key provided: sk-cli-SECRET-key-0042")
     });
-    let args = [
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
-        &server.url(),
-        "--vlm-model",
-        "test-model",
-        "--vlm-api-key-env",
-        "MY_TEST_VLM_KEY",
-        "-vv",
-    ];
-    let run = common::evaluate_command(&scenes, &fixtures().join("assets"), out.path(), &args)
+    let extra = ["--vlm-api-key-env", "MY_TEST_VLM_KEY", "-vv"];
+    let run = common::full_plan_command(&scenes, &csv, out.path(), &server.url(), &extra)
         .env("MY_TEST_VLM_KEY", "sk-cli-SECRET-key-0042")
         .output()
         .unwrap();
@@ -290,24 +250,7 @@ fn ctrl_c_keeps_every_answer_already_received() {
         }
         completion(&generic_answer(body))
     });
-    let args = [
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
-        &server.url(),
-        "--vlm-model",
-        "test-model",
-        "--vlm-concurrency",
-        "1",
-        "--relation-mapping",
-        "lexicon",
-        "--render-size",
-        "64",
-        "--threads",
-        "1",
-    ];
+    let args = common::full_plan_args(&csv, &server.url(), &["--vlm-concurrency", "1"]);
     let assets = format!("fixture={}", fixtures().join("assets").display());
     let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("sceneeval"))
         .arg("evaluate")

@@ -5,7 +5,7 @@
 //! geometric check; a few seconds of gravity tell them apart. [`Stability::evaluate`] makes
 //! each object a rigid body of convex pieces, welds what the [`WeldMode`] says, simulates
 //! [`StabilityParams::duration_s`] of gravity (-z, [`params::GRAVITY`]) with
-//! [rapier](https://rapier.rs) (`rapier3d-f64` with `enhanced-determinism`), and reports per
+//! [rapier](https://rapier.rs) (`rapier3d-f64`), and reports per
 //! object how far its centre of mass moved and how far it turned. An object that moved at most
 //! [`StabilityParams::displacement_limit_m`] (1 cm) and turned at most
 //! [`StabilityParams::rotation_limit_rad`] (0.1 rad) is stable; the scene figure is the share
@@ -42,8 +42,11 @@
 //!   the fine step is cheap (see `docs/performance.md`).
 //!
 //! # Determinism
-//! The same scene and parameters give the same bits on every run and thread count: rapier
-//! steps one scene on one thread with `enhanced-determinism` (scalar math, ordered maps);
+//! The same scene and parameters give the same bits on every run and thread count of one
+//! build: rapier steps one scene on one thread (no `parallel` feature). rapier's
+//! `enhanced-determinism` (the same bits across platforms) is not enabled: it forces the
+//! `libm` crate's trigonometry on nalgebra in every crate of a build, which would make the
+//! other metrics' results depend on whether physics is compiled in;
 //! decompositions run in parallel over distinct meshes but each is a pure function of its
 //! mesh, and a cached decomposition is stored bit for bit.
 //!

@@ -49,7 +49,7 @@ pub fn keyword(field: RequestField) -> &'static str {
 /// A facade error as a Python exception: a request error names the keyword (`plan: ...`) and
 /// is a `ValueError` (the caller's argument), except what the machine or its files refuse (a
 /// scene folder or annotation file that cannot be read, a VLM client or renderer that cannot
-/// start), which is a `SceneEvalError`; anything else as [`eval_error`].
+/// start), which is a `SceneEvalError`; anything else as `eval_error`.
 pub fn request_error(e: &EvalError) -> PyErr {
     let EvalError::Request {
         field,

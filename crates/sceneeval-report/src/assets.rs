@@ -12,28 +12,32 @@ use sceneeval::io::assets::{Layout, split_model_id};
 /// the run read its assets from.
 ///
 /// Every record's fingerprint lists, per model id, the files read for it, the mesh first. For
-/// each prefix the folder is recovered from one mesh path under each layout in turn (the
+/// each prefix the folder is recovered from one asset's files under each layout in turn (the
 /// prefix's default layout first: `PLAIN/ID.glb`, `3D-FUTURE/ID/raw_model.obj`,
-/// `OBJATHOR/ID/ID.glb`, `HSSD/glb/<c>/ID.glb`, ...) and kept only when that folder and layout
-/// resolve every model id of the prefix to the mesh file the records name. A prefix whose
-/// folder cannot be recovered (files moved, paths relative to another working folder) is left
-/// out: reading a scene that uses it then fails naming the prefix.
+/// `OBJATHOR/ID/ID.glb`, `HSSD/glb/<c>/ID.glb`, `IDESIGN/scene_<S>/assets/<O>.glb`; for
+/// SceneAgent, the folder of the scene file `scene_<S>.json` read for the asset) and kept only
+/// when that folder and layout resolve every model id of the prefix to the mesh file the
+/// records name. A prefix whose folder cannot be recovered (files moved, paths relative to
+/// another working folder) is left out: reading a scene that uses it then fails naming the
+/// prefix.
 pub fn recorded_assets(records: &[SceneRecord]) -> AssetLibrary {
-    let mut meshes: BTreeMap<String, BTreeMap<String, PathBuf>> = BTreeMap::new();
+    // Per prefix, per model id: the mesh file and the first metadata file.
+    let mut meshes: BTreeMap<String, BTreeMap<String, (PathBuf, Option<PathBuf>)>> = BTreeMap::new();
     for record in records {
         for asset in record.fingerprint.iter().flat_map(|f| &f.assets) {
             let (Ok((prefix, _)), Some(mesh)) = (split_model_id(&asset.model_id), asset.files.first()) else {
                 continue;
             };
+            let metadata = asset.files.get(1).map(|f| PathBuf::from(&f.path));
             meshes
                 .entry(prefix.to_owned())
                 .or_default()
-                .insert(asset.model_id.clone(), PathBuf::from(&mesh.path));
+                .insert(asset.model_id.clone(), (PathBuf::from(&mesh.path), metadata));
         }
     }
     let mut library = AssetLibrary::new();
     for (prefix, assets) in meshes {
-        let Some((first_id, first_mesh)) = assets.iter().next() else {
+        let Some((first_id, (first_mesh, first_metadata))) = assets.iter().next() else {
             continue;
         };
         let Ok((_, asset_id)) = split_model_id(first_id) else {
@@ -42,10 +46,15 @@ pub fn recorded_assets(records: &[SceneRecord]) -> AssetLibrary {
         let default = Layout::for_prefix(&prefix);
         let layouts = std::iter::once(default).chain(Layout::ALL.into_iter().filter(|l| *l != default));
         let found = layouts
-            .filter_map(|layout| Some((layout, root(layout, first_mesh, asset_id)?)))
+            .filter_map(|layout| {
+                Some((
+                    layout,
+                    root(layout, first_mesh, first_metadata.as_deref(), asset_id)?,
+                ))
+            })
             .find(|(layout, root)| {
                 let source = layout.source(root.clone());
-                assets.iter().all(|(model_id, mesh)| {
+                assets.iter().all(|(model_id, (mesh, _))| {
                     split_model_id(model_id)
                         .ok()
                         .and_then(|(_, id)| source.locate(model_id, id).ok())
@@ -67,9 +76,9 @@ pub fn recorded_assets(records: &[SceneRecord]) -> AssetLibrary {
     library
 }
 
-/// The folder of `layout` holding `mesh`, the mesh file of asset `id`, when the path has that
-/// layout's shape.
-fn root(layout: Layout, mesh: &Path, id: &str) -> Option<PathBuf> {
+/// The folder of `layout` holding `mesh`, the mesh file of asset `id` (`metadata`: the first
+/// metadata file read for it), when the paths have that layout's shape.
+fn root(layout: Layout, mesh: &Path, metadata: Option<&Path>, id: &str) -> Option<PathBuf> {
     let name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());
     let stem = mesh.file_stem()?.to_string_lossy().into_owned();
     let parent = mesh.parent()?;
@@ -88,6 +97,22 @@ fn root(layout: Layout, mesh: &Path, id: &str) -> Option<PathBuf> {
                 .then(|| up(parent, 2))
                 .flatten()
         }
+        // `DIR/scene_<S>/assets/<O>.glb` for the id `scene_<S>__<O>`.
+        Layout::IDesign => {
+            let (scene, object) = id.split_once("__")?;
+            (stem == object && name(parent)? == "assets" && name(parent.parent()?)? == scene)
+                .then(|| up(parent, 2))
+                .flatten()
+        }
+        // The mesh is the glTF an SDF names, anywhere below the scene's assets; the first
+        // metadata file is the scene file `DIR/scene_<S>.json` that names it.
+        Layout::SceneAgent => {
+            let (scene, _) = id.split_once("__")?;
+            let metadata = metadata?;
+            (name(metadata)? == format!("{scene}.json"))
+                .then(|| metadata.parent().map(Path::to_path_buf))
+                .flatten()
+        }
     }
 }
 
@@ -98,27 +123,57 @@ mod tests {
     #[test]
     fn each_layout_s_folder_from_a_mesh_path() {
         let p = Path::new;
+        let r = |layout, mesh, id| root(layout, p(mesh), None, id);
         assert_eq!(
-            root(Layout::Plain, p("a/assets/bed.glb"), "bed"),
+            r(Layout::Plain, "a/assets/bed.glb", "bed"),
             Some(PathBuf::from("a/assets"))
         );
-        assert_eq!(root(Layout::Plain, p("a/assets/bed.glb"), "chair"), None);
+        assert_eq!(r(Layout::Plain, "a/assets/bed.glb", "chair"), None);
         assert_eq!(
-            root(Layout::ThreeDFuture, p("/d/3df/abc/raw_model.obj"), "abc"),
+            r(Layout::ThreeDFuture, "/d/3df/abc/raw_model.obj", "abc"),
             Some(PathBuf::from("/d/3df"))
         );
         assert_eq!(
-            root(Layout::Objathor, p("/d/o/abc/abc.glb"), "abc"),
+            r(Layout::Objathor, "/d/o/abc/abc.glb", "abc"),
             Some(PathBuf::from("/d/o"))
         );
         assert_eq!(
-            root(Layout::Hssd, p("/d/h/glb/a/abc.glb"), "abc"),
+            r(Layout::Hssd, "/d/h/glb/a/abc.glb", "abc"),
             Some(PathBuf::from("/d/h"))
         );
         assert_eq!(
-            root(Layout::Hssd, p("/d/h/decomposed/abc/abc_part1.glb"), "abc_part1"),
+            r(Layout::Hssd, "/d/h/decomposed/abc/abc_part1.glb", "abc_part1"),
             Some(PathBuf::from("/d/h"))
         );
-        assert_eq!(root(Layout::Hssd, p("/d/h/x/a/abc.glb"), "abc"), None);
+        assert_eq!(r(Layout::Hssd, "/d/h/x/a/abc.glb", "abc"), None);
+        assert_eq!(
+            r(Layout::IDesign, "/c/scene_3/assets/bed_0.glb", "scene_3__bed_0"),
+            Some(PathBuf::from("/c"))
+        );
+        assert_eq!(
+            r(Layout::IDesign, "/c/scene_4/assets/bed_0.glb", "scene_3__bed_0"),
+            None
+        );
+        // SceneAgent: the mesh's path says nothing; the scene file read for it does.
+        let mesh = p("/c/scene_3/sdf/bed/bed.gltf");
+        assert_eq!(root(Layout::SceneAgent, mesh, None, "scene_3__bed"), None);
+        assert_eq!(
+            root(
+                Layout::SceneAgent,
+                mesh,
+                Some(p("/c/scene_3.json")),
+                "scene_3__bed"
+            ),
+            Some(PathBuf::from("/c"))
+        );
+        assert_eq!(
+            root(
+                Layout::SceneAgent,
+                mesh,
+                Some(p("/c/scene_4.json")),
+                "scene_3__bed"
+            ),
+            None
+        );
     }
 }

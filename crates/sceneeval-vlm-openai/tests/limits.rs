@@ -6,25 +6,18 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod support;
+
 use std::time::Duration;
 
 use sceneeval_test_support::mock_endpoint::{MockEndpoint, completion, error};
 use sceneeval_vlm::tasks::SupportTypeTask;
 use sceneeval_vlm::{Session, encode_rgb_png};
-use sceneeval_vlm_openai::{OpenAiConfig, OpenAiVlm, RetryPolicy, RuntimeVlm};
+use sceneeval_vlm_openai::{OpenAiConfig, OpenAiVlm, RuntimeVlm};
 use serde_json::json;
 
 fn config(server: &MockEndpoint) -> OpenAiConfig {
-    let mut c = OpenAiConfig::new(server.url(), "test-model");
-    c.timeout = Duration::from_secs(20);
-    c.retry = RetryPolicy {
-        max_retries: 2,
-        initial_backoff: Duration::from_millis(1),
-        max_backoff: Duration::from_millis(5),
-        max_retry_after: Duration::from_secs(5),
-        jitter_seed: 7,
-    };
-    c
+    support::config_at(&server.url())
 }
 
 /// A support-type task with its own images (so that no two are the same request).

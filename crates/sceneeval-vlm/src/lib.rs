@@ -76,5 +76,5 @@ pub use scripted::Scripted;
 pub use session::Session;
 pub use task::{Answers, Outcome, Single, Task, Unanswered, UnansweredKind, Validation};
 pub use task_kind::TaskKind;
-pub use usage::{TokenUsage, Usage};
+pub use usage::{Meter, TokenUsage, Usage};
 pub use vlm::Vlm;

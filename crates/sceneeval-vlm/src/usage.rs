@@ -153,9 +153,21 @@ impl From<UsageRecord> for Usage {
     }
 }
 
-/// The counters behind [`Usage`], shared by the concurrent requests of a session.
+/// The counters behind [`Usage`], shared by concurrent requests: a [`crate::Session`]'s, or
+/// a whole run's (the facade's shared model counts every scene's answers with one).
+///
+/// ```
+/// use sceneeval_vlm::{Meter, TokenUsage};
+/// let meter = Meter::default();
+/// meter.answer(TokenUsage { prompt_tokens: 10, completion_tokens: 2 }, false);
+/// meter.answer(TokenUsage { prompt_tokens: 10, completion_tokens: 2 }, true);
+/// meter.failure();
+/// let usage = meter.usage();
+/// assert_eq!((usage.requests, usage.cache_hits, usage.failed_requests), (2, 1, 1));
+/// assert_eq!(usage.tokens.total() + usage.cached_tokens.total(), 24);
+/// ```
 #[derive(Debug, Default)]
-pub(crate) struct Meter {
+pub struct Meter {
     requests: AtomicU64,
     cache_hits: AtomicU64,
     failed_requests: AtomicU64,
@@ -173,7 +185,7 @@ pub(crate) struct Meter {
 
 impl Meter {
     /// An answer received, fresh or from the cache, with the tokens it used.
-    pub(crate) fn answer(&self, usage: TokenUsage, from_cache: bool) {
+    pub fn answer(&self, usage: TokenUsage, from_cache: bool) {
         self.requests.fetch_add(1, Ordering::Relaxed);
         let (p, c) = if from_cache {
             self.cache_hits.fetch_add(1, Ordering::Relaxed);
@@ -186,19 +198,19 @@ impl Meter {
     }
 
     /// A request that got no answer.
-    pub(crate) fn failure(&self) {
+    pub fn failure(&self) {
         self.failed_requests.fetch_add(1, Ordering::Relaxed);
     }
 
     /// A task asked a second time, for `questions` of its questions.
-    pub(crate) fn re_ask(&self, questions: u64) {
+    pub fn re_ask(&self, questions: u64) {
         self.re_asks.fetch_add(1, Ordering::Relaxed);
         self.re_asked_questions.fetch_add(questions, Ordering::Relaxed);
     }
 
     /// Answers paired by position, and questions recorded as unmatched after naming a
     /// category not offered.
-    pub(crate) fn recoveries(&self, paired_by_position: u64, unmatched_not_offered: u64) {
+    pub fn recoveries(&self, paired_by_position: u64, unmatched_not_offered: u64) {
         self.paired_by_position
             .fetch_add(paired_by_position, Ordering::Relaxed);
         self.unmatched_not_offered
@@ -206,13 +218,13 @@ impl Meter {
     }
 
     /// The outcomes of a task's questions.
-    pub(crate) fn outcomes(&self, answered: u64, unanswered: u64) {
+    pub fn outcomes(&self, answered: u64, unanswered: u64) {
         self.answered.fetch_add(answered, Ordering::Relaxed);
         self.unanswered.fetch_add(unanswered, Ordering::Relaxed);
     }
 
     /// The counts so far.
-    pub(crate) fn usage(&self) -> Usage {
+    pub fn usage(&self) -> Usage {
         let get = |a: &AtomicU64| a.load(Ordering::Relaxed);
         Usage {
             requests: get(&self.requests),

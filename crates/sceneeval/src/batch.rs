@@ -216,15 +216,12 @@ pub fn run_batch(
         .unwrap_or(threads)
         .clamp(1, scenes.len().max(1));
     let lend_cpu = evaluator.vlm().is_some() && in_flight > threads;
-    let batch = Batch {
+    let batch = Batch::new(
         evaluator,
         assets,
         options,
-        fingerprints: Fingerprints::new(),
-        plan_digest: evaluator.result_digest(),
-        slots: lend_cpu.then(|| CpuSlots::new(threads)),
-        endpoint: EndpointGate::default(),
-    };
+        lend_cpu.then(|| CpuSlots::new(threads)),
+    );
     let work = |scene: &SceneFile| -> Result<Done, EvalError> {
         let (record, status, timing, error) = batch.process(scene)?;
         on_event(&RunEvent::SceneDone {
@@ -354,7 +351,24 @@ impl EndpointGate {
     }
 }
 
-impl Batch<'_> {
+impl<'a> Batch<'a> {
+    fn new(
+        evaluator: &'a Evaluator,
+        assets: &'a AssetLibrary,
+        options: &'a BatchOptions<'a>,
+        slots: Option<Arc<CpuSlots>>,
+    ) -> Self {
+        Batch {
+            evaluator,
+            assets,
+            options,
+            fingerprints: Fingerprints::new(),
+            plan_digest: evaluator.result_digest(),
+            slots,
+            endpoint: EndpointGate::default(),
+        }
+    }
+
     /// The scene's annotation row and its digest for the fingerprint (extended by the matching
     /// file's contents when the plan matches objects from files).
     fn annotation(&self, scene: &SceneFile) -> Option<(&crate::annotation::AnnotationRow, String)> {
@@ -538,15 +552,7 @@ pub(crate) fn dry_run_batch(
     options: &BatchOptions<'_>,
     model: &DryRunModel,
 ) -> DryRun {
-    let batch = Batch {
-        evaluator,
-        assets,
-        options,
-        fingerprints: Fingerprints::new(),
-        plan_digest: evaluator.result_digest(),
-        slots: None,
-        endpoint: EndpointGate::default(),
-    };
+    let batch = Batch::new(evaluator, assets, options, None);
     let found: Vec<DryScene> = scenes.par_iter().map(|scene| batch.dry(scene, model)).collect();
     let mut run = DryRun {
         scenes: scenes.len(),

@@ -5,10 +5,9 @@
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::EvalError;
-use crate::vlm::{Answer, TokenUsage, Usage, Vlm, VlmError, VlmRequest};
+use crate::vlm::{Answer, Meter, Usage, Vlm, VlmError, VlmRequest};
 
 type BoxedAnswer<'a> = Pin<Box<dyn Future<Output = Result<Answer, VlmError>> + Send + 'a>>;
 
@@ -63,37 +62,15 @@ type EndpointCheckFn = dyn Fn() -> Result<(), EvalError> + Send + Sync;
 #[derive(Clone)]
 pub struct SharedVlm {
     inner: Arc<dyn ErasedVlm>,
-    counts: Arc<Counts>,
+    counts: Arc<Meter>,
     check: Option<Arc<EndpointCheckFn>>,
 }
 
-/// The answers given so far, over every scene of a run.
-#[derive(Debug, Default)]
-struct Counts {
-    requests: AtomicU64,
-    cache_hits: AtomicU64,
-    failed: AtomicU64,
-    prompt_tokens: AtomicU64,
-    completion_tokens: AtomicU64,
-    cached_prompt_tokens: AtomicU64,
-    cached_completion_tokens: AtomicU64,
-}
-
-impl Counts {
-    fn record(&self, result: &Result<Answer, VlmError>) {
-        let Ok(answer) = result else {
-            self.failed.fetch_add(1, Ordering::Relaxed);
-            return;
-        };
-        self.requests.fetch_add(1, Ordering::Relaxed);
-        let (p, c) = if answer.from_cache {
-            self.cache_hits.fetch_add(1, Ordering::Relaxed);
-            (&self.cached_prompt_tokens, &self.cached_completion_tokens)
-        } else {
-            (&self.prompt_tokens, &self.completion_tokens)
-        };
-        p.fetch_add(answer.usage.prompt_tokens, Ordering::Relaxed);
-        c.fetch_add(answer.usage.completion_tokens, Ordering::Relaxed);
+/// Counts `result` in `meter`: an answer (fresh or from the cache) or a failed request.
+fn record(meter: &Meter, result: &Result<Answer, VlmError>) {
+    match result {
+        Ok(answer) => meter.answer(answer.usage, answer.from_cache),
+        Err(_) => meter.failure(),
     }
 }
 
@@ -143,22 +120,7 @@ impl SharedVlm {
     /// (`failed_requests`) and tokens (`tokens` of fresh answers, `cached_tokens` of cached
     /// ones). Questions and re-asks are counted by each scene's session, not here (zero).
     pub fn usage(&self) -> Usage {
-        let c = &*self.counts;
-        let get = |a: &AtomicU64| a.load(Ordering::Relaxed);
-        Usage {
-            requests: get(&c.requests),
-            cache_hits: get(&c.cache_hits),
-            failed_requests: get(&c.failed),
-            tokens: TokenUsage {
-                prompt_tokens: get(&c.prompt_tokens),
-                completion_tokens: get(&c.completion_tokens),
-            },
-            cached_tokens: TokenUsage {
-                prompt_tokens: get(&c.cached_prompt_tokens),
-                completion_tokens: get(&c.cached_completion_tokens),
-            },
-            ..Usage::default()
-        }
+        self.counts.usage()
     }
 }
 
@@ -177,7 +139,7 @@ impl Vlm for SharedVlm {
         async move {
             let answer = inner.answer_boxed(&request);
             let result = crate::schedule::wait_for_model(answer, &request.task, inner.model()).await;
-            counts.record(&result);
+            record(&counts, &result);
             result
         }
     }

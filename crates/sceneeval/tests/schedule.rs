@@ -163,32 +163,53 @@ fn plan(budget: Option<f64>) -> EvaluationPlan {
     }
 }
 
-#[test]
-fn scenes_waiting_for_the_model_do_not_hold_the_only_worker() {
-    let dir = scenes(5);
+/// Runs `n` copies of scene 8 (accessibility, time budget `budget`) on `threads` worker
+/// threads with `scenes_in_flight`, asking a [`Quorum`] of `quorum`: the output folder, the
+/// outcome, the model's counts and the evaluator's VLM.
+fn run(
+    n: usize,
+    threads: usize,
+    scenes_in_flight: Option<usize>,
+    quorum: usize,
+    budget: Option<f64>,
+) -> (
+    tempfile::TempDir,
+    sceneeval::BatchOutcome,
+    Arc<QuorumState>,
+    SharedVlm,
+) {
+    let dir = scenes(n);
     let out = tempfile::tempdir().unwrap();
     let state = Arc::new(QuorumState::default());
     let model = Quorum {
-        quorum: 5,
+        quorum,
         fallback: Duration::from_secs(60),
         state: state.clone(),
     };
-    let evaluator = Evaluator::new(plan(None))
-        .unwrap()
-        .with_vlm(SharedVlm::new(model));
+    let vlm = SharedVlm::new(model);
+    let evaluator = Evaluator::new(plan(budget)).unwrap().with_vlm(vlm.clone());
     let assets =
         AssetLibrary::from_specs(&[format!("fixture={}", fixtures().join("assets").display())]).unwrap();
     let set = find_scenes(dir.path()).unwrap();
-    // One worker thread, five scenes in flight: the five questions are pending together.
     let options = BatchOptions {
         out_dir: out.path().to_owned(),
-        scenes_in_flight: Some(5),
+        scenes_in_flight,
         ..BatchOptions::default()
     };
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
     let outcome = pool
         .install(|| run_batch(&set.scenes, &evaluator, &assets, &options, &|_| {}))
         .unwrap();
+    (out, outcome, state, vlm)
+}
+
+#[test]
+fn scenes_waiting_for_the_model_do_not_hold_the_only_worker() {
+    // One worker thread, five scenes in flight: the five questions are pending together.
+    let (out, outcome, state, vlm) = run(5, 1, Some(5), 5, None);
     assert_eq!((outcome.evaluated, outcome.failed), (5, 0));
     assert!(
         !state.timed_out.load(Ordering::SeqCst),
@@ -207,32 +228,14 @@ fn scenes_waiting_for_the_model_do_not_hold_the_only_worker() {
     for i in 1..5 {
         assert_eq!(report(i), first);
     }
-    let usage = evaluator.vlm().unwrap().usage();
+    let usage = vlm.usage();
     assert_eq!((usage.requests, usage.failed_requests), (5, 0));
 }
 
 #[test]
 fn the_time_budget_ends_a_wait_for_the_model() {
-    let dir = scenes(1);
-    let out = tempfile::tempdir().unwrap();
-    let state = Arc::new(QuorumState::default());
-    // A quorum never reached: the model answers only after 60 s.
-    let model = Quorum {
-        quorum: 2,
-        fallback: Duration::from_secs(60),
-        state: state.clone(),
-    };
-    let evaluator = Evaluator::new(plan(Some(0.5)))
-        .unwrap()
-        .with_vlm(SharedVlm::new(model));
-    let assets =
-        AssetLibrary::from_specs(&[format!("fixture={}", fixtures().join("assets").display())]).unwrap();
-    let set = find_scenes(dir.path()).unwrap();
-    let options = BatchOptions {
-        out_dir: out.path().to_owned(),
-        ..BatchOptions::default()
-    };
-    run_batch(&set.scenes, &evaluator, &assets, &options, &|_| {}).unwrap();
+    // A quorum never reached: the model answers only after 60 s; the budget is 0.5 s.
+    let (out, _, state, _) = run(1, 1, None, 2, Some(0.5));
     assert_eq!(state.cancelled.load(Ordering::SeqCst), 1, "the wait was given up");
     assert_eq!(state.answered.load(Ordering::SeqCst), 0);
     let record = std::fs::read_to_string(out.path().join("scene_801/eval.json")).unwrap();

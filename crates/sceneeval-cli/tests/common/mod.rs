@@ -42,6 +42,50 @@ pub fn evaluate_command(scenes: &Path, assets: &Path, out: &Path, extra: &[&str]
     cmd
 }
 
+/// Fixture scenes 2 and 8 copied into `<tmp>/scenes`, and the annotation rows `csv` written to
+/// `<tmp>/annotations.csv`: the folder (kept while it lives), the scene folder and the rows.
+pub fn scenes_2_and_8(csv: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    for n in [2, 8] {
+        let name = format!("scene_{n}.json");
+        std::fs::copy(fixtures().join("scenes").join(&name), scenes.join(&name)).unwrap();
+    }
+    let rows = dir.path().join("annotations.csv");
+    std::fs::write(&rows, csv).unwrap();
+    (dir, scenes, rows)
+}
+
+/// The options of the full plan with the rows `csv` and the VLM `test-model` at `url` (views of
+/// 64 px, relations by the lexicon, one thread), then `extra`.
+pub fn full_plan_args(csv: &Path, url: &str, extra: &[&str]) -> Vec<String> {
+    let args = [
+        "--annotations",
+        csv.to_str().unwrap(),
+        "--plan",
+        "full",
+        "--vlm-base-url",
+        url,
+        "--vlm-model",
+        "test-model",
+        "--relation-mapping",
+        "lexicon",
+        "--render-size",
+        "64",
+        "--threads",
+        "1",
+    ];
+    args.iter().chain(extra).map(|a| (*a).to_owned()).collect()
+}
+
+/// `sceneeval evaluate SCENES` of the fixture assets into `out` with [`full_plan_args`].
+pub fn full_plan_command(scenes: &Path, csv: &Path, out: &Path, url: &str, extra: &[&str]) -> Command {
+    let args = full_plan_args(csv, url, extra);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    evaluate_command(scenes, &fixtures().join("assets"), out, &args)
+}
+
 /// The `eval.json` of `scene` under `out`.
 pub fn record(out: &Path, scene: &str) -> Value {
     serde_json::from_str(&std::fs::read_to_string(out.join(scene).join("eval.json")).unwrap()).unwrap()

@@ -91,7 +91,7 @@ def relation_batch(
     with the GIL released.
 
     grad=True returns the scores with their gradients, (scores, d_targets, d_anchors):
-    d_targets[i] and d_anchors[i] are the derivatives of score i with respect to the seven
+    ``d_targets[i]`` and ``d_anchors[i]`` are the derivatives of score i with respect to the seven
     numbers of its target and anchor rows, in the rows' order (cx, cy, cz, hx, hy, hz, yaw),
     float64 arrays of shape (N, 7) (d_targets (N, K, 7) for surround; d_anchors has one row
     per score also when one anchor row is shared: sum it for that row's gradient).

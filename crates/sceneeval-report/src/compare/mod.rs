@@ -176,6 +176,7 @@ const MAX_LISTED: usize = 12;
 /// # Errors
 /// [`ReportError::NoRuns`] without runs; [`ReportError::ConfidenceLevel`] for a level outside
 /// (0, 1).
+#[allow(clippy::too_many_lines)] // The comparison's steps in their order, each a few lines.
 pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, ReportError> {
     if runs.is_empty() {
         return Err(ReportError::NoRuns);

@@ -24,6 +24,7 @@ pub(crate) fn fails(value: f64, better: Better) -> bool {
 }
 
 /// The overview page. `pages` maps a scene to its page's URL.
+#[allow(clippy::too_many_lines)] // One page written top to bottom, as it reads.
 pub(crate) fn overview(
     run: &Run,
     columns: &[(&'static str, Metric)],

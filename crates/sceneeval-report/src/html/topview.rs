@@ -215,6 +215,7 @@ pub(crate) struct Overlay {
 /// The top view of `info`, footprints coloured by `problems` and labelled with `numbers` (the
 /// object's row in the page's object table); blocked openings and access strips from `report`
 /// when the scene was evaluated.
+#[allow(clippy::too_many_lines)] // One drawing, layer by layer from the floor up, as it is seen.
 pub(crate) fn draw(
     info: &SceneInfo<'_>,
     report: Option<&SceneReport>,

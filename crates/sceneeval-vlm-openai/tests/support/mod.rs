@@ -31,7 +31,12 @@ pub fn json_completion(value: &Value) -> ResponseTemplate {
 /// Settings for a mock server: fast retries, no key. The timeout is generous so that a loaded
 /// test machine never times out a prompt reply; the timeout tests set their own.
 pub fn config(server: &MockServer) -> OpenAiConfig {
-    let mut c = OpenAiConfig::new(format!("{}/v1", server.uri()), "test-model");
+    config_at(&format!("{}/v1", server.uri()))
+}
+
+/// [`config`] for the endpoint at `base_url`.
+pub fn config_at(base_url: &str) -> OpenAiConfig {
+    let mut c = OpenAiConfig::new(base_url, "test-model");
     c.timeout = Duration::from_secs(10);
     c.retry = RetryPolicy {
         max_retries: 2,
