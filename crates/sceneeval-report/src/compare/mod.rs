@@ -176,7 +176,6 @@ const MAX_LISTED: usize = 12;
 /// # Errors
 /// [`ReportError::NoRuns`] without runs; [`ReportError::ConfidenceLevel`] for a level outside
 /// (0, 1).
-#[allow(clippy::too_many_lines)] // The comparison's steps in their order, each a few lines.
 pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, ReportError> {
     if runs.is_empty() {
         return Err(ReportError::NoRuns);
@@ -188,8 +187,62 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
     }
     let mut notes = Vec::new();
 
-    // Columns: the metrics every run ran.
+    // Columns: the metrics every run ran; scenes: those every run evaluated in full.
     let metrics: Vec<Vec<Metric>> = runs.iter().map(Run::metrics).collect();
+    let (shared, columns) = shared_columns(runs, &metrics, &mut notes);
+    same_everywhere(runs, &mut notes);
+    let scenes = common_scenes(runs, &metrics, &shared, &mut notes);
+    let difficulty = difficulties(runs, &scenes, &mut notes);
+    let names: Vec<&str> = scenes.iter().map(String::as_str).collect();
+    let mut grouped = groups(&names, |s| difficulty.get(s).copied());
+    if !options.by_difficulty {
+        grouped.truncate(1);
+    } else if grouped.len() == 1 {
+        notes.push(
+            "No run has difficulties (pass the annotations with --annotations): only the table of every scene."
+                .to_owned(),
+        );
+    }
+
+    // Per run and scene, the scene's own numbers (for the number of scenes and intervals).
+    let per_scene: Vec<BTreeMap<&str, GroupSummary>> = runs
+        .iter()
+        .map(|run| {
+            names
+                .iter()
+                .filter_map(|s| Some((*s, scene_values(run.record(s)?))))
+                .collect()
+        })
+        .collect();
+    let tables = grouped
+        .into_iter()
+        .map(|(group, members)| table(runs, &columns, &per_scene, group, &members, options.ci))
+        .collect();
+
+    let differences = differences(runs, &names, &shared);
+    Ok(Comparison {
+        runs: runs
+            .iter()
+            .map(|r| RunHead {
+                name: r.name.clone(),
+                dir: r.dir.clone(),
+            })
+            .collect(),
+        columns,
+        tables,
+        scenes,
+        notes,
+        ci: options.ci,
+        differences,
+    })
+}
+
+/// The metrics every run ran (a note for each one some runs lack) and their summary columns.
+fn shared_columns(
+    runs: &[Run],
+    metrics: &[Vec<Metric>],
+    notes: &mut Vec<String>,
+) -> (BTreeSet<Metric>, Vec<Column>) {
     let shared: BTreeSet<Metric> = Metric::ALL
         .into_iter()
         .filter(|m| metrics.iter().all(|ms| ms.contains(m)))
@@ -197,7 +250,7 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
     for m in Metric::ALL {
         let missing: Vec<&str> = runs
             .iter()
-            .zip(&metrics)
+            .zip(metrics)
             .filter(|(_, ms)| !ms.contains(&m))
             .map(|(r, _)| r.name.as_str())
             .collect();
@@ -219,10 +272,17 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
             better: metric.better(),
         })
         .collect();
+    (shared, columns)
+}
 
-    same_everywhere(runs, &mut notes);
-
-    // Scenes: those every run evaluated in full (every shared metric), with one annotation row.
+/// The scenes every run evaluated in full (every shared metric) with one annotation row, in
+/// scene order; a note names the others and why.
+fn common_scenes(
+    runs: &[Run],
+    metrics: &[Vec<Metric>],
+    shared: &BTreeSet<Metric>,
+    notes: &mut Vec<String>,
+) -> Vec<String> {
     let mut all_scenes: Vec<&SceneRecord> = runs.iter().flat_map(|r| &r.records).collect();
     all_scenes.sort_by_key(|r| (r.scene.number().unwrap_or(u64::MAX), r.scene.to_string()));
     all_scenes.dedup_by(|a, b| a.scene == b.scene);
@@ -233,7 +293,7 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
         let scene = record.scene.as_str();
         let mut why = Vec::new();
         let mut digests = BTreeSet::new();
-        for (run, run_metrics) in runs.iter().zip(&metrics) {
+        for (run, run_metrics) in runs.iter().zip(metrics) {
             match run.record(scene).map(|r| (&r.outcome, r)) {
                 None => why.push(format!("not in {}", run.name)),
                 Some((Outcome::Failed { .. }, _)) => why.push(format!("failed in {}", run.name)),
@@ -282,11 +342,19 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
             }
         ));
     }
+    scenes
+}
 
-    // Groups: every common scene, then per difficulty (the first run's that has one).
+/// Each scene's difficulty (the first run's that has one); a note names the scenes the runs
+/// disagree on.
+fn difficulties<'r>(
+    runs: &'r [Run],
+    scenes: &'r [String],
+    notes: &mut Vec<String>,
+) -> BTreeMap<&'r str, &'r str> {
     let mut difficulty: BTreeMap<&str, &str> = BTreeMap::new();
     let mut disagree = Vec::new();
-    for scene in &scenes {
+    for scene in scenes {
         let said: BTreeSet<&str> = runs.iter().filter_map(|r| r.difficulty(scene)).collect();
         if let Some(d) = runs.iter().find_map(|r| r.difficulty(scene)) {
             difficulty.insert(scene, d);
@@ -301,48 +369,7 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
             list(&disagree)
         ));
     }
-    let names: Vec<&str> = scenes.iter().map(String::as_str).collect();
-    let mut grouped = groups(&names, |s| difficulty.get(s).copied());
-    if !options.by_difficulty {
-        grouped.truncate(1);
-    } else if grouped.len() == 1 {
-        notes.push(
-            "No run has difficulties (pass the annotations with --annotations): only the table of every scene."
-                .to_owned(),
-        );
-    }
-
-    // Per run and scene, the scene's own numbers (for the number of scenes and intervals).
-    let per_scene: Vec<BTreeMap<&str, GroupSummary>> = runs
-        .iter()
-        .map(|run| {
-            names
-                .iter()
-                .filter_map(|s| Some((*s, scene_values(run.record(s)?))))
-                .collect()
-        })
-        .collect();
-    let tables = grouped
-        .into_iter()
-        .map(|(group, members)| table(runs, &columns, &per_scene, group, &members, options.ci))
-        .collect();
-
-    let differences = differences(runs, &names, &shared);
-    Ok(Comparison {
-        runs: runs
-            .iter()
-            .map(|r| RunHead {
-                name: r.name.clone(),
-                dir: r.dir.clone(),
-            })
-            .collect(),
-        columns,
-        tables,
-        scenes,
-        notes,
-        ci: options.ci,
-        differences,
-    })
+    difficulty
 }
 
 /// One group's table.

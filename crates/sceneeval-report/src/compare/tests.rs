@@ -188,6 +188,20 @@ fn a_metric_missing_from_one_run_failed_and_partial_scenes_and_other_plans_are_n
             record("scene_2", &both, sup(1.0), "aaaa"),
             // Partial: the run ran support, this scene has none.
             record("scene_3", &[P::Collision], sup(1.0), "aaaa"),
+            // Status partial: support listed as not computed (its value is not compared).
+            {
+                let r = record("scene_5", &both, sup(1.0), "aaaa");
+                let report =
+                    r.report()
+                        .unwrap()
+                        .clone()
+                        .with_incomplete(vec![sceneeval::IncompleteMetric::new(
+                            Metric::Support,
+                            false,
+                            &err,
+                        )]);
+                SceneRecord::ok(SceneName::new("scene_5"), report).with_fingerprint(fingerprint("aaaa"))
+            },
         ],
     );
     let b = Run::from_records(
@@ -199,6 +213,7 @@ fn a_metric_missing_from_one_run_failed_and_partial_scenes_and_other_plans_are_n
             SceneRecord::failed(SceneName::new("scene_2"), Stage::Load, &err),
             record("scene_3", &[P::Support], sup(1.0), "bbbb"),
             record("scene_4", &[P::Support], sup(1.0), "bbbb"),
+            record("scene_5", &[P::Support], sup(1.0), "bbbb"),
         ],
     );
     let c = compare(&[a, b], &CompareOptions::default()).unwrap();
@@ -212,8 +227,8 @@ fn a_metric_missing_from_one_run_failed_and_partial_scenes_and_other_plans_are_n
             "COL_ob, COL_sc (collision) left out: not evaluated by B.",
             "The runs used different plans (result digests: metrics or parameters differ): A aaaa, B bbbb; their \
              numbers may not be comparable.",
-            "Compared on the 2 of 5 scenes every run evaluated in full; left out: scene_2 (failed in B), scene_3 \
-             (partial in A: no support), scene_4 (not in A).",
+            "Compared on the 2 of 6 scenes every run evaluated in full; left out: scene_2 (failed in B), scene_3 \
+             (partial in A: no support), scene_4 (not in A), scene_5 (partial in A: no support).",
         ]
     );
     // SUP over scene_0 and scene_1 only: A (100 + 50) / 2 = 75, B (0 + 100) / 2 = 50.

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use sceneeval::{Better, Metric, Outcome, Summary};
+use sceneeval::{Better, GroupSummary, Metric, Outcome, Summary};
 
 use super::chart::{GROUP_COLOURS, bars};
 use super::scene::problem_keys;
@@ -24,7 +24,6 @@ pub(crate) fn fails(value: f64, better: Better) -> bool {
 }
 
 /// The overview page. `pages` maps a scene to its page's URL.
-#[allow(clippy::too_many_lines)] // One page written top to bottom, as it reads.
 pub(crate) fn overview(
     run: &Run,
     columns: &[(&'static str, Metric)],
@@ -52,6 +51,14 @@ pub(crate) fn overview(
         )
     );
 
+    summary_table(&mut b, columns, &groups);
+    charts(&mut b, columns, &groups);
+    scenes_table(&mut b, run, columns, pages);
+    page(&format!("SceneEval report: {}", run.name), &b)
+}
+
+/// The run's summary table, one row per group.
+fn summary_table(b: &mut String, columns: &[(&'static str, Metric)], groups: &[GroupSummary]) {
     b.push_str(
         "<h2>Summary</h2><div class=\"wide\"><table id=\"summary\"><thead><tr><th>group</th>\
                 <th class=\"num\">scenes</th><th class=\"num\">evaluated</th><th class=\"num\">failed</th>",
@@ -60,7 +67,7 @@ pub(crate) fn overview(
         let _ = write!(b, "<th class=\"num\">{} {}</th>", html(c), text_arrow(m.better()));
     }
     b.push_str("</tr></thead><tbody>");
-    for g in &groups {
+    for g in groups {
         let _ = write!(
             b,
             "<tr><th>{}</th><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>",
@@ -78,7 +85,10 @@ pub(crate) fn overview(
         "</tbody></table></div><p class=\"muted\">Percent, macro-averaged over each group's evaluated scenes, as in \
          summary.md; ↑ higher is better, ↓ lower is better; - no scene of the group has a value.</p>",
     );
+}
 
+/// The charts of the metrics per group, with their legend.
+fn charts(b: &mut String, columns: &[(&'static str, Metric)], groups: &[GroupSummary]) {
     b.push_str("<h2>Charts</h2><div class=\"wide\">");
     let chart_columns: Vec<(&str, Better)> = columns.iter().map(|(c, m)| (*c, m.better())).collect();
     let chart_groups: Vec<(&str, Vec<Option<f64>>)> = groups
@@ -98,7 +108,15 @@ pub(crate) fn overview(
         .map(|(k, g)| (GROUP_COLOURS[k % GROUP_COLOURS.len()], g.group.as_str(), false))
         .collect();
     b.push_str(&legend(&items));
+}
 
+/// The scenes with their values, filterable by what they fail and sortable.
+fn scenes_table(
+    b: &mut String,
+    run: &Run,
+    columns: &[(&'static str, Metric)],
+    pages: &BTreeMap<String, String>,
+) {
     b.push_str(
         "<h2>Scenes</h2><div class=\"controls\"><label for=\"fails\">Show </label><select id=\"fails\">\
          <option value=\"\">every scene</option><option value=\"failed\">scenes that failed to evaluate</option>",
@@ -193,5 +211,4 @@ pub(crate) fn overview(
          alone; a scene fails a column when its value is not the best possible. {} of the run's scenes have a page.</p>",
         pages.len()
     );
-    page(&format!("SceneEval report: {}", run.name), &b)
 }

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 
 use sceneeval::SceneReport;
 use sceneeval::inspect::SceneInfo;
-use sceneeval::plausibility::{Grid, Supporter};
+use sceneeval::plausibility::{AccessibilityReport, Grid, Supporter};
 
 use crate::escape;
 
@@ -215,7 +215,6 @@ pub(crate) struct Overlay {
 /// The top view of `info`, footprints coloured by `problems` and labelled with `numbers` (the
 /// object's row in the page's object table); blocked openings and access strips from `report`
 /// when the scene was evaluated.
-#[allow(clippy::too_many_lines)] // One drawing, layer by layer from the floor up, as it is seen.
 pub(crate) fn draw(
     info: &SceneInfo<'_>,
     report: Option<&SceneReport>,
@@ -261,6 +260,21 @@ pub(crate) fn draw(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"topview\" viewBox=\"{vx:.3} {vy:.3} {vw:.3} {vh:.3}\" \
          role=\"img\" aria-label=\"top view of the scene\" font-family=\"system-ui, sans-serif\">"
     );
+    floors(&mut svg, info);
+    if let Some(o) = overlay {
+        navigable(&mut svg, o);
+    }
+    if let Some(a) = report.and_then(|r| r.accessibility.as_ref()) {
+        blocked_strips(&mut svg, a, line);
+    }
+    walls(&mut svg, info, report, line);
+    objects(&mut svg, info, &footprints, problems, numbers, line, font);
+    svg.push_str("</svg>");
+    svg
+}
+
+/// The rooms' floors.
+fn floors(svg: &mut String, info: &SceneInfo<'_>) {
     for room in &info.rooms {
         let _ = write!(
             svg,
@@ -274,37 +288,45 @@ pub(crate) fn draw(
             room.floor_area
         );
     }
-    if let Some(o) = overlay {
-        let g = &o.grid;
-        let (w, h) = (g.width as f64 * g.pixel, g.height as f64 * g.pixel);
-        let _ = write!(
-            svg,
-            "<image class=\"navigable\" href=\"{}\" x=\"{:.3}\" y=\"{:.3}\" width=\"{w:.3}\" height=\"{h:.3}\" \
-             opacity=\"0.45\" preserveAspectRatio=\"none\"/>",
-            escape::html(&o.href),
-            g.x0,
-            -(g.y0 + h)
-        );
-    }
-    if let Some(a) = report.and_then(|r| r.accessibility.as_ref()) {
-        for o in &a.objects {
-            for side in o.sides.iter().filter(|s| !s.blocked_by.is_empty()) {
-                let pts: Vec<[f64; 2]> = side.strip.iter().map(|p| [p.x, p.y]).collect();
-                let _ = write!(
-                    svg,
-                    "<polygon class=\"strip\" points=\"{}\" fill=\"none\" stroke=\"{STRIP}\" stroke-width=\"{line:.4}\" \
-                     stroke-dasharray=\"{:.4}\"><title>{}</title></polygon>",
-                    points(&pts),
-                    3.0 * line,
-                    escape::html(&format!(
-                        "{} side of {}: blocked",
-                        side.side.name(),
-                        o.id.as_str()
-                    ))
-                );
-            }
+}
+
+/// The run's navigable region over the floor.
+fn navigable(svg: &mut String, o: &Overlay) {
+    let g = &o.grid;
+    let (w, h) = (g.width as f64 * g.pixel, g.height as f64 * g.pixel);
+    let _ = write!(
+        svg,
+        "<image class=\"navigable\" href=\"{}\" x=\"{:.3}\" y=\"{:.3}\" width=\"{w:.3}\" height=\"{h:.3}\" \
+         opacity=\"0.45\" preserveAspectRatio=\"none\"/>",
+        escape::html(&o.href),
+        g.x0,
+        -(g.y0 + h)
+    );
+}
+
+/// The access strips of objects' sides that something blocks.
+fn blocked_strips(svg: &mut String, a: &AccessibilityReport, line: f64) {
+    for o in &a.objects {
+        for side in o.sides.iter().filter(|s| !s.blocked_by.is_empty()) {
+            let pts: Vec<[f64; 2]> = side.strip.iter().map(|p| [p.x, p.y]).collect();
+            let _ = write!(
+                svg,
+                "<polygon class=\"strip\" points=\"{}\" fill=\"none\" stroke=\"{STRIP}\" stroke-width=\"{line:.4}\" \
+                 stroke-dasharray=\"{:.4}\"><title>{}</title></polygon>",
+                points(&pts),
+                3.0 * line,
+                escape::html(&format!(
+                    "{} side of {}: blocked",
+                    side.side.name(),
+                    o.id.as_str()
+                ))
+            );
         }
     }
+}
+
+/// The walls, with their doors and windows (blocked ones dashed, with what blocks them).
+fn walls(svg: &mut String, info: &SceneInfo<'_>, report: Option<&SceneReport>, line: f64) {
     let blocked: BTreeMap<&str, Vec<&str>> = report
         .and_then(|r| r.opening_clearance.as_ref())
         .into_iter()
@@ -367,6 +389,18 @@ pub(crate) fn draw(
             }
         }
     }
+}
+
+/// The objects' footprints, lowest top first, coloured by their first problem.
+fn objects(
+    svg: &mut String,
+    info: &SceneInfo<'_>,
+    footprints: &[[[f64; 2]; 4]],
+    problems: &BTreeMap<String, Vec<(Problem, String)>>,
+    numbers: &BTreeMap<&str, usize>,
+    line: f64,
+    font: f64,
+) {
     // Lowest top first, so what is seen from above is drawn last (a rug under the bed).
     let mut order: Vec<usize> = (0..info.objects.len()).collect();
     let top = |k: usize| info.objects[k].center[2] + info.objects[k].size[2] / 2.0;
@@ -409,8 +443,6 @@ pub(crate) fn draw(
         }
         svg.push_str("</g>");
     }
-    svg.push_str("</svg>");
-    svg
 }
 
 /// The corners of a box's footprint: `centre`, full `size` (width x, depth y), turned by `yaw`
