@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -16,7 +16,7 @@ use crate::annotation::Annotations;
 use crate::dry_run::{DryRun, DryRunModel, SceneTally};
 use crate::fidelity::{MatchingMethod, matching_file_for};
 use crate::io::{AssetLibrary, read_scene_state};
-use crate::plausibility::{Deadline, Metric, MetricTiming};
+use crate::plausibility::{Metric, MetricTiming};
 use crate::schedule::{CpuSlots, SceneSchedule};
 use crate::{
     EvalError, Evaluator, Fingerprints, Outcome, RequestField, SceneFile, SceneInputs, SceneRecord, Stage,
@@ -429,17 +429,10 @@ impl<'a> Batch<'a> {
         self.endpoint.ensure(self.evaluator.vlm())?;
         tracing::info!(scene = %scene.name, reason = %why, "evaluating");
         let plan = self.evaluator.plan();
-        // A budget too large for a `Duration` (validated finite and positive) is no budget.
-        let budget = plan
-            .time_budget_seconds
-            .and_then(|b| Duration::try_from_secs_f64(b).ok());
+        let deadline = plan.deadline();
         let start = Instant::now();
-        let deadline = match budget {
-            Some(b) => Deadline::after(b),
-            None => Deadline::none(),
-        };
         // Waits for the VLM end with the budget too.
-        slot.set_deadline(budget.and_then(|b| Some((start.checked_add(b)?, b))));
+        slot.set_deadline(deadline.budget().and_then(|b| Some((start.checked_add(b)?, b))));
         let mut timing = SceneTiming {
             schema: TIMING_SCHEMA.to_owned(),
             scene: scene.name.to_string(),
