@@ -29,10 +29,10 @@ use std::time::{Duration, Instant};
 use sceneeval::{EvaluationRequest, PlanRequest, VlmOptions};
 use sceneeval_test_support::mock_endpoint::{MockEndpoint, completion, generic_answer};
 
-/// The longest chain of dependent requests of one scene once its independent questions are
-/// asked together: functional sides (before the geometry), the matching of every object, then
-/// the attributes of the matched categories. (The relation mappings need only the annotation
-/// row: mapping and its re-ask, 2, run beside them.)
+/// The longest chain of dependent requests of a run once each scene's independent questions
+/// are asked together: the endpoint check before the first scene, the matching of every object,
+/// then the attributes of the matched categories. (Support types, functional sides and the
+/// relation mappings need no other answer: a mapping and its re-ask, 2, run beside them.)
 const CHAIN: u32 = 3;
 
 fn fixtures() -> PathBuf {
