@@ -157,6 +157,9 @@ pub fn metrics_in(report: &SceneReport) -> Vec<Metric> {
             }
         }
     }
+    if report.summary.stab.is_some() {
+        metrics.push(Metric::Stability);
+    }
     // A metric the scene could not compute (status partial) has no value to compare.
     metrics.retain(|m| !report.incomplete.iter().any(|i| i.metric == *m));
     metrics.sort();
@@ -165,12 +168,12 @@ pub fn metrics_in(report: &SceneReport) -> Vec<Metric> {
 }
 
 /// The summary's metric columns in the summary's order (`summary.csv`: CNT, ATR, OOR, OAR, then
-/// COL_ob ... WIN_blk), each with its metric.
+/// COL_ob ... WIN_blk, STAB), each with its metric.
 pub fn summary_columns() -> Vec<(&'static str, Metric)> {
     let fidelity = Metric::ALL.into_iter().filter(|m| m.fidelity().is_some());
-    let geometry = Metric::ALL.into_iter().filter(|m| m.geometry().is_some());
+    let others = Metric::ALL.into_iter().filter(|m| m.fidelity().is_none());
     fidelity
-        .chain(geometry)
+        .chain(others)
         .flat_map(|m| m.columns().iter().map(move |&c| (c, m)))
         .collect()
 }

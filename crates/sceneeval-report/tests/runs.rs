@@ -55,6 +55,10 @@ fn runs() -> &'static Runs {
             request.plan.plan = Some("full".into());
             request.plan.preset = Some(preset);
             request.diagnostics = diagnostics;
+            // With physics, method-a runs the stability metric too (method-b does not).
+            if cfg!(feature = "physics") && diagnostics {
+                request.plan.metrics = Some(Metric::ALL.to_vec());
+            }
             let outcome = request.run(&|_| {}).unwrap();
             assert_eq!(outcome.batch.failed, 0);
             out
@@ -176,6 +180,55 @@ fn scene_pages_show_what_is_wrong_where() {
     );
     assert!(s8.contains("mapping: unmapped (none)"), "{s8}");
     assert!(s8.contains("<figcaption>navigability.png</figcaption>"));
+}
+
+/// Physics: scene 5's wardrobe and nightstand, which interpenetrate, are pushed apart by the
+/// simulation (unstable, olive in the top view); scene 8's ceiling lamp is welded.
+#[cfg(feature = "physics")]
+#[test]
+fn scene_pages_show_stability() {
+    let r = runs();
+    let report = r.a.join("report");
+    let index = read(&report.join("index.html"));
+    assert!(index.contains("STAB"), "{index}");
+    assert!(
+        index.contains(
+            "<option value=\"unstable\">scenes with an object unstable (moves under physics)</option>"
+        ),
+        "{index}"
+    );
+    let s5 = read(&report.join("scenes/scene_5.html"));
+    assert!(
+        s5.contains(
+            "<h2>Physical stability</h2><p>Weld mode <code>architectural</code>: 2 of 5 free objects"
+        ),
+        "{s5}"
+    );
+    assert!(
+        s5.contains("<tr><td><code>idx1_fixture.nightstand</code></td><td class=\"bad\">unstable</td>"),
+        "{s5}"
+    );
+    assert!(s5.contains("under physics moved "), "{s5}");
+    let s8 = read(&report.join("scenes/scene_8.html"));
+    assert!(
+        s8.contains("<tr><td><code>idx3_fixture.ceiling_lamp</code></td><td class=\"good\">welded</td>"),
+        "{s8}"
+    );
+    assert!(s8.contains("<td>yes: on the ceiling</td>"), "{s8}");
+    // method-b did not run it: compared without STAB, and the note says so.
+    let c = compare(
+        &[Run::open(&r.a).unwrap(), Run::open(&r.b).unwrap()],
+        &CompareOptions::default(),
+    )
+    .unwrap();
+    assert!(c.columns.iter().all(|c| c.metric != Metric::Stability));
+    assert!(
+        c.notes
+            .iter()
+            .any(|n| n == "STAB (stability) left out: not evaluated by method-b."),
+        "{:?}",
+        c.notes
+    );
 }
 
 #[test]

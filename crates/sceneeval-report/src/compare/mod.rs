@@ -305,7 +305,7 @@ fn common_scenes(
                     let lacking: Vec<&str> = run_metrics
                         .iter()
                         .filter(|m| {
-                            shared.contains(m) && !have.contains(m) && (m.geometry().is_some() || row)
+                            shared.contains(m) && !have.contains(m) && (m.fidelity().is_none() || row)
                         })
                         .map(|m| m.name())
                         .collect();

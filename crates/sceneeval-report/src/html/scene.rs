@@ -94,6 +94,8 @@ pub(crate) fn scene_page(p: &ScenePage<'_>) -> String {
         b.push_str("</tr></tbody></table></div><p class=\"muted\">Percent, this scene alone (as in summary_scenes.csv).</p>");
         top_view(&mut b, p, report);
         geometry_evidence(&mut b, report);
+        #[cfg(feature = "physics")]
+        stability(&mut b, report);
         if let Some(f) = &report.fidelity {
             fidelity(&mut b, f);
         }
@@ -203,6 +205,55 @@ fn top_view_only(b: &mut String, p: &ScenePage<'_>) {
         b.push_str(&topview::draw(info, None, &BTreeMap::new(), &numbers, None));
         b.push_str("</div><p class=\"muted\">Nothing was measured on this scene; the drawing is the file as it is now.</p>");
     }
+}
+
+/// The stability metric's verdicts: how far each object moved and turned under physics, and
+/// which were welded in place and why.
+#[cfg(feature = "physics")]
+fn stability(b: &mut String, report: &SceneReport) {
+    use sceneeval::physics::WeldReason;
+    let Some(s) = &report.stability else {
+        return;
+    };
+    let _ = write!(
+        b,
+        "<h2>Physical stability</h2><p>Weld mode <code>{}</code>: {} of {} free objects moved or turned beyond \
+         the limits{}; {:.2} s simulated in {} steps.</p><table id=\"stability\"><thead><tr><th>object</th>\
+         <th>verdict</th><th class=\"num\">moved (m)</th><th class=\"num\">turned (rad)</th><th>welded</th></tr>\
+         </thead><tbody>",
+        s.weld.name(),
+        s.num_unstable,
+        s.num_free,
+        s.frac_unstable_missing
+            .as_deref()
+            .map(|why| format!(" ({})", html(why)))
+            .unwrap_or_default(),
+        s.simulated_s,
+        s.steps
+    );
+    for o in &s.objects {
+        let _ = write!(
+            b,
+            "<tr><td><code>{}</code></td><td class=\"{}\">{}</td><td class=\"num\">{:.4}</td>\
+             <td class=\"num\">{:.4}</td><td>{}</td></tr>",
+            html(o.id.as_str()),
+            if o.stable { "good" } else { "bad" },
+            match (o.welded, o.stable) {
+                (true, _) => "welded",
+                (false, true) => "stable",
+                (false, false) => "unstable",
+            },
+            o.displacement_m,
+            o.rotation_rad,
+            match o.weld_reason {
+                None => "no",
+                Some(WeldReason::Wall) => "yes: on a wall",
+                Some(WeldReason::Ceiling) => "yes: on the ceiling",
+                Some(WeldReason::Penetration) => "yes: interpenetrating",
+            }
+        );
+    }
+    b.push_str("</tbody></table>");
 }
 
 fn geometry_evidence(b: &mut String, report: &SceneReport) {

@@ -26,15 +26,18 @@ pub(crate) enum Problem {
     BlocksOpening,
     /// No functional side fully free.
     AccessBlocked,
+    /// Moved or turned beyond the stability metric's limits under physics.
+    Unstable,
 }
 
 impl Problem {
-    pub(crate) const ALL: [Problem; 5] = [
+    pub(crate) const ALL: [Problem; 6] = [
         Problem::Collision,
         Problem::OutOfBounds,
         Problem::Unsupported,
         Problem::BlocksOpening,
         Problem::AccessBlocked,
+        Problem::Unstable,
     ];
 
     pub(crate) const fn colour(self) -> &'static str {
@@ -44,6 +47,7 @@ impl Problem {
             Problem::Unsupported => "#ff7f0e",
             Problem::BlocksOpening => "#8c564b",
             Problem::AccessBlocked => "#e377c2",
+            Problem::Unstable => "#bcbd22",
         }
     }
 
@@ -54,6 +58,7 @@ impl Problem {
             Problem::Unsupported => "unsupported",
             Problem::BlocksOpening => "blocking a door or window",
             Problem::AccessBlocked => "access blocked (no functional side fully free)",
+            Problem::Unstable => "unstable (moves under physics)",
         }
     }
 
@@ -65,6 +70,7 @@ impl Problem {
             Problem::Unsupported => "unsupported",
             Problem::BlocksOpening => "blocks-opening",
             Problem::AccessBlocked => "access-blocked",
+            Problem::Unstable => "unstable",
         }
     }
 }
@@ -186,6 +192,19 @@ pub(crate) fn problems(report: &SceneReport) -> BTreeMap<String, Vec<(Problem, S
                     ),
                 );
             }
+        }
+    }
+    #[cfg(feature = "physics")]
+    if let Some(s) = &report.stability {
+        for o in s.objects.iter().filter(|o| !o.stable) {
+            add(
+                o.id.as_str(),
+                Problem::Unstable,
+                format!(
+                    "under physics moved {:.3} m and turned {:.3} rad",
+                    o.displacement_m, o.rotation_rad
+                ),
+            );
         }
     }
     for list in out.values_mut() {
