@@ -259,8 +259,10 @@ struct RunReport {
     evaluated: usize,
     reused: usize,
     failed: usize,
+    partial: usize,
     skipped: Vec<Skipped>,
     failures: Vec<Failure>,
+    incomplete: Vec<Incomplete>,
     note: Option<String>,
     summary: sceneeval::Summary,
 }
@@ -274,6 +276,16 @@ struct Skipped {
 #[derive(Debug, Serialize)]
 struct Failure {
     scene: String,
+    error: String,
+    causes: Vec<String>,
+}
+
+/// A metric a partial scene could not compute.
+#[derive(Debug, Serialize)]
+struct Incomplete {
+    scene: String,
+    metric: &'static str,
+    vlm: bool,
     error: String,
     causes: Vec<String>,
 }
@@ -317,10 +329,13 @@ struct Failure {
 /// as their matching is not cached), failed ([scene, why] pairs), vlm (whether a VLM would be
 /// asked), tasks (per task: task, requests, cached, estimated, prompt_tokens: the estimated
 /// input tokens of the requests to send) and total (the same, summed), as
-/// `sceneeval evaluate --dry-run` prints them. Otherwise returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
-/// scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
-/// text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
-/// summary.csv as a dict). A scene that fails is recorded, not raised.
+/// `sceneeval evaluate --dry-run` prints them. Otherwise returns the run: out, scenes, evaluated, reused, failed, partial (scenes
+/// with status partial: some metrics could not be computed, the others kept), skipped (files
+/// that look like scenes but are not `scene_<ID>.json`), failures (scene, error, causes),
+/// incomplete (scene, metric, vlm: whether a VLM request failed, error, causes: each metric a
+/// partial scene could not compute), note (what the text-fidelity metrics ran with instead of
+/// a VLM, or None) and summary (the table of summary.csv as a dict). A scene that fails is
+/// recorded, not raised.
 /// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
 /// ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
 /// with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
@@ -398,12 +413,31 @@ pub fn evaluate<'py>(
             _ => None,
         })
         .collect();
+    let incomplete = outcome
+        .batch
+        .records
+        .iter()
+        .filter_map(|r| match &r.outcome {
+            sceneeval::Outcome::Partial { report } => Some((r, report)),
+            _ => None,
+        })
+        .flat_map(|(r, report)| {
+            report.incomplete.iter().map(|m| Incomplete {
+                scene: r.scene.to_string(),
+                metric: m.metric.name(),
+                vlm: m.vlm,
+                error: m.error.clone(),
+                causes: m.causes.clone(),
+            })
+        })
+        .collect();
     let report = RunReport {
         out: request.out,
         scenes: outcome.scenes.len(),
         evaluated: outcome.batch.evaluated,
         reused: outcome.batch.reused,
         failed: outcome.batch.failed,
+        partial: outcome.batch.partial,
         skipped: outcome
             .skipped
             .into_iter()
@@ -413,6 +447,7 @@ pub fn evaluate<'py>(
             })
             .collect(),
         failures,
+        incomplete,
         note,
         summary: outcome.summary,
     };

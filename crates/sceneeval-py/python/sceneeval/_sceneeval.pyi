@@ -327,10 +327,13 @@ def evaluate(
     as their matching is not cached), failed ([scene, why] pairs), vlm (whether a VLM would be
     asked), tasks (per task: task, requests, cached, estimated, prompt_tokens: the estimated
     input tokens of the requests to send) and total (the same, summed), as
-    `sceneeval evaluate --dry-run` prints them. Otherwise returns the run: out, scenes, evaluated, reused, failed, skipped (files that look like
-    scenes but are not `scene_<ID>.json`), failures (scene, error, causes), note (what the
-    text-fidelity metrics ran with instead of a VLM, or None) and summary (the table of
-    summary.csv as a dict). A scene that fails is recorded, not raised.
+    `sceneeval evaluate --dry-run` prints them. Otherwise returns the run: out, scenes, evaluated, reused, failed, partial (scenes
+    with status partial: some metrics could not be computed, the others kept), skipped (files
+    that look like scenes but are not `scene_<ID>.json`), failures (scene, error, causes),
+    incomplete (scene, metric, vlm: whether a VLM request failed, error, causes: each metric a
+    partial scene could not compute), note (what the text-fidelity metrics ran with instead of
+    a VLM, or None) and summary (the table of summary.csv as a dict). A scene that fails is
+    recorded, not raised.
     Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
     ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
     with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
