@@ -108,8 +108,7 @@ impl DescriptionIndex {
 
     /// Adds a description.
     pub fn insert(&mut self, description: &str) {
-        self.entries
-            .push((description.to_owned(), word_set(description)));
+        self.entries.push((description.to_owned(), word_set(description)));
     }
 
     /// How many descriptions there are.
@@ -142,8 +141,7 @@ impl DescriptionIndex {
     /// The most similar description when it is too similar (similarity at least the
     /// threshold).
     pub fn too_similar(&self, description: &str) -> Option<NearDescription> {
-        self.nearest(description)
-            .filter(|n| n.score >= self.threshold)
+        self.nearest(description).filter(|n| n.score >= self.threshold)
     }
 }
 

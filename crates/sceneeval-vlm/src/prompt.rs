@@ -105,9 +105,12 @@ impl Template {
                 TaskKind::ObjRelationshipMapping => &["RELATIONSHIPS"],
                 TaskKind::ArchRelationshipMapping => &["RELATIONSHIPS", "FLOOR_IDS"],
                 TaskKind::CategoryMatchingForSemanticColor => &["REFERENCE_CATEGORIES", "INPUT_CATEGORIES"],
-                TaskKind::AnnotateDescription => {
-                    &["NUM_EXAMPLES", "IN_CONTEXT_EXAMPLES", "DIFFICULTY", "SCENE_DESCRIPTION"]
-                }
+                TaskKind::AnnotateDescription => &[
+                    "NUM_EXAMPLES",
+                    "IN_CONTEXT_EXAMPLES",
+                    "DIFFICULTY",
+                    "SCENE_DESCRIPTION",
+                ],
                 TaskKind::GenerateAnnotatedDescription => {
                     &["NUM_EXAMPLES", "IN_CONTEXT_EXAMPLES", "INSTRUCTION", "DIFFICULTY"]
                 }

@@ -358,7 +358,14 @@ mod tests {
         check_strict(&s.schema).unwrap();
         assert_eq!(
             s.schema["required"],
-            json!(["description", "difficulty", "obj_count", "obj_attr", "oo_rel", "oa_rel"])
+            json!([
+                "description",
+                "difficulty",
+                "obj_count",
+                "obj_attr",
+                "oo_rel",
+                "oa_rel"
+            ])
         );
         assert_eq!(s.schema["additionalProperties"], false);
         assert_eq!(
@@ -382,23 +389,35 @@ mod tests {
         ] {
             assert!(paper.lines().any(|l| l == line), "{line}");
         }
-        assert!(request.user_text.contains("Here are 1 manually annotated examples"));
+        assert!(
+            request
+                .user_text
+                .contains("Here are 1 manually annotated examples")
+        );
         assert!(request.user_text.contains(
             r#"{"description":"A bedroom with a bed and a wardrobe.","difficulty":"easy","obj_count":["eq,1,bed","eq,1,wardrobe"],"obj_attr":[],"oo_rel":[],"oa_rel":[]}"#
         ));
         assert!(request.user_text.contains("Move away from: \"A den.\""));
-        assert!(request.user_text.ends_with("generate a medium scene description and its annotations."));
+        assert!(
+            request
+                .user_text
+                .ends_with("generate a medium scene description and its annotations.")
+        );
         assert_eq!(request.task, "generate_annotated_description");
 
         let task = AnnotationTask::annotate("A den with a sofa.", None);
         let request = Session::new(Scripted::queue("m", [])).request(&task).unwrap();
-        assert!(request.user_text.contains("Here are 0 manually annotated examples"));
-        assert!(request.user_text.contains("(none)"));
-        assert!(request.user_text.contains("not given; choose it"));
         assert!(
             request
                 .user_text
-                .ends_with("--- Begin scene description ---\nA den with a sofa.\n--- End scene description ---")
+                .contains("Here are 0 manually annotated examples")
+        );
+        assert!(request.user_text.contains("(none)"));
+        assert!(request.user_text.contains("not given; choose it"));
+        assert!(
+            request.user_text.ends_with(
+                "--- Begin scene description ---\nA den with a sofa.\n--- End scene description ---"
+            )
         );
     }
 
@@ -409,7 +428,9 @@ mod tests {
         let vlm = Scripted::queue(
             "m",
             [
-                AnswerContent::Json { value: answer.clone() },
+                AnswerContent::Json {
+                    value: answer.clone(),
+                },
                 AnswerContent::Json { value: answer },
             ],
         );
@@ -422,11 +443,22 @@ mod tests {
         });
         let task = AnnotationTask::generate(AnnotationLevel::Easy, "").with_checker(checker);
         let session = Session::new(&vlm);
-        let outcome = pollster::block_on(session.ask(&task)).unwrap().into_single().unwrap();
+        let outcome = pollster::block_on(session.ask(&task))
+            .unwrap()
+            .into_single()
+            .unwrap();
         let why = outcome.into_result().unwrap_err();
         assert_eq!(why.kind, UnansweredKind::Invalid);
-        assert!(why.reason.contains("attribute and category swapped"), "{}", why.reason);
-        assert!(vlm.requests()[1].user_text.contains("- the answer: ObjAttr \"eq,1,red,bed\": attribute and category swapped"));
+        assert!(
+            why.reason.contains("attribute and category swapped"),
+            "{}",
+            why.reason
+        );
+        assert!(
+            vlm.requests()[1]
+                .user_text
+                .contains("- the answer: ObjAttr \"eq,1,red,bed\": attribute and category swapped")
+        );
         // Both answers are kept; the last is the candidate.
         assert_eq!(task.answers().len(), 2);
         assert_eq!(task.answers()[1].obj_attr, ["eq,1,red,bed"]);
