@@ -97,12 +97,11 @@ pub fn entry_checker(scope: CheckScope) -> Arc<EntryChecker> {
             .iter()
             .filter(|f| match scope {
                 CheckScope::Generated => true,
-                CheckScope::UserDescription { difficulty_given } => {
-                    !matches!(
-                        f.code,
-                        FindingCode::EmptyDescription | FindingCode::DescriptionSemicolon
-                    ) && !(difficulty_given && f.code == FindingCode::DifficultyObjectCount)
-                }
+                CheckScope::UserDescription { difficulty_given } => match f.code {
+                    FindingCode::EmptyDescription | FindingCode::DescriptionSemicolon => false,
+                    FindingCode::DifficultyObjectCount => !difficulty_given,
+                    _ => true,
+                },
             })
             .map(finding_line)
             .collect()
