@@ -294,6 +294,15 @@ pub enum GenerateError {
         #[source]
         source: AnnotationError,
     },
+    /// The rejected file cannot be read.
+    #[error("cannot read {}", path.display())]
+    ReadRejected {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
     /// The rejected file holds a line that is not a rejected candidate.
     #[error("{}: line {line} is not a rejected candidate", path.display())]
     RejectedFile {
@@ -324,6 +333,9 @@ pub enum GenerateError {
     /// The options are inconsistent.
     #[error("{0}")]
     Options(String),
+    /// A rejected candidate cannot be written as JSON.
+    #[error("a rejected candidate cannot be written as JSON")]
+    Json(#[from] serde_json::Error),
 }
 
 /// The options of [`generate`].
@@ -446,8 +458,11 @@ impl<'o> Run<'o> {
         let rejected_file = rejected_path(out);
         let mut rejected_lines = Vec::new();
         if rejected_file.exists() {
-            let text = std::fs::read_to_string(&rejected_file)
-                .map_err(|e| GenerateError::Write(crate::EvalError::file(&rejected_file, e)))?;
+            let text =
+                std::fs::read_to_string(&rejected_file).map_err(|source| GenerateError::ReadRejected {
+                    path: rejected_file.clone(),
+                    source,
+                })?;
             for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
                 serde_json::from_str::<RejectedCandidate>(line).map_err(|source| {
                     GenerateError::RejectedFile {
@@ -546,7 +561,7 @@ impl<'o> Run<'o> {
     }
 
     fn reject(&mut self, candidate: &RejectedCandidate) -> Result<(), GenerateError> {
-        let line = serde_json::to_string(candidate).map_err(|e| GenerateError::Options(e.to_string()))?;
+        let line = serde_json::to_string(candidate)?;
         self.rejected_lines.push(line);
         self.save_rejected()
     }

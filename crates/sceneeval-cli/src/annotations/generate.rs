@@ -184,9 +184,6 @@ pub fn generate(args: GenerateArgs) -> anyhow::Result<ExitCode> {
     let on_event = |event: &GenerateEvent<'_>| match event {
         GenerateEvent::Started { existing, target } => {
             bar.set_position(*existing as u64);
-            if let Some(max) = args.max_candidates {
-                tracing::info!(max, "candidate limit");
-            }
             tracing::info!(existing, target, "generation starts");
         }
         GenerateEvent::Accepted(row) => {
