@@ -4,8 +4,8 @@
 //! # The measure
 //! The **Jaccard similarity of the descriptions' content-word sets**: |A ∩ B| / |A ∪ B|, where
 //! a description's set holds its words (maximal runs of letters and digits, lower-cased, made
-//! [`singular`](sceneeval_scene::label::singular) by the project's one label normalisation, so
-//! `beds` and `bed` are one word) without the [`STOP_WORDS`] (articles, common prepositions,
+//! [`singular`] by the project's one label normalisation, so `beds` and `bed` are one word)
+//! without the [`STOP_WORDS`] (articles, common prepositions,
 //! conjunctions and forms of *be*), which every description shares and which would make all
 //! descriptions look alike. Two empty sets have similarity 0 (nothing to compare).
 //!
@@ -148,6 +148,24 @@ impl DescriptionIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The score is symmetric, from 0 to 1, 1 for a text with itself (when it has a content
+        /// word) and for its words in reverse order.
+        #[test]
+        fn scores_are_symmetric_and_bounded(a in "[a-zA-Z ,.]{0,60}", b in "[a-zA-Z ,.]{0,60}") {
+            let (sa, sb) = (word_set(&a), word_set(&b));
+            let s = jaccard(&sa, &sb);
+            prop_assert!((0.0..=1.0).contains(&s));
+            prop_assert_eq!(s, jaccard(&sb, &sa));
+            let reversed: Vec<&str> = a.split_whitespace().rev().collect();
+            let expected = if sa.is_empty() { 0.0 } else { 1.0 };
+            prop_assert_eq!(jaccard(&sa, &word_set(&reversed.join(" "))), expected);
+        }
+    }
 
     fn set(words: &[&str]) -> BTreeSet<String> {
         words.iter().map(|w| (*w).to_owned()).collect()
