@@ -1163,7 +1163,10 @@ mod tests {
         // A failing metric costs only itself: the scene is partial, stability listed.
         let incomplete = |r: &SceneReport| {
             assert_eq!(r.incomplete.len(), 1, "{:?}", r.incomplete);
-            assert_eq!((r.incomplete[0].metric, r.incomplete[0].vlm), (Metric::Stability, false));
+            assert_eq!(
+                (r.incomplete[0].metric, r.incomplete[0].vlm),
+                (Metric::Stability, false)
+            );
             let m = &r.incomplete[0];
             crate::ErrorChain::from_parts(m.error.as_str(), &m.causes).to_string()
         };

@@ -323,7 +323,11 @@ fn fidelity(b: &mut String, f: &FidelityReport) {
         }
         None => b.push_str("<p>Object matching: none could be made (the metrics that need it failed).</p>"),
     }
-    let _ = write!(b, "<p>Relation mapping: {}.</p>", html(&name_of(&f.relation_mapping)));
+    let _ = write!(
+        b,
+        "<p>Relation mapping: {}.</p>",
+        html(&name_of(&f.relation_mapping))
+    );
     if let Some(m) = &f.cnt {
         section(b, "CNT: object counts", "cnt", m, |s| {
             (
