@@ -375,6 +375,25 @@ pub struct PlausibilityReport {
     pub opening_clearance: Option<OpeningClearanceReport>,
 }
 
+impl PlausibilityReport {
+    /// The report of `scene` before any metric ran: the metrics of `metrics` in the order of
+    /// [`Metric::ALL`], each without a result yet, and a summary of nothing.
+    pub fn empty(scene: &Scene, metrics: &[Metric]) -> Self {
+        PlausibilityReport {
+            scene_id: scene.id().map(str::to_owned),
+            object_ids: scene.objects().iter().map(|o| o.id().clone()).collect(),
+            metrics: Metric::ALL.into_iter().filter(|m| metrics.contains(m)).collect(),
+            summary: PlausibilitySummary::default(),
+            collision: None,
+            support: None,
+            navigability: None,
+            accessibility: None,
+            out_of_bounds: None,
+            opening_clearance: None,
+        }
+    }
+}
+
 /// How long one metric took on one scene (wall time, for performance logs; never part of a
 /// report, which stays identical from run to run).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -426,19 +445,8 @@ pub fn evaluate_metrics(
     timings: &mut Vec<MetricTiming>,
 ) -> Result<PlausibilityReport, PlausibilityError> {
     params.validate()?;
-    let selected: Vec<Metric> = Metric::ALL.into_iter().filter(|m| metrics.contains(m)).collect();
-    let mut report = PlausibilityReport {
-        scene_id: scene.id().map(str::to_owned),
-        object_ids: scene.objects().iter().map(|o| o.id().clone()).collect(),
-        metrics: selected.clone(),
-        summary: PlausibilitySummary::default(),
-        collision: None,
-        support: None,
-        navigability: None,
-        accessibility: None,
-        out_of_bounds: None,
-        opening_clearance: None,
-    };
+    let mut report = PlausibilityReport::empty(scene, metrics);
+    let selected = report.metrics.clone();
     let mut infos: Option<Vec<objects::ObjectInfo>> = None;
     let mut pieces: Option<Vec<plane::FloorPiece>> = None;
     for metric in selected {

@@ -411,22 +411,23 @@ fn matching(category: &str) -> Value {
 }
 
 #[tokio::test]
-async fn category_not_offered_is_asked_again_once_then_unanswered() {
+async fn category_not_offered_is_asked_again_once_then_recorded_as_unmatched() {
     let server = MockServer::start().await;
     mount_sequence(&server, |_, _| json_completion(&matching("armchair"))).await;
     let vlm = OpenAiVlm::new(config(&server)).unwrap();
     let session = Session::new(&vlm);
     let task = ObjectMatchingTask::new(test_image(), ["bed", "wardrobe"]).unwrap();
     let answers = session.ask(&task).await.unwrap();
-    let Some(Outcome::Unanswered(why)) = answers.get(&Single) else {
+    // Named again after the re-ask: "none of the offered categories", with the reason.
+    let Some(Outcome::Answered { answer, note, .. }) = answers.get(&Single) else {
         panic!("{answers:?}")
     };
-    assert_eq!(why.kind, UnansweredKind::Invalid);
+    assert_eq!(answer.category, None);
+    let note = note.as_deref().unwrap_or_default();
     assert!(
-        why.reason
-            .contains("\"armchair\" is not one of the offered categories"),
-        "{}",
-        why.reason
+        note.contains("none of the offered categories")
+            && note.contains("\"armchair\" is not one of the offered categories"),
+        "{note}"
     );
     let bodies = bodies(&server).await;
     assert_eq!(bodies.len(), 2, "asked exactly twice");
@@ -438,7 +439,11 @@ async fn category_not_offered_is_asked_again_once_then_unanswered() {
         2,
         "the image is sent again"
     );
-    assert_eq!((session.usage().re_asks, session.usage().unanswered), (1, 1));
+    let usage = session.usage();
+    assert_eq!(
+        (usage.re_asks, usage.unanswered, usage.unmatched_not_offered),
+        (1, 0, 1)
+    );
 }
 
 #[tokio::test]

@@ -16,7 +16,7 @@ use std::sync::{Arc, Mutex};
 use sceneeval_test_support::mock_endpoint::{MockEndpoint, completion as mock_completion, error};
 use sceneeval_vlm::check::{EndpointCheck, test_image};
 use sceneeval_vlm::tasks::SupportTypeTask;
-use sceneeval_vlm::{Cached, Session};
+use sceneeval_vlm::{Cached, Outcome, Session, Single};
 use sceneeval_vlm_openai::{ApiKey, OpenAiConfig, OpenAiVlm};
 use serde_json::json;
 use std::time::Duration;
@@ -57,20 +57,24 @@ async fn the_key_never_reaches_logs_errors_or_files() {
         .unwrap();
 
     // The server: an invalid answer echoing the key (as a support type, and with a JSON escape
-    // in its reason), so the task is asked again quoting it; a reply that is not JSON echoing
-    // the key; a refusal echoing it; a 500 whose body echoes it; then a 401 quoting a masked
-    // key.
+    // in its reason), so the task is asked again quoting it; a valid answer whose reason echoes
+    // the key (usable: cached); a reply that is not JSON echoing the key, so the next task is
+    // asked again; a refusal echoing it; a 500 whose body echoes it; then a 401 quoting a
+    // masked key.
     let escaped = KEY.replace('Z', "\\u005a");
     let server = MockServer::start().await;
     mount_sequence(&server, move |n, _| match n {
         0 => ResponseTemplate::new(200).set_body_json(completion(&format!(
             r#"{{"support_type": "{KEY}", "reason": "my key is {escaped}"}}"#
         ))),
-        1 => ResponseTemplate::new(200).set_body_json(completion(&format!("Sure! Your key is {KEY}."))),
-        2 => ResponseTemplate::new(200).set_body_json(json!({
+        1 => ResponseTemplate::new(200).set_body_json(completion(&format!(
+            r#"{{"support_type": "ground", "reason": "on the floor, says {escaped}"}}"#
+        ))),
+        2 => ResponseTemplate::new(200).set_body_json(completion(&format!("Sure! Your key is {KEY}."))),
+        3 => ResponseTemplate::new(200).set_body_json(json!({
             "choices": [{"index": 0, "finish_reason": "stop",
                          "message": {"role": "assistant", "content": null, "refusal": format!("I cannot use {KEY}")}}]})),
-        3 => ResponseTemplate::new(500).set_body_string(format!("upstream rejected Bearer {KEY} from proxy")),
+        4 => ResponseTemplate::new(500).set_body_string(format!("upstream rejected Bearer {KEY} from proxy")),
         _ => ResponseTemplate::new(401).set_body_json(json!({"error": {
             "message": "Incorrect API key provided: sk-proj-****pLw. You can find your API key at https://platform.openai.com/account/api-keys.",
             "code": "invalid_api_key"}})),
@@ -86,6 +90,7 @@ async fn the_key_never_reaches_logs_errors_or_files() {
         .await
         .unwrap();
     assert_eq!(ok.requests, 2, "the invalid answer was asked again");
+    assert!(ok.get(&Single).is_some_and(Outcome::is_answered), "{ok:?}");
     let refused = session.ask(&EndpointCheck::new()).await.unwrap();
     assert!(!refused.into_single().unwrap().is_answered());
     // Asked again without the cache: the 500, then the 401.
@@ -94,7 +99,7 @@ async fn the_key_never_reaches_logs_errors_or_files() {
 
     // What was sent back: the re-ask quotes the previous answer, redacted.
     let sent = bodies(&server).await;
-    assert_eq!(sent.len(), 5);
+    assert_eq!(sent.len(), 6);
     assert!(
         user_text(&sent[1]).contains("[redacted]"),
         "{}",
@@ -119,9 +124,9 @@ async fn the_key_never_reaches_logs_errors_or_files() {
     );
     assert!(format!("{ok:?}").contains("[redacted]"), "{ok:?}");
 
-    // Cache files: the three answers, each redacted.
+    // Cache files: only the usable answer (what was not usable is never cached), redacted.
     let files = walk(cache.path());
-    assert_eq!(files.len(), 3, "{files:?}");
+    assert_eq!(files.len(), 1, "{files:?}");
     for entry in files {
         assert_no_key(
             &entry.display().to_string(),

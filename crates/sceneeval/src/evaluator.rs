@@ -491,21 +491,7 @@ impl Evaluator {
             }
             Err(e) => tracing::warn!(error = %e, "a geometry metric failed; computing them one by one"),
         }
-        let mut report = plausibility::PlausibilityReport {
-            scene_id: scene.id().map(str::to_owned),
-            object_ids: scene.objects().iter().map(|o| o.id().clone()).collect(),
-            metrics: plausibility::Metric::ALL
-                .into_iter()
-                .filter(|m| metrics.contains(m))
-                .collect(),
-            summary: plausibility::PlausibilitySummary::default(),
-            collision: None,
-            support: None,
-            navigability: None,
-            accessibility: None,
-            out_of_bounds: None,
-            opening_clearance: None,
-        };
+        let mut report = plausibility::PlausibilityReport::empty(scene, &metrics);
         for metric in report.metrics.clone() {
             match plausibility::evaluate_metrics(scene, params, sources, &[metric], deadline, timings) {
                 Ok(one) => {
