@@ -1,5 +1,6 @@
 //! The SceneEval-500 annotation schema: types, CSV and JSON reading and writing, validation
-//! and dataset statistics.
+//! and dataset statistics, and the similarity of descriptions ([`similarity`]: the filter of
+//! near duplicates in annotation generation).
 //!
 //! Each scene description of SceneEval-500 comes with four fields of expected properties
 //! (paper, Table "Annotation schema" and appendix "Annotation Schema"):
@@ -104,6 +105,7 @@ mod error;
 mod quantifier;
 mod quote;
 mod row;
+pub mod similarity;
 mod stats;
 mod validate;
 pub mod vocab;

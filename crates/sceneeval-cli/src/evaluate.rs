@@ -13,7 +13,7 @@ use sceneeval::{
     SceneStatus, Shard, VlmOptions,
 };
 
-use crate::vlm::SamplingArgs;
+use crate::vlm::VlmArgs;
 
 /// Arguments of `sceneeval evaluate`.
 #[derive(Debug, clap::Args)]
@@ -38,41 +38,9 @@ pub struct Args {
     /// metrics, parameters, limits, time budget; see docs/formats.md).
     #[arg(long, value_name = "geometry|full|LIST|FILE")]
     pub plan: Option<String>,
-    /// OpenAI-compatible API base URL of the VLM for the fidelity metrics (matching, ATR,
-    /// relation mapping), e.g. https://api.openai.com/v1. The key is read from OPENAI_API_KEY
-    /// (or `--vlm-api-key-env`).
-    #[arg(long, value_name = "URL", requires = "vlm_model")]
-    pub vlm_base_url: Option<String>,
-    /// The VLM's model name, e.g. gpt-4o-2024-08-06.
-    #[arg(long, value_name = "NAME", requires = "vlm_base_url")]
-    pub vlm_model: Option<String>,
-    /// The environment variable holding the VLM's API key; it must then be set. Without this
-    /// option OPENAI_API_KEY is used when set (local servers need no key).
-    #[arg(long, value_name = "VAR", requires = "vlm_base_url")]
-    pub vlm_api_key_env: Option<String>,
-    /// What is sent with every VLM request.
+    /// The VLM for the fidelity metrics (matching, ATR, relation mapping).
     #[command(flatten)]
-    pub vlm_sampling: SamplingArgs,
-    /// VLM requests in flight at once over the whole run (default 4), whatever the number of
-    /// threads: scenes waiting for the VLM leave the CPU to others. Halved when the server
-    /// answers 429 (too many requests), grown back after successes.
-    #[arg(long, value_name = "N", requires = "vlm_base_url")]
-    pub vlm_concurrency: Option<usize>,
-    /// Seconds one VLM request (each attempt) may take (default 60); the scene's time budget
-    /// (--time-budget) bounds the whole wait for the VLM, retries included.
-    #[arg(long, value_name = "SECS", requires = "vlm_base_url")]
-    pub vlm_timeout: Option<f64>,
-    /// Cap on VLM requests per minute (default none): requests are spaced 60 s / N apart.
-    #[arg(long, value_name = "N", requires = "vlm_base_url")]
-    pub vlm_rpm: Option<u32>,
-    /// Cap on VLM tokens per minute (default none): requests are spaced by an estimate of
-    /// their tokens (text at 4 characters per token, images by OpenAI's rule for the detail).
-    #[arg(long, value_name = "N", requires = "vlm_base_url")]
-    pub vlm_tpm: Option<u64>,
-    /// Folder of the VLM response cache (default `<out>/vlm-cache`): a re-run asks nothing
-    /// already answered.
-    #[arg(long, value_name = "DIR", requires = "vlm_base_url")]
-    pub vlm_cache: Option<PathBuf>,
+    pub vlm: VlmArgs,
     /// Object matching: `vlm` (default with a VLM), `labels` (default without), or a matching
     /// file or folder in the reference's obj_matching_result.json shape.
     #[arg(long, value_name = "vlm|labels|FILE")]
@@ -133,26 +101,10 @@ impl Args {
     /// # Errors
     /// A VLM sampling option without `--vlm-base-url`.
     pub fn request(&self) -> anyhow::Result<EvaluationRequest> {
-        let vlm = match (&self.vlm_base_url, &self.vlm_model) {
-            (Some(base_url), Some(model)) => Some(VlmOptions {
-                api_key_env: self.vlm_api_key_env.clone(),
-                cache: self.vlm_cache.clone(),
-                concurrency: self.vlm_concurrency,
-                render_size: self.render_size,
-                timeout: self.vlm_timeout,
-                rpm: self.vlm_rpm,
-                tpm: self.vlm_tpm,
-                ..self.vlm_sampling.options(base_url, model)
-            }),
-            _ => {
-                if let Some(option) = self.vlm_sampling.first_given() {
-                    anyhow::bail!(
-                        "{option} sets what is sent to the VLM; it needs --vlm-base-url and --vlm-model"
-                    );
-                }
-                None
-            }
-        };
+        let vlm = self.vlm.options()?.map(|options| VlmOptions {
+            render_size: self.render_size,
+            ..options
+        });
         Ok(EvaluationRequest {
             scenes: self.scenes.clone(),
             assets: self.assets.clone(),

@@ -42,7 +42,7 @@ enum Command {
     Convert(convert::Args),
     /// Answer spatial-relation queries given as JSON lines.
     Relate(relate::Args),
-    /// Check annotation files or print their statistics.
+    /// Check annotation files, print their statistics, or make annotation rows with a model.
     #[command(subcommand)]
     Annotations(annotations::Command),
     /// Evaluate a folder of scenes and write per-scene results and summary tables.

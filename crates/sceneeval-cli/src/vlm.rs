@@ -6,6 +6,7 @@
 //! reason when it does not (a refused key, an unreachable server, a refusal, an answer that
 //! ignores the schema or the image).
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -47,6 +48,73 @@ pub struct CheckArgs {
     /// Retries after a failed attempt (429, 5xx, timeouts, connection errors).
     #[arg(long, default_value_t = 2, value_name = "N")]
     pub retries: u32,
+}
+
+/// The VLM options of the commands that ask a model (`evaluate`, `annotations annotate`,
+/// `annotations generate`): the endpoint, the key's variable, what is sent, and the client's
+/// limits. Written once here; each command maps them onto the facade's [`VlmOptions`].
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct VlmArgs {
+    /// OpenAI-compatible API base URL of the VLM, e.g. https://api.openai.com/v1. The key is
+    /// read from OPENAI_API_KEY (or `--vlm-api-key-env`).
+    #[arg(long, value_name = "URL", requires = "vlm_model")]
+    pub vlm_base_url: Option<String>,
+    /// The VLM's model name, e.g. gpt-4o-2024-08-06.
+    #[arg(long, value_name = "NAME", requires = "vlm_base_url")]
+    pub vlm_model: Option<String>,
+    /// The environment variable holding the VLM's API key; it must then be set. Without this
+    /// option OPENAI_API_KEY is used when set (local servers need no key).
+    #[arg(long, value_name = "VAR", requires = "vlm_base_url")]
+    pub vlm_api_key_env: Option<String>,
+    /// What is sent with every VLM request.
+    #[command(flatten)]
+    pub vlm_sampling: SamplingArgs,
+    /// VLM requests in flight at once over the whole run (default 4), whatever the number of
+    /// threads: scenes waiting for the VLM leave the CPU to others. Halved when the server
+    /// answers 429 (too many requests), grown back after successes.
+    #[arg(long, value_name = "N", requires = "vlm_base_url")]
+    pub vlm_concurrency: Option<usize>,
+    /// Seconds one VLM request (each attempt) may take (default 60); in `evaluate` the scene's
+    /// time budget (--time-budget) bounds the whole wait for the VLM, retries included.
+    #[arg(long, value_name = "SECS", requires = "vlm_base_url")]
+    pub vlm_timeout: Option<f64>,
+    /// Cap on VLM requests per minute (default none): requests are spaced 60 s / N apart.
+    #[arg(long, value_name = "N", requires = "vlm_base_url")]
+    pub vlm_rpm: Option<u32>,
+    /// Cap on VLM tokens per minute (default none): requests are spaced by an estimate of
+    /// their tokens (text at 4 characters per token, images by OpenAI's rule for the detail).
+    #[arg(long, value_name = "N", requires = "vlm_base_url")]
+    pub vlm_tpm: Option<u64>,
+    /// Folder of the VLM response cache: a re-run asks nothing already answered. `evaluate`:
+    /// default `<out>/vlm-cache`; `annotations`: no cache unless given.
+    #[arg(long, value_name = "DIR", requires = "vlm_base_url")]
+    pub vlm_cache: Option<PathBuf>,
+}
+
+impl VlmArgs {
+    /// The facade's VLM options these make (`None` without `--vlm-base-url`).
+    ///
+    /// # Errors
+    /// A sampling option without `--vlm-base-url`.
+    pub fn options(&self) -> anyhow::Result<Option<VlmOptions>> {
+        match (&self.vlm_base_url, &self.vlm_model) {
+            (Some(base_url), Some(model)) => Ok(Some(VlmOptions {
+                api_key_env: self.vlm_api_key_env.clone(),
+                cache: self.vlm_cache.clone(),
+                concurrency: self.vlm_concurrency,
+                timeout: self.vlm_timeout,
+                rpm: self.vlm_rpm,
+                tpm: self.vlm_tpm,
+                ..self.vlm_sampling.options(base_url, model)
+            })),
+            _ => {
+                if let Some(option) = self.vlm_sampling.first_given() {
+                    bail!("{option} sets what is sent to the VLM; it needs --vlm-base-url and --vlm-model");
+                }
+                Ok(None)
+            }
+        }
+    }
 }
 
 /// The sampling settings sent with every VLM request, as options of `evaluate` and

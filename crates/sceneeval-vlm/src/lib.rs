@@ -10,7 +10,7 @@
 //!   the JSON Schema of the answer) to one [`Answer`] (parsed JSON, or a refusal, a truncated
 //!   or non-JSON reply; plus token usage). Its future is `Send` and tied to no runtime.
 //!   `sceneeval-vlm-openai` implements it over HTTP for OpenAI, vLLM, Ollama and LM Studio.
-//! - [`tasks`]: the seven tasks of the reference as typed builders, wire answers with the
+//! - [`tasks`]: the seven tasks of the reference (and the paper's two annotation tasks) as typed builders, wire answers with the
 //!   reference's field names, and validated answers ([`Relation`](sceneeval_relations::Relation),
 //!   [`Side`](sceneeval_geom::Side), [`SupportType`](sceneeval_scene::SupportType), the
 //!   caller's category spelling).

@@ -20,7 +20,7 @@ use crate::{TaskKind, VlmError};
 
 /// One prompt template: the system prompt, the user message of each task ([`TaskKind`], the
 /// one list of tasks; the template has the task's name), the size-aware variant of object
-/// matching, and the re-ask note.
+/// matching, the re-ask note, and the system prompt of the annotation tasks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[non_exhaustive]
 pub enum Template {
@@ -33,13 +33,17 @@ pub enum Template {
     ObjMatchingSized,
     /// Appended to a task's text when an invalid answer is asked again.
     Reask,
+    /// The system prompt of the annotation tasks ([`TaskKind::AnnotateDescription`],
+    /// [`TaskKind::GenerateAnnotatedDescription`]): the paper's, word for word (appendix
+    /// "Semi-Automatic Data Generation", "System Prompt").
+    AnnotationSystem,
 }
 
 impl Template {
     /// All templates: the system prompt, each task's (the size-aware matching variant after
-    /// object matching), the re-ask note.
-    pub const ALL: [Template; TaskKind::ALL.len() + 3] = {
-        let mut all = [Template::System; TaskKind::ALL.len() + 3];
+    /// object matching), the re-ask note, the annotation tasks' system prompt.
+    pub const ALL: [Template; TaskKind::ALL.len() + 4] = {
+        let mut all = [Template::System; TaskKind::ALL.len() + 4];
         let mut next = 1;
         let mut i = 0;
         while i < TaskKind::ALL.len() {
@@ -52,6 +56,7 @@ impl Template {
             i += 1;
         }
         all[next] = Template::Reask;
+        all[next + 1] = Template::AnnotationSystem;
         all
     };
 
@@ -69,7 +74,8 @@ impl Template {
                 }
             }
             Template::ObjMatchingSized => TaskKind::ObjMatching as usize + 2,
-            Template::Reask => Template::ALL.len() - 1,
+            Template::Reask => Template::ALL.len() - 2,
+            Template::AnnotationSystem => Template::ALL.len() - 1,
         }
     }
 
@@ -81,13 +87,14 @@ impl Template {
             Template::Task(kind) => kind.name(),
             Template::ObjMatchingSized => "obj_matching_sized",
             Template::Reask => "reask",
+            Template::AnnotationSystem => "annotation_system",
         }
     }
 
     /// The placeholders the template must contain, and no others.
     pub const fn placeholders(self) -> &'static [&'static str] {
         match self {
-            Template::System => &[],
+            Template::System | Template::AnnotationSystem => &[],
             Template::Reask => &["PROBLEMS", "PREVIOUS_ANSWER"],
             Template::ObjMatchingSized => &["OBJECT_DIMENSIONS", "TARGET_CATEGORIES"],
             Template::Task(kind) => match kind {
@@ -98,6 +105,15 @@ impl Template {
                 TaskKind::ObjRelationshipMapping => &["RELATIONSHIPS"],
                 TaskKind::ArchRelationshipMapping => &["RELATIONSHIPS", "FLOOR_IDS"],
                 TaskKind::CategoryMatchingForSemanticColor => &["REFERENCE_CATEGORIES", "INPUT_CATEGORIES"],
+                TaskKind::AnnotateDescription => &[
+                    "NUM_EXAMPLES",
+                    "IN_CONTEXT_EXAMPLES",
+                    "DIFFICULTY",
+                    "SCENE_DESCRIPTION",
+                ],
+                TaskKind::GenerateAnnotatedDescription => {
+                    &["NUM_EXAMPLES", "IN_CONTEXT_EXAMPLES", "INSTRUCTION", "DIFFICULTY"]
+                }
             },
         }
     }
@@ -108,6 +124,7 @@ impl Template {
             Template::System => include_str!("../prompts/system.txt"),
             Template::ObjMatchingSized => include_str!("../prompts/obj_matching_sized.txt"),
             Template::Reask => include_str!("../prompts/reask.txt"),
+            Template::AnnotationSystem => include_str!("../prompts/annotation_system.txt"),
             Template::Task(kind) => match kind {
                 TaskKind::ObjMatching => include_str!("../prompts/obj_matching.txt"),
                 TaskKind::ObjAttribute => include_str!("../prompts/obj_attribute.txt"),
@@ -117,6 +134,10 @@ impl Template {
                 TaskKind::ArchRelationshipMapping => include_str!("../prompts/arch_relationship_mapping.txt"),
                 TaskKind::CategoryMatchingForSemanticColor => {
                     include_str!("../prompts/category_matching_for_semantic_color.txt")
+                }
+                TaskKind::AnnotateDescription => include_str!("../prompts/annotate_description.txt"),
+                TaskKind::GenerateAnnotatedDescription => {
+                    include_str!("../prompts/generate_annotated_description.txt")
                 }
                 TaskKind::EndpointCheck => include_str!("../prompts/endpoint_check.txt"),
             },
@@ -343,8 +364,11 @@ mod tests {
                 "obj_relationship_mapping",
                 "arch_relationship_mapping",
                 "category_matching_for_semantic_color",
+                "annotate_description",
+                "generate_annotated_description",
                 "endpoint_check",
-                "reask"
+                "reask",
+                "annotation_system"
             ]
         );
         for (i, t) in Template::ALL.into_iter().enumerate() {

@@ -12,7 +12,7 @@ use crate::{Answer, AnswerContent, Vlm, VlmError, VlmRequest};
 /// [`Session::ask`] is the one way tasks are asked, so every [`Vlm`] implementation gets the
 /// same protocol:
 ///
-/// 1. The task's request is sent (system prompt, filled template, images, strict schema).
+/// 1. The task's request is sent (its system prompt, filled template, images, strict schema).
 /// 2. The answer is parsed into the task's response type and validated; each part is paired
 ///    with its question by key, or by position when the model left the keys empty in an
 ///    answer with one item per question ([`Validation::pair_items`]; noted and counted).
@@ -95,7 +95,7 @@ impl<V: Vlm> Session<V> {
         let pairs: Vec<(&str, &str)> = values.iter().map(|(n, v)| (*n, v.as_str())).collect();
         Ok(VlmRequest {
             task: task.kind().name().to_owned(),
-            system: self.prompts.text(Template::System).to_owned(),
+            system: self.prompts.text(task.system_template()).to_owned(),
             user_text: self.prompts.fill(task.template(), &pairs)?,
             images: task.images(),
             schema: strict_schema_for::<T::Response>(task.kind().name())?,

@@ -40,6 +40,10 @@ pub trait Task: Sync {
     fn template(&self) -> Template {
         Template::Task(self.kind())
     }
+    /// The system prompt: by default every evaluation task's ([`Template::System`]).
+    fn system_template(&self) -> Template {
+        Template::System
+    }
     /// The placeholder values of the template (names without angle brackets); none by
     /// default.
     fn placeholders(&self) -> Vec<(&'static str, String)> {

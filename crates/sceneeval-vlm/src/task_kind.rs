@@ -4,8 +4,9 @@ use std::fmt;
 
 use serde::Serialize;
 
-/// The tasks of the reference (with their names in its `prompts.yaml`), plus the endpoint
-/// check: the one list of tasks. Each has a prompt template of the same name
+/// The tasks of the reference (with their names in its `prompts.yaml`), the two tasks of the
+/// paper's semi-automatic annotation generation, and the endpoint check: the one list of
+/// tasks. Each has a prompt template of the same name
 /// ([`crate::prompt::Template::Task`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -27,13 +28,19 @@ pub enum TaskKind {
     ArchRelationshipMapping,
     /// `category_matching_for_semantic_color`: scene categories onto reference categories.
     CategoryMatchingForSemanticColor,
+    /// `annotate_description`: the SceneEval-500 annotations of a given scene description (the
+    /// paper's annotation generation, appendix "Semi-Automatic Data Generation").
+    AnnotateDescription,
+    /// `generate_annotated_description`: a new scene description of a difficulty level with its
+    /// annotations (the paper's annotation generation).
+    GenerateAnnotatedDescription,
     /// `endpoint_check`: the colour of a test image, to check that an endpoint works.
     EndpointCheck,
 }
 
 impl TaskKind {
-    /// All tasks, in the reference's order, the endpoint check last.
-    pub const ALL: [TaskKind; 8] = [
+    /// All tasks, in the reference's order, then the annotation tasks, the endpoint check last.
+    pub const ALL: [TaskKind; 10] = [
         TaskKind::ObjMatching,
         TaskKind::ObjAttribute,
         TaskKind::ObjSupportType,
@@ -41,10 +48,13 @@ impl TaskKind {
         TaskKind::ObjRelationshipMapping,
         TaskKind::ArchRelationshipMapping,
         TaskKind::CategoryMatchingForSemanticColor,
+        TaskKind::AnnotateDescription,
+        TaskKind::GenerateAnnotatedDescription,
         TaskKind::EndpointCheck,
     ];
 
-    /// The task's name: its name in the reference, used as the schema name, the template name
+    /// The task's name: its name in the reference (the annotation tasks' are this crate's),
+    /// used as the schema name, the template name
     /// and in logs.
     pub const fn name(self) -> &'static str {
         match self {
@@ -55,6 +65,8 @@ impl TaskKind {
             TaskKind::ObjRelationshipMapping => "obj_relationship_mapping",
             TaskKind::ArchRelationshipMapping => "arch_relationship_mapping",
             TaskKind::CategoryMatchingForSemanticColor => "category_matching_for_semantic_color",
+            TaskKind::AnnotateDescription => "annotate_description",
+            TaskKind::GenerateAnnotatedDescription => "generate_annotated_description",
             TaskKind::EndpointCheck => "endpoint_check",
         }
     }

@@ -31,6 +31,8 @@
 //!   by difficulty);
 //! - a scene's identity, [`SceneName`] (its name and benchmark id, which finds its annotation
 //!   row), is made once where scene files are found ([`find_scenes`]);
+//! - [`annotate`] makes annotation rows with a model, the paper's semi-automatic process
+//!   (`sceneeval annotations annotate` and `generate`);
 //! - [`ErrorChain`] prints an error and its causes as every front end shows them, and
 //!   [`inspect`] gives a scene's objects, rooms, walls and openings as plain values.
 //!
@@ -81,6 +83,7 @@ pub use sceneeval_vlm as vlm;
 #[cfg(feature = "openai")]
 pub use sceneeval_vlm_openai as vlm_openai;
 
+pub mod annotate;
 mod batch;
 mod chain;
 mod dry_run;

@@ -881,6 +881,26 @@ impl VlmOptions {
             .unwrap_or_else(|| out.join(DEFAULT_VLM_CACHE_DIR))
     }
 
+    /// This VLM as one shareable model without a renderer, for tasks that send no image (the
+    /// annotation tasks of [`crate::annotate`]): the HTTP client on a tokio runtime of its own,
+    /// its answers cached in [`VlmOptions::cache`] only when that is set.
+    ///
+    /// # Errors
+    /// [`EvalError::Request`]: a bad setting (see [`VlmOptions::config`]) or a client or
+    /// runtime that cannot start.
+    #[cfg(feature = "openai")]
+    pub fn shared_client(&self) -> Result<crate::SharedVlm, EvalError> {
+        use crate::vlm::Cached;
+        use crate::vlm_openai::RuntimeVlm;
+        let client = RuntimeVlm::start(client_of(self.config()?)?).map_err(|e| {
+            EvalError::request_caused(RequestField::Vlm, "cannot start the VLM client".to_owned(), e)
+        })?;
+        Ok(match &self.cache {
+            Some(dir) => crate::SharedVlm::new(Cached::new(client, dir)),
+            None => crate::SharedVlm::new(client),
+        })
+    }
+
     /// `evaluator` asking this VLM (through a runtime of its own, answers cached in
     /// [`VlmOptions::cache_dir`]) and rendering the views it is shown. Before the first scene
     /// a batch evaluates, one small request checks the endpoint

@@ -1,5 +1,5 @@
-//! The seven tasks of the reference as typed request builders, their wire answers and their
-//! validated answers.
+//! The seven tasks of the reference and the two of the paper's annotation generation as typed
+//! request builders, their wire answers and their validated answers.
 //!
 //! | task ([`TaskKind`](crate::TaskKind)) | builder | questions (key) | images | validated answer | used by |
 //! |---|---|---|---|---|---|
@@ -10,6 +10,8 @@
 //! | `obj_relationship_mapping` | [`ObjectRelationTask`] | relation key | none | [`ObjectRelationMapping`] | OOR |
 //! | `arch_relationship_mapping` | [`ArchRelationTask`] | relation key | none | [`ArchRelationMapping`] | OAR |
 //! | `category_matching_for_semantic_color` | [`CategoryMatchingTask`] | input category | none | [`ReferenceMatch`] | semantic colours |
+//! | `annotate_description` | [`AnnotationTask::annotate`] | one | none | [`AnnotatedDescription`] | `sceneeval annotations annotate` |
+//! | `generate_annotated_description` | [`AnnotationTask::generate`] | one | none | [`AnnotatedDescription`] | `sceneeval annotations generate` |
 //!
 //! The wire types (`*Response`, `*Assessment`) keep the reference's field names, so answers
 //! are comparable across implementations. Fields added here are marked *added* in their docs:
@@ -21,6 +23,7 @@
 //! [`sceneeval_scene::label::normalise`] (trimmed, lower case, whitespace, hyphens and
 //! underscores alike: `Dining chair` = `dining_chair`); ids and keys after trimming only. Validated answers always use the caller's spelling.
 
+mod annotation;
 mod arch_relation;
 mod attribute;
 mod category;
@@ -29,6 +32,7 @@ mod matching;
 mod object_relation;
 mod support;
 
+pub use annotation::{AnnotatedDescription, AnnotationLevel, AnnotationTask, EntryChecker};
 pub use arch_relation::{
     ArchRelationMapping, ArchRelationSpec, ArchRelationTask, ArchRelationshipAssessment,
     ArchRelationshipMappingResponse,

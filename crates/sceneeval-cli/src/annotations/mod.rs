@@ -1,5 +1,8 @@
-//! `sceneeval annotations check|stats`: validate a SceneEval-500 annotation file or print its
-//! statistics (the paper's Table 1).
+//! `sceneeval annotations check|stats|annotate|generate`: validate a SceneEval-500 annotation
+//! file, print its statistics (the paper's Table 1), or make annotation rows with a model
+//! (`generate.rs`).
+
+mod generate;
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -31,6 +34,14 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Ask a model for the annotation row of a scene description and print it as CSV (with its
+    /// header). Every answer is checked as `check` does; one with findings is asked again once,
+    /// then rejected (printed on standard error, exit status 1).
+    Annotate(Box<generate::AnnotateArgs>),
+    /// Generate new scene descriptions with their annotations (the paper's process: in-context
+    /// examples, validation, a near-duplicate filter), appending accepted rows to `--out` and
+    /// rejected candidates to OUT.rejected.jsonl; a re-run continues.
+    Generate(Box<generate::GenerateArgs>),
 }
 
 /// The JSON document of `check --json`.
@@ -50,6 +61,8 @@ pub fn run(cmd: Command) -> anyhow::Result<ExitCode> {
     let code = match cmd {
         Command::Check { file, json } => check(&file, json, &mut out)?,
         Command::Stats { file, json } => stats(&file, json, &mut out)?,
+        Command::Annotate(args) => generate::annotate(*args)?,
+        Command::Generate(args) => generate::generate(*args)?,
     };
     out.flush().context("writing to standard output")?;
     Ok(code)

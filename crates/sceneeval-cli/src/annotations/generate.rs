@@ -1,0 +1,234 @@
+//! `sceneeval annotations annotate|generate`: annotation rows made by a model, the paper's
+//! semi-automatic process (`sceneeval::annotate`). This module only maps options and prints.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use sceneeval::SharedVlm;
+use sceneeval::annotate::{
+    AnnotateOutcome, DEFAULT_EXAMPLES_PER_REQUEST, GenerateEvent, GenerateOptions, RejectedCandidate,
+    example_of, rejected_path,
+};
+use sceneeval::annotation::Annotations;
+use sceneeval::annotation::similarity::DEFAULT_THRESHOLD;
+use sceneeval::vlm::Session;
+use sceneeval::vlm::tasks::{AnnotatedDescription, AnnotationLevel};
+
+use crate::evaluate::OptionError;
+use crate::vlm::VlmArgs;
+
+/// Arguments of `sceneeval annotations annotate`.
+#[derive(Debug, clap::Args)]
+pub struct AnnotateArgs {
+    /// The scene description to annotate (kept word for word in the row).
+    pub description: String,
+    /// The description's difficulty level; without it the model chooses by the paper's rules.
+    #[arg(long, value_name = "easy|medium|hard")]
+    pub difficulty: Option<AnnotationLevel>,
+    /// The row's ID.
+    #[arg(long, default_value = "0", value_name = "N")]
+    pub id: String,
+    /// Annotation file whose rows are shown as in-context examples (of the description's
+    /// level when given and the file has such rows).
+    #[arg(long, value_name = "FILE")]
+    pub examples: Option<PathBuf>,
+    /// In-context examples shown.
+    #[arg(long, default_value_t = DEFAULT_EXAMPLES_PER_REQUEST, value_name = "K")]
+    pub examples_per_request: usize,
+    /// The VLM (required: `--vlm-base-url`, `--vlm-model`).
+    #[command(flatten)]
+    pub vlm: VlmArgs,
+}
+
+/// Arguments of `sceneeval annotations generate`.
+#[derive(Debug, clap::Args)]
+pub struct GenerateArgs {
+    /// Annotation file of in-context examples (e.g. SceneEval-500's CSV); new descriptions are
+    /// also compared with its descriptions.
+    #[arg(long, value_name = "FILE")]
+    pub examples: PathBuf,
+    /// How many rows `--out` should hold in the end (rows already there count: a re-run
+    /// continues).
+    #[arg(long, value_name = "N")]
+    pub count: usize,
+    /// The annotation file accepted rows are appended to (CSV; JSON for `.json`); rejected
+    /// candidates go to OUT.rejected.jsonl.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// The level of every description (default: easy, medium and hard in turn).
+    #[arg(long, value_name = "easy|medium|hard")]
+    pub difficulty: Option<AnnotationLevel>,
+    /// Seed of the draw of in-context examples.
+    #[arg(long = "seed", id = "example_seed", default_value_t = 0, value_name = "S")]
+    pub example_seed: u64,
+    /// In-context examples per request (the paper showed three to five).
+    #[arg(long, default_value_t = DEFAULT_EXAMPLES_PER_REQUEST, value_name = "K")]
+    pub examples_per_request: usize,
+    /// The first ID when `--out` has no rows (default: one more than the examples' largest ID).
+    #[arg(long, value_name = "N")]
+    pub first_id: Option<u64>,
+    /// Jaccard similarity of content words at and above which a description is too similar to
+    /// an existing one.
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, value_name = "S")]
+    pub similarity_threshold: f64,
+    /// The most candidates this run asks for (default three per row still to make).
+    #[arg(long, value_name = "N")]
+    pub max_candidates: Option<usize>,
+    /// Do not show a progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+    /// The VLM (required: `--vlm-base-url`, `--vlm-model`).
+    #[command(flatten)]
+    pub vlm: VlmArgs,
+}
+
+/// The model of the VLM options: the OpenAI-compatible client, cached only with `--vlm-cache`.
+fn model(vlm: &VlmArgs, command: &str) -> anyhow::Result<SharedVlm> {
+    let Some(options) = vlm.options()? else {
+        bail!("annotations {command} asks a model: pass --vlm-base-url and --vlm-model");
+    };
+    Ok(options.shared_client().map_err(OptionError::evaluate)?)
+}
+
+fn read(file: &std::path::Path) -> anyhow::Result<Annotations> {
+    Annotations::read(file).with_context(|| format!("cannot read annotation file {}", file.display()))
+}
+
+/// The first `k` rows of `file` of `level` (all rows when it has none of that level) as
+/// examples.
+fn examples_for(
+    file: &std::path::Path,
+    level: Option<AnnotationLevel>,
+    k: usize,
+) -> anyhow::Result<Vec<AnnotatedDescription>> {
+    let rows = read(file)?.rows;
+    let of_level: Vec<_> = rows
+        .iter()
+        .filter(|r| level.is_some_and(|l| r.difficulty.as_str() == l.name()))
+        .collect();
+    let pool = if of_level.is_empty() {
+        rows.iter().collect()
+    } else {
+        of_level
+    };
+    Ok(pool.into_iter().take(k).map(example_of).collect())
+}
+
+fn print_rejected(candidate: &RejectedCandidate) {
+    eprintln!(
+        "rejected: {}",
+        serde_json::to_string(candidate).unwrap_or_else(|e| format!("(cannot show: {e})"))
+    );
+}
+
+/// Runs `annotations annotate`: prints the row as CSV with its header, or the rejected
+/// candidate on standard error with exit status 1.
+pub fn annotate(args: AnnotateArgs) -> anyhow::Result<ExitCode> {
+    let examples = match &args.examples {
+        Some(file) => examples_for(file, args.difficulty, args.examples_per_request)?,
+        None => Vec::new(),
+    };
+    let vlm = model(&args.vlm, "annotate")?;
+    let session = Session::new(vlm);
+    let outcome = pollster::block_on(sceneeval::annotate::annotate(
+        &session,
+        &args.description,
+        args.difficulty,
+        examples,
+        &args.id,
+    ))
+    .context("the model gave no answer")?;
+    match outcome {
+        AnnotateOutcome::Accepted { row, attempt } => {
+            tracing::info!(attempt, "annotation row accepted");
+            let csv = Annotations::from_rows(vec![row])
+                .to_csv_string()
+                .context("the row cannot be written as CSV")?;
+            crate::print_stdout(&csv)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        AnnotateOutcome::Rejected(candidate) => {
+            print_rejected(&candidate);
+            Ok(ExitCode::FAILURE)
+        }
+    }
+}
+
+/// Runs `annotations generate`: rows appended to `--out` as they are accepted, a progress bar,
+/// a final summary line. Exit status 1 when the run stopped short of `--count`.
+pub fn generate(args: GenerateArgs) -> anyhow::Result<ExitCode> {
+    let examples = read(&args.examples)?;
+    if !(args.similarity_threshold > 0.0 && args.similarity_threshold <= 1.0) {
+        bail!("--similarity-threshold must be above 0 and at most 1");
+    }
+    let mut options = GenerateOptions::new(&args.out, args.count);
+    options.difficulty = args.difficulty;
+    options.seed = args.example_seed;
+    options.examples_per_request = args.examples_per_request;
+    options.first_id = args.first_id;
+    options.threshold = args.similarity_threshold;
+    let vlm = model(&args.vlm, "generate")?;
+    let session = Session::new(vlm);
+    let bar = if args.no_progress {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(args.count as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} rows, {msg} [{elapsed_precise}, ETA {eta}]")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let rejected = std::cell::Cell::new(0usize);
+    let on_event = |event: &GenerateEvent<'_>| match event {
+        GenerateEvent::Started { existing, target } => {
+            bar.set_position(*existing as u64);
+            tracing::info!(existing, target, "generation starts");
+        }
+        GenerateEvent::Accepted(row) => {
+            bar.inc(1);
+            tracing::debug!(id = %row.id, "accepted");
+        }
+        GenerateEvent::Rejected(candidate) => {
+            rejected.set(rejected.get() + 1);
+            bar.set_message(format!("{} rejected", rejected.get()));
+            bar.suspend(|| print_rejected(candidate));
+        }
+    };
+    bar.set_message("0 rejected");
+    // Rows already in the file count; the limit is on this run's candidates.
+    let existing = if args.out.exists() {
+        read(&args.out)?.rows.len()
+    } else {
+        0
+    };
+    options.max_candidates = args
+        .max_candidates
+        .unwrap_or_else(|| args.count.saturating_sub(existing).saturating_mul(3));
+    let summary = sceneeval::annotate::generate(&session, &examples, &options, &on_event);
+    bar.finish_and_clear();
+    let summary = summary?;
+    crate::print_stdout(&format!(
+        "{}: {} rows ({} accepted now, {} already there), {} rejected now (in {}){}\n",
+        args.out.display(),
+        summary.total,
+        summary.accepted,
+        summary.existing,
+        summary.rejected,
+        rejected_path(&args.out).display(),
+        if summary.stopped_early {
+            format!(
+                "; stopped after {} candidates, short of {}",
+                options.max_candidates, args.count
+            )
+        } else {
+            String::new()
+        }
+    ))?;
+    Ok(if summary.stopped_early {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
