@@ -4,16 +4,17 @@
 //! atomically. Prints one line per object that moved beyond the stability limits.
 //!
 //! The parameters are the plan's `stability` section (`--plan`, default the built-in plan),
-//! with `--weld` replacing its weld mode; support types come from the scene file, then the
+//! with `--weld` replacing its weld mode; support types come from the scene file, then (with
+//! `--vlm-base-url`, as `evaluate` asks them) the VLM for the objects that state none, then the
 //! category tables; the plan's time budget applies.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
 use sceneeval::io::{AssetLibrary, read_scene_state, write_scene_state};
 use sceneeval::physics::WeldMode;
-use sceneeval::{EvaluationPlan, Evaluator};
+use sceneeval::{EvaluationPlan, Evaluator, Metric, PlacementSource, SceneInputs};
 
 /// Arguments of `sceneeval settle`.
 #[derive(Debug, clap::Args)]
@@ -37,6 +38,14 @@ pub struct Args {
     /// (both) or none. Replaces the plan's `stability.weld`.
     #[arg(long, value_name = "MODE", value_parser = str::parse::<WeldMode>)]
     pub weld: Option<WeldMode>,
+    /// The VLM asked for the support types the scene does not state, as `evaluate` asks them
+    /// (it is shown each object's views; answers cached in `vlm-cache` beside FILE unless
+    /// `--vlm-cache`).
+    #[command(flatten)]
+    pub vlm: crate::vlm::VlmArgs,
+    /// Side of the square object views shown to the VLM, pixels (default 512; 16 to 4096).
+    #[arg(long, value_name = "PX", requires = "vlm_base_url")]
+    pub render_size: Option<u32>,
 }
 
 /// Runs the subcommand.
@@ -48,7 +57,23 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(weld) = args.weld {
         plan.stability.weld = weld;
     }
-    let evaluator = Evaluator::new(plan).context("invalid --plan")?;
+    let vlm = args.vlm.options()?.map(|mut v| {
+        v.render_size = args.render_size;
+        v
+    });
+    if vlm.is_some() {
+        // Settling asks only what stability uses: support types (no functional sides).
+        plan.metrics = vec![Metric::Stability];
+    }
+    let mut evaluator = Evaluator::new(plan).context("invalid --plan")?;
+    if let Some(vlm) = &vlm {
+        let beside = args
+            .out
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        evaluator = vlm.attach(evaluator, beside)?;
+    }
     let plan = evaluator.plan();
     let library = AssetLibrary::from_specs(&args.assets)
         .context("invalid --assets")?
@@ -56,9 +81,34 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let deadline = plan.deadline();
     let scene = read_scene_state(&args.scene, &library, &plan.read)
         .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
-    let (settled, report) = evaluator
-        .settle(&scene, &deadline)
+    let inputs = SceneInputs {
+        assets: Some(&library),
+        deadline: Some(&deadline),
+        ..SceneInputs::default()
+    };
+    let (settled, report, placement) = evaluator
+        .settle_scene(&scene, &inputs)
         .with_context(|| format!("cannot settle scene {}", args.scene.display()))?;
+    if let Some(placement) = placement {
+        let count = |source: PlacementSource| {
+            placement
+                .iter()
+                .filter_map(|p| p.support_type.as_ref())
+                .filter(|p| p.source == source)
+                .count()
+        };
+        eprintln!(
+            "support types: {} stated in the scene, {} answered by the VLM, {} from the category tables",
+            count(PlacementSource::Scene),
+            count(PlacementSource::Vlm),
+            count(PlacementSource::CategoryPrior) + count(PlacementSource::None)
+        );
+        for p in &placement {
+            if let Some(s) = p.support_type.as_ref().filter(|s| s.source.is_fallback()) {
+                tracing::warn!(object = %p.object, reason = %s.reason, "support type from the category tables");
+            }
+        }
+    }
     write_scene_state(&settled, &args.out)?;
     let mut lines = String::new();
     for o in report.objects.iter().filter(|o| !o.stable) {

@@ -154,3 +154,56 @@ fn evaluate_reports_stability_in_eval_json_and_the_summary() {
             .unwrap();
     assert!(timing["stability_seconds"].as_f64().is_some(), "{timing}");
 }
+
+/// Support types the scene does not state come from the VLM when one is given, as `evaluate`
+/// asks them: scene 0 without its stated types; the tables make the painting wall-mounted and
+/// the ceiling lamp ceiling-mounted (welded, nothing moves), a model that answers `ground` for
+/// every object makes both fall.
+#[test]
+fn settle_asks_the_vlm_for_the_support_types_the_scene_does_not_state() {
+    use sceneeval_test_support::mock_endpoint::{MockEndpoint, completion, task_of};
+    if common::renderer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixtures().join("scenes/scene_0.json")).unwrap())
+            .unwrap();
+    for o in scene["scene"]["object"].as_array_mut().unwrap() {
+        o.as_object_mut().unwrap().remove("supportType");
+    }
+    let unstated = dir.path().join("scene_0.json");
+    std::fs::write(&unstated, scene.to_string()).unwrap();
+    let out = dir.path().join("settled.json");
+    // Without a VLM: the category tables.
+    settle(&unstated, &out, &[]).success().stdout("");
+
+    let server = MockEndpoint::start(std::time::Duration::ZERO, |_, _| {
+        completion(&serde_json::json!({"support_type": "ground", "reason": "it stands on the floor"}))
+    });
+    let url = server.url();
+    settle(
+        &unstated,
+        &out,
+        &[
+            "--vlm-base-url",
+            &url,
+            "--vlm-model",
+            "mock",
+            "--render-size",
+            "64",
+        ],
+    )
+    .success()
+    .stdout(predicate::str::contains("idx7_fixture.painting"))
+    .stdout(predicate::str::contains("idx8_fixture.ceiling_lamp"))
+    .stderr(predicate::str::contains(
+        "support types: 0 stated in the scene, 9 answered by the VLM, 0 from the category tables",
+    ));
+    // One support-type question per object, each shown its views; nothing else asked.
+    let tasks: Vec<String> = server.bodies().iter().map(|b| task_of(b).to_owned()).collect();
+    assert_eq!(tasks.len(), 9, "{tasks:?}");
+    assert!(tasks.iter().all(|t| t == "obj_support_type"), "{tasks:?}");
+    // The answers were cached beside the output file.
+    assert!(dir.path().join("vlm-cache").is_dir());
+}

@@ -196,13 +196,75 @@ impl Evaluator {
         scene: &Scene,
         deadline: &Deadline,
     ) -> Result<(Scene, crate::physics::StabilityReport), EvalError> {
+        self.settle_with(scene, &self.sources, deadline)
+    }
+
+    /// [`Evaluator::settle`] with each object's support type as [`Evaluator::evaluate_scene`]
+    /// gets it: what the scene states; then, with a VLM ([`Evaluator::with_vlm`]) and a
+    /// renderer for the views it is shown, the VLM's answer for each object that states none;
+    /// then the category tables. Also returns where each object's support type came from and
+    /// why (`None` when no VLM was asked); an object whose question failed takes the tables'
+    /// type, and its provenance says why. The views go to `inputs.views_dir`, read with
+    /// `inputs.assets`; `inputs.deadline` bounds the simulation (feature `physics`).
+    ///
+    /// # Errors
+    /// As [`Evaluator::stability`].
+    #[cfg(feature = "physics")]
+    pub fn settle_scene(
+        &self,
+        scene: &Scene,
+        inputs: &SceneInputs<'_>,
+    ) -> Result<
+        (
+            Scene,
+            crate::physics::StabilityReport,
+            Option<Vec<ObjectPlacement>>,
+        ),
+        EvalError,
+    > {
+        let none = Deadline::none();
+        let deadline = inputs.deadline.unwrap_or(&none);
+        let asked = match &self.vlm {
+            Some(vlm) if self.wants_support_types() && !self.custom_sources => {
+                let session = Session::new(vlm.clone());
+                let views: Option<Box<dyn ObjectViews>> =
+                    match self.views(scene, inputs.assets, inputs.views_dir) {
+                        Ok(v) => v,
+                        Err(e) => Some(Box::new(FailedViews(Arc::new(e)))),
+                    };
+                Some(pollster::block_on(self.ask_placement(
+                    scene,
+                    &session,
+                    views.as_deref(),
+                )))
+            }
+            _ => None,
+        };
+        let Some(asked) = asked else {
+            let (settled, report) = self.settle_with(scene, &self.sources, deadline)?;
+            return Ok((settled, report, None));
+        };
+        // A failed question is in the objects' provenance; settling has no metric to mark.
+        let mut incomplete = Vec::new();
+        let (sources, placement) = self.placement_sources(scene, &asked, &mut incomplete);
+        let (settled, report) = self.settle_with(scene, &sources, deadline)?;
+        Ok((settled, report, Some(placement)))
+    }
+
+    /// [`Evaluator::settle`] with the support types of `sources`.
+    #[cfg(feature = "physics")]
+    fn settle_with(
+        &self,
+        scene: &Scene,
+        sources: &Sources,
+        deadline: &Deadline,
+    ) -> Result<(Scene, crate::physics::StabilityReport), EvalError> {
         let run = &self.stability;
-        let (poses, report) = run.metric.settle(
-            scene,
-            &run.support_types(scene, &self.sources),
-            &run.cache,
-            &|| deadline.expired(),
-        )?;
+        let (poses, report) =
+            run.metric
+                .settle(scene, &run.support_types(scene, sources), &run.cache, &|| {
+                    deadline.expired()
+                })?;
         let mut settled = scene.clone();
         for (i, pose) in poses.into_iter().enumerate() {
             // The simulation's poses are finite (a diverged one is an error above).
