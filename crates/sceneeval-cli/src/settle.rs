@@ -98,10 +98,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 .count()
         };
         eprintln!(
-            "support types: {} stated in the scene, {} answered by the VLM, {} from the category tables",
+            "support types: {} stated in the scene, {} answered by the VLM, {} from the category tables, {} unknown",
             count(PlacementSource::Scene),
             count(PlacementSource::Vlm),
-            count(PlacementSource::CategoryPrior) + count(PlacementSource::None)
+            count(PlacementSource::CategoryPrior),
+            count(PlacementSource::None)
         );
         for p in &placement {
             if let Some(s) = p.support_type.as_ref().filter(|s| s.source.is_fallback()) {

@@ -198,7 +198,7 @@ fn settle_asks_the_vlm_for_the_support_types_the_scene_does_not_state() {
     .stdout(predicate::str::contains("idx7_fixture.painting"))
     .stdout(predicate::str::contains("idx8_fixture.ceiling_lamp"))
     .stderr(predicate::str::contains(
-        "support types: 0 stated in the scene, 9 answered by the VLM, 0 from the category tables",
+        "support types: 0 stated in the scene, 9 answered by the VLM, 0 from the category tables, 0 unknown",
     ));
     // One support-type question per object, each shown its views; nothing else asked.
     let tasks: Vec<String> = server.bodies().iter().map(|b| task_of(b).to_owned()).collect();
