@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use sceneeval::io::{AssetLibrary, read_scene_state, write_scene_state};
 use sceneeval::physics::WeldMode;
-use sceneeval::{EvaluationPlan, Evaluator, Metric, PlacementSource, SceneInputs};
+use sceneeval::{EvaluationPlan, Evaluator, PlacementSource, SceneInputs};
 
 /// Arguments of `sceneeval settle`.
 #[derive(Debug, clap::Args)]
@@ -61,10 +61,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         v.render_size = args.render_size;
         v
     });
-    if vlm.is_some() {
-        // Settling asks only what stability uses: support types (no functional sides).
-        plan.metrics = vec![Metric::Stability];
-    }
     let mut evaluator = Evaluator::new(plan).context("invalid --plan")?;
     if let Some(vlm) = &vlm {
         let beside = args

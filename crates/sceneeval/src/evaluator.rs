@@ -227,15 +227,13 @@ impl Evaluator {
         let asked = match &self.vlm {
             Some(vlm) if self.wants_support_types() && !self.custom_sources => {
                 let session = Session::new(vlm.clone());
-                let views: Option<Box<dyn ObjectViews>> =
-                    match self.views(scene, inputs.assets, inputs.views_dir) {
-                        Ok(v) => v,
-                        Err(e) => Some(Box::new(FailedViews(Arc::new(e)))),
-                    };
+                let views = self.views_or_failure(scene, inputs);
+                // Settling uses support types only: no functional sides are asked.
                 Some(pollster::block_on(self.ask_placement(
                     scene,
                     &session,
                     views.as_deref(),
+                    false,
                 )))
             }
             _ => None,
@@ -418,13 +416,7 @@ impl Evaluator {
         }
         let session = self.vlm.clone().map(Session::new);
         let views: Option<Box<dyn ObjectViews>> = match &session {
-            Some(_) if row.is_some() || self.wants_vlm_sources() => {
-                match self.views(scene, inputs.assets, inputs.views_dir) {
-                    Ok(v) => v,
-                    // Every view then fails with the reason: what needs views is incomplete.
-                    Err(e) => Some(Box::new(FailedViews(Arc::new(e)))),
-                }
-            }
+            Some(_) if row.is_some() || self.wants_vlm_sources() => self.views_or_failure(scene, inputs),
             _ => None,
         };
 
@@ -439,7 +431,8 @@ impl Evaluator {
         let placement = async {
             match &session {
                 Some(s) if self.wants_vlm_sources() => {
-                    Some(self.ask_placement(scene, s, views.as_deref()).await)
+                    let sides = self.plan.runs(Metric::Accessibility);
+                    Some(self.ask_placement(scene, s, views.as_deref(), sides).await)
                 }
                 _ => None,
             }
@@ -618,13 +611,23 @@ impl Evaluator {
         Ok(None)
     }
 
-    /// Asks the VLM, together, the support types (with views) and functional sides the objects
-    /// do not state, for the metrics the plan runs.
+    /// [`Evaluator::views`] of the scene's inputs; views that cannot be made are a source
+    /// whose every view fails with the reason, so that what needs them is incomplete.
+    fn views_or_failure(&self, scene: &Scene, inputs: &SceneInputs<'_>) -> Option<Box<dyn ObjectViews>> {
+        match self.views(scene, inputs.assets, inputs.views_dir) {
+            Ok(v) => v,
+            Err(e) => Some(Box::new(FailedViews(Arc::new(e)))),
+        }
+    }
+
+    /// Asks the VLM, together, the support types (with views, when the plan's metrics use
+    /// them) and, with `sides`, the functional sides the objects do not state.
     async fn ask_placement(
         &self,
         scene: &Scene,
         session: &Session<SharedVlm>,
         views: Option<&dyn ObjectViews>,
+        sides: bool,
     ) -> AskedPlacement {
         let support = async {
             match views {
@@ -635,7 +638,7 @@ impl Evaluator {
             }
         };
         let sides = async {
-            match self.plan.runs(Metric::Accessibility) {
+            match sides {
                 true => Some(ask_functional_sides(scene, session, |o| o.functional_sides().is_some()).await),
                 false => None,
             }
@@ -712,7 +715,7 @@ impl Evaluator {
                             not_asked_support,
                         )
                     }),
-                    functional_sides: self.plan.runs(Metric::Accessibility).then(|| {
+                    functional_sides: asked.sides.is_some().then(|| {
                         let a = sources.functional_sides.functional_sides(scene, o);
                         provenance(
                             a,
