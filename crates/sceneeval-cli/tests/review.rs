@@ -513,6 +513,29 @@ mod browser {
                 .is_ok_and(|t| t.contains("<script>"))
         });
         assert!(tab.find_elements("#candidates script").is_err_or_empty());
+        // An edit not saved by hand is saved when another candidate opens: 7, from the
+        // rejected file, edited, then 6 opened from the list.
+        tab.wait_for_element("#candidates li[data-id=\"7\"]")
+            .unwrap()
+            .click()
+            .unwrap();
+        wait_for("candidate 7", || {
+            tab.find_element("#cand-title")
+                .and_then(|e| e.get_inner_text())
+                .is_ok_and(|t| t == "Candidate 7")
+        });
+        let description = tab.wait_for_element("#description").unwrap();
+        description.click().unwrap();
+        tab.press_key("End").unwrap();
+        tab.send_character(" Autosaved.").unwrap();
+        tab.wait_for_element("#candidates li[data-id=\"6\"]")
+            .unwrap()
+            .click()
+            .unwrap();
+        let rejected = dir.path().join("mine.csv.rejected.jsonl");
+        wait_for("the edit saved on leaving", || {
+            std::fs::read_to_string(&rejected).is_ok_and(|t| t.contains("A study with a desk. Autosaved."))
+        });
         tab.wait_for_element("#nav-stats").unwrap().click().unwrap();
         wait_for("the statistics", || {
             tab.find_element("#stats-table td")

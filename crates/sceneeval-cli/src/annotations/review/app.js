@@ -14,7 +14,9 @@ const KINDS = [
   { field: "oa_rel", name: "OARel", columns: ["quantifier", "count", "relationship", "object", "architecture (a,b,...)"] },
 ];
 
-const state = { list: [], current: null, candidate: null, validateTimer: null, validateSeq: 0 };
+// `dirty`: the open candidate has edits not saved yet (saved when another candidate opens or
+// the page is hidden or closed, so that a closed tab loses nothing).
+const state = { list: [], current: null, candidate: null, validateTimer: null, validateSeq: 0, dirty: false };
 
 function el(tag, attrs, text) {
   const e = document.createElement(tag);
@@ -207,7 +209,34 @@ function renderCandidate(detail) {
   renderFindings(detail.findings);
   $("editor").hidden = false;
   $("stats").hidden = true;
+  state.dirty = false;
   renderList();
+}
+
+// Saves the open candidate's edits, if any, before another view opens.
+async function saveIfDirty() {
+  if (!state.dirty || !state.candidate) return;
+  const id = state.candidate.id;
+  try {
+    await api("POST", "/api/save", { id, content: currentContent() });
+    state.dirty = false;
+    await loadList();
+    setStatus("Saved the edit of " + id + ".", false);
+  } catch (e) {
+    setStatus("The edit of " + id + " was not saved: " + e.message, true);
+  }
+}
+
+// The page is hidden or closed: the edits go out in a request that outlives the page.
+function flushOnHide() {
+  if (!state.dirty || !state.candidate) return;
+  state.dirty = false;
+  fetch("/api/save", {
+    method: "POST",
+    keepalive: true,
+    headers: { "X-Review-Token": TOKEN, "Content-Type": "application/json" },
+    body: JSON.stringify({ id: state.candidate.id, content: currentContent() }),
+  }).catch(() => {});
 }
 
 async function openCandidate(id) {
@@ -219,6 +248,7 @@ async function openCandidate(id) {
 }
 
 function scheduleValidate() {
+  state.dirty = true;
   clearTimeout(state.validateTimer);
   state.validateTimer = setTimeout(validateNow, 200);
 }
@@ -298,7 +328,8 @@ async function showStats() {
 
 // ---------------------------------------------------------------- routing and keys
 
-function route() {
+async function route() {
+  await saveIfDirty();
   const hash = location.hash;
   if (hash === "#/stats") {
     showStats();
@@ -329,5 +360,9 @@ $("difficulty").addEventListener("change", scheduleValidate);
 $("filter-state").addEventListener("change", renderList);
 $("filter-text").addEventListener("input", renderList);
 window.addEventListener("hashchange", route);
+window.addEventListener("pagehide", flushOnHide);
+document.addEventListener("visibilitychange", () => {
+  if (document.visibilityState === "hidden") flushOnHide();
+});
 
 loadList().then(route).catch(e => setStatus(e.message, true));
