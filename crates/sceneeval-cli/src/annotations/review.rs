@@ -28,7 +28,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::{Context, anyhow};
 use sceneeval::ErrorChain;
 use sceneeval::annotate::GenerateError;
-use sceneeval::annotate::review::{Candidate, ReviewError, ReviewState, ReviewStore, findings};
+use sceneeval::annotate::review::{
+    Candidate, CandidateSource, ReviewError, ReviewState, ReviewStore, findings,
+};
 use sceneeval::annotation::{Finding, Severity};
 use sceneeval::vlm::tasks::AnnotatedDescription;
 use serde::{Deserialize, Serialize};
@@ -86,7 +88,7 @@ impl From<ReviewError> for HttpError {
         let status = match &e {
             ReviewError::UnknownId(_) => 404,
             ReviewError::HasErrors { .. } => 409,
-            ReviewError::NoReason => 400,
+            ReviewError::NoReason | ReviewError::SameFile(_) => 400,
             ReviewError::File(GenerateError::Unwritable { .. }) => 422,
             _ => 500,
         };
@@ -273,10 +275,7 @@ impl App {
                 Summary {
                     id: &c.id,
                     state: c.state,
-                    from_rejected: !matches!(
-                        c.source,
-                        sceneeval::annotate::review::CandidateSource::File { .. }
-                    ),
+                    from_rejected: matches!(c.source, CandidateSource::Rejected { .. }),
                     difficulty: &c.content.difficulty,
                     description: &c.content.description,
                     errors: count(&f, Severity::Error),

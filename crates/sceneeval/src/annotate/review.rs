@@ -83,6 +83,9 @@ pub enum ReviewError {
         /// How many errors.
         errors: usize,
     },
+    /// The accepted file given is the reviewed file or its rejected file.
+    #[error("the accepted rows cannot go to {} (the reviewed file or its rejected file)", .0.display())]
+    SameFile(PathBuf),
     /// A rejection without a reason.
     #[error("a rejection needs a reason")]
     NoReason,
@@ -180,6 +183,9 @@ impl ReviewStore {
         })?;
         let rejected = read_rejected(&rejected_path(file))?;
         let accepted_file = accepted.map_or_else(|| accepted_path(file), Path::to_owned);
+        if [file.to_owned(), rejected_path(file)].contains(&accepted_file) {
+            return Err(ReviewError::SameFile(accepted_file));
+        }
         let accepted_rows = read_rows(&accepted_file)?;
         let decisions = read_rejected(&rejected_path(&accepted_file))?;
         let mut store = ReviewStore {
@@ -246,12 +252,9 @@ impl ReviewStore {
             let id = match &line.id {
                 Some(id) => id.clone(),
                 None => {
-                    while used.contains(&next.to_string()) || self.accepted.get(&next.to_string()).is_some() {
-                        next += 1;
-                    }
-                    let id = next.to_string();
-                    used.insert(id.clone());
-                    id
+                    // Above every integer ID of every file: never taken.
+                    next += 1;
+                    (next - 1).to_string()
                 }
             };
             out.push(self.candidate_of(
@@ -513,9 +516,9 @@ impl ReviewStore {
             return Err(ReviewError::NoReason);
         }
         let i = self.position(id)?;
-        if let Some(content) = content {
-            self.edit(id, content)?;
-        }
+        // Saved first even unchanged: a rejected candidate's line records its ID.
+        let content = content.unwrap_or_else(|| self.candidates[i].content.clone());
+        self.edit(id, content)?;
         self.unaccept(id)?;
         let content = self.candidates[i].content.clone();
         let line = RejectedCandidate {
@@ -731,6 +734,31 @@ mod tests {
         );
         let err = ReviewStore::open(&file.with_file_name("none.csv"), None).unwrap_err();
         assert!(crate::ErrorChain::new(&err).to_string().contains("none.csv"));
+    }
+
+    #[test]
+    fn a_rejected_candidate_keeps_the_id_it_was_rejected_with() {
+        let (_dir, file) = setup();
+        let mut store = ReviewStore::open(&file, None).unwrap();
+        store.reject("22", None, "not a hall").unwrap();
+        // A row added to the file later (by generate) with the next ID does not take it.
+        let mut rows = Annotations::read(&file).unwrap();
+        rows.rows.push(AnnotationRow::new(
+            "23",
+            crate::annotation::Difficulty::Easy,
+            "A loft.",
+        ));
+        write_rows(&file, &rows).unwrap();
+        let store = ReviewStore::open(&file, None).unwrap();
+        let c = store.candidate("22").unwrap();
+        assert_eq!(
+            (c.state, c.source),
+            (ReviewState::Rejected, CandidateSource::Rejected { line: 0 })
+        );
+        assert_eq!(store.candidate("23").unwrap().state, ReviewState::Pending);
+        // The accepted rows cannot go to the reviewed file.
+        let err = ReviewStore::open(&file, Some(&file)).unwrap_err();
+        assert!(matches!(err, ReviewError::SameFile(_)), "{err}");
     }
 
     #[test]
