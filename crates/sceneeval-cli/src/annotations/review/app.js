@@ -311,7 +311,7 @@ async function showStats() {
   $("stats").hidden = false;
   try {
     const data = await api("GET", "/api/stats");
-    $("stats-rows").textContent = data.rows + " accepted row(s) (as `sceneeval annotations stats` prints them).";
+    $("stats-rows").textContent = data.rows + " accepted row(s), as sceneeval annotations stats prints them.";
     const table = $("stats-table");
     table.replaceChildren();
     // The Markdown table of `annotations stats`, one cell per `|`-separated part.
