@@ -193,6 +193,37 @@ fn examples(dir: &Path) -> std::path::PathBuf {
 }
 
 #[test]
+fn annotate_draws_its_examples_with_the_seed() {
+    // One example of the two easy rows, drawn with the seed as `generate` draws them: the
+    // same seed shows the same one, and over seeds 0..8 both are shown.
+    let dir = tempfile::tempdir().unwrap();
+    let examples = examples(dir.path());
+    let shown = |seed: &str| {
+        let server = server(vec![good()]);
+        sceneeval(
+            &server,
+            &[
+                "annotate",
+                DESCRIPTION,
+                "--difficulty",
+                "easy",
+                "--examples",
+                examples.to_str().unwrap(),
+            ],
+        )
+        .args(["--examples-per-request", "1", "--seed", seed])
+        .assert()
+        .success();
+        let text = user_text(&server.bodies()[0]).to_owned();
+        assert!(text.contains("Here are 1 manually annotated examples"), "{text}");
+        text.contains("A kitchen with a fridge")
+    };
+    let kitchen: Vec<bool> = (0..8).map(|seed| shown(&seed.to_string())).collect();
+    assert!(kitchen.contains(&true) && kitchen.contains(&false), "{kitchen:?}");
+    assert_eq!(shown("3"), kitchen[3]);
+}
+
+#[test]
 fn generate_filters_near_duplicates_and_resumes() {
     let dir = tempfile::tempdir().unwrap();
     let examples = examples(dir.path());

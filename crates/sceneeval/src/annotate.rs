@@ -36,6 +36,8 @@
 //! assert_eq!(row.oa_rel[0].to_string(), "eq,1,against,bed,wall");
 //! ```
 
+pub mod review;
+
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -142,6 +144,29 @@ pub fn example_of(row: &AnnotationRow) -> AnnotatedDescription {
     }
 }
 
+/// `k` in-context examples drawn from `rows` with rand's Xoshiro256++ seeded with `seed`: rows
+/// of `level` (all rows when `level` is `None` or no row has it), `k` of them (all when fewer)
+/// in the order of a partial Fisher-Yates shuffle. The draw of both [`generate`] (seed
+/// `S + n` for its n-th candidate) and `sceneeval annotations annotate --examples`.
+pub fn draw_examples(
+    rows: &[AnnotationRow],
+    level: Option<AnnotationLevel>,
+    k: usize,
+    seed: u64,
+) -> Vec<AnnotatedDescription> {
+    let mut pool: Vec<&AnnotationRow> = rows
+        .iter()
+        .filter(|r| level.is_some() && level_of(&r.difficulty) == level)
+        .collect();
+    if pool.is_empty() {
+        pool = rows.iter().collect();
+    }
+    let k = k.min(pool.len());
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let (drawn, _) = pool.partial_shuffle(&mut rng, k);
+    drawn.iter().map(|r| example_of(r)).collect()
+}
+
 /// The level of a row's difficulty, if it is one of the three.
 fn level_of(difficulty: &Difficulty) -> Option<AnnotationLevel> {
     match difficulty {
@@ -185,11 +210,21 @@ pub enum RejectReason {
         /// The problems.
         detail: String,
     },
+    /// A person rejected it in the review ([`review`]).
+    Reviewer {
+        /// The reviewer's reason.
+        note: String,
+    },
 }
 
 /// A candidate that was not accepted: one line of the rejected file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RejectedCandidate {
+    /// The row ID the candidate has: given by the reviewer ([`review`]) to a candidate it
+    /// edited or decided on, and on the lines of the review's own rejected file; `None` (left
+    /// out of the line) for a candidate of `generate` no one touched.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<String>,
     /// The difficulty asked for (`None`: left to the model).
     pub difficulty: Option<String>,
     /// The model's last answer that followed the schema, if any.
@@ -229,6 +264,7 @@ fn rejected(
         _ => RejectReason::Unusable { detail: reason },
     };
     RejectedCandidate {
+        id: None,
         difficulty: difficulty.map(|d| d.name().to_owned()),
         candidate,
         reason,
@@ -424,7 +460,7 @@ pub struct GenerateSummary {
 struct Run<'o> {
     options: &'o GenerateOptions,
     rows: Annotations,
-    rejected_lines: Vec<String>,
+    rejected_lines: Vec<RejectedCandidate>,
     index: DescriptionIndex,
     /// The ID of each description of `index`, in order.
     index_ids: Vec<String>,
@@ -447,33 +483,8 @@ fn max_id(rows: &[AnnotationRow]) -> Option<u64> {
 impl<'o> Run<'o> {
     fn open(options: &'o GenerateOptions, examples: &Annotations) -> Result<Self, GenerateError> {
         let out = &options.out;
-        let rows = if out.exists() {
-            Annotations::read(out).map_err(|source| GenerateError::Read {
-                path: out.clone(),
-                source,
-            })?
-        } else {
-            Annotations::new()
-        };
-        let rejected_file = rejected_path(out);
-        let mut rejected_lines = Vec::new();
-        if rejected_file.exists() {
-            let text =
-                std::fs::read_to_string(&rejected_file).map_err(|source| GenerateError::ReadRejected {
-                    path: rejected_file.clone(),
-                    source,
-                })?;
-            for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-                serde_json::from_str::<RejectedCandidate>(line).map_err(|source| {
-                    GenerateError::RejectedFile {
-                        path: rejected_file.clone(),
-                        line: i + 1,
-                        source,
-                    }
-                })?;
-                rejected_lines.push(line.to_owned());
-            }
-        }
+        let rows = read_rows(out)?;
+        let rejected_lines = read_rejected(&rejected_path(out))?;
         let mut index = DescriptionIndex::new(options.threshold);
         let mut index_ids = Vec::new();
         for row in examples.rows.iter().chain(&rows.rows) {
@@ -484,7 +495,20 @@ impl<'o> Run<'o> {
         for row in &rows.rows {
             push_bounded(&mut recent, row.description.clone());
         }
-        let next_id = match max_id(&rows.rows) {
+        // The descriptions an earlier run rejected as too similar: the next request still
+        // asks for more variety than them.
+        let mut too_similar = VecDeque::new();
+        for line in &rejected_lines {
+            if let (RejectReason::TooSimilar { .. }, Some(c)) = (&line.reason, &line.candidate) {
+                push_bounded(&mut too_similar, c.description.clone());
+            }
+        }
+        // IDs the review gave to rejected candidates are taken too.
+        let rejected_ids = rejected_lines
+            .iter()
+            .filter_map(|l| l.id.as_deref()?.parse::<u64>().ok())
+            .max();
+        let next_id = match max_id(&rows.rows).max(rejected_ids) {
             Some(id) => id + 1,
             None if !rows.rows.is_empty() => rows.rows.len() as u64,
             None => options
@@ -498,7 +522,7 @@ impl<'o> Run<'o> {
             index,
             index_ids,
             recent,
-            too_similar: VecDeque::new(),
+            too_similar,
             next_id,
         })
     }
@@ -535,36 +559,95 @@ impl<'o> Run<'o> {
     }
 
     fn save_rows(&self) -> Result<(), GenerateError> {
-        let out = &self.options.out;
-        let is_json = out
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-        let unwritable = |source| GenerateError::Unwritable {
-            id: self.rows.rows.last().map(|r| r.id.clone()).unwrap_or_default(),
-            source,
-        };
-        let text = if is_json {
-            self.rows.to_json_string().map_err(unwritable)? + "\n"
-        } else {
-            self.rows.to_csv_string().map_err(unwritable)?
-        };
-        crate::write_atomic(out, text.as_bytes())?;
-        Ok(())
-    }
-
-    fn save_rejected(&self) -> Result<(), GenerateError> {
-        let mut text = self.rejected_lines.join("\n");
-        text.push('\n');
-        crate::write_atomic(&rejected_path(&self.options.out), text.as_bytes())?;
-        Ok(())
+        write_rows(&self.options.out, &self.rows)
     }
 
     fn reject(&mut self, candidate: &RejectedCandidate) -> Result<(), GenerateError> {
-        let line = serde_json::to_string(candidate)?;
-        self.rejected_lines.push(line);
-        self.save_rejected()
+        self.rejected_lines.push(candidate.clone());
+        write_rejected(&rejected_path(&self.options.out), &self.rejected_lines)
     }
+}
+
+/// The rows of an annotation file ([`Annotations::read`]: JSON for `.json`, CSV otherwise);
+/// none when the file does not exist.
+///
+/// # Errors
+/// [`GenerateError::Read`] naming the file.
+pub fn read_rows(path: &Path) -> Result<Annotations, GenerateError> {
+    if !path.exists() {
+        return Ok(Annotations::new());
+    }
+    Annotations::read(path).map_err(|source| GenerateError::Read {
+        path: path.to_owned(),
+        source,
+    })
+}
+
+/// Writes `rows` to `path` atomically ([`crate::write_atomic`]), in the JSON form for `.json`
+/// and as CSV otherwise.
+///
+/// # Errors
+/// [`GenerateError::Unwritable`] when a row would not read back unchanged (naming the last
+/// row's ID), [`GenerateError::Write`] when the file cannot be written.
+pub fn write_rows(path: &Path, rows: &Annotations) -> Result<(), GenerateError> {
+    let is_json = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let unwritable = |source| GenerateError::Unwritable {
+        id: rows.rows.last().map(|r| r.id.clone()).unwrap_or_default(),
+        source,
+    };
+    let text = if is_json {
+        rows.to_json_string().map_err(unwritable)? + "\n"
+    } else {
+        rows.to_csv_string().map_err(unwritable)?
+    };
+    crate::write_atomic(path, text.as_bytes())?;
+    Ok(())
+}
+
+/// The lines of a rejected file (`OUT.rejected.jsonl`, [`rejected_path`]), blank lines
+/// skipped; none when the file does not exist.
+///
+/// # Errors
+/// [`GenerateError::ReadRejected`] when it cannot be read, [`GenerateError::RejectedFile`]
+/// naming the file and the line that is not a [`RejectedCandidate`].
+pub fn read_rejected(path: &Path) -> Result<Vec<RejectedCandidate>, GenerateError> {
+    if !path.exists() {
+        return Ok(Vec::new());
+    }
+    let text = std::fs::read_to_string(path).map_err(|source| GenerateError::ReadRejected {
+        path: path.to_owned(),
+        source,
+    })?;
+    let mut lines = Vec::new();
+    for (i, line) in text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        let candidate = serde_json::from_str::<RejectedCandidate>(line).map_err(|source| {
+            GenerateError::RejectedFile {
+                path: path.to_owned(),
+                line: i + 1,
+                source,
+            }
+        })?;
+        lines.push(candidate);
+    }
+    Ok(lines)
+}
+
+/// Writes `lines` to the rejected file `path` atomically ([`crate::write_atomic`]), one JSON
+/// object per line.
+///
+/// # Errors
+/// [`GenerateError::Json`] or [`GenerateError::Write`].
+pub fn write_rejected(path: &Path, lines: &[RejectedCandidate]) -> Result<(), GenerateError> {
+    let mut text = String::new();
+    for line in lines {
+        text.push_str(&serde_json::to_string(line)?);
+        text.push('\n');
+    }
+    crate::write_atomic(path, text.as_bytes())?;
+    Ok(())
 }
 
 /// New descriptions with their annotations, the paper's process: each request shows
@@ -590,11 +673,6 @@ pub fn generate<V: Vlm>(
             "examples per request must be at least 1".to_owned(),
         ));
     }
-    let pool: Vec<(Option<AnnotationLevel>, AnnotatedDescription)> = examples
-        .rows
-        .iter()
-        .map(|r| (level_of(&r.difficulty), example_of(r)))
-        .collect();
     let mut run = Run::open(options, examples)?;
     let existing = run.rows.rows.len();
     on_event(&GenerateEvent::Started {
@@ -608,18 +686,12 @@ pub fn generate<V: Vlm>(
         let level = options
             .difficulty
             .unwrap_or(AnnotationLevel::ALL[(n % 3) as usize]);
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(options.seed.wrapping_add(n));
-        let mut same_level: Vec<&AnnotatedDescription> = pool
-            .iter()
-            .filter(|(l, _)| *l == Some(level))
-            .map(|(_, e)| e)
-            .collect();
-        if same_level.is_empty() {
-            same_level = pool.iter().map(|(_, e)| e).collect();
-        }
-        let k = options.examples_per_request.min(same_level.len());
-        let (drawn, _) = same_level.partial_shuffle(&mut rng, k);
-        let shown: Vec<AnnotatedDescription> = drawn.iter().map(|e| (*e).clone()).collect();
+        let shown = draw_examples(
+            &examples.rows,
+            Some(level),
+            options.examples_per_request,
+            options.seed.wrapping_add(n),
+        );
         let task = AnnotationTask::generate(level, run.instruction())
             .with_examples(shown)
             .with_checker(entry_checker(CheckScope::Generated));
@@ -629,6 +701,7 @@ pub fn generate<V: Vlm>(
             AnnotateOutcome::Accepted { row, attempt } => {
                 if let Some(near) = run.index.too_similar(&row.description) {
                     let candidate = RejectedCandidate {
+                        id: None,
                         difficulty: Some(level.name().to_owned()),
                         candidate: Some(example_of(&row)),
                         reason: RejectReason::TooSimilar {
@@ -835,12 +908,12 @@ mod tests {
         let rows = Annotations::read(&out).unwrap();
         assert_eq!(rows.ids().collect::<Vec<_>>(), ["13", "14"]);
         assert!(rows.validate().is_empty());
-        // Its request named the first row.
-        assert!(
-            vlm.requests()[0]
-                .user_text
-                .contains("\"A study with a desk and a chair.\"")
-        );
+        // Its request named the first row, and still asked for more variety than the
+        // description the first run rejected as too similar (read back from the rejected file).
+        let text = &vlm.requests()[0].user_text;
+        assert!(text.contains("\"A study with a desk and a chair.\""));
+        assert!(text.contains("rejected as too similar"), "{text}");
+        assert!(text.contains("\"A bedroom with beds and a wardrobe.\""), "{text}");
         assert_eq!(
             std::fs::read_to_string(rejected_path(&out))
                 .unwrap()
@@ -848,6 +921,19 @@ mod tests {
                 .count(),
             2
         );
+    }
+
+    #[test]
+    fn the_draw_without_a_level_takes_every_row() {
+        let rows = examples().rows;
+        let all = draw_examples(&rows, None, 5, 0);
+        assert_eq!(all.len(), 3);
+        let medium = draw_examples(&rows, Some(AnnotationLevel::Medium), 5, 0);
+        assert_eq!(medium.len(), 1);
+        assert!(medium[0].description.starts_with("A den"));
+        // No hard row: every row is a candidate.
+        assert_eq!(draw_examples(&rows, Some(AnnotationLevel::Hard), 2, 9).len(), 2);
+        assert_eq!(draw_examples(&rows, None, 2, 4), draw_examples(&rows, None, 2, 4));
     }
 
     #[test]

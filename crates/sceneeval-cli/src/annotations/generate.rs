@@ -9,12 +9,12 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sceneeval::SharedVlm;
 use sceneeval::annotate::{
     AnnotateOutcome, DEFAULT_EXAMPLES_PER_REQUEST, GenerateEvent, GenerateOptions, RejectedCandidate,
-    example_of, rejected_path,
+    draw_examples, rejected_path,
 };
 use sceneeval::annotation::Annotations;
 use sceneeval::annotation::similarity::DEFAULT_THRESHOLD;
 use sceneeval::vlm::Session;
-use sceneeval::vlm::tasks::{AnnotatedDescription, AnnotationLevel};
+use sceneeval::vlm::tasks::AnnotationLevel;
 
 use crate::evaluate::OptionError;
 use crate::vlm::VlmArgs;
@@ -37,6 +37,9 @@ pub struct AnnotateArgs {
     /// In-context examples shown.
     #[arg(long, default_value_t = DEFAULT_EXAMPLES_PER_REQUEST, value_name = "K")]
     pub examples_per_request: usize,
+    /// Seed of the draw of in-context examples (the same draw as `generate`'s).
+    #[arg(long = "seed", id = "example_seed", default_value_t = 0, value_name = "S")]
+    pub example_seed: u64,
     /// The VLM (required: `--vlm-base-url`, `--vlm-model`).
     #[command(flatten)]
     pub vlm: VlmArgs,
@@ -96,26 +99,6 @@ fn read(file: &std::path::Path) -> anyhow::Result<Annotations> {
     Annotations::read(file).with_context(|| format!("cannot read annotation file {}", file.display()))
 }
 
-/// The first `k` rows of `file` of `level` (all rows when it has none of that level) as
-/// examples.
-fn examples_for(
-    file: &std::path::Path,
-    level: Option<AnnotationLevel>,
-    k: usize,
-) -> anyhow::Result<Vec<AnnotatedDescription>> {
-    let rows = read(file)?.rows;
-    let of_level: Vec<_> = rows
-        .iter()
-        .filter(|r| level.is_some_and(|l| r.difficulty.as_str() == l.name()))
-        .collect();
-    let pool = if of_level.is_empty() {
-        rows.iter().collect()
-    } else {
-        of_level
-    };
-    Ok(pool.into_iter().take(k).map(example_of).collect())
-}
-
 fn print_rejected(candidate: &RejectedCandidate) {
     eprintln!(
         "rejected: {}",
@@ -127,7 +110,12 @@ fn print_rejected(candidate: &RejectedCandidate) {
 /// candidate on standard error with exit status 1.
 pub fn annotate(args: AnnotateArgs) -> anyhow::Result<ExitCode> {
     let examples = match &args.examples {
-        Some(file) => examples_for(file, args.difficulty, args.examples_per_request)?,
+        Some(file) => draw_examples(
+            &read(file)?.rows,
+            args.difficulty,
+            args.examples_per_request,
+            args.example_seed,
+        ),
         None => Vec::new(),
     };
     let vlm = model(&args.vlm, "annotate")?;

@@ -1,8 +1,9 @@
-//! `sceneeval annotations check|stats|annotate|generate`: validate a SceneEval-500 annotation
-//! file, print its statistics (the paper's Table 1), or make annotation rows with a model
-//! (`generate.rs`).
+//! `sceneeval annotations check|stats|annotate|generate|review`: validate a SceneEval-500
+//! annotation file, print its statistics (the paper's Table 1), make annotation rows with a
+//! model (`generate.rs`), or review generated candidates in a local web page (`review.rs`).
 
 mod generate;
+mod review;
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -42,6 +43,11 @@ pub enum Command {
     /// examples, validation, a near-duplicate filter), appending accepted rows to `--out` and
     /// rejected candidates to OUT.rejected.jsonl; a re-run continues.
     Generate(Box<generate::GenerateArgs>),
+    /// Review candidates (the rows of FILE, typically `generate`'s output, and the candidates
+    /// of FILE.rejected.jsonl) in a local web page: edit, accept, reject. Serves 127.0.0.1 only
+    /// and prints the URL; every decision is written at once (accepted rows to
+    /// FILE.accepted.EXT, rejected ones to its .rejected.jsonl), so a second run continues.
+    Review(Box<review::ReviewArgs>),
 }
 
 /// The JSON document of `check --json`.
@@ -63,6 +69,7 @@ pub fn run(cmd: Command) -> anyhow::Result<ExitCode> {
         Command::Stats { file, json } => stats(&file, json, &mut out)?,
         Command::Annotate(args) => generate::annotate(*args)?,
         Command::Generate(args) => generate::generate(*args)?,
+        Command::Review(args) => review::review(*args)?,
     };
     out.flush().context("writing to standard output")?;
     Ok(code)
