@@ -14,7 +14,7 @@
 //! decomposition cache (`--cache DIR`: an empty folder; default in memory), then a second pass
 //! over the same variants reusing it. Support types are the ones the scene files state.
 //!
-//! `--heavy` refurnishes five of the twelve rooms with generated furniture of 9,600 to 38,880
+//! `--heavy` refurnishes five of the twelve rooms with generated furniture of 9,600 to 40,048
 //! triangles (`sceneeval_benches::heavy`): the rooms "with real furniture meshes" of the
 //! issue's target. `--export-fork DIR` writes, instead of evaluating, what the SceneSmith fork's
 //! metric needs for each room (`DIR/scene_N/manifest.json`: the scene file, each object's
