@@ -4,7 +4,8 @@
 //! fork takes about 1,800 s for twelve small rooms over its four variants).
 //!
 //! ```text
-//! stability-rooms [--fixtures DIR] [--cache DIR] [--threads T] [--time-step S] [--verbose]
+//! stability-rooms [--fixtures DIR] [--heavy] [--cache DIR] [--threads T] [--time-step S] [--verbose]
+//! stability-rooms [--fixtures DIR] [--heavy] --export-fork DIR
 //! stability-rooms --scaling boxes|mesh8k N
 //! ```
 //!
@@ -12,6 +13,13 @@
 //! seconds) and the totals: the first pass over the four variants with an empty
 //! decomposition cache (`--cache DIR`: an empty folder; default in memory), then a second pass
 //! over the same variants reusing it. Support types are the ones the scene files state.
+//!
+//! `--heavy` refurnishes five of the twelve rooms with generated furniture of 9,600 to 40,048
+//! triangles (`sceneeval_benches::heavy`): the rooms "with real furniture meshes" of the
+//! issue's target. `--export-fork DIR` writes, instead of evaluating, what the SceneSmith fork's
+//! metric needs for each room (`DIR/scene_N/manifest.json`: the scene file, each object's
+//! world-space mesh as an OBJ file and its support type), read by `benches/fork/
+//! run_fork_stability.py`.
 //!
 //! `--scaling KIND N` instead evaluates the benchmark's scaling room of `N` objects
 //! (`sceneeval_test_support::scenes::scaling_scene`, support types from the category tables)
@@ -45,6 +53,8 @@ fn run() -> Result<(), String> {
     let mut threads = None;
     let mut verbose = false;
     let mut scaling = None;
+    let mut heavy = false;
+    let mut export = None;
     let mut time_step_s = StabilityParams::default().time_step_s;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -53,6 +63,8 @@ fn run() -> Result<(), String> {
             "--fixtures" => fixtures = PathBuf::from(value()?),
             "--cache" => cache_dir = Some(PathBuf::from(value()?)),
             "--verbose" => verbose = true,
+            "--heavy" => heavy = true,
+            "--export-fork" => export = Some(PathBuf::from(value()?)),
             "--time-step" => time_step_s = value()?.parse::<f64>().map_err(|e| e.to_string())?,
             "--scaling" => {
                 let kind = value()?;
@@ -86,6 +98,26 @@ fn run() -> Result<(), String> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     println!("loaded 12 scenes in {:.3} s", load.elapsed().as_secs_f64());
+    let scenes = if heavy {
+        let t = Instant::now();
+        let (scenes, replaced) = sceneeval_benches::heavy::heavy_rooms(&scenes).map_err(|e| e.to_string())?;
+        let triangles: usize = scenes
+            .iter()
+            .flat_map(|s| s.objects())
+            .map(|o| o.mesh().triangles().len())
+            .sum();
+        println!(
+            "refurnished rooms {:?}: {replaced} objects replaced, {triangles} triangles in the twelve rooms, in {:.3} s",
+            sceneeval_benches::heavy::HEAVY_ROOMS,
+            t.elapsed().as_secs_f64()
+        );
+        scenes
+    } else {
+        scenes
+    };
+    if let Some(dir) = export {
+        return export_for_fork(&fixtures, &scenes, &dir);
+    }
     let cache = match cache_dir {
         Some(d) => DecompositionCache::on_disk(d).map_err(|e| e.to_string())?,
         None => DecompositionCache::in_memory(),
@@ -112,13 +144,15 @@ fn run() -> Result<(), String> {
                     .filter(|o| !o.stable)
                     .map(|o| o.id.as_str())
                     .collect();
+                let pieces: usize = r.objects.iter().map(|o| o.body.pieces).sum();
                 println!(
-                    "{pass:10} {:13} {:9}: {:3} objects, {:3} free, {:2} unstable, {:.3} s simulated in {:5} steps, {:.3} s  {:?}",
+                    "{pass:10} {:13} {:9}: {:3} objects, {:3} free, {:2} unstable, {:4} pieces, {:.3} s simulated in {:5} steps, {:.3} s  {:?}",
                     weld.name(),
                     scene.id().unwrap_or("?"),
                     r.objects.len(),
                     r.num_free,
                     r.num_unstable,
+                    pieces,
                     r.simulated_s,
                     r.steps,
                     t.elapsed().as_secs_f64(),
@@ -154,6 +188,54 @@ fn run() -> Result<(), String> {
         );
     }
     Ok(())
+}
+
+/// Writes `dir/scene_N/manifest.json` and `dir/scene_N/objects/K.obj` for each room: the
+/// input of `benches/fork/run_fork_stability.py`, which loads them as the fork's `Scene` does
+/// (world-space meshes, architecture from the scene file).
+fn export_for_fork(
+    fixtures: &std::path::Path,
+    scenes: &[sceneeval_scene::Scene],
+    dir: &std::path::Path,
+) -> Result<(), String> {
+    use std::fmt::Write as _;
+    for (n, scene) in scenes.iter().enumerate() {
+        let room = dir.join(format!("scene_{n}"));
+        std::fs::create_dir_all(room.join("objects")).map_err(|e| format!("{}: {e}", room.display()))?;
+        let mut objects = Vec::new();
+        for (k, o) in scene.objects().iter().enumerate() {
+            let mut obj = String::new();
+            for p in o.mesh().vertices() {
+                let w = o.pose() * p;
+                let _ = writeln!(obj, "v {} {} {}", w.x, w.y, w.z);
+            }
+            for t in o.mesh().triangles() {
+                let _ = writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+            }
+            let name = format!("objects/{k}.obj");
+            write_file(&room.join(&name), obj.as_bytes())?;
+            objects.push(serde_json::json!({
+                "id": o.id().as_str(),
+                "mesh": name,
+                "triangles": o.mesh().triangles().len(),
+                "support": o.support_type().map(|s| s.name()),
+            }));
+        }
+        let scene_file = std::path::absolute(fixtures.join(format!("scenes/scene_{n}.json")))
+            .map_err(|e| e.to_string())?;
+        let manifest = serde_json::json!({ "scene": scene_file, "objects": objects });
+        let text = serde_json::to_string_pretty(&manifest).map_err(|e| e.to_string())?;
+        write_file(&room.join("manifest.json"), text.as_bytes())?;
+    }
+    println!("wrote {} rooms under {}", scenes.len(), dir.display());
+    Ok(())
+}
+
+/// Writes through a temporary name in the same folder and an atomic rename.
+fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
+    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn scaling_room(kind: &str, n: usize) -> Result<(), String> {

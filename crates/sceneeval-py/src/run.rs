@@ -135,7 +135,7 @@ pub fn asset_specs(assets: Option<BTreeMap<String, PathBuf>>) -> Vec<String> {
 
 /// The `vlm=` dict as the request's VLM options: the keys are the fields of
 /// [`VlmOptions`] (unknown keys are refused); `cache` may be any path-like.
-fn vlm_options(vlm: &Bound<'_, PyDict>) -> PyResult<VlmOptions> {
+pub(crate) fn vlm_options(vlm: &Bound<'_, PyDict>) -> PyResult<VlmOptions> {
     let rest = vlm.copy()?;
     let cache: Option<PathBuf> = match rest.get_item("cache")? {
         Some(c) if !c.is_none() => Some(

@@ -16,12 +16,12 @@ use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
 use sceneeval::physics::WeldMode;
 use sceneeval::relations::{Query, Relation, SceneRelations};
 use sceneeval::scene::{Category, Room, Scene, SceneObject};
-use sceneeval::{Deadline, EvaluationPlan, Evaluator, PlanRequest};
+use sceneeval::{Deadline, EvaluationPlan, Evaluator, ObjectPlacement, PlanRequest, SceneInputs};
 
 use crate::convert::{rows, to_json, to_python};
 use crate::errors::{chain, detached, eval_error, relation_error, scene_error, value_error};
 use crate::relations::{BOX_COLUMNS, obbs_from_rows, relation_params, room_from_json, room_spec};
-use crate::run::{asset_specs, metrics_of, plan_and_preset, request_error};
+use crate::run::{asset_specs, metrics_of, plan_and_preset, request_error, vlm_options};
 
 /// A scene: objects (boxes or meshes) and rooms with walls, doors and windows.
 ///
@@ -43,6 +43,49 @@ impl PyScene {
         PyScene {
             scene: RwLock::new(scene),
         }
+    }
+
+    /// What `stability` and `settle` share: the settled scene and the report (with
+    /// `placement` when the VLM was asked), support types as [`Evaluator::settle_scene`] gets
+    /// them.
+    fn settled<'py>(
+        &self,
+        py: Python<'py>,
+        plan: Option<PathBuf>,
+        weld: Option<&str>,
+        vlm: Option<&Bound<'py, PyDict>>,
+        assets: Option<BTreeMap<String, PathBuf>>,
+    ) -> PyResult<(PyScene, Bound<'py, PyAny>)> {
+        let (evaluator, deadline) = stability_evaluator(plan, weld)?;
+        let library = asset_library(assets)?;
+        // Without vlm["cache"] the answers go to a folder removed when the call returns.
+        let (evaluator, _answers) = match vlm.map(vlm_options).transpose()? {
+            Some(options) => {
+                let answers = match options.cache {
+                    Some(_) => None,
+                    None => Some(tempfile::tempdir().map_err(|e| {
+                        value_error(format!("vlm: cannot make a folder for the answers: {e}"))
+                    })?),
+                };
+                let out = answers.as_ref().map_or(std::path::Path::new("."), |d| d.path());
+                let evaluator = options.attach(evaluator, out).map_err(|e| request_error(&e))?;
+                (evaluator, answers)
+            }
+            None => (evaluator, None),
+        };
+        let (settled, report, placement) = detached(py, || {
+            self.with_scene(|scene| {
+                let inputs = SceneInputs {
+                    assets: Some(&library),
+                    deadline: Some(&deadline),
+                    ..SceneInputs::default()
+                };
+                evaluator.settle_scene(scene, &inputs)
+            })
+            .map_err(|e| eval_error(&e))
+        })?;
+        let report = to_python(py, &StabilityWithPlacement { report, placement })?;
+        Ok((PyScene::new(settled), report))
     }
 
     /// `f` applied to the scene, read-locked (`f` must not call Python).
@@ -117,6 +160,16 @@ fn stability_evaluator(plan: Option<PathBuf>, weld: Option<&str>) -> PyResult<(E
     let deadline = plan.deadline();
     let evaluator = Evaluator::new(plan).map_err(|e| value_error(format!("plan: {}", chain(&e))))?;
     Ok((evaluator, deadline))
+}
+
+/// What `Scene.stability` returns: the stability report, and with a VLM where each object's
+/// support type came from.
+#[derive(Debug, serde::Serialize)]
+struct StabilityWithPlacement {
+    #[serde(flatten)]
+    report: sceneeval::physics::StabilityReport,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    placement: Option<Vec<ObjectPlacement>>,
 }
 
 /// An asset library from `{prefix: folder}` (a folder may be written `LAYOUT:folder`).
@@ -482,42 +535,44 @@ impl PyScene {
     /// plan: the path of a plan file whose stability section (and time budget) applies;
     /// weld: "architectural" (default: objects on walls and ceilings are fixed in place),
     /// "penetration", "combined" or "none", replacing the plan's. Support types come from
-    /// what the objects state, then the category tables. The scene is not moved. Computed
-    /// with the GIL released.
+    /// what the objects state, then (with vlm) the VLM's answer for each object that states
+    /// none, then the category tables, as evaluate() gets them. vlm: the OpenAI-compatible
+    /// endpoint asked, the same dict as evaluate()'s vlm (base_url, model, api_key_env,
+    /// cache, render_size, ...); its answers are cached in vlm["cache"] when given (else
+    /// kept for this call only), and the report then has placement: for each object, where
+    /// its support type came from and why (eval.json's report.placement). assets: as for
+    /// load_scene, the library the VLM's object views are drawn from (their materials;
+    /// default: plain colours). The scene is not moved. Computed with the GIL released.
     ///
-    /// Raises ValueError for a bad plan or weld mode, SceneEvalError when the scene cannot
-    /// be simulated (no room, hence no floor; the time budget ran out).
-    #[pyo3(signature = (*, plan=None, weld=None))]
+    /// Raises ValueError for a bad plan, weld mode, vlm dict or assets mapping (the message
+    /// starts with the keyword at fault, `vlm["model"]: ...`), SceneEvalError when the
+    /// scene cannot be simulated (no room, hence no floor; the time budget ran out).
+    #[pyo3(signature = (*, plan=None, weld=None, vlm=None, assets=None))]
     fn stability<'py>(
         &self,
         py: Python<'py>,
         plan: Option<PathBuf>,
         weld: Option<&str>,
+        vlm: Option<Bound<'py, PyDict>>,
+        assets: Option<BTreeMap<String, PathBuf>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (evaluator, deadline) = stability_evaluator(plan, weld)?;
-        let report = detached(py, || {
-            self.with_scene(|scene| evaluator.stability(scene, &deadline))
-                .map_err(|e| eval_error(&e))
-        })?;
-        to_python(py, &report)
+        let (_settled, report) = self.settled(py, plan, weld, vlm.as_ref(), assets)?;
+        Ok(report)
     }
 
     /// Simulates the scene as stability() does and returns (settled, report): a new Scene
     /// with every object at its pose after the simulation (fixed objects where they were),
     /// and the report. This scene is not moved. Arguments and errors as stability().
-    #[pyo3(signature = (*, plan=None, weld=None))]
+    #[pyo3(signature = (*, plan=None, weld=None, vlm=None, assets=None))]
     fn settle<'py>(
         &self,
         py: Python<'py>,
         plan: Option<PathBuf>,
         weld: Option<&str>,
+        vlm: Option<Bound<'py, PyDict>>,
+        assets: Option<BTreeMap<String, PathBuf>>,
     ) -> PyResult<(PyScene, Bound<'py, PyAny>)> {
-        let (evaluator, deadline) = stability_evaluator(plan, weld)?;
-        let (settled, report) = detached(py, || {
-            self.with_scene(|scene| evaluator.settle(scene, &deadline))
-                .map_err(|e| eval_error(&e))
-        })?;
-        Ok((PyScene::new(settled), to_python(py, &report)?))
+        self.settled(py, plan, weld, vlm.as_ref(), assets)
     }
 
     /// The score of a relation between objects of this scene, by object id.

@@ -232,3 +232,55 @@ def test_a_dry_run_sends_nothing(scene_8, tmp_path, server):
     assert (tasks["obj_matching"]["requests"], tasks["obj_matching"]["cached"]) == (4, 0)
     assert (tasks["obj_attribute"]["requests"], tasks["obj_attribute"]["estimated"]) == (1, 1)
     assert dry["total"]["prompt_tokens"] > 0
+
+
+def test_settle_asks_the_vlm_for_the_support_types_the_scene_does_not_state(tmp_path, server, monkeypatch):
+    # Fixture scene 7 (sofa, coffee table, floor lamp, plant, painting on a wall) without its
+    # stated support types. The category tables call the painting a wall object, welded under
+    # the default weld mode "architectural"; the model answers "ground" for every object, so
+    # settled with the VLM the painting is free and falls.
+    state = json.loads((FIXTURES / "scenes" / "scene_7.json").read_text())
+    for o in state["scene"]["object"]:
+        del o["supportType"]
+    path = tmp_path / "scene_7.json"
+    path.write_text(json.dumps(state))
+    assets = {"fixture": FIXTURES / "assets"}
+    scene = sceneeval.load_scene(path, assets=assets)
+    painting = "idx4_fixture.painting"
+    by_tables = {o["id"]: o for o in scene.stability()["objects"]}
+    assert by_tables[painting]["weld_reason"] == "wall" and by_tables[painting]["stable"]
+    assert "placement" not in scene.stability()
+
+    monkeypatch.setenv("MY_SETTLE_KEY", "sk-settle-secret")
+    monkeypatch.delenv("OPENAI_API_KEY", raising=False)
+    cache = tmp_path / "answers"
+    vlm = {"base_url": server.url, "model": "test-model", "api_key_env": "MY_SETTLE_KEY", "render_size": 64,
+           "cache": cache}
+    settled, report = scene.settle(vlm=vlm, assets=assets)
+    asked = [b for _, b in server.requests if b["response_format"]["json_schema"]["name"] == "obj_support_type"]
+    assert len(asked) == 5, "one question per object without a stated support type"
+    assert all(h["authorization"] == "Bearer sk-settle-secret" for h, _ in server.requests)
+    support = {p["object"]: p["support_type"] for p in report["placement"]}
+    assert support[painting] == {"value": "ground", "source": "vlm", "reason": "on the floor"}
+    objects = {o["id"]: o for o in report["objects"]}
+    assert objects[painting]["welded"] is False and objects[painting]["stable"] is False
+    # It fell: the settled scene has it lower by more than its displacement limit; the scene
+    # itself is not moved.
+    assert settled.boxes()[4, 2] < scene.boxes()[4, 2] - 0.3
+    assert objects[painting]["displacement_m"] > 0.3
+    # The answers are cached where vlm["cache"] says, and the key is in no file.
+    files = [f for f in cache.rglob("*") if f.is_file()]
+    assert files
+    for f in files:
+        assert b"sk-settle-secret" not in f.read_bytes(), f
+
+    # stability(vlm=...) gives the same report, its answers from the cache.
+    again = MockServer()
+    try:
+        same = scene.stability(vlm={**vlm, "base_url": again.url}, assets=assets)
+    finally:
+        again.close()
+    assert [b for _, b in again.requests if b["response_format"]["json_schema"]["name"] == "obj_support_type"] == []
+    assert same == report
+    with pytest.raises(ValueError, match=r'^vlm: missing field `model`'):
+        scene.settle(vlm={"base_url": server.url})

@@ -217,7 +217,14 @@ class Scene:
         The report holds the scene-level summary and each metric's per-object evidence.
         Computed with the GIL released.
         """
-    def stability(self, *, plan: Optional[PathLike] = None, weld: Optional[str] = None) -> Dict[str, Any]:
+    def stability(
+        self,
+        *,
+        plan: Optional[PathLike] = None,
+        weld: Optional[str] = None,
+        vlm: Optional[Mapping[str, Any]] = None,
+        assets: Optional[Mapping[str, PathLike]] = None,
+    ) -> Dict[str, Any]:
         """Simulates the scene under gravity (the stability metric) and returns its report as
         eval.json's report.stability: per object id, stable, displacement_m, rotation_rad,
         welded, weld_reason, final_pose, ...; and frac_unstable (unstable over the objects free
@@ -226,14 +233,26 @@ class Scene:
         plan: the path of a plan file whose stability section (and time budget) applies;
         weld: "architectural" (default: objects on walls and ceilings are fixed in place),
         "penetration", "combined" or "none", replacing the plan's. Support types come from
-        what the objects state, then the category tables. The scene is not moved. Computed
-        with the GIL released.
+        what the objects state, then (with vlm) the VLM's answer for each object that states
+        none, then the category tables, as evaluate() gets them. vlm: the OpenAI-compatible
+        endpoint asked, the same dict as evaluate()'s vlm (base_url, model, api_key_env,
+        cache, render_size, ...); its answers are cached in vlm["cache"] when given (else
+        kept for this call only), and the report then has placement: for each object, where
+        its support type came from and why (eval.json's report.placement). assets: as for
+        load_scene, the library the VLM's object views are drawn from (their materials;
+        default: plain colours). The scene is not moved. Computed with the GIL released.
 
-        Raises ValueError for a bad plan or weld mode, SceneEvalError when the scene cannot
-        be simulated (no room, hence no floor; the time budget ran out).
+        Raises ValueError for a bad plan, weld mode, vlm dict or assets mapping (the message
+        starts with the keyword at fault, `vlm["model"]: ...`), SceneEvalError when the
+        scene cannot be simulated (no room, hence no floor; the time budget ran out).
         """
     def settle(
-        self, *, plan: Optional[PathLike] = None, weld: Optional[str] = None
+        self,
+        *,
+        plan: Optional[PathLike] = None,
+        weld: Optional[str] = None,
+        vlm: Optional[Mapping[str, Any]] = None,
+        assets: Optional[Mapping[str, PathLike]] = None,
     ) -> Tuple["Scene", Dict[str, Any]]:
         """Simulates the scene as stability() does and returns (settled, report): a new Scene
         with every object at its pose after the simulation (fixed objects where they were),
