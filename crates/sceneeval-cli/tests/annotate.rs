@@ -180,6 +180,125 @@ fn annotate_records_a_refusal_and_a_changed_description() {
         .stderr(predicate::str::contains("copy it word for word"));
 }
 
+#[test]
+fn annotate_a_list_of_descriptions_then_check_and_continue() {
+    let dir = tempfile::tempdir().unwrap();
+    let list = dir.path().join("mine.txt");
+    let other = "A kitchen with a fridge next to the stove.";
+    std::fs::write(&list, format!("{DESCRIPTION}\n\n{other}\n")).unwrap();
+    let out = dir.path().join("mine.csv");
+    let out_arg = out.to_str().unwrap();
+    // The first description is annotated (ID 3), the model refuses the second (ID 4).
+    let server = server(vec![good(), Value::Null]);
+    let run = sceneeval(
+        &server,
+        &[
+            "annotate",
+            "--descriptions",
+            list.to_str().unwrap(),
+            "--out",
+            out_arg,
+            "--id",
+            "3",
+            "--difficulty",
+            "easy",
+            "--no-progress",
+        ],
+    )
+    .assert()
+    .failure()
+    .stdout(predicate::str::contains(
+        "1 rows (1 accepted now); 1 descriptions of 2 without a row",
+    ))
+    .stdout(predicate::str::contains("sceneeval annotations review"));
+    let stderr = String::from_utf8(run.get_output().stderr.clone()).unwrap();
+    assert!(stderr.contains("\"reason\":\"refused\""), "{stderr}");
+    assert_eq!(server.requests(), 2);
+    let csv = std::fs::read_to_string(&out).unwrap();
+    assert!(csv.starts_with("ID,Difficulty,Description,"), "{csv}");
+    assert!(csv.contains(&format!("3,easy,{DESCRIPTION},")), "{csv}");
+    let rejected = std::fs::read_to_string(dir.path().join("mine.csv.rejected.jsonl")).unwrap();
+    assert!(
+        rejected.contains("\"id\":\"4\"") && rejected.contains("\"reason\":\"refused\""),
+        "{rejected}"
+    );
+    Command::cargo_bin("sceneeval")
+        .unwrap()
+        .args(["annotations", "check", out_arg])
+        .assert()
+        .success();
+
+    // A re-run asks again only for the refused description, and replaces its rejection.
+    let kitchen = row(other, "easy", &["eq,1,fridge", "eq,1,stove"], &[], &[]);
+    let server = self::server(vec![kitchen]);
+    sceneeval(
+        &server,
+        &[
+            "annotate",
+            "--descriptions",
+            list.to_str().unwrap(),
+            "--out",
+            out_arg,
+            "--id",
+            "3",
+            "--difficulty",
+            "easy",
+            "--no-progress",
+        ],
+    )
+    .assert()
+    .success()
+    .stdout(predicate::str::contains(
+        "2 rows (1 accepted now); 0 descriptions of 2 without a row",
+    ));
+    assert_eq!(server.requests(), 1);
+    let rows = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(rows.lines().count(), 3, "{rows}");
+    assert!(rows.contains(&format!("4,easy,{other},")), "{rows}");
+    let rejected = std::fs::read_to_string(dir.path().join("mine.csv.rejected.jsonl")).unwrap();
+    assert!(rejected.is_empty(), "{rejected}");
+    for file in [&out, &dir.path().join("mine.csv.rejected.jsonl")] {
+        assert!(!std::fs::read_to_string(file).unwrap().contains(SECRET));
+    }
+
+    // Bad lists are named.
+    std::fs::write(&list, "\n").unwrap();
+    sceneeval(
+        &server,
+        &[
+            "annotate",
+            "--descriptions",
+            list.to_str().unwrap(),
+            "--out",
+            out_arg,
+        ],
+    )
+    .assert()
+    .failure()
+    .stderr(predicate::str::contains("holds no description"));
+    sceneeval(
+        &server,
+        &[
+            "annotate",
+            "--descriptions",
+            list.to_str().unwrap(),
+            "--out",
+            out_arg,
+            "--id",
+            "x",
+        ],
+    )
+    .assert()
+    .failure()
+    .stderr(predicate::str::contains("must be a non-negative integer"));
+    Command::cargo_bin("sceneeval")
+        .unwrap()
+        .args(["annotations", "annotate", "--descriptions", "mine.txt"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--out"));
+}
+
 fn examples(dir: &Path) -> std::path::PathBuf {
     let path = dir.join("examples.csv");
     std::fs::write(

@@ -1,7 +1,8 @@
 //! Annotation generation, the paper's semi-automatic process (section "SceneEval-500",
 //! appendix "Semi-Automatic Data Generation") as a tool: the SceneEval-500 annotations of a
-//! given description ([`annotate`]), and new descriptions with their annotations appended to
-//! an annotation file as they are accepted ([`generate`]).
+//! given description ([`annotate`]) or of a list of them appended to an annotation file
+//! ([`annotate_all`]), and new descriptions with their annotations appended to an annotation
+//! file as they are accepted ([`generate`]).
 //!
 //! Every answer goes through the annotation validator ([`entry_checker`]: the entries parsed by
 //! `sceneeval-annotation` and checked like `sceneeval annotations check` does): an answer with
@@ -220,9 +221,10 @@ pub enum RejectReason {
 /// A candidate that was not accepted: one line of the rejected file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RejectedCandidate {
-    /// The row ID the candidate has: given by the reviewer ([`review`]) to a candidate it
-    /// edited or decided on, and on the lines of the review's own rejected file; `None` (left
-    /// out of the line) for a candidate of `generate` no one touched.
+    /// The row ID the candidate has: its description's ID ([`annotate_all`]), or given by the
+    /// reviewer ([`review`]) to a candidate it edited or decided on, and on the lines of the
+    /// review's own rejected file; `None` (left out of the line) for a candidate of `generate`
+    /// no one touched.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub id: Option<String>,
     /// The difficulty asked for (`None`: left to the model).
@@ -333,6 +335,15 @@ pub enum GenerateError {
     /// The rejected file cannot be read.
     #[error("cannot read {}", path.display())]
     ReadRejected {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A list of descriptions cannot be read.
+    #[error("cannot read the descriptions in {}", path.display())]
+    ReadList {
         /// The file.
         path: PathBuf,
         /// Why.
@@ -747,6 +758,161 @@ pub fn generate<V: Vlm>(
     })
 }
 
+/// The options of [`annotate_all`].
+#[derive(Debug, Clone)]
+pub struct AnnotateAllOptions {
+    /// The annotation file the accepted rows are appended to (CSV, or JSON for `.json`),
+    /// created if missing; the rejected candidates go to [`rejected_path`] of it.
+    pub out: PathBuf,
+    /// The level of every description; `None` leaves it to the model.
+    pub difficulty: Option<AnnotationLevel>,
+    /// The ID of the first description; the n-th (from 0) has `first_id + n`.
+    pub first_id: u64,
+    /// The seed of the draw of in-context examples (description n draws with `seed + n`).
+    pub seed: u64,
+    /// In-context examples per request.
+    pub examples_per_request: usize,
+}
+
+impl AnnotateAllOptions {
+    /// Rows to `out`, IDs from 0, every other option at its default: the level left to the
+    /// model, seed 0, [`DEFAULT_EXAMPLES_PER_REQUEST`].
+    pub fn new(out: impl Into<PathBuf>) -> Self {
+        AnnotateAllOptions {
+            out: out.into(),
+            difficulty: None,
+            first_id: 0,
+            seed: 0,
+            examples_per_request: DEFAULT_EXAMPLES_PER_REQUEST,
+        }
+    }
+}
+
+/// The descriptions of a list: one per line, in order, each trimmed; empty lines are left
+/// out (and not numbered).
+pub fn description_lines(text: &str) -> Vec<String> {
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .map(str::to_owned)
+        .collect()
+}
+
+/// The descriptions of a list file ([`description_lines`]; a regular UTF-8 file).
+///
+/// # Errors
+/// [`GenerateError::ReadList`] naming the file.
+pub fn read_descriptions(path: &Path) -> Result<Vec<String>, GenerateError> {
+    let read = || -> std::io::Result<String> {
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut sceneeval_files::open_regular(path)?, &mut text)?;
+        Ok(text)
+    };
+    read()
+        .map(|text| description_lines(&text))
+        .map_err(|source| GenerateError::ReadList {
+            path: path.to_owned(),
+            source,
+        })
+}
+
+/// The annotation rows of a list of the user's own descriptions: description `n` (from 0) is
+/// annotated as [`annotate`] does (word for word, the level given or left to the model, the
+/// answer checked and asked again once) with the ID `first_id + n`, and its row appended to
+/// [`AnnotateAllOptions::out`], or its rejected candidate (with that ID, so that the review
+/// keeps it: [`review`]) to the [`rejected_path`] of it, each file rewritten atomically after
+/// each description. A re-run continues: a description with a row, or with a rejected
+/// candidate that holds an answer (to fix in the review), is not asked again; one rejected
+/// without an answer (a refusal, an answer cut off at the token limit or off the schema) is
+/// asked again and its old line replaced. The list must keep its order (new descriptions go
+/// at its end). The summary's `existing` counts the descriptions done before the run,
+/// `stopped_early` is always false.
+///
+/// # Errors
+/// [`GenerateError`]: a file that cannot be read or written, an ID of `out` used twice, or a
+/// request without an answer (what was done so far is saved; a re-run continues).
+pub fn annotate_all<V: Vlm>(
+    session: &Session<V>,
+    descriptions: &[String],
+    examples: &Annotations,
+    options: &AnnotateAllOptions,
+    on_event: &dyn Fn(&GenerateEvent<'_>),
+) -> Result<GenerateSummary, GenerateError> {
+    if options.examples_per_request == 0 && !examples.rows.is_empty() {
+        return Err(GenerateError::Options(
+            "examples per request must be at least 1".to_owned(),
+        ));
+    }
+    let out = &options.out;
+    let mut rows = read_rows(out)?;
+    let mut rejected_lines = read_rejected(&rejected_path(out))?;
+    // Done: a row, or a rejected candidate with an answer to review. A rejection without one
+    // (a refusal, an answer cut off or off the schema) is asked again.
+    let done = |id: &str, rows: &Annotations, rejected: &[RejectedCandidate]| {
+        rows.get(id).is_some()
+            || rejected
+                .iter()
+                .any(|l| l.id.as_deref() == Some(id) && l.candidate.is_some())
+    };
+    let existing = (0..descriptions.len() as u64)
+        .filter(|n| done(&(options.first_id + n).to_string(), &rows, &rejected_lines))
+        .count();
+    on_event(&GenerateEvent::Started {
+        existing,
+        target: descriptions.len(),
+    });
+    let (mut accepted, mut rejected_now) = (0, 0);
+    for (n, description) in (0u64..).zip(descriptions) {
+        let id = options.first_id.saturating_add(n).to_string();
+        if done(&id, &rows, &rejected_lines) {
+            continue;
+        }
+        let shown = draw_examples(
+            &examples.rows,
+            options.difficulty,
+            options.examples_per_request,
+            options.seed.wrapping_add(n),
+        );
+        let outcome = pollster::block_on(annotate(session, description, options.difficulty, shown, &id))?;
+        // An earlier rejection without an answer is replaced by this outcome.
+        if rejected_lines
+            .iter()
+            .any(|l| l.id.as_deref() == Some(id.as_str()))
+        {
+            rejected_lines.retain(|l| l.id.as_deref() != Some(id.as_str()));
+            write_rejected(&rejected_path(out), &rejected_lines)?;
+        }
+        match outcome {
+            AnnotateOutcome::Accepted { row, attempt } => {
+                tracing::info!(id = %row.id, attempt, "description annotated");
+                rows.rows.push(row);
+                write_rows(out, &rows)?;
+                accepted += 1;
+                if let Some(row) = rows.rows.last() {
+                    on_event(&GenerateEvent::Accepted(row));
+                }
+            }
+            AnnotateOutcome::Rejected(mut candidate) => {
+                tracing::info!(%id, reason = ?candidate.reason, "description not annotated");
+                candidate.id = Some(id);
+                rejected_lines.push(candidate);
+                write_rejected(&rejected_path(out), &rejected_lines)?;
+                rejected_now += 1;
+                if let Some(candidate) = rejected_lines.last() {
+                    on_event(&GenerateEvent::Rejected(candidate));
+                }
+            }
+        }
+    }
+    Ok(GenerateSummary {
+        existing,
+        accepted,
+        rejected: rejected_now,
+        total: rows.rows.len(),
+        stopped_early: false,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -805,6 +971,142 @@ mod tests {
         b.obj_count = vec!["eq,1,bed; eq,1,desk".into()];
         assert_eq!(row_of(&b, "3").obj_count.len(), 2);
         assert_eq!(example_of(&row_of(&b, "3")).obj_count, ["eq,1,bed", "eq,1,desk"]);
+    }
+
+    #[test]
+    fn a_list_of_descriptions_is_annotated_in_order_and_resumed() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("mine.csv");
+        let list = dir.path().join("list.txt");
+        std::fs::write(
+            &list,
+            "A study with a desk and a chair.\n\n  A hall with a bench.  \nA garage with a workbench.\n",
+        )
+        .unwrap();
+        let descriptions = read_descriptions(&list).unwrap();
+        assert_eq!(
+            descriptions,
+            [
+                "A study with a desk and a chair.",
+                "A hall with a bench.",
+                "A garage with a workbench."
+            ]
+        );
+        let vlm = Scripted::queue(
+            "m",
+            [
+                // Description 0: accepted as ID 5.
+                answer(
+                    "A study with a desk and a chair.",
+                    "easy",
+                    &["eq,1,desk", "eq,1,chair"],
+                    &[],
+                ),
+                // Description 1 and its re-ask: findings twice: rejected, with ID 6.
+                answer(
+                    "A hall with a bench.",
+                    "easy",
+                    &["eq,1,bench"],
+                    &["eq,1,red,bench"],
+                ),
+                answer(
+                    "A hall with a bench.",
+                    "easy",
+                    &["eq,1,bench"],
+                    &["eq,1,red,bench"],
+                ),
+            ],
+        );
+        let session = Session::new(&vlm);
+        let mut options = AnnotateAllOptions::new(&out);
+        options.difficulty = Some(AnnotationLevel::Easy);
+        options.first_id = 5;
+        // Only the first two: the third comes in the second run.
+        let summary = annotate_all(&session, &descriptions[..2], &examples(), &options, &|_| {}).unwrap();
+        assert_eq!(
+            summary,
+            GenerateSummary {
+                existing: 0,
+                accepted: 1,
+                rejected: 1,
+                total: 1,
+                stopped_early: false
+            }
+        );
+        let rows = Annotations::read(&out).unwrap();
+        assert_eq!(rows.rows.len(), 1);
+        assert_eq!(rows.rows[0].id, "5");
+        assert_eq!(rows.rows[0].description, "A study with a desk and a chair.");
+        let lines = read_rejected(&rejected_path(&out)).unwrap();
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0].id.as_deref(), Some("6"));
+        assert!(
+            matches!(&lines[0].reason, RejectReason::Findings { problems } if problems.contains("attribute-category-swapped"))
+        );
+        // The user's description with the in-context examples of its level.
+        let requests = vlm.requests();
+        assert_eq!(requests.len(), 3);
+        assert!(requests[0].user_text.contains("A study with a desk and a chair."));
+        assert!(
+            requests[0]
+                .user_text
+                .contains("A bedroom with a bed and a wardrobe.")
+        );
+
+        // A re-run of the whole list asks only for description 2 (ID 7).
+        let vlm = Scripted::queue(
+            "m",
+            [answer(
+                "A garage with a workbench.",
+                "easy",
+                &["eq,1,workbench"],
+                &[],
+            )],
+        );
+        let session = Session::new(&vlm);
+        let events = std::cell::RefCell::new(Vec::new());
+        let summary = annotate_all(&session, &descriptions, &examples(), &options, &|e| {
+            events.borrow_mut().push(match e {
+                GenerateEvent::Started { existing, target } => format!("started {existing}/{target}"),
+                GenerateEvent::Accepted(row) => format!("accepted {}", row.id),
+                GenerateEvent::Rejected(c) => format!("rejected {:?}", c.id),
+            });
+        })
+        .unwrap();
+        assert_eq!(events.into_inner(), ["started 2/3", "accepted 7"]);
+        assert_eq!(
+            (
+                summary.existing,
+                summary.accepted,
+                summary.rejected,
+                summary.total
+            ),
+            (2, 1, 0, 2)
+        );
+        assert_eq!(vlm.requests().len(), 1);
+        let ids: Vec<String> = Annotations::read(&out)
+            .unwrap()
+            .rows
+            .into_iter()
+            .map(|r| r.id)
+            .collect();
+        assert_eq!(ids, ["5", "7"]);
+
+        // The review lists the rejected description with its ID, to be fixed by hand.
+        let store = review::ReviewStore::open(&out, None).unwrap();
+        let ids: Vec<&str> = store.candidates().iter().map(|c| c.id.as_str()).collect();
+        assert_eq!(ids, ["5", "7", "6"]);
+    }
+
+    #[test]
+    fn an_empty_or_unreadable_list_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let list = dir.path().join("list.txt");
+        std::fs::write(&list, "\n  \n").unwrap();
+        assert!(read_descriptions(&list).unwrap().is_empty());
+        let missing = dir.path().join("missing.txt");
+        let err = read_descriptions(&missing).unwrap_err();
+        assert!(err.to_string().contains("missing.txt"), "{err}");
     }
 
     #[test]

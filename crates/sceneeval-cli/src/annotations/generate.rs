@@ -8,8 +8,8 @@ use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use sceneeval::SharedVlm;
 use sceneeval::annotate::{
-    AnnotateOutcome, DEFAULT_EXAMPLES_PER_REQUEST, GenerateEvent, GenerateOptions, RejectedCandidate,
-    draw_examples, rejected_path,
+    AnnotateAllOptions, AnnotateOutcome, DEFAULT_EXAMPLES_PER_REQUEST, GenerateEvent, GenerateOptions,
+    RejectedCandidate, draw_examples, rejected_path,
 };
 use sceneeval::annotation::Annotations;
 use sceneeval::annotation::similarity::DEFAULT_THRESHOLD;
@@ -23,13 +23,28 @@ use crate::vlm::VlmArgs;
 #[derive(Debug, clap::Args)]
 pub struct AnnotateArgs {
     /// The scene description to annotate (kept word for word in the row).
-    pub description: String,
-    /// The description's difficulty level; without it the model chooses by the paper's rules.
+    #[arg(required_unless_present = "descriptions", conflicts_with = "descriptions")]
+    pub description: Option<String>,
+    /// A file of your own descriptions, one per line (empty lines left out), annotated in
+    /// order: rows appended to `--out`, rejected candidates to OUT.rejected.jsonl; a re-run
+    /// continues with the descriptions not done yet.
+    #[arg(long, value_name = "FILE", requires = "out")]
+    pub descriptions: Option<PathBuf>,
+    /// With `--descriptions`: the annotation file the rows are appended to (CSV; JSON for
+    /// `.json`).
+    #[arg(long, value_name = "FILE", requires = "descriptions")]
+    pub out: Option<PathBuf>,
+    /// The description's difficulty level (with `--descriptions`: of every description);
+    /// without it the model chooses by the paper's rules.
     #[arg(long, value_name = "easy|medium|hard")]
     pub difficulty: Option<AnnotationLevel>,
-    /// The row's ID.
+    /// The row's ID; with `--descriptions`, the first description's (an integer: the others
+    /// number on by line).
     #[arg(long, default_value = "0", value_name = "N")]
     pub id: String,
+    /// With `--descriptions`: do not show a progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
     /// Annotation file whose rows are shown as in-context examples (of the description's
     /// level when given and the file has such rows).
     #[arg(long, value_name = "FILE")]
@@ -107,8 +122,14 @@ fn print_rejected(candidate: &RejectedCandidate) {
 }
 
 /// Runs `annotations annotate`: prints the row as CSV with its header, or the rejected
-/// candidate on standard error with exit status 1.
+/// candidate on standard error with exit status 1; with `--descriptions`, [`annotate_all`].
 pub fn annotate(args: AnnotateArgs) -> anyhow::Result<ExitCode> {
+    if let (Some(list), Some(out)) = (&args.descriptions, &args.out) {
+        return annotate_all(&args, list, out);
+    }
+    let Some(description) = &args.description else {
+        bail!("annotations annotate needs a DESCRIPTION or --descriptions FILE --out FILE");
+    };
     let examples = match &args.examples {
         Some(file) => draw_examples(
             &read(file)?.rows,
@@ -122,7 +143,7 @@ pub fn annotate(args: AnnotateArgs) -> anyhow::Result<ExitCode> {
     let session = Session::new(vlm);
     let outcome = pollster::block_on(sceneeval::annotate::annotate(
         &session,
-        &args.description,
+        description,
         args.difficulty,
         examples,
         &args.id,
@@ -159,32 +180,9 @@ pub fn generate(args: GenerateArgs) -> anyhow::Result<ExitCode> {
     options.threshold = args.similarity_threshold;
     let vlm = model(&args.vlm, "generate")?;
     let session = Session::new(vlm);
-    let bar = if args.no_progress {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(args.count as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {pos}/{len} rows, {msg} [{elapsed_precise}, ETA {eta}]")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = progress_bar(args.no_progress, args.count, "rows");
     let rejected = std::cell::Cell::new(0usize);
-    let on_event = |event: &GenerateEvent<'_>| match event {
-        GenerateEvent::Started { existing, target } => {
-            bar.set_position(*existing as u64);
-            tracing::info!(existing, target, "generation starts");
-        }
-        GenerateEvent::Accepted(row) => {
-            bar.inc(1);
-            tracing::debug!(id = %row.id, "accepted");
-        }
-        GenerateEvent::Rejected(candidate) => {
-            rejected.set(rejected.get() + 1);
-            bar.set_message(format!("{} rejected", rejected.get()));
-            bar.suspend(|| print_rejected(candidate));
-        }
-    };
-    bar.set_message("0 rejected");
+    let on_event = |event: &GenerateEvent<'_>| on_progress(&bar, &rejected, event, false);
     // Rows already in the file count; the limit is on this run's candidates.
     let existing = if args.out.exists() {
         read(&args.out)?.rows.len()
@@ -215,6 +213,117 @@ pub fn generate(args: GenerateArgs) -> anyhow::Result<ExitCode> {
         }
     ))?;
     Ok(if summary.stopped_early {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// The progress bar of `generate` and `annotate --descriptions`: `len` of `unit`.
+fn progress_bar(hidden: bool, len: usize, unit: &str) -> ProgressBar {
+    let bar = if hidden {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(len as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{bar:30}} {{pos}}/{{len}} {unit}, {{msg}} [{{elapsed_precise}}, ETA {{eta}}]"
+        ))
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message("0 rejected");
+    bar
+}
+
+/// Moves the bar on an event; `every_candidate`: a rejected candidate moves it too (each
+/// description is done either way).
+fn on_progress(
+    bar: &ProgressBar,
+    rejected: &std::cell::Cell<usize>,
+    event: &GenerateEvent<'_>,
+    every_candidate: bool,
+) {
+    match event {
+        GenerateEvent::Started { existing, target } => {
+            bar.set_position(*existing as u64);
+            tracing::info!(existing, target, "run starts");
+        }
+        GenerateEvent::Accepted(row) => {
+            bar.inc(1);
+            tracing::debug!(id = %row.id, "accepted");
+        }
+        GenerateEvent::Rejected(candidate) => {
+            rejected.set(rejected.get() + 1);
+            if every_candidate {
+                bar.inc(1);
+            }
+            bar.set_message(format!("{} rejected", rejected.get()));
+            bar.suspend(|| print_rejected(candidate));
+        }
+    }
+}
+
+/// Runs `annotations annotate --descriptions LIST --out OUT`: every description of LIST
+/// annotated in order ([`sceneeval::annotate::annotate_all`]), a progress bar, a final summary
+/// line. Exit status 1 when some description has a rejected candidate instead of a row (to
+/// review: `sceneeval annotations review OUT`).
+fn annotate_all(
+    args: &AnnotateArgs,
+    list: &std::path::Path,
+    out: &std::path::Path,
+) -> anyhow::Result<ExitCode> {
+    let first_id: u64 = args.id.parse().map_err(|_| {
+        anyhow::anyhow!(
+            "--id {:?}: with --descriptions the first ID must be a non-negative integer (the others number on by line)",
+            args.id
+        )
+    })?;
+    let descriptions = sceneeval::annotate::read_descriptions(list).context("--descriptions")?;
+    if descriptions.is_empty() {
+        bail!(
+            "--descriptions: {} holds no description (one per line)",
+            list.display()
+        );
+    }
+    let examples = match &args.examples {
+        Some(file) => read(file)?,
+        None => Annotations::new(),
+    };
+    let mut options = AnnotateAllOptions::new(out);
+    options.difficulty = args.difficulty;
+    options.first_id = first_id;
+    options.seed = args.example_seed;
+    options.examples_per_request = args.examples_per_request;
+    let vlm = model(&args.vlm, "annotate")?;
+    let session = Session::new(vlm);
+    let bar = progress_bar(args.no_progress, descriptions.len(), "descriptions");
+    let rejected = std::cell::Cell::new(0usize);
+    let on_event = |event: &GenerateEvent<'_>| on_progress(&bar, &rejected, event, true);
+    let summary = sceneeval::annotate::annotate_all(&session, &descriptions, &examples, &options, &on_event);
+    bar.finish_and_clear();
+    let summary = summary?;
+    let rejected_file = rejected_path(out);
+    let rows = sceneeval::annotate::read_rows(out)?;
+    let undone = (0..descriptions.len() as u64)
+        .filter(|n| rows.get(&first_id.saturating_add(*n).to_string()).is_none())
+        .count();
+    crate::print_stdout(&format!(
+        "{}: {} rows ({} accepted now); {} descriptions of {} without a row ({} rejected now, in {}){}\n",
+        out.display(),
+        summary.total,
+        summary.accepted,
+        undone,
+        descriptions.len(),
+        summary.rejected,
+        rejected_file.display(),
+        if undone > 0 {
+            format!("; fix them in `sceneeval annotations review {}`", out.display())
+        } else {
+            String::new()
+        }
+    ))?;
+    Ok(if undone > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

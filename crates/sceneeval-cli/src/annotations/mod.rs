@@ -36,8 +36,9 @@ pub enum Command {
         json: bool,
     },
     /// Ask a model for the annotation row of a scene description and print it as CSV (with its
-    /// header). Every answer is checked as `check` does; one with findings is asked again once,
-    /// then rejected (printed on standard error, exit status 1).
+    /// header), or (`--descriptions LIST --out FILE`) for every description of a list, appending
+    /// the rows to FILE. Every answer is checked as `check` does; one with findings is asked
+    /// again once, then rejected (printed on standard error, exit status 1).
     Annotate(Box<generate::AnnotateArgs>),
     /// Generate new scene descriptions with their annotations (the paper's process: in-context
     /// examples, validation, a near-duplicate filter), appending accepted rows to `--out` and
