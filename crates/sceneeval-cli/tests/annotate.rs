@@ -190,27 +190,25 @@ fn annotate_a_list_of_descriptions_then_check_and_continue() {
     let out_arg = out.to_str().unwrap();
     // The first description is annotated (ID 3), the model refuses the second (ID 4).
     let server = server(vec![good(), Value::Null]);
-    let run = sceneeval(
-        &server,
-        &[
-            "annotate",
-            "--descriptions",
-            list.to_str().unwrap(),
-            "--out",
-            out_arg,
-            "--id",
-            "3",
-            "--difficulty",
-            "easy",
-            "--no-progress",
-        ],
-    )
-    .assert()
-    .failure()
-    .stdout(predicate::str::contains(
-        "1 rows (1 accepted now); 1 descriptions of 2 without a row",
-    ))
-    .stdout(predicate::str::contains("sceneeval annotations review"));
+    let args = [
+        "annotate",
+        "--descriptions",
+        list.to_str().unwrap(),
+        "--out",
+        out_arg,
+        "--id",
+        "3",
+        "--difficulty",
+        "easy",
+        "--no-progress",
+    ];
+    let run = sceneeval(&server, &args)
+        .assert()
+        .failure()
+        .stdout(predicate::str::contains(
+            "1 rows (1 accepted now); 1 descriptions of 2 without a row",
+        ))
+        .stdout(predicate::str::contains("sceneeval annotations review"));
     let stderr = String::from_utf8(run.get_output().stderr.clone()).unwrap();
     assert!(stderr.contains("\"reason\":\"refused\""), "{stderr}");
     assert_eq!(server.requests(), 2);
@@ -231,26 +229,12 @@ fn annotate_a_list_of_descriptions_then_check_and_continue() {
     // A re-run asks again only for the refused description, and replaces its rejection.
     let kitchen = row(other, "easy", &["eq,1,fridge", "eq,1,stove"], &[], &[]);
     let server = self::server(vec![kitchen]);
-    sceneeval(
-        &server,
-        &[
-            "annotate",
-            "--descriptions",
-            list.to_str().unwrap(),
-            "--out",
-            out_arg,
-            "--id",
-            "3",
-            "--difficulty",
-            "easy",
-            "--no-progress",
-        ],
-    )
-    .assert()
-    .success()
-    .stdout(predicate::str::contains(
-        "2 rows (1 accepted now); 0 descriptions of 2 without a row",
-    ));
+    sceneeval(&server, &args)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "2 rows (1 accepted now); 0 descriptions of 2 without a row",
+        ));
     assert_eq!(server.requests(), 1);
     let rows = std::fs::read_to_string(&out).unwrap();
     assert_eq!(rows.lines().count(), 3, "{rows}");
@@ -263,34 +247,14 @@ fn annotate_a_list_of_descriptions_then_check_and_continue() {
 
     // Bad lists are named.
     std::fs::write(&list, "\n").unwrap();
-    sceneeval(
-        &server,
-        &[
-            "annotate",
-            "--descriptions",
-            list.to_str().unwrap(),
-            "--out",
-            out_arg,
-        ],
-    )
-    .assert()
-    .failure()
-    .stderr(predicate::str::contains("holds no description"));
-    sceneeval(
-        &server,
-        &[
-            "annotate",
-            "--descriptions",
-            list.to_str().unwrap(),
-            "--out",
-            out_arg,
-            "--id",
-            "x",
-        ],
-    )
-    .assert()
-    .failure()
-    .stderr(predicate::str::contains("must be a non-negative integer"));
+    sceneeval(&server, &args[..5])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("holds no description"));
+    sceneeval(&server, &[&args[..5], &["--id", "x"]].concat())
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("must be a non-negative integer"));
     Command::cargo_bin("sceneeval")
         .unwrap()
         .args(["annotations", "annotate", "--descriptions", "mine.txt"])

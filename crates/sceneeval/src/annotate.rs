@@ -661,6 +661,16 @@ pub fn write_rejected(path: &Path, lines: &[RejectedCandidate]) -> Result<(), Ge
     Ok(())
 }
 
+/// In-context examples are shown when there are any: at least one per request then.
+fn check_examples_per_request(k: usize, examples: &Annotations) -> Result<(), GenerateError> {
+    if k == 0 && !examples.rows.is_empty() {
+        return Err(GenerateError::Options(
+            "examples per request must be at least 1".to_owned(),
+        ));
+    }
+    Ok(())
+}
+
 /// New descriptions with their annotations, the paper's process: each request shows
 /// [`GenerateOptions::examples_per_request`] rows of `examples` (drawn with the seed, of the
 /// requested level when the file has such rows) and names the last accepted descriptions and
@@ -679,11 +689,7 @@ pub fn generate<V: Vlm>(
     options: &GenerateOptions,
     on_event: &dyn Fn(&GenerateEvent<'_>),
 ) -> Result<GenerateSummary, GenerateError> {
-    if options.examples_per_request == 0 && !examples.rows.is_empty() {
-        return Err(GenerateError::Options(
-            "examples per request must be at least 1".to_owned(),
-        ));
-    }
+    check_examples_per_request(options.examples_per_request, examples)?;
     let mut run = Run::open(options, examples)?;
     let existing = run.rows.rows.len();
     on_event(&GenerateEvent::Started {
@@ -838,11 +844,7 @@ pub fn annotate_all<V: Vlm>(
     options: &AnnotateAllOptions,
     on_event: &dyn Fn(&GenerateEvent<'_>),
 ) -> Result<GenerateSummary, GenerateError> {
-    if options.examples_per_request == 0 && !examples.rows.is_empty() {
-        return Err(GenerateError::Options(
-            "examples per request must be at least 1".to_owned(),
-        ));
-    }
+    check_examples_per_request(options.examples_per_request, examples)?;
     let out = &options.out;
     let mut rows = read_rows(out)?;
     let mut rejected_lines = read_rejected(&rejected_path(out))?;
@@ -926,6 +928,26 @@ mod tests {
         }
     }
 
+    /// An answer the validator accepts.
+    fn study() -> AnswerContent {
+        answer(
+            "A study with a desk and a chair.",
+            "easy",
+            &["eq,1,desk", "eq,1,chair"],
+            &[],
+        )
+    }
+
+    /// An answer with a finding (`attribute-category-swapped`).
+    fn hall_with_swapped_attribute() -> AnswerContent {
+        answer(
+            "A hall with a bench.",
+            "easy",
+            &["eq,1,bench"],
+            &["eq,1,red,bench"],
+        )
+    }
+
     fn examples() -> Annotations {
         Annotations::from_csv_str(
             "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
@@ -996,25 +1018,10 @@ mod tests {
             "m",
             [
                 // Description 0: accepted as ID 5.
-                answer(
-                    "A study with a desk and a chair.",
-                    "easy",
-                    &["eq,1,desk", "eq,1,chair"],
-                    &[],
-                ),
+                study(),
                 // Description 1 and its re-ask: findings twice: rejected, with ID 6.
-                answer(
-                    "A hall with a bench.",
-                    "easy",
-                    &["eq,1,bench"],
-                    &["eq,1,red,bench"],
-                ),
-                answer(
-                    "A hall with a bench.",
-                    "easy",
-                    &["eq,1,bench"],
-                    &["eq,1,red,bench"],
-                ),
+                hall_with_swapped_attribute(),
+                hall_with_swapped_attribute(),
             ],
         );
         let session = Session::new(&vlm);
@@ -1117,12 +1124,7 @@ mod tests {
             "m",
             [
                 // 1: accepted as ID 13 (the examples' largest ID is 12).
-                answer(
-                    "A study with a desk and a chair.",
-                    "easy",
-                    &["eq,1,desk", "eq,1,chair"],
-                    &[],
-                ),
+                study(),
                 // 2: a near copy of example 10: rejected; the next request names it.
                 answer(
                     "A bedroom with beds and a wardrobe.",
@@ -1131,18 +1133,8 @@ mod tests {
                     &[],
                 ),
                 // 3 and its re-ask: findings twice: a rejected candidate.
-                answer(
-                    "A hall with a bench.",
-                    "easy",
-                    &["eq,1,bench"],
-                    &["eq,1,red,bench"],
-                ),
-                answer(
-                    "A hall with a bench.",
-                    "easy",
-                    &["eq,1,bench"],
-                    &["eq,1,red,bench"],
-                ),
+                hall_with_swapped_attribute(),
+                hall_with_swapped_attribute(),
             ],
         );
         let session = Session::new(&vlm);
