@@ -661,6 +661,11 @@ pub fn write_rejected(path: &Path, lines: &[RejectedCandidate]) -> Result<(), Ge
     Ok(())
 }
 
+/// Whether two texts have the same words (runs of whitespace made one).
+fn same_words(a: &str, b: &str) -> bool {
+    a.split_whitespace().eq(b.split_whitespace())
+}
+
 /// In-context examples are shown when there are any: at least one per request then.
 fn check_examples_per_request(k: usize, examples: &Annotations) -> Result<(), GenerateError> {
     if k == 0 && !examples.rows.is_empty() {
@@ -866,6 +871,19 @@ pub fn annotate_all<V: Vlm>(
     let (mut accepted, mut rejected_now) = (0, 0);
     for (n, description) in (0u64..).zip(descriptions) {
         let id = options.first_id.saturating_add(n).to_string();
+        if let Some(row) = rows.get(&id)
+            && !same_words(&row.description, description)
+        {
+            return Err(GenerateError::Options(format!(
+                "{}: row {id} describes {:?}, but description {} of the list (ID {id}) is {:?}: \
+                 the list changed order or --id changed since the earlier run (keep its order, add \
+                 new descriptions at its end)",
+                out.display(),
+                row.description,
+                n + 1,
+                description
+            )));
+        }
         if done(&id, &rows, &rejected_lines) {
             continue;
         }
@@ -1098,6 +1116,13 @@ mod tests {
             .map(|r| r.id)
             .collect();
         assert_eq!(ids, ["5", "7"]);
+
+        // A list whose order changed is refused before any request.
+        let reordered = [descriptions[2].clone(), descriptions[0].clone()];
+        let vlm = Scripted::queue("m", [study()]);
+        let err = annotate_all(&Session::new(&vlm), &reordered, &examples(), &options, &|_| {}).unwrap_err();
+        assert!(err.to_string().contains("row 5 describes"), "{err}");
+        assert!(vlm.requests().is_empty());
 
         // The review lists the rejected description with its ID, to be fixed by hand.
         let store = review::ReviewStore::open(&out, None).unwrap();
