@@ -256,9 +256,26 @@ impl App {
                     &json!({ "markdown": stats.to_markdown(), "stats": stats, "rows": self.store.accepted().rows.len() }),
                 )
             }
-            (Method::Post, "/api/validate" | "/api/save" | "/api/accept" | "/api/reject") => {
+            (Method::Post, "/api/validate") => {
                 let body = read_json(request)?;
-                self.decide(path, body)
+                let content = body.content.ok_or_else(no_content)?;
+                json_reply(&json!({ "findings": findings(&content, &body.id) }))
+            }
+            (Method::Post, "/api/save") => {
+                let body = read_json(request)?;
+                self.store.edit(&body.id, body.content.ok_or_else(no_content)?)?;
+                self.detail(&body.id)
+            }
+            (Method::Post, "/api/accept") => {
+                let body = read_json(request)?;
+                self.store.accept(&body.id, body.content)?;
+                self.detail(&body.id)
+            }
+            (Method::Post, "/api/reject") => {
+                let body = read_json(request)?;
+                self.store
+                    .reject(&body.id, body.content, body.note.as_deref().unwrap_or_default())?;
+                self.detail(&body.id)
             }
             (Method::Get | Method::Post, _) => Err(http_error(404, format!("no API endpoint {path}"))),
             (method, _) => Err(http_error(405, format!("{method} is not allowed on {path}"))),
@@ -300,30 +317,11 @@ impl App {
             findings: findings(&c.content, &c.id),
         })
     }
+}
 
-    fn decide(&mut self, path: &str, body: Decision) -> Result<Reply, HttpError> {
-        let missing = || http_error(400, "the request has no \"content\"");
-        match path {
-            "/api/validate" => {
-                let content = body.content.ok_or_else(missing)?;
-                json_reply(&json!({ "findings": findings(&content, &body.id) }))
-            }
-            "/api/save" => {
-                let content = body.content.ok_or_else(missing)?;
-                self.store.edit(&body.id, content)?;
-                self.detail(&body.id)
-            }
-            "/api/accept" => {
-                self.store.accept(&body.id, body.content)?;
-                self.detail(&body.id)
-            }
-            _ => {
-                let note = body.note.unwrap_or_default();
-                self.store.reject(&body.id, body.content, &note)?;
-                self.detail(&body.id)
-            }
-        }
-    }
+/// A request to validate or save that carries no text.
+fn no_content() -> HttpError {
+    http_error(400, "the request has no \"content\"")
 }
 
 /// The `id` of a query string (`id=...`, percent-encoded).
@@ -347,11 +345,11 @@ fn read_json(request: &mut Request) -> Result<Decision, HttpError> {
     if !is_json {
         return Err(http_error(415, "the body must be application/json"));
     }
+    // Refused before reading when the length is declared, after reading at most one byte more
+    // than the limit when it is not (chunked).
+    let too_large = || http_error(413, format!("the body is larger than {MAX_BODY} bytes"));
     if request.body_length().is_some_and(|n| n as u64 > MAX_BODY) {
-        return Err(http_error(
-            413,
-            format!("the body is larger than {MAX_BODY} bytes"),
-        ));
+        return Err(too_large());
     }
     let mut body = Vec::new();
     request
@@ -360,10 +358,7 @@ fn read_json(request: &mut Request) -> Result<Decision, HttpError> {
         .read_to_end(&mut body)
         .map_err(|e| http_error(400, format!("cannot read the body: {e}")))?;
     if body.len() as u64 > MAX_BODY {
-        return Err(http_error(
-            413,
-            format!("the body is larger than {MAX_BODY} bytes"),
-        ));
+        return Err(too_large());
     }
     serde_json::from_slice(&body).map_err(|e| http_error(400, format!("the body is not a decision: {e}")))
 }
