@@ -43,11 +43,7 @@ fn writes_the_requested_views_with_inspect_ids_as_file_names() {
         .assert()
         .success();
     let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
-    let mut names: Vec<String> = std::fs::read_dir(out.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
+    let names = sceneeval_test_support::file_names(out.path());
     assert_eq!(
         names,
         [

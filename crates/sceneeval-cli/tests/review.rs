@@ -333,11 +333,7 @@ fn decisions_are_written_at_once_and_a_second_review_continues() {
         )),
         "{rest}"
     );
-    let mut names: Vec<String> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
+    let names = sceneeval_test_support::file_names(dir.path());
     assert_eq!(
         names,
         [

@@ -155,9 +155,6 @@ fn two_writers_of_one_diagnostics_folder_never_fail_and_leave_whole_images() {
     });
     let written = std::fs::read(shared.path().join("navigability.png")).unwrap();
     assert!(written == alone[0] || written == alone[1]);
-    let names: Vec<String> = std::fs::read_dir(shared.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
+    let names = sceneeval_test_support::file_names(shared.path());
     assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
 }

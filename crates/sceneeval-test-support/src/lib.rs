@@ -29,6 +29,21 @@ pub mod system;
 use sceneeval_geom::{CUBOID_TRIANGLES, Point2, cuboid_corner};
 use sceneeval_scene::RoomBuilder;
 
+/// The names of the entries of folder `dir`, sorted: what a test checks a command left
+/// behind (no temporary file, exactly the outputs it names).
+///
+/// # Panics
+/// When the folder cannot be read (a test's own temporary folder).
+#[allow(clippy::unwrap_used)]
+pub fn file_names(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
 /// A deterministic sequence of numbers in `[0, 1)` (a 64-bit linear congruential generator
 /// with Knuth's constants, the top 53 bits of each state), for tests and benchmarks that need
 /// the same "random" inputs on every run.

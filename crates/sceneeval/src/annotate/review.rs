@@ -574,15 +574,6 @@ mod tests {
         (dir, file)
     }
 
-    fn names(dir: &Path) -> Vec<String> {
-        let mut v: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
-
     #[test]
     fn accepted_path_puts_accepted_before_the_extension() {
         assert_eq!(
@@ -642,7 +633,7 @@ mod tests {
         );
         // Every write was atomic: no temporary file is left.
         assert_eq!(
-            names(dir.path()),
+            sceneeval_test_support::file_names(dir.path()),
             [
                 "mine.accepted.csv",
                 "mine.accepted.csv.rejected.jsonl",
@@ -764,7 +755,7 @@ mod tests {
     #[test]
     fn unknown_ids_are_errors_and_write_nothing() {
         let (dir, file) = setup();
-        let before = names(dir.path());
+        let before = sceneeval_test_support::file_names(dir.path());
         let mut store = ReviewStore::open(&file, None).unwrap();
         assert!(matches!(store.accept("99", None), Err(ReviewError::UnknownId(_))));
         let c = store.candidate("20").unwrap().content.clone();
@@ -773,7 +764,7 @@ mod tests {
             store.reject("x", None, "no"),
             Err(ReviewError::UnknownId(_))
         ));
-        assert_eq!(names(dir.path()), before);
+        assert_eq!(sceneeval_test_support::file_names(dir.path()), before);
         assert_eq!(std::fs::read_to_string(&file).unwrap(), FILE);
     }
 }
