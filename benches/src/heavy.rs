@@ -16,7 +16,7 @@
 
 use std::sync::Arc;
 
-use sceneeval_geom::{Mesh, Point3, Vector3};
+use sceneeval_geom::{Mesh, Vector3};
 use sceneeval_scene::{Scene, SceneError, SceneObject};
 
 /// The fixture rooms (`fixtures/scenes/scene_N.json`) whose chairs, tables, desks, sofas,
@@ -125,24 +125,18 @@ fn parts(kind: HeavyKind) -> Vec<Part> {
 /// Never: the parts are fixed, finite and non-degenerate.
 #[allow(clippy::expect_used)]
 pub fn heavy_mesh(kind: HeavyKind) -> Mesh {
-    let (mut vertices, mut triangles): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
-    for part in parts(kind) {
-        let (mesh, centre) = match part {
-            Part::Box(min, max, n) => {
-                let (min, max) = (Vector3::from(min), Vector3::from(max));
-                let mesh = Mesh::subdivided_box(&((max - min) / 2.0), n).expect("box part");
-                (mesh, (min + max) / 2.0)
-            }
-            Part::Ellipsoid(c, h, s, r) => {
-                let mesh = Mesh::uv_ellipsoid(&Vector3::from(h), s, r).expect("ellipsoid part");
-                (mesh, Vector3::from(c))
-            }
-        };
-        let base = vertices.len() as u32;
-        vertices.extend(mesh.vertices().iter().map(|p| p + centre));
-        triangles.extend(mesh.triangles().iter().map(|t| t.map(|i| i + base)));
-    }
-    Mesh::new(vertices, triangles).expect("heavy furniture mesh")
+    let parts = parts(kind).into_iter().map(|part| match part {
+        Part::Box(min, max, n) => {
+            let (min, max) = (Vector3::from(min), Vector3::from(max));
+            let mesh = Mesh::subdivided_box(&((max - min) / 2.0), n).expect("box part");
+            (mesh, (min + max) / 2.0)
+        }
+        Part::Ellipsoid(c, h, s, r) => {
+            let mesh = Mesh::uv_ellipsoid(&Vector3::from(h), s, r).expect("ellipsoid part");
+            (mesh, Vector3::from(c))
+        }
+    });
+    sceneeval_test_support::scenes::joined(parts).expect("heavy furniture mesh")
 }
 
 /// `mesh` stretched along each axis to span exactly `target`'s bounds; `None` when either mesh
@@ -241,6 +235,7 @@ pub fn heavy_rooms(rooms: &[Scene]) -> Result<(Vec<Scene>, usize), SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sceneeval_geom::Point3;
 
     #[test]
     fn meshes_have_the_documented_sizes_and_span_the_unit_frame() {

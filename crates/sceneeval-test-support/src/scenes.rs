@@ -360,6 +360,21 @@ pub fn scaling_scene(n: usize, set: &AssetSet) -> Scene {
     b.build().expect("scaling scene")
 }
 
+/// One mesh of several parts, each moved by its offset (`p + offset`), their triangles kept in
+/// order: furniture made of boxes and ellipsoids for tests and benchmarks.
+///
+/// # Errors
+/// What [`Mesh::new`] rejects (no part, or non-finite offsets).
+pub fn joined(parts: impl IntoIterator<Item = (Mesh, Vector3)>) -> Result<Mesh, sceneeval_geom::GeomError> {
+    let (mut vertices, mut triangles): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
+    for (part, offset) in parts {
+        let base = vertices.len() as u32;
+        vertices.extend(part.vertices().iter().map(|p| p + offset));
+        triangles.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
+    }
+    Mesh::new(vertices, triangles)
+}
+
 /// The benchmark furniture at a given detail: a table (a top and four legs, each a box split
 /// `table_split` times per edge), a cabinet and a painting (boxes split `box_split` times),
 /// a lamp (a UV sphere of `segments` x `rings`); origins at the bottom centre (the lamp and
@@ -373,14 +388,9 @@ fn furniture(table_split: u32, box_split: u32, segments: u32, rings: u32) -> [Me
         (Vector3::new(0.03, 0.03, 0.35), Vector3::new(-0.55, 0.35, 0.35)),
         (Vector3::new(0.03, 0.03, 0.35), Vector3::new(0.55, 0.35, 0.35)),
     ];
-    let (mut tv, mut tt): (Vec<Point3>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
-    for (h, c) in table_parts {
-        let part = Mesh::subdivided_box(&h, table_split).expect("table part");
-        let base = tv.len() as u32;
-        tv.extend(part.vertices().iter().map(|p| p + c));
-        tt.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
-    }
-    let table = Mesh::new(tv, tt).expect("table mesh");
+    let table =
+        joined(table_parts.map(|(h, c)| (Mesh::subdivided_box(&h, table_split).expect("table part"), c)))
+            .expect("table mesh");
     let cabinet = Mesh::subdivided_box(&Vector3::new(0.4, 0.25, 0.6), box_split)
         .and_then(|m| m.transformed(&Matrix3::identity(), &Vector3::new(0.0, 0.0, 0.6)))
         .expect("cabinet mesh");
