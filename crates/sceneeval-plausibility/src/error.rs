@@ -39,11 +39,9 @@ pub enum PlausibilityError {
         /// navigability raster, which stores runs of pixels.
         max_pixels: Option<usize>,
     },
-    /// The evaluation ran past its [`crate::Deadline`] (or was cancelled).
-    #[error("{stage} stopped: {}", match .budget_seconds {
-        Some(b) => format!("the scene's time budget of {b} s is used up"),
-        None => "the evaluation was cancelled".to_owned(),
-    })]
+    /// The evaluation ran past its [`crate::Deadline`] (or was cancelled); the message is
+    /// [`sceneeval_scene::DeadlineExceeded`]'s.
+    #[error("{}", sceneeval_scene::DeadlineExceeded { stage, budget_seconds: *budget_seconds })]
     DeadlineExceeded {
         /// The metric that was running or about to run.
         stage: &'static str,
@@ -119,5 +117,14 @@ pub(crate) fn check_range(
             value,
             reason,
         })
+    }
+}
+
+impl From<sceneeval_scene::DeadlineExceeded> for PlausibilityError {
+    fn from(e: sceneeval_scene::DeadlineExceeded) -> Self {
+        PlausibilityError::DeadlineExceeded {
+            stage: e.stage,
+            budget_seconds: e.budget_seconds,
+        }
     }
 }

@@ -108,7 +108,6 @@ mod category;
 mod clearance;
 mod collision;
 mod contact;
-mod deadline;
 #[cfg(feature = "images")]
 mod diagnostics;
 mod error;
@@ -141,7 +140,6 @@ pub use collision::{
     collision_with_work,
 };
 pub use contact::Contact;
-pub use deadline::Deadline;
 #[cfg(feature = "images")]
 pub use diagnostics::write_diagnostics;
 pub use error::PlausibilityError;
@@ -154,6 +152,7 @@ pub use objects::{DEFAULT_WALKABLE_HEIGHT, Footprint};
 pub use oob::{ObjectBounds, OutOfBoundsParams, OutOfBoundsReport, out_of_bounds};
 pub use raster::{Grid, Resolution};
 pub use sceneeval_geom::DepthSearch;
+pub use sceneeval_scene::Deadline;
 pub use sources::{
     Answer, Chain, FUNCTIONAL_SIDES_TABLE, FunctionalSidePriors, FunctionalSidesOf, FunctionalSidesSource,
     GivenFunctionalSides, GivenSupportTypes, Question, SUPPORT_TYPE_TABLE, Source, Stated, SupportType,

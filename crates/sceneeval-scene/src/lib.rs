@@ -67,6 +67,7 @@
 //! it to a position in its file without reading the message.
 
 pub mod arch;
+mod deadline;
 mod element;
 mod error;
 pub mod hints;
@@ -79,6 +80,7 @@ pub use arch::{
     ArchElement, Ceiling, Floor, InwardEvidence, Opening, OpeningKind, OpeningSpec, PlacedOpening, Room,
     RoomBuilder, RoomSpec, RoomSpecError, Wall, WallSpec,
 };
+pub use deadline::{Deadline, DeadlineExceeded};
 pub use element::Element;
 pub use error::SceneError;
 pub use hints::{SupportType, UnknownSupportType};

@@ -1,25 +1,20 @@
-//! A time budget checked cooperatively by the metrics.
+//! A time budget checked cooperatively by long computations on a scene.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::PlausibilityError;
-
-/// When an evaluation must give up, and a flag another thread can raise to stop it early.
+/// When a computation must give up, and a flag another thread can raise to stop it early.
 ///
-/// Metrics check it between metrics and inside their long loops (per candidate pair in
-/// collision, per object in support, accessibility and out-of-bounds, per chunk of 64 raster
-/// rows and per room in navigability, per opening and per polygon drawn into an occlusion map
-/// in opening clearance) and stop with [`PlausibilityError::DeadlineExceeded`] once it has
-/// passed. It cannot interrupt one step of such a loop (one pair's narrow phase, bounded by
-/// `depth_sample_budget`; one object's rays, bounded by `max_face_samples`); every step is
-/// bounded by a parameter range or the raster budget, so none runs unbounded. A check costs
-/// one clock read.
+/// The crates that compute on a scene check it between their stages and inside their long
+/// loops (the plausibility metrics per pair, object, raster chunk or opening; the stability
+/// metric per decomposed mesh and per simulation step) and stop with [`DeadlineExceeded`]
+/// once it has passed. It cannot interrupt one step of such a loop; every step is bounded by
+/// a parameter range or a memory budget, so none runs unbounded. A check costs one clock read.
 ///
 /// ```
 /// use std::time::Duration;
-/// use sceneeval_plausibility::Deadline;
+/// use sceneeval_scene::Deadline;
 ///
 /// assert!(!Deadline::none().expired());
 /// let d = Deadline::after(Duration::ZERO);
@@ -34,6 +29,19 @@ pub struct Deadline {
     at: Option<Instant>,
     budget: Option<Duration>,
     cancelled: Arc<AtomicBool>,
+}
+
+/// A [`Deadline`] has passed (or was cancelled) while `stage` was running or about to run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{stage} stopped: {}", match .budget_seconds {
+    Some(b) => format!("the scene's time budget of {b} s is used up"),
+    None => "the evaluation was cancelled".to_owned(),
+})]
+pub struct DeadlineExceeded {
+    /// The stage (a metric's name) that was running or about to run.
+    pub stage: &'static str,
+    /// The budget in seconds, `None` when the deadline was cancelled without one.
+    pub budget_seconds: Option<f64>,
 }
 
 impl Deadline {
@@ -56,7 +64,7 @@ impl Deadline {
         self.budget
     }
 
-    /// Stops every evaluation holding this deadline (or a clone of it) at its next check.
+    /// Stops every computation holding this deadline (or a clone of it) at its next check.
     pub fn cancel(&self) {
         self.cancelled.store(true, Ordering::Relaxed);
     }
@@ -70,11 +78,10 @@ impl Deadline {
     /// `Ok` while the deadline has not passed.
     ///
     /// # Errors
-    /// [`PlausibilityError::DeadlineExceeded`] naming `stage` (the metric that was running or
-    /// about to run).
-    pub fn check(&self, stage: &'static str) -> Result<(), PlausibilityError> {
+    /// [`DeadlineExceeded`] naming `stage` (the stage that was running or about to run).
+    pub fn check(&self, stage: &'static str) -> Result<(), DeadlineExceeded> {
         if self.expired() {
-            Err(PlausibilityError::DeadlineExceeded {
+            Err(DeadlineExceeded {
                 stage,
                 budget_seconds: self.budget.map(|b| b.as_secs_f64()),
             })
