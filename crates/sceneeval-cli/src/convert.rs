@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
+use sceneeval::convert::{ConvertOptions, Format, IdMap, Report, convert};
 use sceneeval::io::assets::AssetSpec;
-use sceneeval_convert::{ConvertOptions, Format, IdMap, Report, convert};
 
 /// Arguments of `sceneeval convert`.
 #[derive(Debug, clap::Args)]

@@ -11,12 +11,12 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use anyhow::{Context, bail};
+use sceneeval::vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
+use sceneeval::vlm::{Outcome, Session};
 use sceneeval::{RequestField, VlmOptions};
-use sceneeval_vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
-use sceneeval_vlm::{Outcome, Session};
 
 use crate::evaluate::OptionError;
-use sceneeval_vlm_openai::{OpenAiVlm, RuntimeVlm};
+use sceneeval::vlm_openai::{OpenAiVlm, RuntimeVlm};
 
 /// `sceneeval vlm` subcommands.
 #[derive(Debug, clap::Subcommand)]
@@ -223,10 +223,9 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         api_key_env: args.api_key_env.clone(),
         ..args.sampling.options(&args.base_url, &args.model)
     };
-    let mut config = options.config().map_err(|error| OptionError {
-        error,
-        name: check_option_name,
-    })?;
+    let mut config = options
+        .config()
+        .map_err(|error| OptionError::new(error, check_option_name))?;
     config.timeout = Duration::from_secs_f64(args.timeout);
     config.retry.max_retries = args.retries;
     let vlm = RuntimeVlm::start(OpenAiVlm::new(config).context("cannot set up the client")?)?;

@@ -12,12 +12,12 @@ pub enum ReportError {
         /// The folder.
         dir: PathBuf,
     },
-    /// A record could not be read, or a file written (the facade's error names the file).
+    /// A record could not be read (the error names the file).
     #[error(transparent)]
-    Eval(#[from] sceneeval::EvalError),
+    Results(#[from] sceneeval_results::ResultsError),
     /// An `--assets` specification is wrong.
     #[error("--assets: {0}")]
-    Assets(#[source] sceneeval::io::IoError),
+    Assets(#[source] sceneeval_io::IoError),
     /// A file or folder could not be read or written.
     #[error("{}: {source}", path.display())]
     File {

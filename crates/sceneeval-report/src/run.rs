@@ -4,8 +4,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use sceneeval::annotation::Annotations;
-use sceneeval::{
+use sceneeval_annotation::Annotations;
+use sceneeval_results::{
     ALL_SCENES, GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneRecord, SceneReport, Summary,
     UNANNOTATED,
 };
@@ -31,7 +31,7 @@ impl Run {
     /// [`Run::with_annotations`] replaces them).
     ///
     /// # Errors
-    /// [`ReportError::File`] when the folder cannot be listed, [`ReportError::Eval`] for a
+    /// [`ReportError::File`] when the folder cannot be listed, [`ReportError::Results`] for a
     /// record that cannot be read, [`ReportError::NoRecords`] when there is none,
     /// [`ReportError::Csv`] for a malformed `summary_scenes.csv`.
     pub fn open(dir: &Path) -> Result<Run, ReportError> {
@@ -86,7 +86,7 @@ impl Run {
     }
 
     /// The run with each scene's difficulty from its row in `annotations`
-    /// ([`sceneeval::SceneName::annotation_row`], the rule the run itself used).
+    /// ([`sceneeval_results::SceneName::annotation_row`], the rule the run itself used).
     pub fn with_annotations(mut self, annotations: &Annotations) -> Self {
         self.difficulty = self
             .records
@@ -144,7 +144,7 @@ impl Run {
 /// fidelity metrics that have a section, without those the scene could not compute
 /// ([`SceneReport::incomplete`], status partial).
 pub fn metrics_in(report: &SceneReport) -> Vec<Metric> {
-    let mut metrics: Vec<Metric> = report.geometry_metrics.iter().map(|&m| Metric::from(m)).collect();
+    let mut metrics: Vec<Metric> = report.metrics.iter().map(|&m| Metric::from(m)).collect();
     if let Some(f) = &report.fidelity {
         for (present, m) in [
             (f.cnt.is_some(), Metric::Cnt),
