@@ -270,7 +270,7 @@ pub fn wilcoxon(py: Python<'_>, differences: Vec<f64>) -> PyResult<Bound<'_, PyA
     to_python(py, &wilcoxon_json(&w))
 }
 
-/// A paired comparison of b with a on the same items (a[i] and b[i] the same item): n, the
+/// A paired comparison of b with a on the same items (`a[i]` and `b[i]` the same item): n, the
 /// mean difference b - a, its percentile bootstrap interval (pairs resampled, seeded) and the
 /// Wilcoxon signed-rank test of the differences. Returns a dict: n, mean_difference (None
 /// without pairs), interval (as bootstrap_mean gives it) and wilcoxon (as wilcoxon gives it).
@@ -298,7 +298,7 @@ pub fn paired(
     to_python(py, &value)
 }
 
-/// Holm's step-down adjustment, equal to statsmodels' multipletests(p, method='holm')[1]:
+/// Holm's step-down adjustment, equal to statsmodels' `multipletests(p, method='holm')[1]`:
 /// the i-th smallest (from 0) of the m p-values becomes min(1, max over j <= i of (m - j)
 /// p_(j)), returned in the input's order. None entries stay None and are not counted in m.
 #[pyfunction]

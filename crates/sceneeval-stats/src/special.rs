@@ -27,9 +27,11 @@ pub fn normal_cdf(a: f64) -> f64 {
 /// For `2k <= n`: the term `C(n, k) / 2^n`, built as a running product of the factors
 /// `(n - k + j) / j` with its binary exponent kept apart (no overflow or underflow on the way),
 /// times the sum of the ratios of the lower terms to it, summed from the largest down and
-/// stopped once the rest is below 1e-17 of the sum. Relative error about `2k + 4` ulps at worst
-/// (the product's roundings), far less in practice (they do not all go the same way); the
-/// result underflows to 0 only below about 1e-308. For `2k > n` it is one minus the other tail.
+/// stopped once the rest is below 1e-17 of the sum. Relative error at most about `2k + 4` ulps
+/// (the product's roundings), far less in practice since they do not all go the same way:
+/// within 1e-14 of exact fractions on the Python tests' cases (`n` up to 7800); subnormal below
+/// about 2e-308, 0 below 5e-324. For `2k > n` it is one minus the other
+/// tail.
 /// Time linear in `min(k, n - k)`.
 #[must_use]
 pub fn binomial_half_cdf(k: u64, n: u64) -> f64 {

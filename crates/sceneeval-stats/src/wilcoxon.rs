@@ -23,8 +23,8 @@
 //! correction=True, alternative='two-sided', method=M)` with `M = 'exact'` when the rule picks
 //! the exact distribution and `M = 'asymptotic'` (formerly `'approx'`) otherwise, operation for
 //! operation: the exact p-value and the statistic are bit-identical, the approximate p-value
-//! differs only through `erfc` (musl's here, Cephes' there: a few units in the last place, up
-//! to about 1e-14 relative in the far tail). SciPy's `method='auto'` is a different rule (a
+//! differs only through `erfc` (musl's here, Cephes' there): bit-identical or a few units in
+//! the last place apart. SciPy's `method='auto'` is a different rule (a
 //! permutation test for small samples with ties or zeros).
 
 use serde::{Deserialize, Serialize};

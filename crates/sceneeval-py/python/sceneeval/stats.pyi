@@ -43,10 +43,10 @@ def paired(
     seed: int = 20261121,
     level: float = 0.95,
 ) -> Dict[str, Any]:
-    """A paired comparison of b with a on the same items (a[i] and b[i] the same item): n, the mean difference b - a, its percentile bootstrap interval (pairs resampled, seeded) and the Wilcoxon signed-rank test of the differences. Returns a dict: n, mean_difference (None without pairs), interval (as bootstrap_mean gives it) and wilcoxon (as wilcoxon gives it)."""
+    """A paired comparison of b with a on the same items (`a[i]` and `b[i]` the same item): n, the mean difference b - a, its percentile bootstrap interval (pairs resampled, seeded) and the Wilcoxon signed-rank test of the differences. Returns a dict: n, mean_difference (None without pairs), interval (as bootstrap_mean gives it) and wilcoxon (as wilcoxon gives it)."""
 
 def holm(p_values: Sequence[Optional[float]]) -> List[Optional[float]]:
-    """Holm's step-down adjustment, equal to statsmodels' multipletests(p, method='holm')[1]: the i-th smallest (from 0) of the m p-values becomes min(1, max over j <= i of (m - j) p_(j)), returned in the input's order. None entries stay None and are not counted in m."""
+    """Holm's step-down adjustment, equal to statsmodels' `multipletests(p, method='holm')[1]`: the i-th smallest (from 0) of the m p-values becomes min(1, max over j <= i of (m - j) p_(j)), returned in the input's order. None entries stay None and are not counted in m."""
 
 def mcnemar(b: int, c: int) -> Dict[str, Any]:
     """McNemar's exact test on the discordant counts of paired binary outcomes: b items true in the first and false in the second, c the other way round. The two-sided p-value is min(1, 2 P(X <= min(b, c))) for X ~ Binomial(b + c, 1/2), equal to statsmodels' mcnemar([[a, b], [c, d]], exact=True).pvalue; 1 without discordant items. Returns a dict: b, c, statistic (min(b, c)), p_value."""
