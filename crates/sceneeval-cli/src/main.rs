@@ -18,6 +18,7 @@ mod inspect;
 mod relate;
 mod render;
 mod report;
+mod server;
 mod settle;
 mod summarize;
 mod vlm;
