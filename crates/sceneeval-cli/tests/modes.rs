@@ -8,7 +8,7 @@
 mod common;
 
 use std::os::unix::fs::PermissionsExt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 use common::fixtures;
@@ -32,20 +32,6 @@ fn under_umask(mask: &str, args: &[&std::ffi::OsStr]) -> Output {
 
 fn mode(path: &Path) -> u32 {
     std::fs::metadata(path).unwrap().permissions().mode() & 0o7777
-}
-
-/// Every file below `dir`.
-fn files(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            out.extend(files(&path));
-        } else {
-            out.push(path);
-        }
-    }
-    out
 }
 
 #[test]
@@ -72,7 +58,7 @@ fn results_and_reports_get_the_umask_s_mode() {
                 run.as_os_str(),
             ],
         );
-        let written = files(&run);
+        let written = sceneeval_test_support::files_below(&run);
         // eval.json and timing.json of two scenes, the summaries, the report's pages, the lock.
         assert!(written.len() >= 10, "{written:?}");
         for file in &written {
@@ -92,33 +78,26 @@ fn a_scene_settled_in_place_keeps_its_mode() {
     std::fs::copy(fixtures().join("scenes/scene_6.json"), &scene).unwrap();
     std::fs::set_permissions(&scene, std::fs::Permissions::from_mode(0o664)).unwrap();
     let assets = format!("fixture={}", fixtures().join("assets").display());
+    let settle = |out: &Path| {
+        under_umask(
+            "077",
+            &[
+                "settle".as_ref(),
+                scene.as_os_str(),
+                "--assets".as_ref(),
+                assets.as_ref(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ],
+        )
+    };
     let before = std::fs::read(&scene).unwrap();
-    under_umask(
-        "077",
-        &[
-            "settle".as_ref(),
-            scene.as_os_str(),
-            "--assets".as_ref(),
-            assets.as_ref(),
-            "--out".as_ref(),
-            scene.as_os_str(),
-        ],
-    );
+    settle(&scene);
     assert_ne!(std::fs::read(&scene).unwrap(), before, "the chair fell");
     assert_eq!(mode(&scene), 0o664);
     // A new file under the same umask: private, as the umask says.
     let new = dir.path().join("settled.json");
-    under_umask(
-        "077",
-        &[
-            "settle".as_ref(),
-            scene.as_os_str(),
-            "--assets".as_ref(),
-            assets.as_ref(),
-            "--out".as_ref(),
-            new.as_os_str(),
-        ],
-    );
+    settle(&new);
     assert_eq!(mode(&new), 0o600);
     assert_eq!(
         sceneeval_test_support::file_names(dir.path()),

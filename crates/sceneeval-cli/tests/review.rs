@@ -159,8 +159,8 @@ impl Review {
         )
     }
 
-    /// Sends SIGINT (Ctrl-C) and returns the rest of standard output after the process ends.
-    fn interrupt(mut self) -> (std::process::ExitStatus, String) {
+    /// Sends SIGINT (Ctrl-C) to the server.
+    fn send_interrupt(&self) {
         let pid = self.child.id().to_string();
         assert!(
             Command::new("kill")
@@ -169,6 +169,11 @@ impl Review {
                 .unwrap()
                 .success()
         );
+    }
+
+    /// Sends SIGINT (Ctrl-C) and returns the rest of standard output after the process ends.
+    fn interrupt(mut self) -> (std::process::ExitStatus, String) {
+        self.send_interrupt();
         let mut rest = String::new();
         self.stdout.read_to_string(&mut rest).unwrap();
         (self.child.wait().unwrap(), rest)
@@ -538,14 +543,7 @@ mod hostile {
             ),
         );
         assert!(still_waiting(&half) && still_waiting(&body));
-        let pid = review.child.id().to_string();
-        assert!(
-            Command::new("kill")
-                .args(["-INT", &pid])
-                .status()
-                .unwrap()
-                .success()
-        );
+        review.send_interrupt();
         // The server stops well before the slow clients' 30 s timeouts would drop them.
         let mut status = None;
         wait_for("the server to stop", || {

@@ -336,21 +336,15 @@ fn tampered_run() -> (tempfile::TempDir, PathBuf, PathBuf) {
     (root, run, secret)
 }
 
-/// Every file under `dir`, as text.
+/// Every file below `dir`, as text.
 fn texts(dir: &Path) -> Vec<(PathBuf, String)> {
-    let mut out = Vec::new();
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            out.extend(texts(&path));
-        } else {
-            out.push((
-                path.clone(),
-                String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned(),
-            ));
-        }
-    }
-    out
+    sceneeval_test_support::files_below(dir)
+        .into_iter()
+        .map(|path| {
+            let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+            (path, text)
+        })
+        .collect()
 }
 
 #[cfg(unix)]
