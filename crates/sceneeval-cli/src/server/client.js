@@ -26,3 +26,15 @@ async function sceneevalApi(method, path, body, options) {
   }
   return data;
 }
+
+// `sceneevalBlobUrl(path)`: a `blob:` URL of what an API route of bytes answers (an image),
+// fetched with the token, for an <img> to show (revoke it with URL.revokeObjectURL when done).
+async function sceneevalBlobUrl(path) {
+  const response = await fetch(path, { headers: { "X-Sceneeval-Token": SCENEEVAL_TOKEN } });
+  if (!response.ok) {
+    let data = null;
+    try { data = await response.json(); } catch (_) { data = null; }
+    throw new Error((data && data.error) || ("HTTP " + response.status));
+  }
+  return URL.createObjectURL(await response.blob());
+}

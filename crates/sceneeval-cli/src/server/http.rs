@@ -29,7 +29,7 @@ const SECURITY_HEADERS: [(&str, &str); 6] = [
     ("cross-origin-opener-policy", "same-origin"),
     (
         "content-security-policy",
-        "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self'; connect-src 'self'; \
+        "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' blob:; connect-src 'self'; \
          base-uri 'none'; form-action 'none'; frame-ancestors 'none'",
     ),
 ];
@@ -311,7 +311,7 @@ async fn handle<S: Send + 'static>(
     };
     let shared = Arc::clone(shared);
     // File writes and validation off the connections' thread, one request at a time.
-    let json = tokio::task::spawn_blocking(move || {
+    let reply = tokio::task::spawn_blocking(move || {
         let mut guard = shared.state.lock().unwrap_or_else(PoisonError::into_inner);
         let Some(state) = guard.as_mut() else {
             return Err(ApiError::new(503, "the server is stopping"));
@@ -324,7 +324,7 @@ async fn handle<S: Send + 'static>(
     })
     .await
     .map_err(|e| ApiError::new(500, format!("the request's handler failed: {e}")))??;
-    Ok(Some(("application/json", Bytes::from(json))))
+    Ok(Some((reply.0, Bytes::from(reply.1))))
 }
 
 /// A request's body: at most `limits.max_body` bytes (413 past it), arrived within
@@ -524,7 +524,8 @@ mod tests {
             .unwrap()
             .to_str()
             .unwrap();
-        assert!(csp.contains("script-src 'self'") && csp.contains("frame-ancestors 'none'"));
+        assert!(csp.contains("script-src 'self';") && csp.contains("frame-ancestors 'none'"));
+        assert!(csp.contains("img-src 'self' blob:;") && csp.starts_with("default-src 'none';"));
         assert_eq!(r.headers().get("x-content-type-options").unwrap(), "nosniff");
         assert_eq!(r.headers().get("content-type").unwrap(), "application/json");
     }
@@ -542,6 +543,10 @@ mod tests {
             "{script}"
         );
         assert!(script.contains("meta[name=\"sceneeval-token\"]"));
+        // Images of a route of bytes are fetched with the token too, shown through blob: URLs
+        // (which the policy allows for images only).
+        assert!(script.contains("async function sceneevalBlobUrl(path)"));
+        assert!(script.matches("\"X-Sceneeval-Token\": SCENEEVAL_TOKEN").count() == 2);
     }
 
     #[test]

@@ -2,8 +2,8 @@
 //! browser on 127.0.0.1 (`sceneeval annotations review`, and the judge page of the human-label
 //! workflow). A page brings its HTML, its static files, its state and its API, a list of typed
 //! routes ([`Api`]: a handler takes the page's state and a request type deserialized from the
-//! query or the JSON body, and returns a response type serialized as JSON); this module does
-//! the rest, the same way for every page:
+//! query or the JSON body, and returns a response type serialized as JSON, or bytes of their
+//! own type such as an image, [`Raw`]); this module does the rest, the same way for every page:
 //!
 //! - **Only 127.0.0.1**: the listener is bound to the loopback address only, on a random free
 //!   port unless one is given ([`Listener::bind`]).
@@ -20,7 +20,8 @@
 //!   answered 413 before anything else is looked at, and nothing of its body is read; a
 //!   chunked body is read up to one byte past the limit.
 //! - **Strict headers**: every response has a Content-Security-Policy that allows no inline
-//!   script, nothing from another origin and no framing, `nosniff`, `no-referrer`,
+//!   script, nothing from another origin (images also from `blob:` URLs, which the page makes
+//!   of what it fetched with its token) and no framing, `nosniff`, `no-referrer`,
 //!   `Cache-Control: no-store`, and same-origin resource and opener policies.
 //! - **Hostile clients cannot stop it**: each connection is served on its own task, so a slow
 //!   or silent client does not hold up the others; headers must arrive within
@@ -44,6 +45,11 @@ use std::time::Duration;
 
 use anyhow::{Context, anyhow};
 
+#[expect(
+    unused_imports,
+    reason = "the route type of the judge page's images (issue 36); no page serves bytes yet"
+)]
+pub use api::Raw;
 pub use api::{Api, ApiError, NoParams};
 
 /// The placeholder of the page's HTML that the per-run token replaces.
