@@ -207,8 +207,10 @@ pub(crate) fn scene_order(a: &SceneName, b: &SceneName) -> std::cmp::Ordering {
 
 /// The record `path` of the folder of `scene`, or why it cannot be read.
 fn read_record(root: &Path, scene: &SceneName, path: &Path) -> Result<SceneRecord, String> {
-    let Inside::Yes(file) = inside(root, path) else {
-        return Err("a symbolic link that leads out of the run folder (not read)".to_owned());
+    let file = match inside(root, path) {
+        Inside::Yes(file) => file,
+        Inside::No => return Err("a symbolic link that leads out of the run folder (not read)".to_owned()),
+        Inside::Missing => return Err("a symbolic link to nothing".to_owned()),
     };
     sceneeval_files::check_regular(&file).map_err(|e| e.to_string())?;
     let record = SceneRecord::read(&file).map_err(|e| format!("{}", ErrorChain::new(&e)))?;

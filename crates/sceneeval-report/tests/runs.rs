@@ -294,7 +294,8 @@ fn a_report_outside_its_run_copies_the_images_and_escapes_everything() {
 /// A copy of run `method-a` in a folder of its own, next to a "secret" file outside it, then
 /// tampered with: scene 2's record names the secret file as its scene, scene 5's views hold a
 /// symbolic link to it, scene 7's record says its scene is `../..`, scene 8's record is not
-/// JSON, and `scene_9/eval.json` is a link to a record outside the run.
+/// JSON, `scene_9/eval.json` is a link to a record outside the run and `scene_11/eval.json` a
+/// link to nothing.
 #[cfg(unix)]
 fn tampered_run() -> (tempfile::TempDir, PathBuf, PathBuf) {
     let r = runs();
@@ -333,6 +334,8 @@ fn tampered_run() -> (tempfile::TempDir, PathBuf, PathBuf) {
     std::fs::create_dir_all(run.join("scene_9")).unwrap();
     std::fs::copy(r.b.join("scene_2/eval.json"), root.path().join("elsewhere.json")).unwrap();
     std::os::unix::fs::symlink(root.path().join("elsewhere.json"), run.join("scene_9/eval.json")).unwrap();
+    std::fs::create_dir_all(run.join("scene_11")).unwrap();
+    std::os::unix::fs::symlink(root.path().join("nowhere.json"), run.join("scene_11/eval.json")).unwrap();
     (root, run, secret)
 }
 
@@ -358,7 +361,7 @@ fn a_tampered_run_folder_makes_the_report_read_nothing_outside_it() {
         .iter()
         .map(|u| (u.scene.as_str(), u.reason.as_str()))
         .collect();
-    assert_eq!(unreadable.len(), 3, "{unreadable:?}");
+    assert_eq!(unreadable.len(), 4, "{unreadable:?}");
     assert_eq!(unreadable[0].0, "scene_7");
     assert!(
         unreadable[0]
@@ -373,6 +376,7 @@ fn a_tampered_run_folder_makes_the_report_read_nothing_outside_it() {
             .contains("not a valid result file: EOF while parsing"),
         "{unreadable:?}"
     );
+    assert_eq!(unreadable[3], ("scene_11", "a symbolic link to nothing"));
     assert_eq!(unreadable[2].0, "scene_9");
     assert!(
         unreadable[2].1.contains("leads out of the run folder"),
@@ -474,7 +478,7 @@ fn a_tampered_run_folder_makes_the_report_read_nothing_outside_it() {
     assert_eq!(c.scenes, ["scene_2", "scene_5"]);
     let notes = c.notes.join("\n");
     assert!(
-        notes.contains("run: 3 record(s) could not be read, their scenes are left out: "),
+        notes.contains("run: 4 record(s) could not be read, their scenes are left out: "),
         "{notes}"
     );
     assert!(notes.contains("EOF while parsing"), "{notes}");
