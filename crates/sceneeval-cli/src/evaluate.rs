@@ -340,7 +340,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         eprintln!("  time over the evaluated scenes: {}", parts.join(", "));
     }
     if args.report {
-        crate::report::after_evaluate(&args.out, &args.assets, args.annotations.as_deref())?;
+        crate::report::after_evaluate(&args.out, &args.scenes, &args.assets, args.annotations.as_deref())?;
     }
     // A partial scene's results are incomplete too: a re-run completes them.
     Ok(if outcome.failed + outcome.partial > 0 {

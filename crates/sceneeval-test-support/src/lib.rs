@@ -44,6 +44,26 @@ pub fn file_names(dir: &std::path::Path) -> Vec<String> {
     names
 }
 
+/// Every file below folder `dir` (in its subfolders too), sorted: what a test checks about all
+/// that a command wrote (permissions, content).
+///
+/// # Panics
+/// When a folder cannot be read (a test's own temporary folder).
+#[allow(clippy::unwrap_used)]
+pub fn files_below(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            out.extend(files_below(&path));
+        } else {
+            out.push(path);
+        }
+    }
+    out.sort();
+    out
+}
+
 /// A deterministic sequence of numbers in `[0, 1)` (a 64-bit linear congruential generator
 /// with Knuth's constants, the top 53 bits of each state), for tests and benchmarks that need
 /// the same "random" inputs on every run.
