@@ -73,7 +73,7 @@
 //! ```
 //! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //! use sceneeval_physics::{DecompositionCache, Stability, StabilityParams, WeldReason};
-//! use sceneeval_scene::{Category, RoomBuilder, Scene, SupportType};
+//! use sceneeval_scene::{Category, Deadline, RoomBuilder, Scene, SupportType};
 //!
 //! let scene = Scene::builder()
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0)))
@@ -88,7 +88,7 @@
 //! let support = [Some(SupportType::Ground), Some(SupportType::Wall)];
 //! let cache = DecompositionCache::in_memory();
 //! let report = Stability::new(StabilityParams::default()).unwrap()
-//!     .evaluate(&scene, &support, &cache, &|| false)
+//!     .evaluate(&scene, &support, &cache, &Deadline::none())
 //!     .unwrap();
 //! assert!(report.objects[0].stable && !report.objects[0].welded);
 //! assert_eq!(report.objects[1].weld_reason, Some(WeldReason::Wall));
@@ -97,6 +97,7 @@
 
 pub mod arch;
 mod cache;
+mod contact;
 pub mod decompose;
 mod error;
 pub mod params;

@@ -11,7 +11,7 @@ use sceneeval_io::{AssetLibrary, ReadOptions, read_scene_state};
 use sceneeval_physics::{
     DecompositionCache, Stability, StabilityParams, StabilityReport, WeldMode, WeldReason,
 };
-use sceneeval_scene::Scene;
+use sceneeval_scene::{Deadline, Scene};
 
 fn fixture(n: u32) -> Scene {
     let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures"));
@@ -31,7 +31,7 @@ fn evaluate(scene: &Scene, weld: WeldMode, cache: &DecompositionCache) -> Stabil
         ..StabilityParams::default()
     })
     .unwrap()
-    .evaluate(scene, &support, cache, &|| false)
+    .evaluate(scene, &support, cache, &Deadline::none())
     .unwrap()
 }
 
