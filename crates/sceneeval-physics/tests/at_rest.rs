@@ -1,6 +1,7 @@
-//! Objects placed at rest stay at rest (issue 34, items 1 and 3): an object touching the floor
-//! exactly is not "interpenetrating" it wherever it stands, and a round base resting on the
-//! floor does not tip whatever the last bits of its pose. The inputs are the issue's.
+//! Objects placed at rest stay at rest (issue 34, items 1 to 3): an object touching the floor
+//! exactly is not "interpenetrating" it wherever it stands, an object flush against a wall two
+//! rooms share is not inside it, and a round base resting on the floor does not tip whatever
+//! the last bits of its pose. The inputs are the issue's.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -8,8 +9,9 @@ mod common;
 
 use common::{fixture_object, floor, read_scene};
 use proptest::prelude::*;
+use sceneeval_geom::{Isometry3, Point2, Vector3};
 use sceneeval_physics::{DecompositionCache, Stability, StabilityParams, StabilityReport, WeldMode};
-use sceneeval_scene::{Deadline, Scene};
+use sceneeval_scene::{Deadline, RoomBuilder, Scene, SceneObject};
 use serde_json::json;
 
 fn evaluate(scene: &Scene, weld: WeldMode) -> StabilityReport {
@@ -95,6 +97,52 @@ fn lamps_and_plants_at_the_rooms_centre_stay_and_settle_in_place() {
             moved < 1e-4 && report.objects[0].stable,
             "{model}: moved {moved} m"
         );
+    }
+}
+
+#[test]
+fn objects_flush_against_a_wall_two_rooms_share_are_neither_flagged_nor_pushed() {
+    // Two rooms sharing the line x = 4, each listing its own wall there with its thickness on
+    // the other's side (zero-thickness walls as in fixture scenes 4 and 12, Holodeck's 0.025 m,
+    // 0.1 m): a 0.4 x 0.6 x 0.8 m box flush against the line on each side. They were "inside"
+    // the neighbour's wall (by 0.5 mm + 0.5 mm for zero thickness, by the thickness
+    // otherwise) and pushed apart by it.
+    for t in [0.0, 0.025, 0.1] {
+        let scene = Scene::builder()
+            .room_builder(
+                RoomBuilder::rectangle("a", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0)).wall_thickness(t),
+            )
+            .room_builder(
+                RoomBuilder::rectangle("b", Point2::new(4.0, 0.0), Point2::new(9.0, 5.0)).wall_thickness(t),
+            )
+            .object(
+                SceneObject::new_box(
+                    "in_a",
+                    Vector3::new(0.2, 0.3, 0.4),
+                    Isometry3::translation(3.8, 2.5, 0.4),
+                )
+                .unwrap(),
+            )
+            .object(
+                SceneObject::new_box(
+                    "in_b",
+                    Vector3::new(0.2, 0.3, 0.4),
+                    Isometry3::translation(4.2, 2.5, 0.4),
+                )
+                .unwrap(),
+            )
+            .build()
+            .unwrap();
+        for weld in [WeldMode::Penetration, WeldMode::None] {
+            let r = evaluate(&scene, weld);
+            for o in &r.objects {
+                assert!(o.interpenetration.is_none() && !o.welded, "{t} {weld:?}: {o:?}");
+                assert!(
+                    o.stable && o.displacement_m < 1e-4 && o.rotation_rad < 1e-4,
+                    "{t} {weld:?}: {o:?}"
+                );
+            }
+        }
     }
 }
 
