@@ -260,9 +260,7 @@ impl Evaluator {
         let run = &self.stability;
         let (poses, report) =
             run.metric
-                .settle(scene, &run.support_types(scene, sources), &run.cache, &|| {
-                    deadline.expired()
-                })?;
+                .settle(scene, &run.support_types(scene, sources), &run.cache, deadline)?;
         let mut settled = scene.clone();
         for (i, pose) in poses.into_iter().enumerate() {
             // The simulation's poses are finite (a diverged one is an error above).
@@ -803,9 +801,7 @@ impl StabilityRun {
     ) -> Result<crate::physics::StabilityReport, EvalError> {
         Ok(self
             .metric
-            .evaluate(scene, &self.support_types(scene, sources), &self.cache, &|| {
-                deadline.expired()
-            })?)
+            .evaluate(scene, &self.support_types(scene, sources), &self.cache, deadline)?)
     }
 
     /// Each object's support type from `sources` (scene order; `None`: no source knows).
@@ -1205,8 +1201,7 @@ mod tests {
     fn stability_obeys_the_time_budget_and_reports_a_scene_without_rooms() {
         let plan = EvaluationPlan::from_json_str(r#"{"metrics": ["stability"]}"#).unwrap();
         let evaluator = Evaluator::new(plan).unwrap();
-        let deadline = Deadline::none();
-        deadline.cancel();
+        let deadline = Deadline::after(std::time::Duration::ZERO);
         let inputs = SceneInputs {
             deadline: Some(&deadline),
             ..SceneInputs::default()
@@ -1223,7 +1218,7 @@ mod tests {
         };
         let done = evaluator.evaluate_scene(&physics_scene(), &inputs).unwrap();
         let err = incomplete(&done.report);
-        assert!(err.contains("time budget"), "{err}");
+        assert!(err.contains("time budget exceeded"), "{err}");
         assert!(done.report.stability.is_none());
         let roomless = Scene::builder()
             .id("scene_9")
