@@ -449,7 +449,10 @@ impl<'a> Batch<'a> {
             match loaded {
                 Err(e) => Err((Stage::Load, Box::new(e))),
                 Ok(loaded) => match deadline.check("loading") {
-                    Err(e) => Err((Stage::Load, Box::new(EvalError::from(e)))),
+                    Err(e) => Err((
+                        Stage::Load,
+                        Box::new(EvalError::from(crate::plausibility::PlausibilityError::from(e))),
+                    )),
                     Ok(()) => {
                         let views_dir = dir.join("views");
                         let inputs = SceneInputs {
