@@ -8,31 +8,17 @@
 // Helpers outside `#[test]` functions may stop the test on a set-up failure.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::io::Write;
 use std::path::Path;
-use std::sync::{Arc, Mutex};
 
 use sceneeval_io::scene_state::UnknownKey;
 use sceneeval_io::{AssetLibrary, IoError, ReadOptions, read_scene_state_str};
 use sceneeval_scene::Scene;
+use sceneeval_test_support::logs::SharedBuffer;
 use serde_json::{Value, json};
-
-#[derive(Clone, Default)]
-struct Buffer(Arc<Mutex<Vec<u8>>>);
-
-impl Write for Buffer {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0.lock().unwrap().extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
 
 /// Runs `f` with the warnings it logs captured (this thread only), one per line.
 fn warnings<T>(f: impl FnOnce() -> T) -> (T, Vec<String>) {
-    let buffer = Buffer::default();
+    let buffer = SharedBuffer::default();
     let writer = buffer.clone();
     let subscriber = tracing_subscriber::fmt()
         .with_max_level(tracing::Level::WARN)
@@ -40,8 +26,7 @@ fn warnings<T>(f: impl FnOnce() -> T) -> (T, Vec<String>) {
         .with_ansi(false)
         .finish();
     let out = tracing::subscriber::with_default(subscriber, f);
-    let text = String::from_utf8(buffer.0.lock().unwrap().clone()).unwrap();
-    (out, text.lines().map(str::to_owned).collect())
+    (out, buffer.text().lines().map(str::to_owned).collect())
 }
 
 fn read(doc: &Value, file: &str, options: &ReadOptions) -> Result<Scene, IoError> {
