@@ -12,8 +12,7 @@ mod common;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use common::{convert_into, native, specs};
-use sceneeval_convert::Format;
+use common::{convert_into, fixture_batches, native};
 
 /// Every file under `dir`, relative to it (with `/`), to `"<blake3 hex> <size>"`.
 fn digests(dir: &Path) -> BTreeMap<String, String> {
@@ -48,22 +47,8 @@ fn expected_file() -> PathBuf {
 
 #[test]
 fn fixture_conversions_are_byte_identical_to_the_blessed_outputs() {
-    let runs = [
-        (
-            Format::Holodeck,
-            "holodeck/scenes",
-            specs(&[("objaverse", native("holodeck/objathor"))]),
-        ),
-        (
-            Format::LayoutVlm,
-            "layoutvlm/scenes",
-            specs(&[("layoutvlm-objaverse", native("layoutvlm/assets"))]),
-        ),
-        (Format::IDesign, "idesign/scenes", vec![]),
-        (Format::SceneAgent, "scene-agent/scenes", vec![]),
-    ];
     let mut actual: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
-    for (format, input, assets) in runs {
+    for (format, input, assets) in fixture_batches() {
         let (tmp, _) = convert_into(format, &native(input), assets, None);
         actual.insert(format.name().to_owned(), digests(&tmp.path().join("out")));
     }
@@ -97,4 +82,33 @@ fn fixture_conversions_are_byte_identical_to_the_blessed_outputs() {
         expected.keys().collect::<Vec<_>>(),
         actual.keys().collect::<Vec<_>>()
     );
+}
+
+#[test]
+fn converted_and_fixture_scenes_have_only_known_keys() {
+    // Reading them warns about nothing (and `--strict` accepts them): the keys the converters
+    // write, those SceneSmith's exporter writes (copied by the SceneAgent conversion), and those
+    // of the generated fixture scenes are all keys of the sceneState format.
+    let mut files = Vec::new();
+    let mut tmps = Vec::new();
+    for (format, input, assets) in fixture_batches() {
+        let (tmp, report) = convert_into(format, &native(input), assets, None);
+        for s in &report.scenes {
+            files.push(tmp.path().join("out").join(&s.files[0]));
+        }
+        tmps.push(tmp);
+    }
+    let scenes = sceneeval_fixtures::default_output_dir().join("scenes");
+    for entry in std::fs::read_dir(&scenes).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "json") {
+            files.push(path);
+        }
+    }
+    assert!(files.len() > 10, "{files:?}");
+    for file in files {
+        let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+        let unknown = sceneeval_io::scene_state::unknown_keys(&doc);
+        assert!(unknown.is_empty(), "{}: {unknown:?}", file.display());
+    }
 }
