@@ -152,6 +152,12 @@ pub fn hint(err: &(dyn std::error::Error + 'static)) -> Option<String> {
             .downcast_ref::<IoError>()
             .or_else(|| cause.downcast_ref::<Box<IoError>>().map(|b| &**b))
     }
+    if let Some(hint) = std::iter::once(err)
+        .chain(sceneeval::causes(err))
+        .find_map(convert::hint)
+    {
+        return Some(hint);
+    }
     std::iter::once(err).chain(sceneeval::causes(err)).find_map(|cause| match io(cause)? {
         IoError::UnknownPrefix { prefix, .. } => Some(format!(
             "the scene names assets with the prefix {prefix:?}: pass --assets {prefix}=DIR with the folder \
