@@ -9,6 +9,8 @@ from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple,
 import numpy as np
 import numpy.typing as npt
 
+from . import stats as stats
+
 __version__: str
 OBJECT_OBJECT_RELATIONS: List[str]
 OBJECT_ARCHITECTURE_RELATIONS: List[str]

@@ -15,7 +15,6 @@
 //! ranks, and its places the number of columns where it is first, second and third. Best
 //! values (rank 1) are bold, second (rank 2) italic.
 
-mod bootstrap;
 mod rank;
 #[cfg(test)]
 mod tests;
@@ -26,8 +25,8 @@ use std::path::PathBuf;
 
 use sceneeval::fidelity::FidelityReport;
 use sceneeval::{Better, GroupSummary, Metric, Outcome, SceneRecord};
+use sceneeval_stats::bootstrap::{Bootstrap, DEFAULT_RESAMPLES};
 
-pub use bootstrap::{BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED, bootstrap_interval};
 pub use rank::competition_ranks;
 pub(crate) use text::{Emphasis, arrow as text_arrow, average, scenes, standing_order};
 
@@ -372,6 +371,14 @@ fn difficulties<'r>(
     difficulty
 }
 
+/// The percentile bootstrap interval at `level` of the mean of a cell's per-scene values:
+/// `sceneeval-stats`' seeded bootstrap ([`Bootstrap::mean`], 1000 resamples, seed 20261121).
+/// `None` without values.
+fn mean_interval(values: &[f64], level: f64) -> Option<[f64; 2]> {
+    let bootstrap = Bootstrap::new(DEFAULT_RESAMPLES, level).ok()?;
+    bootstrap.mean(values).ok()?.bounds.ok()
+}
+
 /// One group's table.
 fn table(
     runs: &[Run],
@@ -399,7 +406,7 @@ fn table(
                         n: values.len(),
                         rank: None,
                         points: 0,
-                        ci: ci.and_then(|level| value.and(bootstrap_interval(&values, level))),
+                        ci: ci.and_then(|level| value.and(mean_interval(&values, level))),
                     }
                 })
                 .collect()

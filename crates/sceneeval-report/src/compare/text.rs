@@ -3,8 +3,9 @@
 use std::fmt::Write as _;
 
 use sceneeval::Better;
+use sceneeval_stats::bootstrap::DEFAULT_RESAMPLES;
 
-use super::{BOOTSTRAP_RESAMPLES, Cell, Comparison, Table};
+use super::{Cell, Comparison, Table};
 use crate::ReportError;
 use crate::escape;
 
@@ -61,7 +62,7 @@ impl Comparison {
         if let Some(level) = self.ci {
             let _ = write!(
                 s,
-                " [lo, hi]: {}% bootstrap interval over scenes ({BOOTSTRAP_RESAMPLES} resamples, fixed seed, \
+                " [lo, hi]: {}% bootstrap interval over scenes ({DEFAULT_RESAMPLES} resamples, fixed seed, \
                  percentile method).",
                 (level * 1e4).round() / 1e2
             );
