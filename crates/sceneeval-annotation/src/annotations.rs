@@ -111,6 +111,12 @@ impl Annotations {
         crate::validate(self)
     }
 
+    /// The validation findings that concern the rows at `indices` (see
+    /// [`crate::validate_rows`]).
+    pub fn validate_rows(&self, indices: &std::collections::BTreeSet<usize>) -> Vec<Finding> {
+        crate::validate_rows(self, indices)
+    }
+
     /// The paper's Table 1 statistics (see [`Stats`]).
     pub fn stats(&self) -> Stats {
         Stats::of(self)

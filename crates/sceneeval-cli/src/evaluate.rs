@@ -81,6 +81,10 @@ pub struct Args {
     /// After the run, write its static report into `<out>/report/` (as `sceneeval report`).
     #[arg(long)]
     pub report: bool,
+    /// Refuse scene files with keys the sceneState format does not have (a misspelt key is
+    /// read as absent): each such scene fails, instead of a warning about each key.
+    #[arg(long)]
+    pub strict: bool,
     /// Do not show a progress bar.
     #[arg(long)]
     pub no_progress: bool,
@@ -123,6 +127,7 @@ impl Args {
             force: self.force,
             shard: self.shard,
             diagnostics: self.diagnostics,
+            strict: self.strict,
         })
     }
 }

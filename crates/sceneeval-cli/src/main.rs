@@ -153,6 +153,12 @@ pub fn hint(err: &(dyn std::error::Error + 'static)) -> Option<String> {
             .downcast_ref::<IoError>()
             .or_else(|| cause.downcast_ref::<Box<IoError>>().map(|b| &**b))
     }
+    if let Some(hint) = std::iter::once(err)
+        .chain(sceneeval::causes(err))
+        .find_map(convert::hint)
+    {
+        return Some(hint);
+    }
     std::iter::once(err).chain(sceneeval::causes(err)).find_map(|cause| {
         // The report crate's errors name no option: the command line adds them.
         match cause.downcast_ref::<sceneeval_report::ReportError>() {

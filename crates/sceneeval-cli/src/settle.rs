@@ -46,6 +46,10 @@ pub struct Args {
     /// Side of the square object views shown to the VLM, pixels (default 512; 16 to 4096).
     #[arg(long, value_name = "PX", requires = "vlm_base_url")]
     pub render_size: Option<u32>,
+    /// Refuse a scene file with keys the sceneState format does not have (a misspelt key is
+    /// read as absent) instead of warning about each.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Runs the subcommand.
@@ -75,7 +79,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .context("invalid --assets")?
         .with_limits(plan.limits);
     let deadline = plan.deadline();
-    let scene = read_scene_state(&args.scene, &library, &plan.read)
+    let scene = read_scene_state(&args.scene, &library, &plan.read.with_strict(args.strict))
         .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
     let inputs = SceneInputs {
         assets: Some(&library),

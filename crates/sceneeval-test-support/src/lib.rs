@@ -3,7 +3,7 @@
 //! take, the procedural scenes of the plausibility benchmarks ([`scenes`]), a scripted VLM for
 //! fixture scenes 2 and 8 with the annotation rows its tests check ([`fidelity_model`]), a mock
 //! OpenAI-compatible endpoint on 127.0.0.1 with a fixed latency that counts the requests in
-//! flight at the server ([`mock_endpoint`]), and the one decision whether a test that needs a system package (a GPU driver) runs, skips with
+//! flight at the server ([`mock_endpoint`]), a log writer tests read back ([`logs`]), and the one decision whether a test that needs a system package (a GPU driver) runs, skips with
 //! the reason or fails ([`system`]). Not published; crates use it only as a dev-dependency
 //! (tier `dev`).
 //!
@@ -22,6 +22,7 @@
 //! ```
 
 pub mod fidelity_model;
+pub mod logs;
 pub mod mock_endpoint;
 pub mod scenes;
 pub mod system;

@@ -32,6 +32,7 @@ use crate::annotation::Annotations;
 use crate::dry_run::{DryRun, DryRunModel};
 use crate::fidelity::{MatchingMethod, RelationMapping};
 use crate::io::AssetLibrary;
+use crate::scene_file::check_annotation_rows;
 use crate::{
     BatchOptions, BatchOutcome, EvalError, EvaluationPlan, Evaluator, Metric, OutputLock, Preset, RunEvent,
     SceneFile, SkippedFile, Summary, check_output_dir, find_scenes, run_batch,
@@ -98,6 +99,10 @@ pub struct EvaluationRequest {
     /// Also write diagnostic images under `<out>/<scene>/diagnostics/`.
     #[serde(default)]
     pub diagnostics: bool,
+    /// Read the scene files strictly ([`crate::io::ReadOptions::strict`]): a key the
+    /// sceneState format does not have fails its scene instead of being a warning.
+    #[serde(default)]
+    pub strict: bool,
 }
 
 /// What a run evaluates: a plan (`geometry`, `full`, a metric list or a plan file) and what
@@ -570,6 +575,7 @@ impl EvaluationRequest {
             force: false,
             shard: None,
             diagnostics: false,
+            strict: false,
         }
     }
 
@@ -605,9 +611,10 @@ impl EvaluationRequest {
                 .map(|(_, s)| s)
                 .collect();
         }
-        let ChosenPlan { plan, fallback } = self
+        let ChosenPlan { mut plan, fallback } = self
             .plan
             .resolve(self.vlm.is_some(), self.annotations.is_some())?;
+        plan.read.strict = self.strict;
         let mut evaluator = Evaluator::new(plan)
             .map_err(|e| EvalError::request_caused(RequestField::Plan, "invalid plan".to_owned(), e))?;
         let mut warnings = Vec::new();
@@ -648,6 +655,9 @@ impl EvaluationRequest {
                 })
             })
             .transpose()?;
+        if let Some(annotations) = &annotations {
+            check_annotation_rows(annotations, &scenes, evaluator.plan().has_fidelity())?;
+        }
         check_output_dir(&self.out)?;
         let lock = OutputLock::acquire(&self.out)?;
         #[cfg(feature = "physics")]
