@@ -87,13 +87,13 @@ fn simulate(c: &mut Criterion) {
             let support = support_types(&scene);
             // Warm the cache: the figure is the simulation alone.
             stability
-                .evaluate(&scene, &support, &cache, &|| false)
+                .evaluate(&scene, &support, &cache, &sceneeval_scene::Deadline::none())
                 .expect("stability");
             group.bench_with_input(BenchmarkId::from_parameter(n), &scene, |b, s| {
                 b.iter(|| {
                     black_box(
                         stability
-                            .evaluate(s, &support, &cache, &|| false)
+                            .evaluate(s, &support, &cache, &sceneeval_scene::Deadline::none())
                             .expect("stability"),
                     )
                 })

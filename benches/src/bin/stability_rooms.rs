@@ -136,7 +136,7 @@ fn run() -> Result<(), String> {
                 let support: Vec<_> = scene.objects().iter().map(|o| o.support_type()).collect();
                 let t = Instant::now();
                 let r = stability
-                    .evaluate(scene, &support, &cache, &|| false)
+                    .evaluate(scene, &support, &cache, &sceneeval_scene::Deadline::none())
                     .map_err(|e| format!("{}: {e}", scene.id().unwrap_or("?")))?;
                 let unstable: Vec<&str> = r
                     .objects
@@ -259,7 +259,7 @@ fn scaling_room(kind: &str, n: usize) -> Result<(), String> {
         let t = Instant::now();
         let cpu = cpu_seconds();
         let r = stability
-            .evaluate(&scene, &support, &cache, &|| false)
+            .evaluate(&scene, &support, &cache, &sceneeval_scene::Deadline::none())
             .map_err(|e| e.to_string())?;
         let pieces: usize = r.objects.iter().map(|o| o.body.pieces).sum();
         let cpu = cpu_seconds().zip(cpu).map_or(f64::NAN, |(b, a)| b - a);

@@ -2,9 +2,10 @@
 
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Read, Write};
+use std::io::{BufReader, Read, Write};
 use std::path::{Path, PathBuf};
 
+use sceneeval_files::csv_cell;
 use serde::de::{self, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -36,6 +37,14 @@ pub const JSON_VERSION: u64 = 1;
 /// `write(read(write(read(x)))) == write(read(x))`. Cell values, descriptions (including any
 /// `;`), extra columns and their order, row order and malformed entry texts are all kept.
 /// An empty extra cell and a missing extra value are the same thing.
+///
+/// # Cells a spreadsheet would run
+/// A cell a spreadsheet would run as a formula (a text starting with `=`, `+`, `-`, `@`, a tab
+/// or a carriage return; numbers excepted) is written with a leading `'`, and the reader takes
+/// that `'` off again, so the text reads back unchanged (the rule, which also keeps a text that
+/// starts with `'=` as it is: `sceneeval_files::csv_cell`). Files written by other tools read as
+/// before, except a cell that starts with `'` followed by such a character, which loses its
+/// first `'`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Annotations {
     /// Column names in file order: the seven of [`Field::COLUMNS`] and any extra columns.
@@ -100,6 +109,12 @@ impl Annotations {
     /// Every validation finding (see [`crate::validate`]).
     pub fn validate(&self) -> Vec<Finding> {
         crate::validate(self)
+    }
+
+    /// The validation findings that concern the rows at `indices` (see
+    /// [`crate::validate_rows`]).
+    pub fn validate_rows(&self, indices: &std::collections::BTreeSet<usize>) -> Vec<Finding> {
+        crate::validate_rows(self, indices)
     }
 
     /// The paper's Table 1 statistics (see [`Stats`]).
@@ -171,19 +186,19 @@ impl Annotations {
         Ok(String::from_utf8_lossy(&buf).into_owned())
     }
 
-    /// Writes a CSV file.
+    /// Writes a CSV file, atomically (`sceneeval_files::write_atomic`: a temporary file renamed
+    /// over `path`; a replaced file keeps its permissions).
     pub fn write_csv(&self, path: impl AsRef<Path>) -> Result<(), AnnotationError> {
         let path = path.as_ref();
-        self.check_writable()?;
-        let file = File::create(path).map_err(|source| AnnotationError::Io {
-            path: path.to_owned(),
-            source,
+        let text = self.to_csv_string().map_err(|e| match e {
+            AnnotationError::Csv { line, source, .. } => AnnotationError::Csv {
+                path: Some(path.to_owned()),
+                line,
+                source,
+            },
+            other => other,
         })?;
-        write_csv(self, BufWriter::new(file)).map_err(|source| AnnotationError::Csv {
-            path: Some(path.to_owned()),
-            line: None,
-            source,
-        })
+        write_file(path, text.as_bytes())
     }
 
     // ---------------------------------------------------------------------------- JSON
@@ -220,10 +235,7 @@ impl Annotations {
         let path = path.as_ref();
         let mut text = self.to_json_string()?;
         text.push('\n');
-        std::fs::write(path, text).map_err(|source| AnnotationError::Io {
-            path: path.to_owned(),
-            source,
-        })
+        write_file(path, text.as_bytes())
     }
 
     /// Reads a file as JSON if its extension is `.json` (any case), as CSV otherwise.
@@ -257,6 +269,14 @@ impl Annotations {
         }
         Ok(())
     }
+}
+
+/// Writes `bytes` to `path` atomically, the error naming the file.
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), AnnotationError> {
+    sceneeval_files::write_atomic(path, bytes).map_err(|source| AnnotationError::Io {
+        path: path.to_owned(),
+        source,
+    })
 }
 
 fn is_json_path(path: &Path) -> bool {
@@ -418,7 +438,7 @@ fn read_csv<R: Read>(mut reader: R, path: Option<&Path>) -> Result<Annotations, 
         .headers()
         .map_err(|e| csv_error(e, path))?
         .iter()
-        .map(|h| h.trim_start_matches('\u{feff}').trim().to_owned())
+        .map(|h| csv_cell::unescape(h.trim_start_matches('\u{feff}').trim()).to_owned())
         .collect();
     for (i, h) in header.iter().enumerate() {
         if header[..i].contains(h) {
@@ -442,6 +462,8 @@ fn read_csv<R: Read>(mut reader: R, path: Option<&Path>) -> Result<Annotations, 
     while rdr.read_record(&mut record).map_err(|e| csv_error(e, path))? {
         let mut row = AnnotationRow::default();
         for (i, cell) in record.iter().enumerate() {
+            // Cells a spreadsheet would run were written with a leading `'`.
+            let cell = csv_cell::unescape(cell);
             match header.get(i) {
                 Some(column) => row.set_cell(column, cell),
                 None => row.overflow.push(cell.to_owned()),
@@ -459,10 +481,15 @@ fn read_csv<R: Read>(mut reader: R, path: Option<&Path>) -> Result<Annotations, 
 fn write_csv<W: Write>(a: &Annotations, writer: W) -> Result<(), csv::Error> {
     let columns = a.effective_columns();
     let mut w = csv::WriterBuilder::new().flexible(true).from_writer(writer);
-    w.write_record(&columns)?;
+    // Every cell through `csv_cell::escape`: a description or entry a spreadsheet would run
+    // as a formula gets a leading `'`, which `read_csv` takes off again.
+    w.write_record(columns.iter().map(|c| csv_cell::escape(c).into_owned()))?;
     for row in &a.rows {
-        let mut record: Vec<String> = columns.iter().map(|c| row.cell(c).unwrap_or_default()).collect();
-        record.extend(row.overflow.iter().cloned());
+        let cells = columns.iter().map(|c| row.cell(c).unwrap_or_default());
+        let record: Vec<String> = cells
+            .chain(row.overflow.iter().cloned())
+            .map(|c| csv_cell::escape(&c).into_owned())
+            .collect();
         w.write_record(&record)?;
     }
     w.flush().map_err(csv::Error::from)

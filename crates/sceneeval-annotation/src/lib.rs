@@ -120,4 +120,6 @@ pub use quantifier::{CountRange, CountSpec, Quantifier};
 pub use quote::{MAX_QUOTE_CHARS, MAX_QUOTED_ITEMS};
 pub use row::{AnnotationRow, Difficulty, Field, format_cell, parse_cell, split_cell};
 pub use stats::{GroupStats, Stats};
-pub use validate::{Finding, FindingCode, Severity, Summary, binomial, validate, validate_row};
+pub use validate::{
+    Finding, FindingCode, Severity, Summary, binomial, validate, validate_row, validate_rows,
+};

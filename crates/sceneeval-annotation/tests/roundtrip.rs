@@ -63,9 +63,10 @@ fn difficulty() -> impl Strategy<Value = Difficulty> {
 }
 
 fn row() -> impl Strategy<Value = AnnotationRow> {
-    let id = prop_oneof!["[0-9]{1,3}", "[a-z0-9_-]{0,5}"];
-    // Descriptions with commas, semicolons, quotes, line breaks and non-ASCII text.
-    let description = "[a-zA-Z0-9 ,;\"'.\n\r\té-]{0,60}".prop_map(|s| s.trim().to_owned());
+    let id = prop_oneof!["[0-9]{1,3}", "[a-z0-9_-]{0,5}", "['=+@-]{0,2}[a-z0-9]{0,3}"];
+    // Descriptions with commas, semicolons, quotes, line breaks, non-ASCII text, and the
+    // characters a spreadsheet runs as a formula at the start (escaped with a `'`).
+    let description = "['=+@-]{0,3}[a-zA-Z0-9 ,;\"'.\n\r\té=+@-]{0,60}".prop_map(|s| s.trim().to_owned());
     let obj_count = entries((count(), name()).prop_map(|(c, n)| ObjCount::new(c, n)));
     let obj_attr = entries((count(), name(), name()).prop_map(|(c, n, a)| ObjAttr::new(c, n, a)));
     let oo_rel = entries(
@@ -125,6 +126,33 @@ fn annotations() -> impl Strategy<Value = Annotations> {
             rows: rows.clone(),
         })
     })
+}
+
+/// A cell a spreadsheet would run is written with a leading `'` and read back without it;
+/// numbers and other text are written as they are.
+#[test]
+fn formula_cells_are_escaped_and_read_back() {
+    let csv = "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel,Notes\n\
+               -5,easy,\"=HYPERLINK(\"\"http://x\"\")\",\"eq,1,bed\",,,,@me\n\
+               6,easy,'quoted' text,,,,,'=kept\n";
+    let a = Annotations::from_csv_str(csv).unwrap();
+    // A file written by another tool: `'=kept` loses its first quote (it is read as escaped).
+    assert_eq!(a.rows[1].extra["Notes"], "=kept");
+    let mut a = a;
+    a.rows[1].extra.insert("Notes".into(), "'=kept".into());
+    a.rows[1].description = "- a list, then a bed".into();
+    let text = a.to_csv_string().unwrap();
+    assert_eq!(
+        text,
+        "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel,Notes\n\
+         -5,easy,\"'=HYPERLINK(\"\"http://x\"\")\",\"eq,1,bed\",,,,'@me\n\
+         6,easy,\"'- a list, then a bed\",,,,,''=kept\n"
+    );
+    let b = Annotations::from_csv_str(&text).unwrap();
+    assert_eq!(b, a);
+    assert_eq!(b.rows[0].description, "=HYPERLINK(\"http://x\")");
+    assert_eq!(b.rows[0].id, "-5");
+    assert_eq!(b.rows[1].extra["Notes"], "'=kept");
 }
 
 proptest! {

@@ -78,7 +78,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .transpose()?;
     let mut runs = Vec::new();
     for (k, dir) in args.runs.iter().enumerate() {
-        let mut run = Run::open(dir)?;
+        let mut run = crate::report::open_run(dir)?;
         if let Some(names) = &args.names {
             run = run.with_name(names[k].trim());
         }

@@ -2,13 +2,20 @@
 //! [--assets PREFIX=DIR]...`: turn a generator's batch folder into sceneState files (and the
 //! assets that travel with them) that `sceneeval evaluate` reads, then print what was
 //! converted, what was skipped and why, and the command that evaluates the result.
+//!
+//! SIGINT (Ctrl-C) or SIGTERM stops the conversion at its next file: its temporary folder is
+//! removed and the process exits with status 128 + the signal's number. A second signal ends
+//! the process at once; the folder it leaves is removed by the next conversion into the same
+//! output.
 
 use std::io::{self, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 
 use anyhow::Context;
-use sceneeval::convert::{ConvertOptions, Format, IdMap, Report, convert};
+use sceneeval::convert::{ConvertError, ConvertOptions, Format, IdMap, Report, convert};
 use sceneeval::io::assets::AssetSpec;
 
 /// Arguments of `sceneeval convert`.
@@ -34,6 +41,10 @@ pub struct Args {
     /// box centres and only the meshes say where those are. Repeatable.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
+    /// Refuse converted scenes with keys the sceneState format does not have (a SceneAgent
+    /// state file is copied with its keys) instead of warning about each.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 fn parse_format(s: &str) -> Result<Format, String> {
@@ -60,12 +71,31 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .map(|s| AssetSpec::parse(s))
         .collect::<Result<Vec<_>, _>>()
         .context("invalid --assets")?;
-    let options = ConvertOptions {
-        id_map,
-        assets: assets.clone(),
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let signal = Arc::new(AtomicU8::new(0));
+    interrupt_on_signals(Arc::clone(&interrupt), Arc::clone(&signal))?;
+    let mut options = ConvertOptions::default()
+        .with_assets(assets)
+        .with_strict(args.strict)
+        .with_interrupt(interrupt);
+    options.id_map = id_map;
+    let report = match convert(args.format, &args.input, &args.out, &options) {
+        Ok(report) => report,
+        Err(ConvertError::Interrupted) => {
+            eprintln!(
+                "interrupted: nothing was written to {} (the temporary folder is removed)",
+                args.out.display()
+            );
+            return Ok(ExitCode::from(128 + signal.load(Ordering::SeqCst)));
+        }
+        Err(e) => {
+            return Err(anyhow::Error::from(e).context(format!(
+                "cannot convert {} ({})",
+                args.input.display(),
+                args.format
+            )));
+        }
     };
-    let report = convert(args.format, &args.input, &args.out, &options)
-        .with_context(|| format!("cannot convert {} ({})", args.input.display(), args.format))?;
     let stdout = io::stdout();
     let mut out = stdout.lock();
     print_report(&mut out, &report, &args.assets)?;
@@ -136,10 +166,8 @@ fn print_report(out: &mut impl Write, report: &Report, assets: &[String]) -> io:
     // The command that evaluates the result: the same asset folders, and the output itself
     // for the formats whose assets it holds.
     let mut flags: Vec<String> = assets.iter().map(|a| format!("--assets {a}")).collect();
-    match report.format {
-        Format::IDesign => flags.push(format!("--assets idesign={}", report.out.display())),
-        Format::SceneAgent => flags.push(format!("--assets scene-agent={}", report.out.display())),
-        _ => {}
+    if let Some(prefix) = report.format.assets_in_output() {
+        flags.push(format!("--assets {prefix}={}", report.out.display()));
     }
     writeln!(
         out,
@@ -147,4 +175,78 @@ fn print_report(out: &mut impl Write, report: &Report, assets: &[String]) -> io:
         report.out.display(),
         flags.join(" ")
     )
+}
+
+/// What to do about a conversion error that an option fixes, if it is one.
+pub fn hint(err: &(dyn std::error::Error + 'static)) -> Option<String> {
+    match err.downcast_ref::<ConvertError>()? {
+        ConvertError::AssetsNeeded { prefix, .. } => Some(format!(
+            "pass --assets {prefix}=DIR with the folder the evaluation will read the assets from"
+        )),
+        ConvertError::IdMap { .. } => Some("check the JSON given to --id-map".to_owned()),
+        _ => None,
+    }
+}
+
+/// On the first SIGINT or SIGTERM sets `interrupt` (the conversion stops at its next file and
+/// removes its temporary folder) and records the signal's number in `signal`; on a second one
+/// ends the process at once. A thread waits for the signals (tokio's, on a runtime of its own).
+fn interrupt_on_signals(interrupt: Arc<AtomicBool>, signal: Arc<AtomicU8>) -> anyhow::Result<()> {
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the signal handler")?;
+    let on_signal = move |number: u8| {
+        if interrupt.swap(true, Ordering::SeqCst) {
+            eprintln!(
+                "interrupted again: stopping now (the next conversion into this folder removes what is left)"
+            );
+            std::process::exit(128 + i32::from(number));
+        }
+        signal.store(number, Ordering::SeqCst);
+    };
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal as listen};
+        // Installed before the conversion starts, so that no signal is missed.
+        let mut streams = runtime
+            .block_on(async {
+                Ok::<_, io::Error>([
+                    (2, listen(SignalKind::interrupt())?),
+                    (15, listen(SignalKind::terminate())?),
+                ])
+            })
+            .context("cannot install the signal handlers")?;
+        std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || {
+                runtime.block_on(async move {
+                    let [(int, int_stream), (term, term_stream)] = &mut streams;
+                    loop {
+                        let number = std::future::poll_fn(|cx| {
+                            if int_stream.poll_recv(cx).is_ready() {
+                                return std::task::Poll::Ready(*int);
+                            }
+                            if term_stream.poll_recv(cx).is_ready() {
+                                return std::task::Poll::Ready(*term);
+                            }
+                            std::task::Poll::Pending
+                        })
+                        .await;
+                        on_signal(number);
+                    }
+                });
+            })
+            .context("cannot start the signal handler")?;
+    }
+    #[cfg(not(unix))]
+    std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            while runtime.block_on(tokio::signal::ctrl_c()).is_ok() {
+                on_signal(2);
+            }
+        })
+        .context("cannot start the signal handler")?;
+    Ok(())
 }

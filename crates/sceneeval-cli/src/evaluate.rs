@@ -81,6 +81,10 @@ pub struct Args {
     /// After the run, write its static report into `<out>/report/` (as `sceneeval report`).
     #[arg(long)]
     pub report: bool,
+    /// Refuse scene files with keys the sceneState format does not have (a misspelt key is
+    /// read as absent): each such scene fails, instead of a warning about each key.
+    #[arg(long)]
+    pub strict: bool,
     /// Do not show a progress bar.
     #[arg(long)]
     pub no_progress: bool,
@@ -123,6 +127,7 @@ impl Args {
             force: self.force,
             shard: self.shard,
             diagnostics: self.diagnostics,
+            strict: self.strict,
         })
     }
 }
@@ -363,7 +368,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         eprintln!("  time over the evaluated scenes: {}", parts.join(", "));
     }
     if args.report {
-        crate::report::after_evaluate(&args.out, &args.assets, args.annotations.as_deref())?;
+        crate::report::after_evaluate(&args.out, &args.scenes, &args.assets, args.annotations.as_deref())?;
     }
     // A partial scene's results are incomplete too: a re-run completes them.
     Ok(if outcome.failed + outcome.partial > 0 {

@@ -32,13 +32,21 @@ pub struct Args {
     /// instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// Refuse a scene file with keys the sceneState format does not have (a misspelt key is
+    /// read as absent) instead of warning about each.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let library = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
-    let scene = read_scene_state(&args.scene, &library, &ReadOptions::default())
-        .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
+    let scene = read_scene_state(
+        &args.scene,
+        &library,
+        &ReadOptions::default().with_strict(args.strict),
+    )
+    .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
     tracing::info!(
         objects = scene.objects().len(),
         rooms = scene.rooms().len(),

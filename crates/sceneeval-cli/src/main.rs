@@ -18,6 +18,7 @@ mod inspect;
 mod relate;
 mod render;
 mod report;
+mod server;
 mod settle;
 mod summarize;
 mod vlm;
@@ -152,12 +153,30 @@ pub fn hint(err: &(dyn std::error::Error + 'static)) -> Option<String> {
             .downcast_ref::<IoError>()
             .or_else(|| cause.downcast_ref::<Box<IoError>>().map(|b| &**b))
     }
-    std::iter::once(err).chain(sceneeval::causes(err)).find_map(|cause| match io(cause)? {
-        IoError::UnknownPrefix { prefix, .. } => Some(format!(
-            "the scene names assets with the prefix {prefix:?}: pass --assets {prefix}=DIR with the folder \
-             that holds them ({prefix}=LAYOUT:DIR to choose its layout; README, \"Using real asset folders\")"
-        )),
-        _ => None,
+    if let Some(hint) = std::iter::once(err)
+        .chain(sceneeval::causes(err))
+        .find_map(convert::hint)
+    {
+        return Some(hint);
+    }
+    std::iter::once(err).chain(sceneeval::causes(err)).find_map(|cause| {
+        // The report crate's errors name no option: the command line adds them.
+        match cause.downcast_ref::<sceneeval::report::ReportError>() {
+            Some(sceneeval::report::ReportError::NoRecords { .. }) => {
+                return Some("give the --out folder of sceneeval evaluate".to_owned());
+            }
+            Some(sceneeval::report::ReportError::Assets(_)) => {
+                return Some("each --assets is PREFIX=DIR or PREFIX=LAYOUT:DIR".to_owned());
+            }
+            _ => {}
+        }
+        match io(cause)? {
+            IoError::UnknownPrefix { prefix, .. } => Some(format!(
+                "the scene names assets with the prefix {prefix:?}: pass --assets {prefix}=DIR with the folder \
+                 that holds them ({prefix}=LAYOUT:DIR to choose its layout; README, \"Using real asset folders\")"
+            )),
+            _ => None,
+        }
     })
 }
 

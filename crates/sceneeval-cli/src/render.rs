@@ -39,6 +39,10 @@ pub struct Args {
     /// Image width and height in pixels.
     #[arg(long, value_name = "N", default_value_t = RenderSettings::DEFAULT_SIZE)]
     pub size: u32,
+    /// Refuse a scene file with keys the sceneState format does not have (a misspelt key is
+    /// read as absent) instead of warning about each.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Runs the subcommand.
@@ -47,8 +51,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         bail!("--size must be at least 1");
     }
     let library = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
-    let scene = read_scene_state(&args.scene, &library, &ReadOptions::default())
-        .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
+    let scene = read_scene_state(
+        &args.scene,
+        &library,
+        &ReadOptions::default().with_strict(args.strict),
+    )
+    .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
     let ids: Vec<String> = match args.objects {
         Some(ids) => {
             let unknown: Vec<&str> = ids

@@ -6,15 +6,17 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use sceneeval::annotation::Annotations;
-use sceneeval::report::{DEFAULT_DIR, ReportOptions, Run, Written, write_report};
+use sceneeval::report::{DEFAULT_DIR, NoTopView, ReportOptions, Run, Written, write_report};
 
 /// Arguments of `sceneeval report`.
 #[derive(Debug, clap::Args)]
 #[command(
     after_help = "The report opens from disk in any browser (no server, no network) and prints. Each \
-scene's top view is drawn from the scene file its record names and the asset files the run read (recorded in \
-eval.json); relative paths there are relative to the folder `sceneeval evaluate` ran in, so run this command \
-from that folder or give --scenes and --assets. The folder's layout is described in docs/formats.md."
+scene's top view is drawn from --scenes DIR/<scene>.json and the asset folders of --assets. The report reads only \
+inside the run folder and the folders given: without --scenes it draws a scene only when the scene file its record \
+names lies inside the run folder, and without --assets it uses the asset folders the records name only inside the \
+run folder or --scenes (a run folder from elsewhere could name any file). A record that cannot be read is listed \
+and the others are reported. The folder's layout is described in docs/formats.md."
 )]
 pub struct Args {
     /// Output folder of `sceneeval evaluate` (holding `<scene>/eval.json`).
@@ -25,10 +27,12 @@ pub struct Args {
     #[arg(long, short = 'o', value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Asset folder for a model-id prefix, as for `sceneeval evaluate` (`PREFIX=DIR` or
-    /// `PREFIX=LAYOUT:DIR`); default: the folders the run's records name.
+    /// `PREFIX=LAYOUT:DIR`); default: the folders the run's records name, when they lie inside
+    /// RUN or --scenes.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
-    /// Folder holding the scene files (`<scene>.json`); default: the file each record names.
+    /// Folder holding the scene files (`<scene>.json`), as given to `sceneeval evaluate`;
+    /// default: the file each record names, only when it lies inside RUN.
     #[arg(long, value_name = "DIR")]
     pub scenes: Option<PathBuf>,
     /// The annotation CSV (or JSON) the run used: each scene's difficulty (default: the run's
@@ -42,7 +46,7 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let mut run = Run::open(&args.run)?;
+    let mut run = open_run(&args.run)?;
     if let Some(name) = &args.name {
         run = run.with_name(name.as_str());
     }
@@ -56,31 +60,57 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         scenes: args.scenes,
     };
     let written = write_report(&run, &out, &options)?;
-    tell(&written);
+    tell(&run, &written);
     Ok(ExitCode::SUCCESS)
 }
 
 /// Writes the report of the run just evaluated into `OUT/report` (`sceneeval evaluate
-/// --report`), with the run's own asset folders and annotations.
-pub fn after_evaluate(out: &Path, assets: &[String], annotations: Option<&Path>) -> anyhow::Result<()> {
-    let mut run = Run::open(out)?;
+/// --report`), with the run's own scene folder, asset folders and annotations.
+pub fn after_evaluate(
+    out: &Path,
+    scenes: &Path,
+    assets: &[String],
+    annotations: Option<&Path>,
+) -> anyhow::Result<()> {
+    let mut run = open_run(out)?;
     if let Some(path) = annotations {
         run = run.with_annotations(&Annotations::read(path)?);
     }
     let options = ReportOptions {
         assets: assets.to_vec(),
-        scenes: None,
+        scenes: Some(scenes.to_owned()),
     };
-    tell(&write_report(&run, &out.join(DEFAULT_DIR), &options)?);
+    let written = write_report(&run, &out.join(DEFAULT_DIR), &options)?;
+    tell(&run, &written);
     Ok(())
 }
 
-/// Says where the report is and which scenes have no top view.
-fn tell(written: &Written) {
+/// Reads a run folder (`sceneeval report`, `sceneeval compare`), saying which records could
+/// not be read.
+pub fn open_run(dir: &Path) -> anyhow::Result<Run> {
+    let run = Run::open(dir)?;
+    for u in &run.unreadable {
+        eprintln!(
+            "warning: {} could not be read ({}); scene {} is left out",
+            u.path.display(),
+            u.reason,
+            u.scene
+        );
+    }
+    Ok(run)
+}
+
+/// Says where the report is and which scenes have no top view, and what to pass.
+fn tell(run: &Run, written: &Written) {
     eprintln!(
-        "report: {} ({} scene pages)",
+        "report: {} ({} scene pages{})",
         written.index.display(),
-        written.pages
+        written.pages,
+        if run.unreadable.is_empty() {
+            String::new()
+        } else {
+            format!("; {} unreadable records listed", run.unreadable.len())
+        }
     );
     for (scene, why) in written.without_top_view.iter().take(5) {
         eprintln!("warning: no top view of {scene}: {why}");
@@ -89,6 +119,16 @@ fn tell(written: &Written) {
         eprintln!(
             "warning: and {} more scenes without a top view",
             written.without_top_view.len() - 5
+        );
+    }
+    if written
+        .without_top_view
+        .iter()
+        .any(|(_, why)| !matches!(why, NoTopView::NotAFileName))
+    {
+        eprintln!(
+            "hint: give the folder of scene files sceneeval evaluate read (--scenes DIR) and its asset folders \
+             (--assets PREFIX=DIR) to draw the top views"
         );
     }
 }

@@ -55,6 +55,10 @@ pub struct Args {
     /// Side of the square object views shown to the VLM, pixels (default 512; 16 to 4096).
     #[arg(long, value_name = "PX", requires = "vlm_base_url")]
     pub render_size: Option<u32>,
+    /// Refuse a scene file with keys the sceneState format does not have (a misspelt key is
+    /// read as absent) instead of warning about each.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 impl Args {
@@ -76,6 +80,7 @@ impl Args {
                 render_size: self.render_size,
                 ..options
             }),
+            strict: self.strict,
         })
     }
 }

@@ -61,9 +61,13 @@ fn evaluate_report_then_compare_two_runs() {
         "{index}"
     );
     assert!(a.join("report/scenes/scene_10.html").is_file());
+    // `evaluate --report` gives the report its scene folder: the top view is drawn.
+    let s5 = std::fs::read_to_string(a.join("report/scenes/scene_5.html")).unwrap();
+    assert!(s5.contains("id=\"topview\""), "{s5}");
     evaluate(scenes(&[10]).path(), &assets, &b, &[]).success();
 
-    // The report of run b elsewhere, named.
+    // The report of run b elsewhere, named, without its scene folder: the scene file the record
+    // names is outside the run folder, so it is not read, and the command says what to pass.
     let out = root.path().join("b-report");
     sceneeval()
         .arg("report")
@@ -72,7 +76,13 @@ fn evaluate_report_then_compare_two_runs() {
         .arg(&out)
         .args(["--name", "method <b>"])
         .assert()
-        .success();
+        .success()
+        .stderr(
+            predicate::str::contains(
+                "warning: no top view of scene_10: the scene file the record names lies outside the run folder",
+            )
+            .and(predicate::str::contains("hint: give the folder of scene files sceneeval evaluate read (--scenes DIR)")),
+        );
     let index = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(index.contains("SceneEval report: method &lt;b&gt;"));
 
@@ -137,12 +147,15 @@ fn evaluate_report_then_compare_two_runs() {
 fn usage_errors_say_what_is_wrong() {
     let dir = tempfile::tempdir().unwrap();
     let empty = dir.path();
-    sceneeval()
-        .arg("compare")
-        .arg(empty)
-        .assert()
-        .failure()
-        .stderr(predicate::str::contains("no <scene>/eval.json in this folder"));
+    // The library's error names no option; the command line adds the hint.
+    sceneeval().arg("compare").arg(empty).assert().failure().stderr(
+        predicate::str::contains(
+            "no <scene>/eval.json in this folder (not the output folder of an evaluation)",
+        )
+        .and(predicate::str::contains(
+            "hint: give the --out folder of sceneeval evaluate",
+        )),
+    );
     let run = dir.path().join("run");
     evaluate(scenes(&[10]).path(), &fixtures().join("assets"), &run, &[]).success();
     sceneeval()
@@ -183,4 +196,58 @@ fn usage_errors_say_what_is_wrong() {
         ));
     let page = std::fs::read_to_string(moved.join("scenes/scene_10.html")).unwrap();
     assert!(page.contains("id=\"no-topview\""), "{page}");
+    sceneeval()
+        .arg("report")
+        .arg(&run)
+        .args(["--assets", "fixture"])
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("error: asset folders: ").and(predicate::str::contains(
+                "hint: each --assets is PREFIX=DIR or PREFIX=LAYOUT:DIR",
+            )),
+        );
+}
+
+#[test]
+fn a_corrupted_record_is_listed_and_the_rest_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    evaluate(scenes(&[5, 10]).path(), &fixtures().join("assets"), &run, &[]).success();
+    std::fs::write(
+        run.join("scene_5/eval.json"),
+        "{\"schema\": \"sceneeval.eval/2\", ",
+    )
+    .unwrap();
+    let warning = "warning: ".to_owned()
+        + &run.join("scene_5/eval.json").display().to_string()
+        + " could not be read (";
+    sceneeval().arg("report").arg(&run).assert().success().stderr(
+        predicate::str::contains(warning.as_str())
+            .and(predicate::str::contains("EOF while parsing"))
+            .and(predicate::str::contains(
+                "(1 scene pages; 1 unreadable records listed)",
+            )),
+    );
+    let index = std::fs::read_to_string(run.join("report/index.html")).unwrap();
+    assert!(index.contains("<ul id=\"unreadable\">"), "{index}");
+    sceneeval()
+        .arg("compare")
+        .arg(&run)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains(warning.as_str()))
+        .stdout(
+            predicate::str::contains("### all (1 scene)")
+                .and(predicate::str::contains("run: 1 record(s) could not be read"))
+                .and(predicate::str::contains("EOF while parsing")),
+        );
+    // None readable: an error naming the first.
+    std::fs::write(run.join("scene_10/eval.json"), "[]").unwrap();
+    sceneeval()
+        .arg("compare")
+        .arg(&run)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("no record of this folder can be read; "));
 }

@@ -172,3 +172,170 @@ fn bad_input_fails_naming_the_file_and_leaves_no_output() {
         .code(2)
         .stderr(predicate::str::contains("unknown format"));
 }
+
+/// A SceneAgent batch folder of `n` copies of the fixture scene: enough work to interrupt.
+fn scene_agent_batch(root: &Path, n: usize) -> PathBuf {
+    fn copy_tree(from: &Path, to: &Path) {
+        std::fs::create_dir_all(to).unwrap();
+        for entry in std::fs::read_dir(from).unwrap() {
+            let path = entry.unwrap().path();
+            let target = to.join(path.file_name().unwrap());
+            if path.is_dir() {
+                copy_tree(&path, &target);
+            } else {
+                std::fs::copy(&path, &target).unwrap();
+            }
+        }
+    }
+    let input = root.join(format!("batch_{n}"));
+    for k in 0..n {
+        copy_tree(
+            &native("scene-agent/scenes/scene_000"),
+            &input.join(format!("scene_{k:03}")),
+        );
+    }
+    input
+}
+
+/// The temporary folders of conversions into `<parent>/out`.
+fn temporary_folders(parent: &Path) -> Vec<PathBuf> {
+    let mut found: Vec<PathBuf> = std::fs::read_dir(parent)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with(".out.convert-"))
+        })
+        .collect();
+    found.sort();
+    found
+}
+
+/// `sceneeval convert scene-agent INPUT --out <parent>/out`, running.
+fn start_convert(input: &Path, parent: &Path) -> std::process::Child {
+    std::process::Command::new(assert_cmd::cargo::cargo_bin("sceneeval"))
+        .args(["convert", "scene-agent"])
+        .arg(input)
+        .arg("--out")
+        .arg(parent.join("out"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap()
+}
+
+/// The temporary folder of the running `child`, once it holds a converted scene (it is then
+/// mid-way through the batch); not one of `old`.
+fn working_folder(child: &mut std::process::Child, parent: &Path, old: &[PathBuf]) -> PathBuf {
+    let start = std::time::Instant::now();
+    loop {
+        for dir in temporary_folders(parent) {
+            if !old.contains(&dir) && dir.join("scene_1.json").is_file() {
+                return dir;
+            }
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the conversion ended before it could be interrupted: make the batch larger"
+        );
+        assert!(start.elapsed().as_secs() < 120, "no temporary folder appeared");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
+#[cfg(unix)]
+fn kill(child: &std::process::Child, signal: &str) {
+    assert!(
+        std::process::Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap()
+            .success()
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn an_interrupted_conversion_removes_its_temporary_folder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let input = scene_agent_batch(tmp.path(), 200);
+    let parent = tmp.path().join("results");
+    std::fs::create_dir(&parent).unwrap();
+    for (signal, code) in [("-INT", 130), ("-TERM", 143)] {
+        let mut child = start_convert(&input, &parent);
+        let working = working_folder(&mut child, &parent, &[]);
+        kill(&child, signal);
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(code), "{signal}");
+        assert!(!working.exists(), "{signal}: {} is left", working.display());
+        assert!(temporary_folders(&parent).is_empty());
+        assert!(!parent.join("out").exists());
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_killed_conversion_s_folder_is_removed_by_the_next_one_and_a_running_one_s_is_kept() {
+    let tmp = tempfile::tempdir().unwrap();
+    let big = scene_agent_batch(tmp.path(), 200);
+    let small = scene_agent_batch(tmp.path(), 1);
+    let parent = tmp.path().join("results");
+    std::fs::create_dir(&parent).unwrap();
+    // Killed: nothing could remove its folder.
+    let mut killed = start_convert(&big, &parent);
+    let abandoned = working_folder(&mut killed, &parent, &[]);
+    kill(&killed, "-KILL");
+    killed.wait().unwrap();
+    assert!(abandoned.is_dir());
+    // The next conversion into the same output removes it as it starts.
+    let mut running = start_convert(&big, &parent);
+    let live = working_folder(&mut running, &parent, std::slice::from_ref(&abandoned));
+    assert!(!abandoned.exists(), "the abandoned folder is removed");
+    // Another conversion meanwhile finishes, and leaves the running one's folder alone,
+    // however old it is: its lock says it is in use.
+    cargo_bin_cmd!("sceneeval")
+        .args(["convert", "scene-agent"])
+        .arg(&small)
+        .arg("--out")
+        .arg(parent.join("out"))
+        .assert()
+        .success();
+    assert!(parent.join("out/scene_0.json").is_file());
+    assert!(live.is_dir(), "a running conversion's folder was removed");
+    kill(&running, "-INT");
+    running.wait().unwrap();
+    assert!(temporary_folders(&parent).is_empty());
+}
+
+#[cfg(unix)]
+#[test]
+fn converted_folders_get_the_mode_the_umask_gives() {
+    use std::os::unix::fs::PermissionsExt;
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let tmp = tempfile::tempdir().unwrap();
+    for (umask, want) in [("022", 0o755), ("077", 0o700)] {
+        let out = tmp.path().join(format!("out_{umask}"));
+        let status = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!("umask {umask} && exec \"$0\" \"$@\""))
+            .arg(assert_cmd::cargo::cargo_bin("sceneeval"))
+            .args(["convert", "scene-agent"])
+            .arg(native("scene-agent/scenes"))
+            .arg("--out")
+            .arg(&out)
+            .stdout(std::process::Stdio::null())
+            .status()
+            .unwrap();
+        assert!(status.success());
+        // The output folder was the temporary folder (tempfile makes those 0700).
+        for dir in [
+            out.clone(),
+            out.join("scene_0"),
+            out.join("scene_0/assets"),
+            out.join("scene_0/assets/furniture/sdf/bed_1717171717"),
+        ] {
+            assert_eq!(mode(&dir), want, "umask {umask}: {}", dir.display());
+        }
+    }
+}

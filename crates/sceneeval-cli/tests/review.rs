@@ -1,8 +1,9 @@
 //! `sceneeval annotations review`: the server the test starts on 127.0.0.1 (the `sceneeval`
 //! binary), spoken to over plain TCP (security refusals, malformed requests, the validator's
-//! findings, decisions written to the files, Ctrl-C, a second review continuing), and the page
-//! driven in headless Chromium when it is installed (`SCENEEVAL_REQUIRE_BROWSER=1` makes a
-//! missing browser a failure).
+//! findings, decisions written to the files, Ctrl-C, a second review continuing, hostile
+//! clients: a huge declared body, a silent client, headers sent byte by byte, Ctrl-C with a
+//! slow client connected), and the page driven in headless Chromium when it is installed
+//! (`SCENEEVAL_REQUIRE_BROWSER=1` makes a missing browser a failure).
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -52,7 +53,20 @@ impl Drop for Review {
 
 impl Review {
     fn start(file: &Path) -> Review {
-        let mut child = Command::new(assert_cmd::cargo::cargo_bin("sceneeval"))
+        Review::spawn(Command::new(assert_cmd::cargo::cargo_bin("sceneeval")), file)
+    }
+
+    /// As [`Review::start`], under `umask MASK` (the shell `exec`s the binary: same process).
+    fn start_under_umask(file: &Path, mask: &str) -> Review {
+        let mut sh = Command::new("sh");
+        sh.arg("-c")
+            .arg(format!("umask {mask} && exec \"$0\" \"$@\""))
+            .arg(assert_cmd::cargo::cargo_bin("sceneeval"));
+        Review::spawn(sh, file)
+    }
+
+    fn spawn(mut command: Command, file: &Path) -> Review {
+        let mut child = command
             .args(["annotations", "review", "--no-open"])
             .arg(file)
             .stdout(Stdio::piped())
@@ -85,32 +99,42 @@ impl Review {
     /// Sends `head` (request line and headers without the final blank line) with `body`,
     /// returns the status and the body.
     fn raw(&self, head: &str, body: &str) -> (u16, String) {
-        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
-        stream.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
         let request = format!(
             "{head}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
             body.len()
         );
-        stream.write_all(request.as_bytes()).unwrap();
+        let (status, _, body) = self.exchange(request.as_bytes());
+        (status, body)
+    }
+
+    /// Sends `request` as it is on a new connection and reads the response to its end:
+    /// status, head, body.
+    fn exchange(&self, request: &[u8]) -> (u16, String, String) {
+        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        stream.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+        stream.write_all(request).unwrap();
         let mut response = String::new();
         stream.read_to_string(&mut response).unwrap();
-        let (head, body) = response.split_once("\r\n\r\n").unwrap();
+        let (head, body) = response
+            .split_once("\r\n\r\n")
+            .unwrap_or_else(|| panic!("no response head in {response:?}"));
         let status = head.split(' ').nth(1).unwrap().parse().unwrap();
-        (status, body.to_owned())
+        (status, head.to_owned(), body.to_owned())
     }
 
     /// The page's token, from the page.
     fn token(&self) -> String {
         let (status, page) = self.raw(&format!("GET / HTTP/1.1\r\nHost: {}", self.host()), "");
         assert_eq!(status, 200, "{page}");
-        let start = page.find("name=\"review-token\" content=\"").unwrap() + 29;
+        let slot = "name=\"sceneeval-token\" content=\"";
+        let start = page.find(slot).unwrap() + slot.len();
         page[start..start + 32].to_owned()
     }
 
     fn get(&self, token: &str, path: &str) -> (u16, Value) {
         let (status, body) = self.raw(
             &format!(
-                "GET {path} HTTP/1.1\r\nHost: {}\r\nX-Review-Token: {token}",
+                "GET {path} HTTP/1.1\r\nHost: {}\r\nX-Sceneeval-Token: {token}",
                 self.host()
             ),
             "",
@@ -124,7 +148,7 @@ impl Review {
     fn post(&self, token: &str, path: &str, body: &Value) -> (u16, Value) {
         let (status, body) = self.raw(
             &format!(
-                "POST {path} HTTP/1.1\r\nHost: {}\r\nX-Review-Token: {token}\r\nContent-Type: application/json",
+                "POST {path} HTTP/1.1\r\nHost: {}\r\nX-Sceneeval-Token: {token}\r\nContent-Type: application/json",
                 self.host()
             ),
             &body.to_string(),
@@ -135,8 +159,8 @@ impl Review {
         )
     }
 
-    /// Sends SIGINT (Ctrl-C) and returns the rest of standard output after the process ends.
-    fn interrupt(mut self) -> (std::process::ExitStatus, String) {
+    /// Sends SIGINT (Ctrl-C) to the server.
+    fn send_interrupt(&self) {
         let pid = self.child.id().to_string();
         assert!(
             Command::new("kill")
@@ -145,6 +169,11 @@ impl Review {
                 .unwrap()
                 .success()
         );
+    }
+
+    /// Sends SIGINT (Ctrl-C) and returns the rest of standard output after the process ends.
+    fn interrupt(mut self) -> (std::process::ExitStatus, String) {
+        self.send_interrupt();
         let mut rest = String::new();
         self.stdout.read_to_string(&mut rest).unwrap();
         (self.child.wait().unwrap(), rest)
@@ -171,7 +200,7 @@ fn foreign_hosts_missing_tokens_and_malformed_requests_are_refused() {
     assert!(body.contains("the Host header must be 127.0.0.1:"), "{body}");
     let (status, _) = review.raw(
         &format!(
-            "GET /api/candidates HTTP/1.1\r\nHost: localhost:{}\r\nX-Review-Token: {token}",
+            "GET /api/candidates HTTP/1.1\r\nHost: localhost:{}\r\nX-Sceneeval-Token: {token}",
             review.port
         ),
         "",
@@ -180,16 +209,16 @@ fn foreign_hosts_missing_tokens_and_malformed_requests_are_refused() {
     // No token, a wrong token, another origin.
     let (status, body) = review.raw(&format!("GET /api/candidates HTTP/1.1\r\nHost: {host}"), "");
     assert_eq!(status, 403);
-    assert!(body.contains("X-Review-Token"), "{body}");
+    assert!(body.contains("X-Sceneeval-Token"), "{body}");
     let accept = json!({"id": "6"}).to_string();
     let (status, _) = review.raw(
-        &format!("POST /api/accept HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nX-Review-Token: 0123"),
+        &format!("POST /api/accept HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nX-Sceneeval-Token: 0123"),
         &accept,
     );
     assert_eq!(status, 403);
     let (status, _) = review.raw(
         &format!(
-            "POST /api/accept HTTP/1.1\r\nHost: {host}\r\nOrigin: http://evil.example\r\nContent-Type: application/json\r\nX-Review-Token: {token}"
+            "POST /api/accept HTTP/1.1\r\nHost: {host}\r\nOrigin: http://evil.example\r\nContent-Type: application/json\r\nX-Sceneeval-Token: {token}"
         ),
         &accept,
     );
@@ -197,17 +226,17 @@ fn foreign_hosts_missing_tokens_and_malformed_requests_are_refused() {
     // A form post (not JSON), malformed JSON, unknown fields, a missing content.
     let (status, _) = review.raw(
         &format!(
-            "POST /api/accept HTTP/1.1\r\nHost: {host}\r\nContent-Type: text/plain\r\nX-Review-Token: {token}"
+            "POST /api/accept HTTP/1.1\r\nHost: {host}\r\nContent-Type: text/plain\r\nX-Sceneeval-Token: {token}"
         ),
         &accept,
     );
     assert_eq!(status, 415);
     let (status, body) = review.raw(
-        &format!("POST /api/save HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nX-Review-Token: {token}"),
+        &format!("POST /api/save HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\nX-Sceneeval-Token: {token}"),
         "{\"id\": \"6\", \"content\": ",
     );
     assert_eq!(status, 400);
-    assert!(body.contains("the body is not a decision"), "{body}");
+    assert!(body.contains("the body is not a request of /api/save"), "{body}");
     let (status, body) = review.post(&token, "/api/save", &json!({"id": "6", "colour": "red"}));
     assert_eq!(status, 400, "{body}");
     let (status, body) = review.post(&token, "/api/save", &json!({"id": "6"}));
@@ -220,13 +249,13 @@ fn foreign_hosts_missing_tokens_and_malformed_requests_are_refused() {
     let (status, _) = review.get(&token, "/api/candidate");
     assert_eq!(status, 400);
     let (status, _) = review.raw(
-        &format!("DELETE /api/candidates HTTP/1.1\r\nHost: {host}\r\nX-Review-Token: {token}"),
+        &format!("DELETE /api/candidates HTTP/1.1\r\nHost: {host}\r\nX-Sceneeval-Token: {token}"),
         "",
     );
     assert_eq!(status, 405);
     let (status, _) = review.raw(&format!("GET /etc/passwd HTTP/1.1\r\nHost: {host}"), "");
     assert_eq!(status, 404);
-    // Not HTTP at all: the server answers 400 (tiny_http) and goes on.
+    // Not HTTP at all: the server answers 400 and goes on.
     let mut stream = TcpStream::connect(("127.0.0.1", review.port)).unwrap();
     stream.write_all(b"\x00\x01garbage\r\n\r\n").unwrap();
     let mut buf = String::new();
@@ -243,10 +272,16 @@ fn foreign_hosts_missing_tokens_and_malformed_requests_are_refused() {
     assert_eq!(findings[0]["code"], "attribute-category-swapped");
     assert_eq!(findings[0]["severity"], "error");
     assert_eq!(findings[0]["suggestion"], "eq,1,bed,red");
-    // The page and its assets are served with a policy that forbids inline scripts.
-    let (status, page) = review.raw(&format!("GET /app.js HTTP/1.1\r\nHost: {host}"), "");
+    // The page's script and the server's client script (which sends the token).
+    let (status, script) = review.raw(&format!("GET /app.js HTTP/1.1\r\nHost: {host}"), "");
     assert_eq!(status, 200);
-    assert!(page.contains("X-Review-Token"));
+    assert!(script.contains("sceneevalApi("));
+    let (status, client) = review.raw(&format!("GET /sceneeval-api.js HTTP/1.1\r\nHost: {host}"), "");
+    assert_eq!(status, 200);
+    assert!(
+        client.contains("\"X-Sceneeval-Token\": SCENEEVAL_TOKEN"),
+        "{client}"
+    );
     // Still serving after all that.
     assert_eq!(review.token(), token);
 }
@@ -366,6 +401,28 @@ fn decisions_are_written_at_once_and_a_second_review_continues() {
         .success();
 }
 
+/// The reviewed file keeps its permissions when an edit rewrites it; the files the review
+/// makes get the umask's.
+#[cfg(unix)]
+#[test]
+fn a_reviewed_file_keeps_its_mode_and_new_files_get_the_umask_s() {
+    use std::os::unix::fs::PermissionsExt;
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let (dir, file) = setup();
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let review = Review::start_under_umask(&file, "002");
+    let token = review.token();
+    let fixed = content("A bedroom with a red bed.", &["eq,1,bed"], &["eq,1,bed,red"]);
+    let (status, body) = review.post(&token, "/api/accept", &json!({"id": "5", "content": fixed}));
+    assert_eq!(status, 200, "{body}");
+    assert!(
+        std::fs::read_to_string(&file).unwrap().contains("eq,1,bed,red"),
+        "rewritten"
+    );
+    assert_eq!(mode(&file), 0o644, "the user's file keeps its mode");
+    assert_eq!(mode(&dir.path().join("mine.accepted.csv")), 0o664, "umask 002");
+}
+
 /// Waits until `check` holds, for at most 20 seconds.
 fn wait_for(what: &str, mut check: impl FnMut() -> bool) {
     let start = Instant::now();
@@ -375,6 +432,142 @@ fn wait_for(what: &str, mut check: impl FnMut() -> bool) {
             "timed out waiting for {what}"
         );
         std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// Clients that misbehave on purpose: none of them stops the server or holds up anyone else.
+mod hostile {
+    use super::*;
+
+    /// A connection that has sent `sent` and then keeps quiet.
+    fn silent(port: u16, sent: &str) -> TcpStream {
+        let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+        stream.write_all(sent.as_bytes()).unwrap();
+        stream
+    }
+
+    /// Whether the server has said nothing on `stream` yet (and not closed it).
+    fn still_waiting(stream: &TcpStream) -> bool {
+        stream.set_nonblocking(true).unwrap();
+        let mut byte = [0u8; 1];
+        let quiet = matches!(stream.peek(&mut byte), Err(e) if e.kind() == std::io::ErrorKind::WouldBlock);
+        stream.set_nonblocking(false).unwrap();
+        quiet
+    }
+
+    #[test]
+    fn a_huge_declared_body_gets_413_and_the_server_lives() {
+        let (_dir, file) = setup();
+        let review = Review::start(&file);
+        // No token, a foreign Host: the size is refused first, and nothing of the body is read.
+        for head in [
+            "POST /api/save HTTP/1.1\r\nHost: evil.example\r\n".to_owned(),
+            format!("GET / HTTP/1.1\r\nHost: {}\r\n", review.host()),
+            "POST /api/save HTTP/1.1\r\n".to_owned(),
+        ] {
+            // The head only: a body sent and never read would make the close a reset.
+            let request = format!("{head}Content-Length: 99999999999999\r\n\r\n");
+            let (status, response_head, body) = review.exchange(request.as_bytes());
+            assert_eq!(status, 413, "{head}: {body}");
+            assert!(body.contains("the body is larger than 1048576 bytes"), "{body}");
+            assert!(
+                response_head
+                    .to_ascii_lowercase()
+                    .contains("content-security-policy: default-src 'none'"),
+                "{response_head}"
+            );
+        }
+        let token = review.token();
+        // Still serving.
+        assert_eq!(review.token(), token);
+        let (status, _) = review.get(&token, "/api/candidates");
+        assert_eq!(status, 200);
+    }
+
+    #[test]
+    fn a_silent_or_slow_client_does_not_hold_up_the_others() {
+        let (_dir, file) = setup();
+        let review = Review::start(&file);
+        let token = review.token();
+        let host = review.host();
+        // Declares a body and sends nothing; another sends its headers byte by byte.
+        let quiet = silent(
+            review.port,
+            &format!(
+                "POST /api/save HTTP/1.1\r\nHost: {host}\r\nX-Sceneeval-Token: {token}\r\n\
+                 Content-Type: application/json\r\nContent-Length: 100000\r\n\r\n"
+            ),
+        );
+        let port = review.port;
+        let trickle = std::thread::spawn({
+            let host = host.clone();
+            move || {
+                let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+                for byte in format!("GET /app.css HTTP/1.1\r\nHost: {host}\r\n\r\n").bytes() {
+                    stream.write_all(&[byte]).unwrap();
+                    std::thread::sleep(Duration::from_millis(40));
+                }
+                let mut response = String::new();
+                stream.read_to_string(&mut response).unwrap();
+                response
+            }
+        });
+        // Meanwhile other requests are answered, one after the other, while the silent client
+        // still holds its connection without an answer.
+        for _ in 0..5 {
+            let (status, list) = review.get(&token, "/api/candidates");
+            assert_eq!(status, 200, "{list}");
+        }
+        let (status, _) = review.post(&token, "/api/reject", &json!({"id": "6", "note": "plain"}));
+        assert_eq!(status, 200);
+        assert!(still_waiting(&quiet), "the silent client was answered or dropped");
+        // The slow but complete request is served too.
+        let response = trickle.join().unwrap();
+        assert!(response.starts_with("HTTP/1.1 200"), "{response}");
+        assert!(still_waiting(&quiet));
+    }
+
+    #[test]
+    fn ctrl_c_stops_the_server_with_a_slow_client_connected() {
+        let (dir, file) = setup();
+        let mut review = Review::start(&file);
+        let host = review.host();
+        // Half a request line and a header that never ends; and a body that never comes.
+        let half = silent(review.port, &format!("GET / HTTP/1.1\r\nHost: {host}\r\nX-Slow"));
+        let token = review.token();
+        let body = silent(
+            review.port,
+            &format!(
+                "POST /api/save HTTP/1.1\r\nHost: {host}\r\nX-Sceneeval-Token: {token}\r\n\
+                 Content-Type: application/json\r\nContent-Length: 100000\r\n\r\n{{"
+            ),
+        );
+        assert!(still_waiting(&half) && still_waiting(&body));
+        review.send_interrupt();
+        // The server stops well before the slow clients' 30 s timeouts would drop them.
+        let mut status = None;
+        wait_for("the server to stop", || {
+            status = review.child.try_wait().unwrap();
+            status.is_some()
+        });
+        assert!(status.unwrap().success(), "{status:?}");
+        let mut rest = String::new();
+        review.stdout.read_to_string(&mut rest).unwrap();
+        assert!(
+            rest.contains("stopped: 3 pending, 0 accepted, 0 rejected"),
+            "{rest}"
+        );
+        // Both connections are closed, unanswered, and nothing was written.
+        for mut stream in [half, body] {
+            stream.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+            let mut buf = Vec::new();
+            let _ = stream.read_to_end(&mut buf);
+            assert!(buf.is_empty(), "{}", String::from_utf8_lossy(&buf));
+        }
+        assert_eq!(
+            sceneeval_test_support::file_names(dir.path()),
+            ["mine.csv", "mine.csv.rejected.jsonl"]
+        );
     }
 }
 

@@ -19,7 +19,10 @@ pub enum ConvertError {
         reason: String,
     },
     /// A generator's file is missing, unreadable, malformed JSON, or a value in it has the wrong
-    /// type or is not acceptable (the error names the file and the JSON pointer).
+    /// type or is not acceptable (the error names the file and the JSON pointer), or two of its
+    /// objects have one id ([`IoError::DuplicateObjectId`]: a SceneAgent object's id names its
+    /// asset, so the second would show the first's mesh; Holodeck's `floor_objects` names
+    /// objects by id; an IDesign id names the object's GLB).
     #[error(transparent)]
     Native(Box<IoError>),
     /// An object's asset could not be loaded (unknown asset, missing or corrupt mesh).
@@ -47,9 +50,26 @@ pub enum ConvertError {
         #[source]
         source: SceneError,
     },
-    /// `--id-map` is not a JSON object of scene keys to SceneEval-500 ids, or maps two scenes
+    /// The format gives box centres (Holodeck, LayoutVLM), and only an asset's mesh says
+    /// where its box centre is, but no asset folder was given for the format's prefix.
+    #[error(
+        "{format} gives box centres, and only the meshes say where an asset's box centre is: \
+         the asset folder of prefix {prefix:?} is needed (the folder the evaluation will read \
+         the assets from)"
+    )]
+    AssetsNeeded {
+        /// The format.
+        format: crate::Format,
+        /// The model id prefix whose folder is needed.
+        prefix: &'static str,
+    },
+    /// The conversion was interrupted ([`crate::ConvertOptions::with_interrupt`]); its
+    /// temporary folder is removed and nothing is written.
+    #[error("interrupted: the conversion stopped and its temporary folder is removed")]
+    Interrupted,
+    /// The id map is not a JSON object of scene keys to SceneEval-500 ids, or maps two scenes
     /// to one id.
-    #[error("--id-map: {reason}")]
+    #[error("id map: {reason}")]
     IdMap {
         /// What is wrong.
         reason: String,

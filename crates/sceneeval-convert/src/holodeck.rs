@@ -28,8 +28,9 @@ use sceneeval_io::{AssetLibrary, IoError};
 use sceneeval_scene::{Floor, Opening, OpeningKind, Room, SceneObject, WallSpec};
 use serde_json::{Map, Value};
 
-use crate::native::{read_json, subfolders, text, xyz};
-use crate::output::write_scene;
+use crate::format::Converter;
+use crate::native::{Ids, read_json, subfolders, text, xyz};
+use crate::output::Output;
 use crate::place::{Target, place};
 use crate::{ConvertError, NativeScene, SkippedObject, Written};
 
@@ -105,20 +106,90 @@ fn house_file(name: &str, dir: &Path) -> Result<Option<PathBuf>, ConvertError> {
     }
 }
 
-/// The scene folders of a Holodeck batch: every sub-folder holding a house JSON, keyed by its
-/// position in name order (as the fork numbers them).
-pub(crate) fn scenes(input: &Path) -> Result<Vec<NativeScene>, ConvertError> {
-    let mut out = Vec::new();
-    for (name, dir) in subfolders(input)? {
-        match house_file(&name, &dir)? {
-            Some(_) => out.push(NativeScene {
-                key: out.len() as u64,
-                dir,
-            }),
-            None => tracing::debug!(folder = %dir.display(), "no house JSON; not a Holodeck scene"),
+/// The Holodeck conversion.
+pub(crate) struct Holodeck;
+
+impl Converter for Holodeck {
+    /// Every sub-folder holding a house JSON, keyed by its position in name order (as the fork
+    /// numbers them).
+    fn scenes(&self, input: &Path) -> Result<Vec<NativeScene>, ConvertError> {
+        let mut out = Vec::new();
+        for (name, dir) in subfolders(input)? {
+            match house_file(&name, &dir)? {
+                Some(_) => out.push(NativeScene {
+                    key: out.len() as u64,
+                    dir,
+                }),
+                None => tracing::debug!(folder = %dir.display(), "no house JSON; not a Holodeck scene"),
+            }
         }
+        Ok(out)
     }
-    Ok(out)
+
+    fn expected_scenes(&self) -> &'static str {
+        "a folder per scene holding its house JSON"
+    }
+
+    /// Converts one Holodeck scene into `scene_<id>.json` of `out`.
+    fn convert(
+        &self,
+        scene: &NativeScene,
+        id: u64,
+        out: Output<'_>,
+        library: &AssetLibrary,
+    ) -> Result<Written, ConvertError> {
+        let name = scene
+            .dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let file =
+            house_file(&name, &scene.dir)?.ok_or_else(|| ConvertError::input(&scene.dir, "no house JSON"))?;
+        let root = read_json(&file, library)?;
+        let doc = Doc { path: &file };
+        let house = doc.object(&root, "")?;
+
+        let mut rooms = read_rooms(&doc, house)?;
+        let mut walls = read_walls(&doc, house)?;
+        for (key, kind) in [("doors", OpeningKind::Door), ("windows", OpeningKind::Window)] {
+            add_openings(&doc, house, key, kind, &mut walls)?;
+        }
+        let mut built = Vec::with_capacity(rooms.len());
+        for (room_ptr, id, kind, floor) in rooms.drain(..) {
+            let specs = walls
+                .iter()
+                .filter(|w| w.twin.is_none() && w.room == id)
+                .map(|w| WallSpec {
+                    openings: w.openings.clone(),
+                    ..WallSpec::new(w.id.clone(), w.start, w.end, floor.z, w.height, WALL_DEPTH)
+                })
+                .collect();
+            let room = Room::new(id.clone(), floor, specs, None)
+                .map_err(|e| ConvertError::scene(&file, &room_ptr, e))?;
+            built.push(match kind {
+                Some(k) => room.with_kind(k),
+                None => room,
+            });
+        }
+        if let Some(w) = walls
+            .iter()
+            .find(|w| w.twin.is_none() && !built.iter().any(|r| r.id().as_str() == w.room))
+        {
+            return Err(doc
+                .invalid(
+                    &ptr_key(&w.ptr, "roomId"),
+                    format!("no room {:?} in /rooms", w.room),
+                )
+                .into());
+        }
+
+        let (objects, skipped_objects) = read_objects(&doc, house, &built, library)?;
+        out.write_scene(objects, built, &file, id)?;
+        Ok(Written {
+            files: Vec::new(),
+            skipped_objects,
+        })
+    }
 }
 
 struct HoloWall {
@@ -137,65 +208,6 @@ impl HoloWall {
     fn length(&self) -> Real {
         (self.end - self.start).norm()
     }
-}
-
-/// Converts one Holodeck scene into the sceneState file `path`.
-pub(crate) fn convert(
-    scene: &NativeScene,
-    path: &Path,
-    library: &AssetLibrary,
-) -> Result<Written, ConvertError> {
-    let name = scene
-        .dir
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let file =
-        house_file(&name, &scene.dir)?.ok_or_else(|| ConvertError::input(&scene.dir, "no house JSON"))?;
-    let root = read_json(&file, library)?;
-    let doc = Doc { path: &file };
-    let house = doc.object(&root, "")?;
-
-    let mut rooms = read_rooms(&doc, house)?;
-    let mut walls = read_walls(&doc, house)?;
-    for (key, kind) in [("doors", OpeningKind::Door), ("windows", OpeningKind::Window)] {
-        add_openings(&doc, house, key, kind, &mut walls)?;
-    }
-    let mut built = Vec::with_capacity(rooms.len());
-    for (room_ptr, id, kind, floor) in rooms.drain(..) {
-        let specs = walls
-            .iter()
-            .filter(|w| w.twin.is_none() && w.room == id)
-            .map(|w| WallSpec {
-                openings: w.openings.clone(),
-                ..WallSpec::new(w.id.clone(), w.start, w.end, floor.z, w.height, WALL_DEPTH)
-            })
-            .collect();
-        let room = Room::new(id.clone(), floor, specs, None)
-            .map_err(|e| ConvertError::scene(&file, &room_ptr, e))?;
-        built.push(match kind {
-            Some(k) => room.with_kind(k),
-            None => room,
-        });
-    }
-    if let Some(w) = walls
-        .iter()
-        .find(|w| w.twin.is_none() && !built.iter().any(|r| r.id().as_str() == w.room))
-    {
-        return Err(doc
-            .invalid(
-                &ptr_key(&w.ptr, "roomId"),
-                format!("no room {:?} in /rooms", w.room),
-            )
-            .into());
-    }
-
-    let (objects, skipped_objects) = read_objects(&doc, house, &built, library)?;
-    write_scene(objects, built, &file, path)?;
-    Ok(Written {
-        files: Vec::new(),
-        skipped_objects,
-    })
 }
 
 /// A room of the house: its pointer, id, room type and floor.
@@ -399,10 +411,13 @@ fn read_objects(
     let Some(list) = optional(house, "objects") else {
         return Ok((objects, skipped));
     };
+    // `floor_objects` names objects by id: two objects with one id could not be told apart.
+    let mut ids = Ids::new(doc);
     for (i, item) in doc.array(list, "/objects")?.iter().enumerate() {
         let ptr = ptr_index("/objects", i);
         let o = doc.object(item, &ptr)?;
         let name = doc.id(doc.required(o, &ptr, "id")?, &ptr_key(&ptr, "id"))?;
+        ids.add(&name, &ptr)?;
         let asset = doc.string(doc.required(o, &ptr, "assetId")?, &ptr_key(&ptr, "assetId"))?;
         if !is_objaverse(asset) {
             tracing::info!(file = %doc.path.display(), object = %name, asset, "AI2-THOR asset skipped: SceneEval has no AI2-THOR assets");

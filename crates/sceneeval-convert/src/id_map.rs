@@ -2,6 +2,10 @@
 
 use std::collections::BTreeMap;
 
+use std::path::Path;
+
+use sceneeval_io::IoError;
+use sceneeval_io::scene_state::json_in;
 use serde_json::Value;
 
 use crate::ConvertError;
@@ -33,7 +37,18 @@ impl IdMap {
     /// non-negative integer, a key given twice (`"7"` and `"007"`), or two keys mapped to one id.
     pub fn parse(text: &str) -> Result<IdMap, ConvertError> {
         let bad = |reason: String| ConvertError::IdMap { reason };
-        let value: Value = serde_json::from_str(text).map_err(|e| bad(format!("not valid JSON: {e}")))?;
+        let value: Value = json_in::parse(text, Path::new("")).map_err(|e| {
+            bad(match e {
+                IoError::DuplicateKey { key, .. } => format!("scene {key:?} is given twice"),
+                IoError::MalformedJson {
+                    line,
+                    column,
+                    message,
+                    ..
+                } => format!("not valid JSON: {message} at line {line} column {column}"),
+                other => other.to_string(),
+            })
+        })?;
         let Some(object) = value.as_object() else {
             return Err(bad(format!(
                 "expected a JSON object of scene keys to ids, such as {{\"0\": 106}}, found {value}"
@@ -93,6 +108,7 @@ mod tests {
             r#"{"1": 2.5}"#,
             r#"{"1": "x"}"#,
             r#"{"7": 1, "007": 2}"#,
+            r#"{"7": 1, "7": 2}"#,
             r#"{"1": 5, "2": 5}"#,
             "{",
         ] {

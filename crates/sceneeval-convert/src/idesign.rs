@@ -24,8 +24,9 @@ use sceneeval_io::{AssetLibrary, IoError};
 use sceneeval_scene::{Floor, Room, WallSpec};
 use serde_json::{Map, Value};
 
-use crate::native::{read_json, text, xyz};
-use crate::output::{copy_file, write_scene};
+use crate::format::Converter;
+use crate::native::{Ids, read_json, text, xyz};
+use crate::output::{Output, files_under};
 use crate::place::{Target, place};
 use crate::{ConvertError, NativeScene, Written};
 
@@ -44,126 +45,135 @@ const WALL_DEPTH: Real = 0.1;
 /// own size along that axis.
 const MIN_EXTENT: Real = 1e-6;
 
-/// Converts one IDesign scene into `out/scene_<id>.json` and its assets.
-pub(crate) fn convert(
-    scene: &NativeScene,
-    id: u64,
-    out: &Path,
-    library: &AssetLibrary,
-) -> Result<Written, ConvertError> {
-    let file = scene.dir.join("scene_graph.json");
-    let root = read_json(&file, library)?;
-    let doc = Doc { path: &file };
-    let items = doc.array(&root, "")?;
-    let mut room_items = Vec::new();
-    let mut object_items = Vec::new();
-    for (i, item) in items.iter().enumerate() {
-        let ptr = ptr_index("", i);
-        let o = doc.object(item, &ptr)?;
-        let name = doc.string(
-            doc.required(o, &ptr, "new_object_id")?,
-            &ptr_key(&ptr, "new_object_id"),
-        )?;
-        let kind = text(&doc, o, &ptr, "itemType")?;
-        if ROOM_ELEMENTS.contains(&name) || matches!(kind, Some("wall" | "floor" | "ceiling")) {
-            room_items.push((ptr, name, kind, o));
-        } else {
-            object_items.push((ptr, name, o));
-        }
-    }
-    let room = read_room(&doc, &room_items)?;
+/// The IDesign conversion.
+pub(crate) struct IDesign;
 
-    let assets_rel = PathBuf::from(format!("scene_{id}")).join("assets");
-    let mut files = Vec::new();
-    let mut objects = Vec::new();
-    for (ptr, name, o) in object_items {
-        if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
-            return Err(doc
-                .invalid(&ptr_key(&ptr, "new_object_id"), "not usable as a file name")
-                .into());
-        }
-        let glb = find_glb(&scene.dir.join("Assets"), name)?.ok_or_else(|| IoError::File {
-            path: scene.dir.join("Assets").join(format!("{name}.glb")),
-            source: std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                format!("no GLB for the object at {ptr} of {}", file.display()),
-            ),
-        })?;
-        let rel = assets_rel.join(format!("{name}.glb"));
-        copy_file(&glb, &out.join(&rel))?;
-        files.push(rel);
-        let model_id = format!("idesign.scene_{id}__{name}");
-        // The mesh's bounds in the z-up frame the transform maps.
-        let asset = library
-            .asset(&model_id)
-            .map_err(|e| ConvertError::asset(&file, &ptr, &model_id, e))?;
-        let mesh = *asset.mesh.aabb();
-        let size_ptr = ptr_key(&ptr, "size_in_meters");
-        let size = doc.object(doc.required(o, &ptr, "size_in_meters")?, &size_ptr)?;
-        let dim = |key: &'static str| -> Result<Real, ConvertError> {
-            Ok(doc.number(doc.required(size, &size_ptr, key)?, &ptr_key(&size_ptr, key))?)
-        };
-        let wanted = Vector3::new(dim("length")?, dim("width")?, dim("height")?);
-        let extents = mesh.extents();
-        let scale = Vector3::from_fn(|k, _| {
-            if extents[k] > MIN_EXTENT && wanted[k] > 0.0 {
-                wanted[k] / extents[k]
+impl Converter for IDesign {
+    /// Converts one IDesign scene into `scene_<id>.json` of `out` and its assets.
+    fn convert(
+        &self,
+        scene: &NativeScene,
+        id: u64,
+        out: Output<'_>,
+        library: &AssetLibrary,
+    ) -> Result<Written, ConvertError> {
+        let file = scene.dir.join("scene_graph.json");
+        let root = read_json(&file, library)?;
+        let doc = Doc { path: &file };
+        let items = doc.array(&root, "")?;
+        let mut room_items = Vec::new();
+        let mut object_items = Vec::new();
+        // An object's id names its GLB and its model id: two objects with one id would share one.
+        let mut ids = Ids::new(&doc);
+        for (i, item) in items.iter().enumerate() {
+            let ptr = ptr_index("", i);
+            let o = doc.object(item, &ptr)?;
+            let name = doc.string(
+                doc.required(o, &ptr, "new_object_id")?,
+                &ptr_key(&ptr, "new_object_id"),
+            )?;
+            ids.add(name, &ptr)?;
+            let kind = text(&doc, o, &ptr, "itemType")?;
+            if ROOM_ELEMENTS.contains(&name) || matches!(kind, Some("wall" | "floor" | "ceiling")) {
+                room_items.push((ptr, name, kind, o));
             } else {
-                tracing::warn!(file = %file.display(), object = name, axis = k, "the mesh or the wanted size is flat along this axis; not scaled along it");
-                1.0
+                object_items.push((ptr, name, o));
             }
-        });
-        let z_angle = match optional(o, "rotation") {
-            Some(r) => {
-                let rptr = ptr_key(&ptr, "rotation");
-                match optional(doc.object(r, &rptr)?, "z_angle") {
-                    Some(v) => doc.number(v, &ptr_key(&rptr, "z_angle"))?,
-                    None => 0.0,
+        }
+        let room = read_room(&doc, &room_items)?;
+
+        let assets_rel = PathBuf::from(format!("scene_{id}")).join("assets");
+        let mut files = Vec::new();
+        let mut objects = Vec::new();
+        for (ptr, name, o) in object_items {
+            if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
+                return Err(doc
+                    .invalid(&ptr_key(&ptr, "new_object_id"), "not usable as a file name")
+                    .into());
+            }
+            let glb = find_glb(&scene.dir.join("Assets"), name)?.ok_or_else(|| IoError::File {
+                path: scene.dir.join("Assets").join(format!("{name}.glb")),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    format!("no GLB for the object at {ptr} of {}", file.display()),
+                ),
+            })?;
+            let rel = assets_rel.join(format!("{name}.glb"));
+            out.copy_file(&glb, &rel)?;
+            files.push(rel);
+            let model_id = format!("idesign.scene_{id}__{name}");
+            // The mesh's bounds in the z-up frame the transform maps.
+            let asset = library
+                .asset(&model_id)
+                .map_err(|e| ConvertError::asset(&file, &ptr, &model_id, e))?;
+            let mesh = *asset.mesh.aabb();
+            let size_ptr = ptr_key(&ptr, "size_in_meters");
+            let size = doc.object(doc.required(o, &ptr, "size_in_meters")?, &size_ptr)?;
+            let dim = |key: &'static str| -> Result<Real, ConvertError> {
+                Ok(doc.number(doc.required(size, &size_ptr, key)?, &ptr_key(&size_ptr, key))?)
+            };
+            let wanted = Vector3::new(dim("length")?, dim("width")?, dim("height")?);
+            let extents = mesh.extents();
+            let scale = Vector3::from_fn(|k, _| {
+                if extents[k] > MIN_EXTENT && wanted[k] > 0.0 {
+                    wanted[k] / extents[k]
+                } else {
+                    tracing::warn!(file = %file.display(), object = name, axis = k, "the mesh or the wanted size is flat along this axis; not scaled along it");
+                    1.0
                 }
-            }
-            None => 0.0,
-        };
-        let position = xyz(
-            &doc,
-            doc.required(o, &ptr, "position")?,
-            &ptr_key(&ptr, "position"),
-            None,
-        )?;
-        let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), (z_angle + 180.0).to_radians());
-        let object_id = derived_object_id(objects.len() as i64, Some(&model_id));
-        let style = text(&doc, o, &ptr, "style")?;
-        let material = text(&doc, o, &ptr, "material")?;
-        let description = [style, material, Some(humanize_object_id(name).as_str())]
-            .into_iter()
-            .flatten()
-            .filter(|s| !s.trim().is_empty())
-            .collect::<Vec<_>>()
-            .join(" ");
-        let object = place(
-            library,
-            &object_id,
-            &model_id,
-            &turn,
-            &scale,
-            ObjectFront::PlusY,
-            Target::Centre(Point3::from(position)),
-            (&file, &ptr),
-        )?
-        .with_index(objects.len() as i64)
-        .with_description(description);
-        objects.push(object);
+            });
+            let z_angle = match optional(o, "rotation") {
+                Some(r) => {
+                    let rptr = ptr_key(&ptr, "rotation");
+                    match optional(doc.object(r, &rptr)?, "z_angle") {
+                        Some(v) => doc.number(v, &ptr_key(&rptr, "z_angle"))?,
+                        None => 0.0,
+                    }
+                }
+                None => 0.0,
+            };
+            let position = xyz(
+                &doc,
+                doc.required(o, &ptr, "position")?,
+                &ptr_key(&ptr, "position"),
+                None,
+            )?;
+            let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), (z_angle + 180.0).to_radians());
+            let object_id = derived_object_id(objects.len() as i64, Some(&model_id));
+            let style = text(&doc, o, &ptr, "style")?;
+            let material = text(&doc, o, &ptr, "material")?;
+            let description = [style, material, Some(humanize_object_id(name).as_str())]
+                .into_iter()
+                .flatten()
+                .filter(|s| !s.trim().is_empty())
+                .collect::<Vec<_>>()
+                .join(" ");
+            let object = place(
+                library,
+                &object_id,
+                &model_id,
+                &turn,
+                &scale,
+                ObjectFront::PlusY,
+                Target::Centre(Point3::from(position)),
+                (&file, &ptr),
+            )?
+            .with_index(objects.len() as i64)
+            .with_description(description);
+            objects.push(object);
+        }
+        let blend = scene.dir.join("scene.blend");
+        if blend.is_file() {
+            let rel = assets_rel.join("original_idesign.blend");
+            out.copy_file(&blend, &rel)?;
+            files.push(rel);
+        }
+        out.write_scene(objects, vec![room], &file, id)?;
+        Ok(Written {
+            files,
+            skipped_objects: Vec::new(),
+        })
     }
-    let blend = scene.dir.join("scene.blend");
-    if blend.is_file() {
-        let rel = assets_rel.join("original_idesign.blend");
-        copy_file(&blend, &out.join(&rel))?;
-        files.push(rel);
-    }
-    write_scene(objects, vec![room], &file, &out.join(format!("scene_{id}.json")))?;
-    Ok(Written {
-        files,
-        skipped_objects: Vec::new(),
-    })
 }
 
 /// `Assets/<name>.glb`, else the first file under `Assets/` (in name order) whose name up to
@@ -176,7 +186,7 @@ fn find_glb(assets: &Path, name: &str) -> Result<Option<PathBuf>, ConvertError> 
     if !assets.is_dir() {
         return Ok(None);
     }
-    Ok(crate::output::files_under(assets)?.into_iter().find_map(|rel| {
+    Ok(files_under(assets)?.into_iter().find_map(|rel| {
         let file = rel.file_name()?.to_str()?;
         (file.ends_with(".glb") && file.split('.').next() == Some(name)).then(|| assets.join(&rel))
     }))

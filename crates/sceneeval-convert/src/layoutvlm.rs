@@ -11,8 +11,6 @@
 //!   one onto the wrong model. Assets without a placement are skipped (and listed); a
 //!   placement of an asset `scene.json` does not have is an error.
 
-use std::path::Path;
-
 use sceneeval_geom::{Point2, Point3, Polygon2, Real, Rotation3, Vector3};
 use sceneeval_io::AssetLibrary;
 use sceneeval_io::frames::ObjectFront;
@@ -21,9 +19,10 @@ use sceneeval_io::scene_state::json_in::{Doc, optional, ptr_index, ptr_key};
 use sceneeval_scene::{Floor, Room, WallSpec};
 use serde_json::Value;
 
+use crate::format::Converter;
 use crate::holodeck::{WALL_DEPTH, is_objaverse};
 use crate::native::{read_json, text};
-use crate::output::write_scene;
+use crate::output::Output;
 use crate::place::{Target, place};
 use crate::{ConvertError, NativeScene, SkippedObject, Written};
 
@@ -36,93 +35,101 @@ pub(crate) fn euler_zyx(x: Real, y: Real, z: Real) -> Rotation3 {
     about(Vector3::z_axis(), z) * about(Vector3::y_axis(), y) * about(Vector3::x_axis(), x)
 }
 
-/// Converts one LayoutVLM scene into the sceneState file `path`.
-pub(crate) fn convert(
-    scene: &NativeScene,
-    path: &Path,
-    library: &AssetLibrary,
-) -> Result<Written, ConvertError> {
-    let scene_file = scene.dir.join("scene.json");
-    let layout_file = scene.dir.join("layout.json");
-    let scene_root = read_json(&scene_file, library)?;
-    let layout_root = read_json(&layout_file, library)?;
-    let sdoc = Doc { path: &scene_file };
-    let ldoc = Doc { path: &layout_file };
-    let task = sdoc.object(&scene_root, "")?;
-    let layout = ldoc.object(&layout_root, "")?;
+/// The LayoutVLM conversion. Its objects' ids are the keys of `scene.json`'s `assets`,
+/// unique since a key given twice in one JSON object is an error.
+pub(crate) struct LayoutVlm;
 
-    let room = read_room(&sdoc, task)?;
-    let assets = sdoc.object(sdoc.required(task, "", "assets")?, "/assets")?;
-    if let Some(key) = layout.keys().find(|k| !assets.contains_key(*k)) {
-        return Err(ldoc
-            .invalid(
-                &ptr_key("", key),
-                format!("no asset {key:?} in {}'s /assets", scene_file.display()),
-            )
-            .into());
-    }
-    let mut objects = Vec::new();
-    let mut skipped = Vec::new();
-    for (key, asset) in assets {
-        let aptr = ptr_key("/assets", key);
-        let uid = match optional(sdoc.object(asset, &aptr)?, "uid") {
-            Some(v) => sdoc.string(v, &ptr_key(&aptr, "uid"))?.to_owned(),
-            // Older task files key assets as `<uid>-<n>` without a `uid` field.
-            None => match key.rsplit_once('-') {
-                Some((uid, _)) if is_objaverse(uid) => uid.to_owned(),
-                _ => {
-                    return Err(sceneeval_io::IoError::MissingField {
-                        path: scene_file.clone(),
-                        pointer: aptr,
-                        field: "uid",
+impl Converter for LayoutVlm {
+    /// Converts one LayoutVLM scene into `scene_<id>.json` of `out`.
+    fn convert(
+        &self,
+        scene: &NativeScene,
+        id: u64,
+        out: Output<'_>,
+        library: &AssetLibrary,
+    ) -> Result<Written, ConvertError> {
+        let scene_file = scene.dir.join("scene.json");
+        let layout_file = scene.dir.join("layout.json");
+        let scene_root = read_json(&scene_file, library)?;
+        let layout_root = read_json(&layout_file, library)?;
+        let sdoc = Doc { path: &scene_file };
+        let ldoc = Doc { path: &layout_file };
+        let task = sdoc.object(&scene_root, "")?;
+        let layout = ldoc.object(&layout_root, "")?;
+
+        let room = read_room(&sdoc, task)?;
+        let assets = sdoc.object(sdoc.required(task, "", "assets")?, "/assets")?;
+        if let Some(key) = layout.keys().find(|k| !assets.contains_key(*k)) {
+            return Err(ldoc
+                .invalid(
+                    &ptr_key("", key),
+                    format!("no asset {key:?} in {}'s /assets", scene_file.display()),
+                )
+                .into());
+        }
+        let mut objects = Vec::new();
+        let mut skipped = Vec::new();
+        for (key, asset) in assets {
+            let aptr = ptr_key("/assets", key);
+            let uid = match optional(sdoc.object(asset, &aptr)?, "uid") {
+                Some(v) => sdoc.string(v, &ptr_key(&aptr, "uid"))?.to_owned(),
+                // Older task files key assets as `<uid>-<n>` without a `uid` field.
+                None => match key.rsplit_once('-') {
+                    Some((uid, _)) if is_objaverse(uid) => uid.to_owned(),
+                    _ => {
+                        return Err(sceneeval_io::IoError::MissingField {
+                            path: scene_file.clone(),
+                            pointer: aptr,
+                            field: "uid",
+                        }
+                        .into());
                     }
-                    .into());
-                }
-            },
-        };
-        let Some(placement) = layout.get(key) else {
-            tracing::info!(file = %layout_file.display(), asset = %key, "not placed by LayoutVLM; skipped");
-            skipped.push(SkippedObject {
-                file: scene_file.clone(),
-                pointer: aptr,
-                name: key.clone(),
-                reason: "not placed: layout.json has no entry for it".into(),
-            });
-            continue;
-        };
-        let lptr = ptr_key("", key);
-        let p = ldoc.object(placement, &lptr)?;
-        let position = ldoc.numbers::<3>(
-            ldoc.required(p, &lptr, "position")?,
-            &ptr_key(&lptr, "position"),
-            "an array of 3 numbers",
-        )?;
-        let rotation = match optional(p, "rotation") {
-            Some(v) => ldoc.numbers::<3>(v, &ptr_key(&lptr, "rotation"), "an array of 3 numbers")?,
-            None => [0.0; 3],
-        };
-        let model_id = format!("layoutvlm-objaverse.{uid}");
-        let id = derived_object_id(objects.len() as i64, Some(&model_id));
-        let sstk = euler_zyx(rotation[0], rotation[1], rotation[2])
-            * Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
-        let object = place(
-            library,
-            &id,
-            &model_id,
-            &sstk,
-            &Vector3::repeat(1.0),
-            ObjectFront::MinusY,
-            Target::Centre(Point3::from(position)),
-            (&layout_file, &lptr),
-        )?
-        .with_index(objects.len() as i64);
-        objects.push(object);
+                },
+            };
+            let Some(placement) = layout.get(key) else {
+                tracing::info!(file = %layout_file.display(), asset = %key, "not placed by LayoutVLM; skipped");
+                skipped.push(SkippedObject {
+                    file: scene_file.clone(),
+                    pointer: aptr,
+                    name: key.clone(),
+                    reason: "not placed: layout.json has no entry for it".into(),
+                });
+                continue;
+            };
+            let lptr = ptr_key("", key);
+            let p = ldoc.object(placement, &lptr)?;
+            let position = ldoc.numbers::<3>(
+                ldoc.required(p, &lptr, "position")?,
+                &ptr_key(&lptr, "position"),
+                "an array of 3 numbers",
+            )?;
+            let rotation = match optional(p, "rotation") {
+                Some(v) => ldoc.numbers::<3>(v, &ptr_key(&lptr, "rotation"), "an array of 3 numbers")?,
+                None => [0.0; 3],
+            };
+            let model_id = format!("layoutvlm-objaverse.{uid}");
+            let object_id = derived_object_id(objects.len() as i64, Some(&model_id));
+            let sstk = euler_zyx(rotation[0], rotation[1], rotation[2])
+                * Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);
+            let object = place(
+                library,
+                &object_id,
+                &model_id,
+                &sstk,
+                &Vector3::repeat(1.0),
+                ObjectFront::MinusY,
+                Target::Centre(Point3::from(position)),
+                (&layout_file, &lptr),
+            )?
+            .with_index(objects.len() as i64);
+            objects.push(object);
+        }
+        out.write_scene(objects, vec![room], &scene_file, id)?;
+        Ok(Written {
+            files: Vec::new(),
+            skipped_objects: skipped,
+        })
     }
-    write_scene(objects, vec![room], &scene_file, path)?;
-    Ok(Written {
-        files: Vec::new(),
-        skipped_objects: skipped,
-    })
 }
 
 fn read_room(doc: &Doc<'_>, task: &serde_json::Map<String, Value>) -> Result<Room, ConvertError> {

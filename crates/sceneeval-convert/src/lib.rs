@@ -17,14 +17,24 @@
 //! the generator's placement as a sceneState transform in the convention of its model id
 //! ([`sceneeval_io::frames::TransformFrame`]) and lets the asset library build the object.
 //!
+//! **The formats** are one table ([`Format`]): each row names the format, its objects' model
+//! id prefix, whether it needs an asset folder and which assets it writes into the output, and
+//! holds the format's converter (one implementation per format, in its module). [`convert`]
+//! is the same for every format.
+//!
 //! **Nothing half-written.** The output is built in a temporary folder beside `DIR` and
 //! renamed to `DIR` in one step once every scene is written and has been read back; a
-//! conversion that fails leaves nothing. `DIR` must not exist or be empty.
+//! conversion that fails, or is interrupted ([`ConvertOptions::with_interrupt`]), leaves
+//! nothing. The temporary folder is locked while its conversion runs, and a conversion first
+//! removes the temporary folders of `DIR` that no running conversion holds (those of killed
+//! ones). Folders get the permissions the umask gives. `DIR` must not exist or be empty.
 //!
 //! **Errors** name the generator's file and the JSON pointer of the value at fault (a missing
-//! file, malformed JSON, `NaN`, an unknown asset, a bad id map). Objects and scenes left out on
-//! purpose (AI2-THOR assets, assets LayoutVLM did not place, scenes not in the id map) are
-//! listed in the [`Report`] with the reason.
+//! file, malformed JSON, `NaN`, a key given twice, two objects with one id, an unknown asset, a
+//! bad id map), and never a command-line flag: they say what is missing
+//! ([`ConvertError::AssetsNeeded`] names the prefix whose folder is needed). Objects and scenes
+//! left out on purpose (AI2-THOR assets, assets LayoutVLM did not place, scenes not in the id
+//! map) are listed in the [`Report`] with the reason.
 //!
 //! # Example
 //! ```
@@ -76,6 +86,7 @@
 //! ```
 
 mod error;
+mod format;
 mod holodeck;
 mod id_map;
 mod idesign;
@@ -87,99 +98,36 @@ mod report;
 mod scene_agent;
 
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 
-use sceneeval_io::assets::{AssetSpec, Layout};
+use sceneeval_io::assets::AssetSpec;
 use sceneeval_io::{AssetLibrary, ReadOptions};
 
 pub use error::ConvertError;
+pub use format::Format;
 pub use holodeck::unity_euler;
 pub use id_map::IdMap;
 pub use report::{ConvertedScene, Report, SkippedObject, SkippedScene};
-
-/// A generator whose output [`convert`] reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Format {
-    /// Holodeck (AI2-THOR house JSON, Unity's y-up left-handed frame).
-    Holodeck,
-    /// LayoutVLM (`scene.json` with the room and the assets, `layout.json` with placements).
-    #[serde(rename = "layoutvlm")]
-    LayoutVlm,
-    /// IDesign (`scene_graph.json` and the retrieved GLB files).
-    #[serde(rename = "idesign")]
-    IDesign,
-    /// SceneAgent / SceneSmith (its own sceneState export, SDF + glTF assets per room).
-    SceneAgent,
-}
-
-impl Format {
-    /// Every format.
-    pub const ALL: [Format; 4] = [
-        Format::Holodeck,
-        Format::LayoutVlm,
-        Format::IDesign,
-        Format::SceneAgent,
-    ];
-
-    /// The name used on the command line: `holodeck`, `layoutvlm`, `idesign`, `scene-agent`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Format::Holodeck => "holodeck",
-            Format::LayoutVlm => "layoutvlm",
-            Format::IDesign => "idesign",
-            Format::SceneAgent => "scene-agent",
-        }
-    }
-
-    /// The model id prefix of the converted scenes' objects.
-    pub const fn asset_prefix(self) -> &'static str {
-        match self {
-            Format::Holodeck => "objaverse",
-            Format::LayoutVlm => "layoutvlm-objaverse",
-            Format::IDesign => "idesign",
-            Format::SceneAgent => "scene-agent",
-        }
-    }
-}
-
-impl std::fmt::Display for Format {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Format {
-    type Err = String;
-
-    /// Parses a format name (`scenesmith` is `scene-agent`), ignoring ASCII case.
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let s = s.trim();
-        if s.eq_ignore_ascii_case("scenesmith") {
-            return Ok(Format::SceneAgent);
-        }
-        Format::ALL
-            .into_iter()
-            .find(|f| f.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| {
-                format!(
-                    "unknown format {s:?} (expected one of {})",
-                    Format::ALL.map(Format::name).join(", ")
-                )
-            })
-    }
-}
 
 /// How to convert.
 #[derive(Debug, Clone, Default)]
 pub struct ConvertOptions {
     /// Scene keys to SceneEval-500 ids; without it every scene is written under its key.
     pub id_map: Option<IdMap>,
-    /// Asset folders, as `--assets` gives them. Holodeck needs the Objathor folder
+    /// Asset folders, as the evaluation reads them. Holodeck needs the Objathor folder
     /// (`objaverse=DIR`) and LayoutVLM its asset folder (`layoutvlm-objaverse=DIR`): their
-    /// positions are box centres, and only the mesh tells where an asset's box centre is. The
-    /// `idesign` and `scene-agent` prefixes are served from the output itself.
+    /// positions are box centres, and only the mesh tells where an asset's box centre is
+    /// ([`Format::needs_assets`]). The `idesign` and `scene-agent` prefixes are served from the
+    /// output itself.
     pub assets: Vec<AssetSpec>,
+    /// Read the converted scenes back strictly ([`ReadOptions::strict`]): a key the sceneState
+    /// format does not have (in a SceneAgent state file, which is copied) fails the conversion
+    /// instead of being a warning.
+    pub strict: bool,
+    /// Once set, the conversion stops at its next file with [`ConvertError::Interrupted`] and
+    /// removes its temporary folder (the command line sets it on SIGINT and SIGTERM).
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl ConvertOptions {
@@ -192,6 +140,18 @@ impl ConvertOptions {
     /// These options with the asset folders `assets`.
     pub fn with_assets(mut self, assets: Vec<AssetSpec>) -> Self {
         self.assets = assets;
+        self
+    }
+
+    /// These options reading the converted scenes back strictly or not.
+    pub fn with_strict(mut self, strict: bool) -> Self {
+        self.strict = strict;
+        self
+    }
+
+    /// These options with the flag that interrupts the conversion.
+    pub fn with_interrupt(mut self, flag: Arc<AtomicBool>) -> Self {
+        self.interrupt = Some(flag);
         self
     }
 }
@@ -215,7 +175,9 @@ pub(crate) struct Written {
 ///
 /// Every scene is converted, written to a temporary folder beside `out`, and read back through
 /// `sceneeval-io` with the conversion's asset library; only when all of them succeed is the
-/// folder renamed to `out`.
+/// folder renamed to `out`. Temporary folders that earlier conversions into `out` left behind
+/// (killed before they could remove them) are removed first, unless a running conversion
+/// still holds them.
 ///
 /// # Errors
 /// The first [`ConvertError`] met (see its variants); `out` is then not created.
@@ -228,33 +190,17 @@ pub fn convert(
     if !input.is_dir() {
         return Err(ConvertError::input(input, "not a folder"));
     }
-    let needs = match format {
-        Format::Holodeck | Format::LayoutVlm => Some(format.asset_prefix()),
-        Format::IDesign | Format::SceneAgent => None,
-    };
-    if let Some(prefix) = needs
+    if let Some(prefix) = format.needs_assets()
         && !options.assets.iter().any(|a| a.prefix == prefix)
     {
-        return Err(ConvertError::input(
-            input,
-            format!(
-                "{format} gives box centres, and only the meshes say where an asset's box centre is: \
-                 pass --assets {prefix}=DIR, the folder the evaluation will read the assets from"
-            ),
-        ));
+        return Err(ConvertError::AssetsNeeded { format, prefix });
     }
-    let native = match format {
-        Format::Holodeck => holodeck::scenes(input)?,
-        _ => numbered_scenes(input)?,
-    };
+    let converter = format.converter();
+    let native = converter.scenes(input)?;
     if native.is_empty() {
-        let expected = match format {
-            Format::Holodeck => "a folder per scene holding its house JSON",
-            _ => "scene_NNN folders",
-        };
         return Err(ConvertError::input(
             input,
-            format!("no scenes: expected {expected}"),
+            format!("no scenes: expected {}", converter.expected_scenes()),
         ));
     }
     let mut skipped = Vec::new();
@@ -268,7 +214,7 @@ pub fn convert(
                     skipped.push(SkippedScene {
                         source: scene.dir.clone(),
                         key: scene.key,
-                        reason: "not in --id-map".into(),
+                        reason: "not in the id map".into(),
                     });
                     continue;
                 }
@@ -282,29 +228,30 @@ pub fn convert(
             .collect()
     });
     for k in &unused_id_map_keys {
-        tracing::info!(key = k, "--id-map names scene {k}, which the input does not have");
+        tracing::info!(
+            key = k,
+            "the id map names scene {k}, which the input does not have"
+        );
     }
 
     let staging = output::Staging::new(out)?;
+    let output = output::Output::new(staging.path(), options.interrupt.as_deref());
     let library = library(format, &options.assets, staging.path())?;
+    let read_options = ReadOptions::default().with_strict(options.strict);
     let mut scenes = Vec::with_capacity(todo.len());
     for (scene, id) in todo {
-        let file = PathBuf::from(format!("scene_{id}.json"));
-        let path = staging.path().join(&file);
-        let written = match format {
-            Format::Holodeck => holodeck::convert(&scene, &path, &library)?,
-            Format::LayoutVlm => layoutvlm::convert(&scene, &path, &library)?,
-            Format::IDesign => idesign::convert(&scene, id, staging.path(), &library)?,
-            Format::SceneAgent => scene_agent::convert(&scene, id, staging.path(), &library)?,
-        };
-        let read = sceneeval_io::read_scene_state(&path, &library, &ReadOptions::default()).map_err(|e| {
+        output.check()?;
+        let written = converter.convert(&scene, id, output, &library)?;
+        let path = output.scene_file(id);
+        output.check()?;
+        let read = sceneeval_io::read_scene_state(&path, &library, &read_options).map_err(|e| {
             ConvertError::Verify {
                 path: path.clone(),
                 source: Box::new(e),
             }
         })?;
         tracing::info!(key = scene.key, id, objects = read.objects().len(), source = %scene.dir.display(), "scene converted");
-        let mut files = vec![file];
+        let mut files = vec![PathBuf::from(format!("scene_{id}.json"))];
         files.extend(written.files);
         scenes.push(ConvertedScene {
             key: scene.key,
@@ -316,6 +263,7 @@ pub fn convert(
             skipped_objects: written.skipped_objects,
         });
     }
+    output.check()?;
     let out = staging.commit()?;
     Ok(Report {
         format,
@@ -330,24 +278,17 @@ pub fn convert(
 /// The asset library of a conversion: the given folders, and the output itself for the
 /// formats whose assets travel with their scenes.
 fn library(format: Format, specs: &[AssetSpec], staging: &Path) -> Result<AssetLibrary, ConvertError> {
-    let own: &[(&str, Layout)] = match format {
-        Format::IDesign => &[("idesign", Layout::IDesign)],
-        Format::SceneAgent => &[
-            ("scene-agent", Layout::SceneAgent),
-            ("scenesmith", Layout::SceneAgent),
-        ],
-        _ => &[],
-    };
+    let own = format.output_sources();
     let mut library = AssetLibrary::new();
     for spec in specs {
         if own.iter().any(|(prefix, _)| *prefix == spec.prefix) {
-            tracing::warn!(prefix = %spec.prefix, "--assets {}=... ignored: {format} assets are read from the scenes being converted", spec.prefix);
+            tracing::warn!(prefix = %spec.prefix, "the asset folder given for prefix {:?} is ignored: {format} assets are read from the scenes being converted", spec.prefix);
             continue;
         }
         if !spec.dir.is_dir() {
             return Err(ConvertError::input(
                 &spec.dir,
-                format!("--assets {}: not a folder", spec.prefix),
+                format!("the asset folder of prefix {:?} is not a folder", spec.prefix),
             ));
         }
         library.add_source(spec.prefix.clone(), spec.layout.source(spec.dir.clone()))?;
@@ -360,7 +301,7 @@ fn library(format: Format, specs: &[AssetSpec], staging: &Path) -> Result<AssetL
 
 /// The `scene_NNN` folders of `input`, keyed by `NNN`, in key order; other entries are
 /// ignored.
-fn numbered_scenes(input: &Path) -> Result<Vec<NativeScene>, ConvertError> {
+pub(crate) fn numbered_scenes(input: &Path) -> Result<Vec<NativeScene>, ConvertError> {
     let mut scenes: Vec<NativeScene> = Vec::new();
     for (name, dir) in native::subfolders(input)? {
         let Some(key) = name.strip_prefix("scene_").and_then(id_map::number) else {
@@ -382,24 +323,6 @@ fn numbered_scenes(input: &Path) -> Result<Vec<NativeScene>, ConvertError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn format_names_round_trip() {
-        for f in Format::ALL {
-            assert_eq!(f.name().parse::<Format>().unwrap(), f);
-            assert_eq!(
-                Layout::for_prefix(f.asset_prefix()).name(),
-                match f {
-                    Format::Holodeck => "objathor",
-                    Format::LayoutVlm => "layoutvlm",
-                    Format::IDesign => "idesign",
-                    Format::SceneAgent => "scene-agent",
-                }
-            );
-        }
-        assert_eq!("SceneSmith".parse::<Format>().unwrap(), Format::SceneAgent);
-        assert!("sceneweaver".parse::<Format>().is_err());
-    }
 
     #[test]
     fn scene_folders_are_keyed_by_number() {

@@ -1,6 +1,7 @@
 //! Reading generators' files: folders, JSON with pointers (through `sceneeval-io`'s walker, so
 //! errors name the file and pointer as the sceneState reader's do).
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use sceneeval_io::AssetLibrary;
@@ -72,4 +73,45 @@ pub(crate) fn text<'v>(
     Ok(json_in::optional(o, key)
         .map(|v| doc.string(v, &ptr_key(ptr, key)))
         .transpose()?)
+}
+
+/// The object ids of a generator's file met so far, each with the pointer of its object.
+pub(crate) struct Ids<'d> {
+    doc: Doc<'d>,
+    seen: HashMap<String, String>,
+}
+
+impl<'d> Ids<'d> {
+    /// No id met yet in `doc`.
+    pub(crate) fn new(doc: &Doc<'d>) -> Self {
+        Ids {
+            doc: *doc,
+            seen: HashMap::new(),
+        }
+    }
+
+    /// The object at `ptr` has `id`, which no earlier object may have.
+    ///
+    /// # Errors
+    /// [`sceneeval_io::IoError::DuplicateObjectId`] naming the file, the id and both objects.
+    pub(crate) fn add(&mut self, id: &str, ptr: &str) -> Result<(), ConvertError> {
+        match self.seen.get(id) {
+            Some(first) => Err(duplicate(&self.doc, id, first, ptr)),
+            None => {
+                self.seen.insert(id.to_owned(), ptr.to_owned());
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Two objects of the file of `doc` (at `first` and `second`) have the id `id`.
+pub(crate) fn duplicate(doc: &Doc<'_>, id: &str, first: &str, second: &str) -> ConvertError {
+    sceneeval_io::IoError::DuplicateObjectId {
+        path: doc.path_buf(),
+        id: id.to_owned(),
+        first: first.to_owned(),
+        second: second.to_owned(),
+    }
+    .into()
 }

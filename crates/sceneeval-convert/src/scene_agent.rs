@@ -20,8 +20,9 @@ use sceneeval_io::AssetLibrary;
 use sceneeval_io::scene_state::json_in::{Doc, optional, ptr_index, ptr_key};
 use serde_json::Value;
 
-use crate::native::{read_json, subfolders};
-use crate::output::{copy_file, files_under, write_text};
+use crate::format::Converter;
+use crate::native::{duplicate, read_json, subfolders};
+use crate::output::{Output, files_under};
 use crate::{ConvertError, NativeScene, SkippedObject, Written};
 
 /// Where a scene's state file is, newest layout first.
@@ -39,158 +40,216 @@ const BLEND_FILES: [&str; 2] = [
 /// The folder of generated assets inside a room (or scene) folder.
 const GENERATED: &str = "generated_assets";
 
-/// Converts one SceneAgent scene into `out/scene_<id>.json` and its assets.
-pub(crate) fn convert(
-    scene: &NativeScene,
-    id: u64,
-    out: &Path,
-    library: &AssetLibrary,
-) -> Result<Written, ConvertError> {
-    let Some(state_path) = first_file(&scene.dir, &STATE_FILES) else {
-        return Err(ConvertError::input(
-            &scene.dir,
-            format!(
-                "no sceneeval_state.json (looked for {})",
-                STATE_FILES.join(" and ")
-            ),
-        ));
-    };
-    let roots = asset_roots(&scene.dir)?;
-    let mut root = read_json(&state_path, library)?;
-    let doc = Doc { path: &state_path };
-    let scene_dir = PathBuf::from(format!("scene_{id}"));
-    let assets_rel = scene_dir.join("assets");
-    // Relative SDF folder -> the room asset root it was copied from.
-    let mut copied: BTreeMap<PathBuf, PathBuf> = BTreeMap::new();
-    let mut files = Vec::new();
-    let mut skipped = Vec::new();
-    {
-        let top = doc.object(&root, "")?;
-        let scene_ptr = "/scene";
-        let scene_obj = doc.object(doc.required(top, "", "scene")?, scene_ptr)?;
-        if let Some(list) = optional(scene_obj, "object") {
-            let list_ptr = ptr_key(scene_ptr, "object");
-            let list = doc.array(list, &list_ptr)?;
-            let mut edits = Vec::new();
-            for (i, entry) in list.iter().enumerate() {
-                let ptr = ptr_index(&list_ptr, i);
-                let o = doc.object(entry, &ptr)?;
-                if optional(o, "isArchitecture").and_then(Value::as_bool) == Some(true) {
-                    let name = optional(o, "id")
-                        .or_else(|| optional(o, "modelId"))
-                        .map_or_else(String::new, |v| {
-                            v.as_str().map_or_else(|| v.to_string(), str::to_owned)
-                        });
-                    skipped.push(SkippedObject {
-                        file: state_path.clone(),
-                        pointer: ptr,
-                        name,
-                        reason: "marked isArchitecture (part of the building): copied, left out when read"
-                            .into(),
-                    });
-                    continue;
-                }
-                let Some(model) = optional(o, "modelId") else {
-                    continue;
-                };
-                let model = doc.string(model, &ptr_key(&ptr, "modelId"))?;
-                let Some(object_id) = model
-                    .strip_prefix("scene-agent.")
-                    .or_else(|| model.strip_prefix("scenesmith."))
-                else {
-                    continue;
-                };
-                match optional(o, "id")
-                    .map(|v| doc.id(v, &ptr_key(&ptr, "id")))
-                    .transpose()?
-                {
-                    Some(own) if own != object_id => {
-                        return Err(doc
-                            .invalid(
-                                &ptr_key(&ptr, "id"),
-                                format!(
-                                    "{own:?} is not the object id {object_id:?} of its modelId {model:?}"
-                                ),
-                            )
-                            .into());
-                    }
-                    _ => {}
-                }
-                let sdf_ptr = ptr_key(&ptr, "sdfPath");
-                let sdf = match optional(o, "sdfPath") {
-                    Some(v) => doc.string(v, &sdf_ptr)?,
-                    None => "",
-                };
-                if sdf.trim().is_empty() {
-                    return Err(doc
-                        .invalid(&sdf_ptr, "missing or empty: the object's SDF file is not named")
-                        .into());
-                }
-                let (rel, from) = locate_sdf(&doc, &sdf_ptr, sdf, &roots)?;
-                let folder = rel.parent().map(Path::to_path_buf).unwrap_or_default();
-                match copied.get(&folder) {
-                    Some(first) if first == &from => {}
-                    Some(first) => same_files(
-                        &first.join(&folder),
-                        &from.join(&folder),
-                        &assets_rel.join(&folder),
-                    )?,
-                    None => {
-                        for f in files_under(&from.join(&folder))? {
-                            let target = assets_rel.join(&folder).join(&f);
-                            copy_file(&from.join(&folder).join(&f), &out.join(&target))?;
-                            files.push(target);
-                        }
-                        copied.insert(folder, from);
-                    }
-                }
-                edits.push((
-                    i,
-                    format!("scene-agent.scene_{id}__{object_id}"),
-                    object_id.to_owned(),
-                    slashed(&rel),
-                ));
-            }
-            // Apply the edits to the document.
-            if let Some(Value::Array(list)) = root.pointer_mut("/scene/object") {
-                for (i, model_id, object_id, rel) in edits {
-                    if let Some(Value::Object(o)) = list.get_mut(i) {
-                        o.insert("modelId".into(), Value::String(model_id));
-                        o.entry("id").or_insert(Value::String(object_id));
-                        o.insert("sdfPath".into(), Value::String(rel));
-                    }
+/// The SceneAgent / SceneSmith conversion.
+pub(crate) struct SceneAgent;
+
+impl Converter for SceneAgent {
+    /// Converts one SceneAgent scene into `scene_<id>.json` of `out` and its assets.
+    fn convert(
+        &self,
+        scene: &NativeScene,
+        id: u64,
+        out: Output<'_>,
+        library: &AssetLibrary,
+    ) -> Result<Written, ConvertError> {
+        let Some(state_path) = first_file(&scene.dir, &STATE_FILES) else {
+            return Err(ConvertError::input(
+                &scene.dir,
+                format!(
+                    "no sceneeval_state.json (looked for {})",
+                    STATE_FILES.join(" and ")
+                ),
+            ));
+        };
+        let mut root = read_json(&state_path, library)?;
+        let doc = Doc { path: &state_path };
+        let scene_dir = PathBuf::from(format!("scene_{id}"));
+        let mut assets = Assets {
+            out,
+            rel: scene_dir.join("assets"),
+            roots: asset_roots(&scene.dir)?,
+            copied: BTreeMap::new(),
+            files: Vec::new(),
+        };
+        let mut skipped = Vec::new();
+        let edits = object_edits(&doc, &root, id, &mut assets, &mut skipped)?;
+        // Apply the edits to the document.
+        if let Some(Value::Array(list)) = root.pointer_mut("/scene/object") {
+            for (i, edit) in edits {
+                if let Some(Value::Object(o)) = list.get_mut(i) {
+                    o.insert("modelId".into(), Value::String(edit.model_id));
+                    o.entry("id").or_insert(Value::String(edit.object_id));
+                    o.insert("sdfPath".into(), Value::String(edit.sdf_path));
                 }
             }
         }
+        if let Some(Value::Object(scene_obj)) = root.pointer_mut("/scene")
+            && !scene_obj.contains_key("objectFrontVector")
+        {
+            scene_obj.insert("objectFrontVector".into(), serde_json::json!([0, 1, 0]));
+        }
+        let mut text = serde_json::to_string_pretty(&root).map_err(|e| {
+            ConvertError::output(
+                &state_path,
+                std::io::Error::new(std::io::ErrorKind::InvalidData, e),
+            )
+        })?;
+        text.push('\n');
+        out.write_text(Path::new(&format!("scene_{id}.json")), &text)?;
+        let mut files = assets.files;
+        if let Some(plan) = first_file(&scene.dir, &FLOOR_PLANS) {
+            let rel = scene_dir.join("floor_plan.sdf");
+            out.copy_file(&plan, &rel)?;
+            files.push(rel);
+        }
+        if let Some(blend) = first_file(&scene.dir, &BLEND_FILES) {
+            let rel = assets.rel.join("original_scene_agent.blend");
+            out.copy_file(&blend, &rel)?;
+            files.push(rel);
+        }
+        files.sort();
+        Ok(Written {
+            files,
+            skipped_objects: skipped,
+        })
     }
-    if let Some(Value::Object(scene_obj)) = root.pointer_mut("/scene")
-        && !scene_obj.contains_key("objectFrontVector")
-    {
-        scene_obj.insert("objectFrontVector".into(), serde_json::json!([0, 1, 0]));
+}
+
+/// What becomes of an object entry of the state file.
+struct Edit {
+    model_id: String,
+    object_id: String,
+    /// Its `sdfPath`, relative to `scene_<ID>/assets/`.
+    sdf_path: String,
+}
+
+/// The SDF folders copied into the output.
+struct Assets<'a> {
+    out: Output<'a>,
+    /// `scene_<ID>/assets`, relative to the output.
+    rel: PathBuf,
+    /// The scene's `generated_assets` folders.
+    roots: Vec<PathBuf>,
+    /// Relative SDF folder -> the room asset root it was copied from.
+    copied: BTreeMap<PathBuf, PathBuf>,
+    /// The files copied, relative to the output.
+    files: Vec<PathBuf>,
+}
+
+impl Assets<'_> {
+    /// Copies the folder of the SDF `rel` (inside the asset root `from`) unless it was copied
+    /// already; the same folder of another room must hold the same files.
+    fn copy_folder_of(&mut self, rel: &Path, from: PathBuf) -> Result<(), ConvertError> {
+        let folder = rel.parent().map(Path::to_path_buf).unwrap_or_default();
+        match self.copied.get(&folder) {
+            Some(first) if first == &from => Ok(()),
+            Some(first) => same_files(&first.join(&folder), &from.join(&folder), &self.rel.join(&folder)),
+            None => {
+                for f in files_under(&from.join(&folder))? {
+                    let target = self.rel.join(&folder).join(&f);
+                    self.out.copy_file(&from.join(&folder).join(&f), &target)?;
+                    self.files.push(target);
+                }
+                self.copied.insert(folder, from);
+                Ok(())
+            }
+        }
     }
-    let mut text = serde_json::to_string_pretty(&root).map_err(|e| {
-        ConvertError::output(
-            &state_path,
-            std::io::Error::new(std::io::ErrorKind::InvalidData, e),
-        )
-    })?;
-    text.push('\n');
-    write_text(&out.join(format!("scene_{id}.json")), &text)?;
-    if let Some(plan) = first_file(&scene.dir, &FLOOR_PLANS) {
-        let rel = scene_dir.join("floor_plan.sdf");
-        copy_file(&plan, &out.join(&rel))?;
-        files.push(rel);
+}
+
+/// The edits of the state file's object entries (by position), copying each object's SDF
+/// folder; entries marked `isArchitecture` go to `skipped`. Two entries with one object id
+/// are an error unless they name the same SDF (one asset listed twice, as SceneSmith lists
+/// the members of a stack): the converted model id names one asset.
+fn object_edits(
+    doc: &Doc<'_>,
+    root: &Value,
+    id: u64,
+    assets: &mut Assets<'_>,
+    skipped: &mut Vec<SkippedObject>,
+) -> Result<Vec<(usize, Edit)>, ConvertError> {
+    let top = doc.object(root, "")?;
+    let scene_obj = doc.object(doc.required(top, "", "scene")?, "/scene")?;
+    let Some(list) = optional(scene_obj, "object") else {
+        return Ok(Vec::new());
+    };
+    let list_ptr = "/scene/object";
+    let list = doc.array(list, list_ptr)?;
+    let mut edits = Vec::new();
+    // Object id -> the pointer of its first entry and its SDF file.
+    let mut seen: BTreeMap<String, (String, PathBuf)> = BTreeMap::new();
+    for (i, entry) in list.iter().enumerate() {
+        let ptr = ptr_index(list_ptr, i);
+        let o = doc.object(entry, &ptr)?;
+        if optional(o, "isArchitecture").and_then(Value::as_bool) == Some(true) {
+            let name = optional(o, "id")
+                .or_else(|| optional(o, "modelId"))
+                .map_or_else(String::new, |v| {
+                    v.as_str().map_or_else(|| v.to_string(), str::to_owned)
+                });
+            skipped.push(SkippedObject {
+                file: doc.path_buf(),
+                pointer: ptr,
+                name,
+                reason: "marked isArchitecture (part of the building): copied, left out when read".into(),
+            });
+            continue;
+        }
+        let Some(model) = optional(o, "modelId") else {
+            continue;
+        };
+        let model = doc.string(model, &ptr_key(&ptr, "modelId"))?;
+        let Some(object_id) = model
+            .strip_prefix("scene-agent.")
+            .or_else(|| model.strip_prefix("scenesmith."))
+        else {
+            continue;
+        };
+        match optional(o, "id")
+            .map(|v| doc.id(v, &ptr_key(&ptr, "id")))
+            .transpose()?
+        {
+            Some(own) if own != object_id => {
+                return Err(doc
+                    .invalid(
+                        &ptr_key(&ptr, "id"),
+                        format!("{own:?} is not the object id {object_id:?} of its modelId {model:?}"),
+                    )
+                    .into());
+            }
+            _ => {}
+        }
+        let sdf_ptr = ptr_key(&ptr, "sdfPath");
+        let sdf = match optional(o, "sdfPath") {
+            Some(v) => doc.string(v, &sdf_ptr)?,
+            None => "",
+        };
+        if sdf.trim().is_empty() {
+            return Err(doc
+                .invalid(&sdf_ptr, "missing or empty: the object's SDF file is not named")
+                .into());
+        }
+        let (rel, from) = locate_sdf(doc, &sdf_ptr, sdf, &assets.roots)?;
+        // The second object of an id takes the first one's asset: right only when it is.
+        let file = from.join(&rel);
+        match seen.get(object_id) {
+            Some((first, first_file)) if *first_file != file => {
+                return Err(duplicate(doc, object_id, first, &ptr));
+            }
+            Some(_) => {}
+            None => {
+                seen.insert(object_id.to_owned(), (ptr.clone(), file));
+            }
+        }
+        assets.copy_folder_of(&rel, from)?;
+        let edit = Edit {
+            model_id: format!("scene-agent.scene_{id}__{object_id}"),
+            object_id: object_id.to_owned(),
+            sdf_path: slashed(&rel),
+        };
+        edits.push((i, edit));
     }
-    if let Some(blend) = first_file(&scene.dir, &BLEND_FILES) {
-        let rel = assets_rel.join("original_scene_agent.blend");
-        copy_file(&blend, &out.join(&rel))?;
-        files.push(rel);
-    }
-    files.sort();
-    Ok(Written {
-        files,
-        skipped_objects: skipped,
-    })
+    Ok(edits)
 }
 
 fn first_file(dir: &Path, candidates: &[&str]) -> Option<PathBuf> {

@@ -143,9 +143,123 @@ fn unknown_assets_are_errors() {
 
 #[test]
 fn holodeck_and_layoutvlm_need_their_asset_folders() {
+    for (format, sub, prefix) in [
+        (Format::Holodeck, "holodeck/scenes", "objaverse"),
+        (Format::LayoutVlm, "layoutvlm/scenes", "layoutvlm-objaverse"),
+    ] {
+        let (_tmp, input, out) = copy(sub);
+        let err = fails(format, &input, &out, vec![]);
+        match &err {
+            ConvertError::AssetsNeeded { format: f, prefix: p } => assert_eq!((*f, *p), (format, prefix)),
+            other => panic!("{other:?}"),
+        }
+        // The library says what is missing; the command line adds its flag.
+        let message = err.to_string();
+        assert!(message.contains(&format!("prefix {prefix:?}")), "{message}");
+        assert!(!message.contains("--"), "{message}");
+    }
+}
+
+/// Sets the value at `pointer` of the JSON file `path` to `value`.
+fn edit(path: &Path, pointer: &str, value: &str) {
+    let mut doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    *doc.pointer_mut(pointer).unwrap() = value.into();
+    std::fs::write(path, doc.to_string()).unwrap();
+}
+
+#[track_caller]
+fn assert_duplicate(err: &ConvertError, file: &Path, id: &str, first: &str, second: &str) {
+    match err {
+        ConvertError::Native(e) => match &**e {
+            IoError::DuplicateObjectId {
+                path,
+                id: i,
+                first: f,
+                second: s,
+            } => {
+                assert_eq!(
+                    (path.as_path(), i.as_str(), f.as_str(), s.as_str()),
+                    (file, id, first, second)
+                );
+            }
+            other => panic!("{other:?}"),
+        },
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "{}: object id {id:?} is used by both {first} and {second}",
+            file.display()
+        )
+    );
+}
+
+#[test]
+fn a_duplicated_scene_agent_object_id_is_an_error_not_a_desk_turned_bed() {
+    // The reproduction: the desk's entry carries the bed's id (and so its model id):
+    // it converted silently, and the desk was shown with the bed's mesh.
+    let (_tmp, input, out) = copy("scene-agent/scenes");
+    let state = input.join("scene_000/combined_house/sceneeval_state.json");
+    edit(&state, "/scene/object/1/id", "bed_0");
+    edit(&state, "/scene/object/1/modelId", "scene-agent.bed_0");
+    let err = fails(Format::SceneAgent, &input, &out, vec![]);
+    assert_duplicate(&err, &state, "bed_0", "/scene/object/0", "/scene/object/1");
+
+    // Two entries of one asset (the same SDF: SceneSmith lists each member of a stack under
+    // its asset's id) are one asset, shown twice.
+    edit(
+        &state,
+        "/scene/object/1/sdfPath",
+        "generated_assets/furniture/sdf/bed_1717171717/bed.sdf",
+    );
+    let report = convert(Format::SceneAgent, &input, &out, &ConvertOptions::default()).unwrap();
+    assert_eq!(report.scenes[0].objects, 3);
+}
+
+#[test]
+fn duplicated_object_ids_are_errors_in_every_format() {
+    // Holodeck: `floor_objects` names objects by id.
     let (_tmp, input, out) = copy("holodeck/scenes");
-    let message = fails(Format::Holodeck, &input, &out, vec![]).to_string();
-    assert!(message.contains("--assets objaverse=DIR"), "{message}");
+    let house = input.join("two_rooms/two_rooms.json");
+    edit(&house, "/objects/1/id", "dining table (kitchen)");
+    let err = fails(
+        Format::Holodeck,
+        &input,
+        &out,
+        specs(&[("objaverse", native("holodeck/objathor"))]),
+    );
+    assert_duplicate(&err, &house, "dining table (kitchen)", "/objects/0", "/objects/1");
+
+    // IDesign: an id names the object's GLB and model id.
+    let (_tmp, input, out) = copy("idesign/scenes");
+    let graph = input.join("scene_000/scene_graph.json");
+    edit(&graph, "/7/new_object_id", "bed_1");
+    let err = fails(Format::IDesign, &input, &out, vec![]);
+    assert_duplicate(&err, &graph, "bed_1", "/6", "/7");
+
+    // LayoutVLM: objects are keyed by their ids, and a key given twice in one JSON object is
+    // an error (a JSON reader would keep one of the two silently).
+    let (_tmp, input, out) = copy("layoutvlm/scenes");
+    let layout = input.join("scene_000/layout.json");
+    let text = std::fs::read_to_string(&layout).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let (key, value) = doc.as_object().unwrap().iter().next().unwrap();
+    let twice = format!("{{\"{key}\": {value},\n\"{key}\": {value}}}");
+    std::fs::write(&layout, twice).unwrap();
+    match fails(Format::LayoutVlm, &input, &out, layoutvlm_assets()) {
+        ConvertError::Native(e) => match &*e {
+            IoError::DuplicateKey {
+                path,
+                pointer,
+                key: k,
+                line,
+                ..
+            } => assert_eq!((path, pointer.as_str(), k, *line), (&layout, "", key, 2)),
+            other => panic!("{other:?}"),
+        },
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]
@@ -213,7 +327,7 @@ fn id_maps_skip_scenes_and_report_unused_keys() {
     assert_eq!(report.skipped.len(), 1);
     assert_eq!(
         (report.skipped[0].key, report.skipped[0].reason.as_str()),
-        (0, "not in --id-map")
+        (0, "not in the id map")
     );
     assert_eq!(report.unused_id_map_keys, [9]);
     let names: Vec<String> = std::fs::read_dir(&out)
@@ -221,4 +335,14 @@ fn id_maps_skip_scenes_and_report_unused_keys() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names, ["scene_56.json"]);
+}
+
+#[test]
+fn an_interrupted_conversion_leaves_nothing() {
+    let (_tmp, input, out) = copy("idesign/scenes");
+    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+    let options = ConvertOptions::default().with_interrupt(flag);
+    let err = convert(Format::IDesign, &input, &out, &options).unwrap_err();
+    assert!(matches!(err, ConvertError::Interrupted), "{err:?}");
+    assert_eq!(std::fs::read_dir(out.parent().unwrap()).unwrap().count(), 0);
 }

@@ -18,7 +18,8 @@ use sceneeval_fidelity::{
 use sceneeval_geom::Side;
 use sceneeval_io::AssetLibrary;
 use sceneeval_plausibility::{
-    self as plausibility, Deadline, FunctionalSidesSource, MetricTiming, Sources, SupportTypeSource,
+    self as plausibility, Deadline, FunctionalSidesSource, MetricTiming, PlausibilityError, Sources,
+    SupportTypeSource,
 };
 use sceneeval_results::{
     IncompleteMetric, Metric, ObjectPlacement, PlacementSource, Provenance, SceneReport,
@@ -249,9 +250,7 @@ impl Evaluator {
         let run = &self.stability;
         let (poses, report) =
             run.metric
-                .settle(scene, &run.support_types(scene, sources), &run.cache, &|| {
-                    deadline.expired()
-                })?;
+                .settle(scene, &run.support_types(scene, sources), &run.cache, deadline)?;
         let mut settled = scene.clone();
         for (i, pose) in poses.into_iter().enumerate() {
             // The simulation's poses are finite (a diverged one is an error above).
@@ -366,15 +365,21 @@ impl Evaluator {
     ///
     /// A metric that cannot be computed, a VLM request that gets no answer at all (the
     /// endpoint down, a refused key, a time-out), or any other error of one metric (a
-    /// malformed annotation entry, the time budget, a scene the stability metric cannot
-    /// simulate), costs only the metrics that needed it: they are listed in
-    /// [`SceneReport::incomplete`] with the reason (the record's status is then `partial`),
-    /// every other result is kept. Support and accessibility (and stability) are computed with
-    /// the category tables for the objects whose question failed, and listed too.
+    /// malformed annotation entry, a scene the stability metric cannot simulate), costs only
+    /// the metrics that needed it: they are listed in [`SceneReport::incomplete`] with the
+    /// reason (the record's status is then `partial`), every other result is kept. Support
+    /// and accessibility (and stability) are computed with the category tables for the
+    /// objects whose question failed, and listed too.
+    ///
+    /// The scene's time budget (`inputs.deadline`) is different: a scene that runs past it is
+    /// not evaluated (its results would depend on the machine's speed). The deadline is
+    /// checked after the VLM questions, before each metric and inside their long loops.
     ///
     /// # Errors
-    /// None today: every failure is one metric's ([`SceneReport::incomplete`]). The `Result`
-    /// is kept for errors of the scene as a whole.
+    /// [`EvalError::Plausibility`] with [`PlausibilityError::DeadlineExceeded`] naming the
+    /// stage that was stopped (`vlm` for the VLM questions, a geometry metric's name), or
+    /// [`EvalError::Physics`] from the stability metric, when the deadline passes (or is
+    /// cancelled) before the scene is done.
     pub fn evaluate_scene(
         &self,
         scene: &Scene,
@@ -425,6 +430,10 @@ impl Evaluator {
         };
         let (asked, fidelity) = pollster::block_on(join(placement, fidelity));
         let vlm_seconds = start.elapsed().as_secs_f64();
+        if session.is_some() {
+            // A budget spent waiting for the model stops the scene here, named for it.
+            deadline.check("vlm").map_err(PlausibilityError::from)?;
+        }
 
         let mut incomplete = Vec::new();
         let mut placement = None;
@@ -438,13 +447,15 @@ impl Evaluator {
         };
         let mut timings = Vec::new();
         let sources = sources.as_ref().unwrap_or(&self.sources);
-        let geometry = self.geometry(scene, sources, deadline, &mut timings, &mut incomplete);
+        let geometry = self.geometry(scene, sources, deadline, &mut timings, &mut incomplete)?;
         #[cfg(feature = "physics")]
         let (stability, stability_seconds) = match self.plan.runs(Metric::Stability) && !self.skip_geometry {
             true => {
                 let start = Instant::now();
                 let report = match self.stability.evaluate(scene, sources, deadline) {
                     Ok(report) => Some(report),
+                    // Stopped by the time budget: the scene fails (see above).
+                    Err(e) if deadline.expired() => return Err(e),
                     Err(e) => {
                         tracing::warn!(error = %e, "stability not computed");
                         incomplete.push(IncompleteMetric::new(Metric::Stability, false, &e));
@@ -497,9 +508,9 @@ impl Evaluator {
         })
     }
 
-    /// The geometry metrics of the plan, each failure costing only its own metric: all at once
-    /// (they share intermediate results), and when that fails, one at a time, the failures
-    /// added to `incomplete`.
+    /// The geometry metrics of the plan, each failure costing only its own metric (they run
+    /// together, sharing intermediate results; a failed one is added to `incomplete` and the
+    /// others go on), except the deadline's, which stops the scene.
     fn geometry(
         &self,
         scene: &Scene,
@@ -507,40 +518,34 @@ impl Evaluator {
         deadline: &Deadline,
         timings: &mut Vec<MetricTiming>,
         incomplete: &mut Vec<IncompleteMetric>,
-    ) -> plausibility::PlausibilityReport {
+    ) -> Result<plausibility::PlausibilityReport, EvalError> {
         // A dry run's evaluator computes no geometry metric.
         let metrics = match self.skip_geometry {
             true => Vec::new(),
             false => self.plan.geometry_metrics(),
         };
         let params = &self.plan.params;
-        let mut all_timings = Vec::new();
-        match plausibility::evaluate_metrics(scene, params, sources, &metrics, deadline, &mut all_timings) {
-            Ok(report) => {
-                timings.extend(all_timings);
-                return report;
-            }
-            Err(e) => tracing::warn!(error = %e, "a geometry metric failed; computing them one by one"),
-        }
-        let mut report = plausibility::PlausibilityReport::empty(scene, &metrics);
-        for metric in report.metrics.clone() {
-            match plausibility::evaluate_metrics(scene, params, sources, &[metric], deadline, timings) {
-                Ok(one) => {
-                    report.collision = report.collision.or(one.collision);
-                    report.support = report.support.or(one.support);
-                    report.navigability = report.navigability.or(one.navigability);
-                    report.accessibility = report.accessibility.or(one.accessibility);
-                    report.out_of_bounds = report.out_of_bounds.or(one.out_of_bounds);
-                    report.opening_clearance = report.opening_clearance.or(one.opening_clearance);
-                }
-                Err(e) => {
+        match plausibility::evaluate_metrics_each(scene, params, sources, &metrics, deadline, timings) {
+            Ok((report, failed)) => {
+                for (metric, e) in failed {
+                    if matches!(e, PlausibilityError::DeadlineExceeded { .. }) {
+                        return Err(e.into());
+                    }
                     tracing::warn!(%metric, error = %e, "metric not computed");
                     incomplete.push(IncompleteMetric::new(Metric::from(metric), false, &e));
                 }
+                Ok(report)
+            }
+            Err(e) => {
+                // Parameters the plan's validation let through: no metric could run.
+                let report = plausibility::PlausibilityReport::empty(scene, &metrics);
+                for &metric in &report.metrics {
+                    tracing::warn!(%metric, error = %e, "metric not computed");
+                    incomplete.push(IncompleteMetric::new(Metric::from(metric), false, &e));
+                }
+                Ok(report)
             }
         }
-        report.summary = plausibility::PlausibilitySummary::of(&report);
-        report
     }
 
     /// Whether the VLM answers support types or functional sides: a VLM is configured, the
@@ -782,9 +787,7 @@ impl StabilityRun {
     ) -> Result<sceneeval_physics::StabilityReport, EvalError> {
         Ok(self
             .metric
-            .evaluate(scene, &self.support_types(scene, sources), &self.cache, &|| {
-                deadline.expired()
-            })?)
+            .evaluate(scene, &self.support_types(scene, sources), &self.cache, deadline)?)
     }
 
     /// Each object's support type from `sources` (scene order; `None`: no source knows).
@@ -1031,6 +1034,54 @@ mod tests {
         assert!(text.contains(r#""status":"partial""#), "{text}");
     }
 
+    /// Answers every object's support type (`ground`) and cancels `deadline` on the first
+    /// question, as if the time budget ran out while the support metric runs.
+    struct CancelInSupport(Deadline);
+
+    impl plausibility::Source<plausibility::SupportTypeOf> for CancelInSupport {
+        fn answer(
+            &self,
+            _: &Scene,
+            _: &sceneeval_scene::SceneObject,
+        ) -> Option<plausibility::Answer<SupportType>> {
+            self.0.cancel();
+            Some(plausibility::Answer {
+                value: SupportType::Ground,
+                source: "test".into(),
+            })
+        }
+    }
+
+    #[test]
+    fn the_time_budget_running_out_in_a_metric_fails_the_scene_naming_it() {
+        let deadline = Deadline::none();
+        let sources = Sources::new(
+            CancelInSupport(deadline.clone()),
+            plausibility::FunctionalSidePriors::default(),
+        );
+        let evaluator = Evaluator::new(EvaluationPlan::geometry_only())
+            .unwrap()
+            .with_sources(sources);
+        let inputs = SceneInputs {
+            deadline: Some(&deadline),
+            ..SceneInputs::default()
+        };
+        let err = evaluator.evaluate_scene(&scene(), &inputs).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                EvalError::Plausibility(PlausibilityError::DeadlineExceeded { stage: "support", .. })
+            ),
+            "{err}"
+        );
+        assert_eq!(err.to_string(), "support stopped: the evaluation was cancelled");
+        // Without the deadline the same evaluator computes everything.
+        let done = evaluator
+            .evaluate_scene(&scene(), &SceneInputs::default())
+            .unwrap();
+        assert!(done.report.incomplete.is_empty() && done.report.support.is_some());
+    }
+
     #[test]
     fn subset_plan_reports_only_its_metrics() {
         let plan = plan_of(&[Metric::OutOfBounds, Metric::Collision]);
@@ -1197,15 +1248,19 @@ mod tests {
     }
 
     #[test]
-    fn stability_obeys_the_time_budget_and_reports_a_scene_without_rooms() {
+    fn stability_stops_the_scene_at_the_time_budget_and_reports_a_scene_without_rooms() {
         let plan = EvaluationPlan::from_json_str(r#"{"metrics": ["stability"]}"#).unwrap();
         let evaluator = Evaluator::new(plan).unwrap();
-        let deadline = Deadline::none();
-        deadline.cancel();
+        let deadline = Deadline::after(std::time::Duration::ZERO);
         let inputs = SceneInputs {
             deadline: Some(&deadline),
             ..SceneInputs::default()
         };
+        // The time budget stops the scene: an error naming the stability metric.
+        let err = evaluator.evaluate_scene(&physics_scene(), &inputs).unwrap_err();
+        let err = sceneeval_files::ErrorChain::new(&err).to_string();
+        assert!(err.starts_with("stability: "), "{err}");
+        assert!(err.contains("time budget"), "{err}");
         // A failing metric costs only itself: the scene is partial, stability listed.
         let incomplete = |r: &SceneReport| {
             assert_eq!(r.incomplete.len(), 1, "{:?}", r.incomplete);
@@ -1216,10 +1271,6 @@ mod tests {
             let m = &r.incomplete[0];
             sceneeval_files::ErrorChain::from_parts(m.error.as_str(), &m.causes).to_string()
         };
-        let done = evaluator.evaluate_scene(&physics_scene(), &inputs).unwrap();
-        let err = incomplete(&done.report);
-        assert!(err.contains("time budget"), "{err}");
-        assert!(done.report.stability.is_none());
         let roomless = Scene::builder()
             .id("scene_9")
             .add_box(

@@ -721,6 +721,10 @@ pub struct SettleRequest {
     /// its answers are kept in `vlm.cache` when given (default: not kept past the call).
     #[serde(default)]
     pub vlm: Option<VlmOptions>,
+    /// Read the scene strictly ([`sceneeval_io::ReadOptions::strict`]): a key the sceneState
+    /// format does not have is an error instead of a warning.
+    #[serde(default)]
+    pub strict: bool,
 }
 
 impl SettleRequest {
@@ -734,6 +738,7 @@ impl SettleRequest {
         if let Some(weld) = self.weld {
             plan.stability.weld = weld;
         }
+        plan.read.strict = self.strict;
         let mut evaluator = Evaluator::new(plan)
             .map_err(|e| EvalError::request_caused(RequestField::Plan, "invalid plan".to_owned(), e))?;
         if let Some(vlm) = &self.vlm {

@@ -12,6 +12,13 @@
 //!   Readers see the old file or the whole new one, never a part or an empty file (a full disk
 //!   fails the write and leaves the old file); two processes writing the same file at once both
 //!   succeed and leave one of the two contents whole.
+//! - **Output has the permissions the user expects**: a new file gets the mode the umask gives
+//!   (`0o666 & !umask`: 0644 under the usual umask 022, 0664 under 002), as `touch` or a shell
+//!   redirection would create it, and a file that is replaced keeps its mode (a 0664 file
+//!   rewritten in place stays 0664), so colleagues on a shared machine can read results.
+//! - **CSV cells are safe to open in a spreadsheet** ([`csv_cell`]): a text cell that a
+//!   spreadsheet would run as a formula is escaped by every CSV writer of the workspace, and
+//!   unescaped by the readers of CSV files the tool wrote.
 //!
 //! Errors are [`std::io::Error`]s without the path; callers wrap them in their own error types,
 //! which name the file. Every front end shows such an error with its causes one way:
@@ -34,6 +41,7 @@
 mod chain;
 
 pub use chain::{ErrorChain, causes};
+pub mod csv_cell;
 
 use std::fmt;
 use std::fs::{File, Metadata};
@@ -170,6 +178,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
 /// `path`. Concurrent writers of one path each use their own temporary file: all succeed and
 /// the file ends as one writer's whole content.
 ///
+/// Permissions (Unix): the temporary file is created with mode `0o666` as `open(2)` applies
+/// the umask to it, so a new file gets the mode the umask gives (0644 under umask 022), not
+/// the 0600 of a private temporary file; when `path` exists, its mode (after following
+/// symbolic links) is given to the new content before the rename, so a rewritten file keeps
+/// its permissions.
+///
 /// # Errors
 /// The error of `write`, or of creating, syncing or renaming the temporary file.
 pub fn write_atomic_with(path: &Path, write: impl FnOnce(&mut File) -> io::Result<()>) -> io::Result<()> {
@@ -182,12 +196,23 @@ pub fn write_atomic_with(path: &Path, write: impl FnOnce(&mut File) -> io::Resul
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let mut tmp = tempfile::Builder::new()
-        .prefix(&format!(".{name}."))
-        .suffix(".tmp")
-        .tempfile_in(dir)?;
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // The mode `open(2)` is given; the kernel takes the umask off it.
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder.tempfile_in(dir)?;
     write(tmp.as_file_mut())?;
     tmp.as_file_mut().flush()?;
+    #[cfg(unix)]
+    if let Ok(old) = std::fs::metadata(path) {
+        // The file being replaced keeps its mode (fchmod: the umask does not apply).
+        tmp.as_file().set_permissions(old.permissions())?;
+    }
     tmp.as_file().sync_all()?;
     // On failure the temporary file is dropped, which removes it.
     tmp.persist(path).map_err(|e| e.error)?;

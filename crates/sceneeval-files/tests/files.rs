@@ -132,3 +132,56 @@ fn a_failed_write_leaves_the_old_file_and_no_temporary_file() {
     assert_eq!(std::fs::read(&path).unwrap(), b"old");
     assert_eq!(names(path.parent().unwrap()), ["view.png"]);
 }
+
+/// The mode bits of `path` (permissions only).
+#[cfg(unix)]
+fn mode(path: &Path) -> u32 {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::metadata(path).unwrap().permissions().mode() & 0o7777
+}
+
+/// New files get the mode the umask gives, as `touch` would create them; a replaced file keeps
+/// its own mode, whatever the umask. One test: the umask belongs to the whole process, and the
+/// other tests of this binary do not depend on it (each umask here leaves the owner read and
+/// write).
+#[cfg(unix)]
+#[test]
+fn new_files_get_the_umask_s_mode_and_replaced_files_keep_theirs() {
+    use std::os::unix::fs::PermissionsExt;
+
+    use rustix::fs::Mode;
+    use rustix::process::umask;
+
+    let dir = tempfile::tempdir().unwrap();
+    let before = umask(Mode::from_raw_mode(0o022));
+    for (mask, expected) in [(0o022, 0o644), (0o002, 0o664), (0o077, 0o600), (0o027, 0o640)] {
+        umask(Mode::from_raw_mode(mask));
+        let path = dir.path().join(format!("new-{mask:o}.json"));
+        write_atomic(&path, b"{}").unwrap();
+        assert_eq!(mode(&path), expected, "umask {mask:o}");
+        // What `std::fs::write` (open with 0666) gives under the same umask.
+        let plain = dir.path().join(format!("plain-{mask:o}"));
+        std::fs::write(&plain, b"").unwrap();
+        assert_eq!(mode(&plain), expected);
+    }
+    // Rewritten under a strict umask: each keeps its mode (a user's 0644 file, a shared 0664
+    // one, a read-only 0444 one, a private 0600 one).
+    umask(Mode::from_raw_mode(0o077));
+    for old in [0o644, 0o664, 0o444, 0o600, 0o755] {
+        let path = dir.path().join(format!("old-{old:o}.csv"));
+        std::fs::write(&path, b"old").unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(old)).unwrap();
+        write_atomic_with(&path, |f| f.write_all(b"new")).unwrap();
+        assert_eq!(mode(&path), old, "{old:o}");
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+    }
+    // Through a symbolic link: the mode of the file it points to.
+    let target = dir.path().join("target.md");
+    std::fs::write(&target, b"").unwrap();
+    std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o664)).unwrap();
+    let link = dir.path().join("link.md");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    write_atomic(&link, b"via the link").unwrap();
+    assert_eq!(mode(&link), 0o664);
+    umask(before);
+}

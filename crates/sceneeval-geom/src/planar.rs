@@ -199,11 +199,32 @@ pub fn clip_convex(subject: &[Point2], clip: &[Point2]) -> Vec<Point2> {
     if out.len() < 3 { Vec::new() } else { out }
 }
 
+/// Relative tolerance of [`subtract_convex`]: a point within `SNAP_REL * (1 + |coordinates|)`
+/// metres of a hole edge's line counts as on it (about 1e-11 m at 10 m from the origin,
+/// hundreds of times the rounding error of a clipped vertex there).
+const SNAP_REL: Real = 1e-12;
+
 /// `subject \ hole` for convex `subject` and convex counter-clockwise `hole`, as disjoint convex
 /// pieces (for each edge of `hole`, the part of what is left beyond that edge).
+///
+/// Points within a rounding tolerance of an edge's line (`1e-12` times one plus the edge's
+/// largest absolute coordinate, in metres) count as on the line, so the result does not depend
+/// on the last bits of a vertex that an earlier clip put on a line:
+/// - a `subject` that lies beyond some edge of `hole`, or has `hole` beyond one of its own
+///   edges (the two are disjoint or only touch), comes back whole as the one piece;
+/// - an edge whose line `subject` does not cross (all of it inside or on the line) splits off
+///   nothing, and a part lying beyond or on a line goes whole.
+///
+/// Without this, subtracting a hole from pieces that an equal hole (a copy of an object at
+/// the same place) cut before produced slivers of rounding-error width, each split again by
+/// the next copy: the piece count grew exponentially with the copies. With it, every piece
+/// lies in one cell of the arrangement of the holes' edge lines (up to the tolerance), so
+/// subtracting `k` holes of `m` edges leaves at most `O((k m)^2)` pieces, and equal holes add
+/// none after the first. A hole that overlaps `subject` by less than the tolerance is
+/// ignored.
 pub fn subtract_convex(subject: &[Point2], hole: &[Point2]) -> Vec<Vec<Point2>> {
     let m = hole.len();
-    if m < 3 {
+    if m < 3 || subject.len() < 3 || separated(subject, hole) {
         return vec![subject.to_vec()];
     }
     let mut pieces = Vec::new();
@@ -213,13 +234,61 @@ pub fn subtract_convex(subject: &[Point2], hole: &[Point2]) -> Vec<Vec<Point2>> 
             break;
         }
         let (a, b) = (hole[k], hole[(k + 1) % m]);
-        let outside = clip_half_space(&rest, |p| -orient(&a, &b, p));
+        let Some(inside) = edge_distance(&a, &b) else {
+            continue;
+        };
+        let (lo, hi) = rest
+            .iter()
+            .map(&inside)
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), d| {
+                (lo.min(d), hi.max(d))
+            });
+        if lo >= 0.0 {
+            // Inside or on the line: nothing of `rest` is beyond this edge.
+            continue;
+        }
+        if hi <= 0.0 {
+            // Beyond or on the line: `rest` does not meet the hole.
+            pieces.push(rest);
+            return pieces;
+        }
+        let outside = clip_half_space(&rest, |p| -inside(p));
         if outside.len() >= 3 && area(&outside) > 0.0 {
             pieces.push(outside);
         }
-        rest = clip_half_space(&rest, |p| orient(&a, &b, p));
+        rest = clip_half_space(&rest, &inside);
     }
     pieces
+}
+
+/// The signed distance inside the line through `a` and `b` (positive to the left of `a -> b`),
+/// snapped to 0 within the tolerance of [`subtract_convex`]; `None` for a zero-length edge.
+fn edge_distance(a: &Point2, b: &Point2) -> Option<impl Fn(&Point2) -> Real> {
+    let len = (b - a).norm();
+    if len == 0.0 || !len.is_finite() {
+        return None;
+    }
+    let tol = SNAP_REL * (1.0 + a.coords.amax().max(b.coords.amax()));
+    let (a, b) = (*a, *b);
+    Some(move |p: &Point2| {
+        let d = orient(&a, &b, p) / len;
+        if d.abs() <= tol { 0.0 } else { d }
+    })
+}
+
+/// Whether two convex polygons are disjoint or only touch (within the tolerance of
+/// [`subtract_convex`]): one lies beyond or on the line of an edge of the other. Either may
+/// run clockwise.
+fn separated(p: &[Point2], q: &[Point2]) -> bool {
+    let beyond = |edges: &[Point2], pts: &[Point2]| {
+        let n = edges.len();
+        let sign = signed_area(edges).signum();
+        (0..n).any(|k| {
+            edge_distance(&edges[k], &edges[(k + 1) % n])
+                .is_some_and(|inside| pts.iter().all(|x| sign * inside(x) <= 0.0))
+        })
+    };
+    beyond(q, p) || beyond(p, q)
 }
 
 /// Bounding rectangle `(min, max)` of a non-empty loop.
@@ -320,6 +389,105 @@ mod tests {
         assert!((total - 3.0).abs() < 1e-12);
         assert!(subtract_convex(&b, &square(-1.0, -1.0, 5.0, 5.0)).is_empty());
         assert!(clip_convex(&a, &square(5.0, 5.0, 6.0, 6.0)).is_empty());
+    }
+
+    /// A regular `n`-gon of radius `r` around `(x, y)`, turned by `turn` radians.
+    fn round(n: usize, r: f64, x: f64, y: f64, turn: f64) -> Vec<Point2> {
+        (0..n)
+            .map(|k| {
+                let t = turn + std::f64::consts::TAU * k as f64 / n as f64;
+                p(x + r * t.cos(), y + r * t.sin())
+            })
+            .collect()
+    }
+
+    /// Subtracts every hole from `subject` in turn, as the accessibility metric does.
+    fn subtract_all(subject: &[Point2], holes: &[Vec<Point2>]) -> Vec<Vec<Point2>> {
+        let mut parts = vec![subject.to_vec()];
+        for h in holes {
+            parts = parts.iter().flat_map(|q| subtract_convex(q, h)).collect();
+        }
+        parts
+    }
+
+    #[test]
+    fn copies_of_a_hole_add_no_pieces() {
+        // An access strip and 16 copies of a round footprint (a 24-gon) at one place, which
+        // covers part of the strip. The first copy splits the strip; the others, on pieces
+        // whose vertices lie on their edge lines up to rounding, split off nothing (each
+        // copy used to split every piece again into slivers: 2^k pieces after k copies).
+        let strip = square(0.5, 3.0, 1.2, 5.0);
+        let plant = round(24, 0.25, 1.0, 3.95, 0.3);
+        let once = subtract_convex(&strip, &plant);
+        let copies = subtract_all(&strip, &vec![plant.clone(); 16]);
+        assert_eq!(copies, once, "the later copies leave the pieces as they are");
+        let expected = area(&strip) - area(&clip_convex(&strip, &plant));
+        let total: f64 = copies.iter().map(|q| area(q)).sum();
+        assert!((total - expected).abs() < 1e-12, "{total} vs {expected}");
+        // The 24-gon's middle lies in the strip: every edge but those beyond the strip's
+        // sides gives a piece, far fewer than the 24 + 1 an edge-by-edge split may give.
+        assert!(once.len() <= 25, "{}", once.len());
+    }
+
+    #[test]
+    fn copies_moved_by_rounding_errors_add_no_pieces() {
+        // Copies whose poses differ in the last bits (a yaw of 0.3 and 0.3 + 1 ulp, positions
+        // 1e-15 m apart): their edge lines coincide up to the tolerance.
+        let strip = square(0.5, 3.0, 1.2, 5.0);
+        let holes: Vec<Vec<Point2>> = (0..16)
+            .map(|k| {
+                let e = f64::from(k % 3) * 1e-15;
+                round(24, 0.25, 1.0 + e, 3.95 - e, 0.3 + e)
+            })
+            .collect();
+        let parts = subtract_all(&strip, &holes);
+        let once = subtract_convex(&strip, &holes[0]);
+        assert_eq!(parts.len(), once.len());
+        let total: f64 = parts.iter().map(|q| area(q)).sum();
+        let expected: f64 = once.iter().map(|q| area(q)).sum();
+        assert!((total - expected).abs() < 1e-12, "{total} vs {expected}");
+    }
+
+    #[test]
+    fn distinct_holes_leave_pieces_bounded_by_their_lines() {
+        // 40 round holes 1 mm apart along a line through the strip: genuine, different
+        // edges. Every piece lies in one cell of the arrangement of the 40 x 12 edge lines,
+        // and in practice the count grows about linearly with the holes.
+        let strip = square(0.0, 0.0, 4.0, 0.4);
+        let holes: Vec<Vec<Point2>> = (0..40)
+            .map(|k| round(12, 0.3, 1.0 + 0.001 * f64::from(k), 0.2, 0.1 * f64::from(k)))
+            .collect();
+        let parts = subtract_all(&strip, &holes);
+        assert!(parts.len() < 40 * 12, "{} pieces", parts.len());
+        // Area: the strip minus the union, which lies between the first hole's area in the
+        // strip and the strip's span of the holes' x range.
+        let total: f64 = parts.iter().map(|q| area(q)).sum();
+        let first = area(&clip_convex(&strip, &holes[0]));
+        assert!(total <= area(&strip) - first + 1e-12);
+        assert!(total >= area(&strip) - 0.4 * (0.6 + 0.039) - 1e-12, "{total}");
+    }
+
+    #[test]
+    fn a_touching_or_distant_hole_leaves_the_subject_whole() {
+        let a = square(0.0, 0.0, 2.0, 2.0);
+        // Touching along x = 2, at a corner, and 1 ulp short of touching.
+        for hole in [
+            square(2.0, 0.5, 3.0, 1.5),
+            square(2.0, 2.0, 3.0, 3.0),
+            square(2.0 - 2.0 * f64::EPSILON, 0.5, 3.0, 1.5),
+        ] {
+            assert_eq!(subtract_convex(&a, &hole), vec![a.clone()]);
+        }
+        // Far beyond the hole's last edge yet across the line of its first one: an
+        // edge-by-edge split would cut the subject in two along that line.
+        let diamond = vec![p(5.0, 4.0), p(6.0, 5.0), p(5.0, 6.0), p(4.0, 5.0)];
+        let b = square(-1.0, 0.0, 3.0, 2.0);
+        assert_eq!(subtract_convex(&b, &diamond), vec![b.clone()]);
+        // A clockwise subject is as good as a counter-clockwise one.
+        let mut cw = square(1.0, 1.0, 3.0, 3.0);
+        cw.reverse();
+        let total: f64 = subtract_convex(&cw, &a).iter().map(|q| area(q)).sum();
+        assert!((total - 3.0).abs() < 1e-12, "{total}");
     }
 
     #[test]

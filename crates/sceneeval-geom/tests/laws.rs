@@ -4,7 +4,7 @@
 
 use proptest::prelude::*;
 use sceneeval_geom::na::{Translation3, UnitQuaternion};
-use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Polygon2, Side, Vector3};
+use sceneeval_geom::{Isometry3, Mesh, Obb, Point2, Point3, Polygon2, Side, Vector3, planar};
 
 fn point() -> impl Strategy<Value = Point3> {
     (-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64).prop_map(|(x, y, z)| Point3::new(x, y, z))
@@ -137,4 +137,51 @@ proptest! {
         let clipped = poly.intersection_area_with_convex(&square);
         prop_assert!((-1e-12..=4.0 + 1e-9).contains(&clipped) && clipped <= poly.area() + 1e-9);
     }
+
+    /// Subtracting a convex hole from a convex subject leaves convex pieces that tile the
+    /// subject outside the hole: their areas add up to the subject's minus the overlap, each
+    /// lies in the subject and none overlaps the hole (its centroid is outside), and
+    /// subtracting the same hole again changes nothing.
+    #[test]
+    fn subtraction_laws(
+        a in convex_polygon(),
+        b in convex_polygon(),
+    ) {
+        let pieces = planar::subtract_convex(&a, &b);
+        let overlap = planar::area(&planar::clip_convex(&a, &b));
+        let total: f64 = pieces.iter().map(|q| planar::area(q)).sum();
+        prop_assert!((total + overlap - planar::area(&a)).abs() < 1e-9, "{} + {} vs {}", total, overlap, planar::area(&a));
+        for q in &pieces {
+            prop_assert!(planar::is_convex(q));
+            let c = q.iter().fold(Point2::origin(), |acc, p| acc + p.coords / q.len() as f64);
+            prop_assert!(planar::convex_contains(&a, &c, 1e-9));
+            prop_assert!(planar::area(q) < 1e-9 || !planar::convex_contains(&b, &c, -1e-9));
+        }
+        let again: Vec<Vec<Point2>> = pieces.iter().flat_map(|q| planar::subtract_convex(q, &b)).collect();
+        prop_assert_eq!(again, pieces);
+    }
+}
+
+/// A convex counter-clockwise polygon: 3 to 12 points on an ellipse, at increasing angles.
+fn convex_polygon() -> impl Strategy<Value = Vec<Point2>> {
+    (
+        prop::collection::vec(0.0..1.0f64, 3..12),
+        0.2..2.0f64,
+        0.2..2.0f64,
+        -1.5..1.5f64,
+        -1.5..1.5f64,
+    )
+        .prop_map(|(mut t, rx, ry, cx, cy)| {
+            t.sort_by(f64::total_cmp);
+            t.dedup();
+            let pts: Vec<Point2> = t
+                .iter()
+                .map(|t| {
+                    let a = std::f64::consts::TAU * t;
+                    Point2::new(cx + rx * a.cos(), cy + ry * a.sin())
+                })
+                .collect();
+            planar::convex_hull(&pts)
+        })
+        .prop_filter("a polygon with area", |p| p.len() >= 3 && planar::area(p) > 1e-6)
 }

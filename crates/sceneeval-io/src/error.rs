@@ -35,6 +35,49 @@ pub enum IoError {
         /// What the parser expected.
         message: String,
     },
+    /// A JSON object gives one key twice: readers keep one of the two silently (serde_json
+    /// and Python's `json` the last), so the file does not say which value it means.
+    #[error("{}:{line}:{column}: {pointer}: key {key:?} appears twice in one object", .path.display(),
+        pointer = if .pointer.is_empty() { "/" } else { .pointer.as_str() })]
+    DuplicateKey {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the object holding the key twice (empty for the document's root).
+        pointer: String,
+        /// The repeated key.
+        key: String,
+        /// 1-based line of the second occurrence.
+        line: usize,
+        /// 1-based column of the second occurrence.
+        column: usize,
+    },
+    /// Keys a sceneState file has where the format knows no such key, refused because the
+    /// reading was strict ([`crate::ReadOptions::strict`]); otherwise each is a warning. A
+    /// misspelt key is read as absent, which can change the scene silently (an object whose
+    /// `"transfrom"` is misspelt would stand at the origin).
+    #[error("{}: {}", .path.display(), unknown_keys_message(.keys))]
+    UnknownKeys {
+        /// The file.
+        path: PathBuf,
+        /// Each unknown key once per place in the format, in document order.
+        keys: Vec<crate::scene_state::UnknownKey>,
+    },
+    /// An object entry has no `transform`: it would stand at the origin, which is never what
+    /// a generator means (the reference takes the identity silently).
+    #[error("{}: {pointer}: object {id:?} (index {index}) has no \"transform\"{}", .path.display(),
+        if .similar.is_empty() { String::new() } else { format!(" (it has the unknown key {:?})", .similar) })]
+    MissingTransform {
+        /// The file.
+        path: PathBuf,
+        /// Pointer to the object entry.
+        pointer: String,
+        /// The object's `index` (its position in the list when it has none).
+        index: i64,
+        /// The object's id (its `objectId`, or the derived `idx<index>_<modelId>`).
+        id: String,
+        /// An unknown key of the entry that looks like a misspelt `transform`, or empty.
+        similar: String,
+    },
     /// A required field is absent.
     #[error("{}: {pointer}: missing field {field:?}", .path.display())]
     MissingField {
@@ -340,6 +383,17 @@ pub struct MissingAsset {
     pub tried: Vec<PathBuf>,
 }
 
+fn unknown_keys_message(keys: &[crate::scene_state::UnknownKey]) -> String {
+    let mut text = format!(
+        "{} the sceneState format does not have (strict reading):",
+        plural(keys.len(), "unknown key")
+    );
+    for k in keys {
+        text.push_str(&format!("\n  {k}"));
+    }
+    text
+}
+
 fn missing_assets_message(missing: &[MissingAsset]) -> String {
     let objects: usize = missing.iter().map(|m| m.objects.len()).sum();
     let mut text = format!(
@@ -409,10 +463,13 @@ impl IoError {
             | IoError::WrongType { pointer, .. }
             | IoError::InvalidValue { pointer, .. }
             | IoError::BadTransform { pointer, .. }
+            | IoError::DuplicateKey { pointer, .. }
+            | IoError::MissingTransform { pointer, .. }
             | IoError::DuplicateElement { pointer, .. }
             | IoError::Scene { pointer, .. }
             | IoError::ObjectAsset { pointer, .. } => Some(pointer),
             IoError::DuplicateObjectId { second, .. } => Some(second),
+            IoError::UnknownKeys { keys, .. } => keys.first().map(|k| k.pointer.as_str()),
             _ => None,
         }
     }
@@ -423,6 +480,9 @@ impl IoError {
         match self {
             IoError::File { path, .. }
             | IoError::MalformedJson { path, .. }
+            | IoError::DuplicateKey { path, .. }
+            | IoError::UnknownKeys { path, .. }
+            | IoError::MissingTransform { path, .. }
             | IoError::MissingField { path, .. }
             | IoError::WrongType { path, .. }
             | IoError::InvalidValue { path, .. }

@@ -31,8 +31,11 @@
 //! Every failure is an [`IoError`] that names the file and the RFC 6901 JSON pointer of the
 //! offending value (e.g. `/scene/object/3/transform/data/12`) or the asset id: malformed JSON
 //! (with line and column), missing or mistyped fields, non-finite, singular, sheared or
-//! projective transforms, unknown model prefixes, missing or corrupt asset files, empty meshes,
-//! zero-length walls, floors with fewer than 3 points, duplicate ids. A scene whose assets are
+//! projective transforms, an object without `transform`, a key given twice in one JSON object,
+//! unknown model prefixes, missing or corrupt asset files, empty meshes, zero-length walls,
+//! floors with fewer than 3 points, duplicate ids. Keys the sceneState format does not have are
+//! a warning each (per key, file and place of the format), or with [`ReadOptions::strict`] an
+//! error ([`scene_state::unknown_keys`]). A scene whose assets are
 //! missing fails with [`IoError::MissingAssets`], which lists every missing asset of the scene
 //! with its objects and the files looked for. Only regular files are read: a named pipe, a
 //! device or a folder where an input file is expected is refused before it is opened

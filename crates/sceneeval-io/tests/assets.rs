@@ -259,11 +259,11 @@ fn assets_load_once_and_are_shared_across_threads() {
     );
     let library = common::fixture_library(dir.path());
     let text = r#"{"format": "sceneState", "scene": {"arch": {"elements": []}, "object": [
-        {"index": 0, "modelId": "fixture.bump"},
+        {"index": 0, "modelId": "fixture.bump", "transform": {"data": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}},
         {"index": 1, "modelId": "fixture.bump", "transform": {"data": [1,0,0,0, 0,1,0,0, 0,0,1,0, 5,0,0,1]}},
         {"index": 2, "modelId": "fixture.bump", "transform": {"data": [2,0,0,0, 0,2,0,0, 0,0,2,0, 0,5,0,1]}},
         {"index": 3, "modelId": "fixture.bump", "transform": {"data": [2,0,0,0, 0,2,0,0, 0,0,2,0, 0,9,0,1]}},
-        {"index": 4, "modelId": "fixture.cube"}]}}"#;
+        {"index": 4, "modelId": "fixture.cube", "transform": {"data": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}}]}}"#;
     let scenes: Vec<_> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..4)
             .map(|i| {

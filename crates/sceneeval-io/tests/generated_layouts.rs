@@ -189,3 +189,56 @@ fn bad_sdf_files_are_errors_naming_the_file() {
         assert!(message.contains(expect), "{expect}: {message}");
     }
 }
+
+#[test]
+fn a_duplicated_object_id_is_an_error_naming_both_entries() {
+    // The reproduction: two entries share the id `desk_0` but name different SDF
+    // files; the fork's lookup (and this crate's, before) gave the second the first's mesh.
+    let dir = tempfile::tempdir().unwrap();
+    converted(dir.path());
+    let scene_6 = dir.path().join("scene_6.json");
+    write(
+        &scene_6,
+        &json!({"format": "sceneState", "scene": {"object": [
+            {"id": "desk_0", "modelId": "scene-agent.scene_6__desk_0", "sdfPath": "furniture/sdf/desk_0_1700/desk.sdf"},
+            {"id": "desk_0", "modelId": "scene-agent.scene_6__desk_0", "sdfPath": "furniture/sdf/bed_0/bed.sdf"}
+        ]}})
+        .to_string(),
+    );
+    match library(dir.path()).asset("scene-agent.scene_6__desk_0") {
+        Err(IoError::BadMetadata {
+            path,
+            location,
+            message,
+        }) => {
+            assert_eq!(path, scene_6);
+            assert_eq!(location, "/scene/object/1");
+            assert!(
+                message.contains("\"desk_0\"") && message.contains("/scene/object/0"),
+                "{message}"
+            );
+            assert!(message.contains("sdfPath"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Entries of one asset (the same SDF and description: SceneSmith's stacks) are one asset.
+    let scene_7 = dir.path().join("scene_7.json");
+    let sdf_dir = dir.path().join("scene_7/assets/furniture/sdf/desk_0_1700");
+    std::fs::create_dir_all(&sdf_dir).unwrap();
+    for f in ["desk.sdf", "desk.glb"] {
+        std::fs::copy(
+            dir.path()
+                .join("scene_5/assets/furniture/sdf/desk_0_1700")
+                .join(f),
+            sdf_dir.join(f),
+        )
+        .unwrap();
+    }
+    let entry = json!({"id": "desk_0", "modelId": "scene-agent.scene_7__desk_0", "sdfPath": "furniture/sdf/desk_0_1700/desk.sdf"});
+    write(
+        &scene_7,
+        &json!({"format": "sceneState", "scene": {"object": [entry, entry]}}).to_string(),
+    );
+    let desk = library(dir.path()).asset("scene-agent.scene_7__desk_0").unwrap();
+    assert_eq!(desk.path, sdf_dir.join("desk.glb"));
+}

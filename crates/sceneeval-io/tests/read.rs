@@ -40,7 +40,8 @@ const STYLE: &str = r#"{
       {"id": "1", "index": 0, "box": {"size": [1, 1, 1]}, "parentId": "", "parentIndex": 0,
        "transform": {"rows": 4, "cols": 4, "data": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 3, 3, 0.5, 1],
                      "rotation": [0, 0, 0, 1], "scale": [1, 1, 1], "translation": [3, 3, 0.5]}},
-      {"index": 1, "box": {"size": [2, 1, 1]}, "modelId": "gen.sofa", "objectId": "sofa"}
+      {"index": 1, "box": {"size": [2, 1, 1]}, "modelId": "gen.sofa", "objectId": "sofa",
+       "transform": {"data": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}}
     ]
   },
   "selected": []

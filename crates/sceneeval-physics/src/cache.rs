@@ -6,15 +6,17 @@
 //! one entry whatever its id or scene, and a changed asset or parameter gets a new one. A file
 //! `<key>.bin` holds the pieces' hull vertices as little-endian `f64` (so a piece read back is
 //! bit for bit the piece computed), framed by a magic line, the key, counts and a blake3
-//! checksum; it is written under a unique temporary name and renamed into place. A file that
-//! does not read back (truncated, corrupt, another format version) is decomposed again and
-//! overwritten, with a warning.
+//! checksum; it is written through [`sceneeval_files::write_atomic`] (a unique temporary name
+//! renamed into place, with the mode the umask gives new files) and read only when it is a
+//! regular file ([`sceneeval_files::open_regular`]). A file that does not read back (truncated,
+//! corrupt, another format version, not a regular file) is decomposed again and overwritten,
+//! with a warning.
 
 use std::collections::HashMap;
 use std::fs;
-use std::io::Write;
+use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use sceneeval_geom::{Mesh, Point3, Vector3};
@@ -177,25 +179,27 @@ impl DecompositionCache {
 
     fn read(&self, key: &MeshKey) -> Option<Decomposition> {
         let path = self.path(key)?;
-        let len = match fs::metadata(&path) {
-            Ok(m) => m.len(),
+        let unreadable = |e: &dyn std::fmt::Display| {
+            tracing::warn!(path = %path.display(), error = %e, "decomposition cache file unreadable; decomposing again");
+        };
+        let file = match sceneeval_files::open_regular(&path) {
+            Ok(f) => f,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
             Err(e) => {
-                tracing::warn!(path = %path.display(), error = %e, "decomposition cache file unreadable; decomposing again");
+                unreadable(&e);
                 return None;
             }
         };
-        if len > MAX_FILE_BYTES {
-            tracing::warn!(path = %path.display(), len, "decomposition cache file too large; decomposing again");
+        // At most one byte more than the largest file read, to tell a too large file.
+        let mut bytes = Vec::new();
+        if let Err(e) = file.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes) {
+            unreadable(&e);
             return None;
         }
-        let bytes = match fs::read(&path) {
-            Ok(b) => b,
-            Err(e) => {
-                tracing::warn!(path = %path.display(), error = %e, "decomposition cache file unreadable; decomposing again");
-                return None;
-            }
-        };
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            tracing::warn!(path = %path.display(), "decomposition cache file too large; decomposing again");
+            return None;
+        }
         match decode(&bytes, key) {
             Some(d) => Some(d),
             None => {
@@ -207,28 +211,10 @@ impl DecompositionCache {
 
     fn write(&self, key: &MeshKey, d: &Decomposition) {
         let Some(path) = self.path(key) else { return };
-        if let Err(e) = write_atomic(&path, &encode(d, key)) {
+        if let Err(e) = sceneeval_files::write_atomic(&path, &encode(d, key)) {
             tracing::warn!(path = %path.display(), error = %e, "decomposition cache file not written");
         }
     }
-}
-
-/// Writes `bytes` to `path` through a unique temporary name in the same folder and a rename.
-fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let name = path.file_name().and_then(|s| s.to_str()).unwrap_or("cache");
-    let tmp = path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
 }
 
 fn encode(d: &Decomposition, key: &MeshKey) -> Vec<u8> {
@@ -405,5 +391,20 @@ mod tests {
         fs::write(&file, b"x").unwrap();
         let err = DecompositionCache::on_disk(file.join("sub")).unwrap_err();
         assert!(matches!(err, PhysicsError::Cache { .. }), "{err}");
+    }
+
+    #[test]
+    fn a_cache_path_that_is_not_a_regular_file_is_bypassed() {
+        // A folder where the file would be: not read (nothing blocks or fails), decomposed
+        // again, and the write over it fails with a warning only.
+        let dir = tempfile::tempdir().unwrap();
+        let p = DecompositionParams::default();
+        let key = MeshKey::new(&mesh(), &p);
+        fs::create_dir(dir.path().join(format!("{}.bin", key.to_hex()))).unwrap();
+        let cache = DecompositionCache::on_disk(dir.path()).unwrap();
+        let d = cache.get(&mesh(), &p);
+        assert_eq!(cache.stats().decomposed, 1);
+        assert_eq!(*d, Decomposition::of_mesh(&mesh(), &p));
+        assert!(dir.path().join(format!("{}.bin", key.to_hex())).is_dir());
     }
 }

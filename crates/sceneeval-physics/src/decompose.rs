@@ -16,12 +16,14 @@
 //! made at least [`MIN_HALF_THICKNESS`] thick on each side, the only case where the body is
 //! larger than the mesh. Box objects are one exact cuboid.
 
+use std::borrow::Cow;
+use std::collections::HashSet;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use rapier3d_f64::parry::shape::SharedShape;
 use rapier3d_f64::parry::transformation::vhacd::{VHACD, VHACDParameters};
 use sceneeval_geom::parry_adapter::{point_from_parry, point_to_parry};
-use sceneeval_geom::{Mesh, Point3, Real, Vector3};
+use sceneeval_geom::{Mesh, Point3, Real, Vector3, weld_vertices};
 
 use crate::DecompositionParams;
 pub use crate::report::DecompositionKind;
@@ -119,6 +121,8 @@ impl Decomposition {
 
     /// The convex decomposition of a mesh (object frame), as described in the module docs.
     pub fn of_mesh(mesh: &Mesh, params: &DecompositionParams) -> Self {
+        let input = decomposition_input(mesh);
+        let mesh = input.as_ref();
         if let Some(d) = Self::nearly_convex(mesh, params) {
             return d;
         }
@@ -185,6 +189,62 @@ impl Decomposition {
             shapes,
             volume,
         })
+    }
+}
+
+/// The mesh as the decomposition reads it: vertices at one position welded into one
+/// ([`sceneeval_geom::weld_vertices`]) and each face kept once, whatever the order of its
+/// corners (a face repeated, or given both ways round); triangles whose corners weld together
+/// are dropped. The mesh itself when no face is dropped: welding alone changes nothing the
+/// decomposition reads ([`Mesh`] joins split seams for its closedness and volume, V-HACD reads
+/// triangles), and rebuilding a mesh costs about a millisecond per thousand triangles.
+///
+/// Meshes are loaded with their vertices split along seams (normals, texture coordinates), and
+/// some assets repeat their faces: a cube's 12 faces repeated 500 times is a 6,000-triangle
+/// mesh that is not closed (every edge has 1,000 faces), so it went through V-HACD, which
+/// clipped each copy of each face into every voxel it touches (3.3 GB). Welded, it is the
+/// cube: 8 vertices, 12 faces, closed, one piece.
+///
+/// ```
+/// use sceneeval_geom::{CUBOID_TRIANGLES, Mesh, Point3, cuboid_corner};
+/// use sceneeval_physics::decompose::decomposition_input;
+///
+/// let corners: Vec<Point3> = (0..8).map(|k| Point3::from(cuboid_corner(k, [0.0; 3], [1.0; 3]))).collect();
+/// let repeated: Vec<[u32; 3]> = (0..500).flat_map(|_| CUBOID_TRIANGLES).collect();
+/// let mesh = Mesh::new(corners, repeated).unwrap();
+/// assert_eq!(mesh.triangles().len(), 6000);
+/// let input = decomposition_input(&mesh);
+/// assert_eq!((input.vertices().len(), input.triangles().len()), (8, 12));
+/// assert!((input.volume().unwrap() - 1.0).abs() < 1e-12); // closed: 1 m³
+/// ```
+pub fn decomposition_input(mesh: &Mesh) -> Cow<'_, Mesh> {
+    let (ids, count) = weld_vertices(mesh.vertices());
+    let mut seen = HashSet::with_capacity(mesh.triangles().len());
+    let triangles: Vec<[u32; 3]> = mesh
+        .triangles()
+        .iter()
+        .map(|t| t.map(|i| ids[i as usize]))
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        .filter(|t| {
+            let mut key = *t;
+            key.sort_unstable();
+            seen.insert(key)
+        })
+        .collect();
+    if triangles.len() == mesh.triangles().len() {
+        return Cow::Borrowed(mesh);
+    }
+    let mut vertices = vec![Point3::origin(); count];
+    for (v, &id) in mesh.vertices().iter().zip(&ids) {
+        vertices[id as usize] = *v;
+    }
+    match Mesh::new(vertices, triangles) {
+        Ok(welded) => Cow::Owned(welded),
+        // Unreachable: welding keeps every position, so a triangle of area keeps it.
+        Err(e) => {
+            tracing::warn!(error = %e, "welding the mesh for its decomposition failed; decomposing it as given");
+            Cow::Borrowed(mesh)
+        }
     }
 }
 
@@ -335,5 +395,44 @@ mod tests {
         assert!((d.volume() - 1.0).abs() < 1e-9, "{d:?}");
         assert_eq!(d.pieces().len(), 1, "{d:?}");
         assert_eq!(d.kind(), DecompositionKind::ConvexHull);
+    }
+
+    #[test]
+    fn repeated_faces_are_decomposed_once() {
+        // The issue's degenerate mesh: a 1 m cube's 12 faces repeated 500 times (6,000
+        // triangles), once over its 8 corners and once with 8 corners of its own per copy.
+        let corners: Vec<Point3> = (0..8)
+            .map(|k| Point3::from(sceneeval_geom::cuboid_corner(k, [0.0; 3], [1.0; 3])))
+            .collect();
+        let shared: Vec<[u32; 3]> = (0..500).flat_map(|_| sceneeval_geom::CUBOID_TRIANGLES).collect();
+        let own: Vec<[u32; 3]> = (0..500u32)
+            .flat_map(|c| sceneeval_geom::CUBOID_TRIANGLES.map(|t| t.map(|i| i + 8 * c)))
+            .collect();
+        let meshes = [
+            Mesh::new(corners.clone(), shared).unwrap(),
+            Mesh::new(corners.repeat(500), own).unwrap(),
+        ];
+        for mesh in &meshes {
+            assert_eq!(mesh.triangles().len(), 6000);
+            // What the decomposition reads: the cube, 8 vertices and 12 faces, closed.
+            let input = decomposition_input(mesh);
+            assert!(matches!(input, Cow::Owned(_)));
+            assert_eq!((input.vertices().len(), input.triangles().len()), (8, 12));
+            assert!((input.volume().unwrap() - 1.0).abs() < 1e-12);
+            // So it is its hull, one piece of 1 m³ (V-HACD never runs).
+            let d = Decomposition::of_mesh(mesh, &DecompositionParams::default());
+            assert_eq!((d.kind(), d.pieces().len()), (DecompositionKind::ConvexHull, 1));
+            assert!((d.volume() - 1.0).abs() < 1e-12, "{d:?}");
+        }
+        // A face given both ways round is one face; a mesh without repeats is read as given,
+        // also when its vertices are split along seams (each face of a box with corners of
+        // its own: 24 vertices for 8 positions).
+        let both_ways = Mesh::new(corners[..4].to_vec(), vec![[0, 1, 3], [3, 1, 0], [0, 3, 2]]).unwrap();
+        assert_eq!(decomposition_input(&both_ways).triangles().len(), 2);
+        let cube = Mesh::cuboid(&Vector3::repeat(0.5)).unwrap();
+        assert!(matches!(decomposition_input(&cube), Cow::Borrowed(_)));
+        let split = Mesh::subdivided_box(&Vector3::repeat(0.5), 1).unwrap();
+        assert!(split.vertices().len() > 8);
+        assert!(matches!(decomposition_input(&split), Cow::Borrowed(_)));
     }
 }

@@ -32,11 +32,18 @@ pub enum PhysicsError {
         /// The scene's name (`<unnamed>` when it has none).
         scene: String,
     },
-    /// The caller's stop signal (a time budget or a cancellation) was raised.
-    #[error("stability stopped during {stage}: the time budget is used up or the run was cancelled")]
-    Stopped {
+    /// The scene's time budget ran out, or the run was cancelled, during `stage`: the
+    /// [`sceneeval_scene::Deadline`] passed to [`crate::Stability`] had expired at one of its
+    /// checks (before each mesh is decomposed, every 64 time steps).
+    #[error("stability stopped during {stage}: {}", match budget_seconds {
+        Some(b) => format!("time budget exceeded (the scene's {b} s are used up)"),
+        None => "the run was cancelled".to_owned(),
+    })]
+    DeadlineExceeded {
         /// `decomposition` or `simulation`.
         stage: &'static str,
+        /// The scene's budget in seconds; `None` when the deadline was cancelled without one.
+        budget_seconds: Option<f64>,
     },
     /// An object's geometry could not be made into a rigid body.
     #[error("object {object}: {reason}")]
@@ -61,4 +68,13 @@ pub enum PhysicsError {
         #[source]
         source: std::io::Error,
     },
+}
+
+impl From<sceneeval_scene::DeadlineExceeded> for PhysicsError {
+    fn from(e: sceneeval_scene::DeadlineExceeded) -> Self {
+        PhysicsError::DeadlineExceeded {
+            stage: e.stage,
+            budget_seconds: e.budget_seconds,
+        }
+    }
 }

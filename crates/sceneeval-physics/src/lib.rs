@@ -4,9 +4,10 @@
 //! A chair floating 3 mm above the floor and a vase balanced on a table's edge pass every
 //! geometric check; a few seconds of gravity tell them apart. [`Stability::evaluate`] makes
 //! each object a rigid body of convex pieces, welds what the [`WeldMode`] says, simulates
-//! [`StabilityParams::duration_s`] of gravity (-z, [`params::GRAVITY`]) with
-//! [rapier](https://rapier.rs) (`rapier3d-f64`), and reports per
-//! object how far its centre of mass moved and how far it turned. An object that moved at most
+//! gravity (-z, [`params::GRAVITY`]) with [rapier](https://rapier.rs) (`rapier3d-f64`) until
+//! every free object has come to rest or [`StabilityParams::duration_s`] has passed, and
+//! reports per object how far its centre of mass moved and how far it turned from where it was
+//! put to where it came to rest (or was at the end). An object that moved at most
 //! [`StabilityParams::displacement_limit_m`] (1 cm) and turned at most
 //! [`StabilityParams::rotation_limit_rad`] (0.1 rad) is stable; the scene figure is the share
 //! of unstable objects among those free to move ([`StabilityReport::frac_unstable`]).
@@ -15,7 +16,8 @@
 //! # The model
 //! - **Bodies**: each object mesh is cut into convex pieces with parry's V-HACD, each piece the
 //!   convex hull of the mesh's own surface in its part, so pieces never grow the mesh
-//!   (furniture on the floor does not start in it); box objects are one exact cuboid; see
+//!   (furniture on the floor does not start in it); box objects are one exact cuboid; vertices
+//!   are welded and repeated faces kept once first ([`decompose::decomposition_input`]); see
 //!   [`decompose`] for the details and the stand-ins for meshes without volume. Decompositions
 //!   are cached per mesh content and parameters, in memory and on disk
 //!   ([`DecompositionCache`]).
@@ -24,8 +26,8 @@
 //!   density for all objects the verdicts do not depend on its value.
 //! - **Rooms** ([`arch`]): each floor a slab 1 m deep at the height the scene gives it,
 //!   reaching 0.5 m beyond the outline, so a sunk object is pushed up; each wall's solid (doors
-//!   and windows cut out) a cuboid on the outside of its room, at least 0.5 m thick. A scene
-//!   without rooms is an error ([`PhysicsError::NoFloor`]); an object over no floor falls and
+//!   and windows cut out) cuboids growing 0.5 m away from its room but never into a room (a
+//!   wall two rooms share is a sheet on the shared line). A scene without rooms is an error ([`PhysicsError::NoFloor`]); an object over no floor falls and
 //!   is unstable.
 //! - **Welds** ([`WeldMode`]): `architectural` (default) fixes objects whose support type is
 //!   `wall` or `ceiling`; `penetration` fixes objects interpenetrating another object, a floor
@@ -33,7 +35,15 @@
 //!   the narrow phase measures it on the convex pieces; `combined` both; `none` nothing.
 //!   Support types are an input, one per object, from the same sources the support metric
 //!   uses (unknown counts as `ground`).
-//! - **Contacts**: friction 0.5 on every contact, no restitution; rapier's soft-constraint
+//! - **Contacts**: between convex pieces (and the floor slabs) from the whole faces that
+//!   touch, with a contact normal checked against the shapes and found by the
+//!   separating-axis test when GJK's is degenerate; parry's own contacts took a direction in
+//!   the contact plane as the normal of two faces touching exactly (a box resting at a room's
+//!   centre was 3.6 m "into the floor") and cut every face to four vertices (a round base
+//!   touched the floor on a quarter of its rim and rocked or toppled by the last bits of its
+//!   yaw), so an object resting where it was put now touches at depth 0 and stays (the
+//!   private `contact` module documents both). Friction 0.5 on every contact, no
+//!   restitution; rapier's soft-constraint
 //!   solver (4 iterations per step), its BVH broad phase, and sleeping: a body whose fastest
 //!   point stays below 1 mm/s for 0.5 s sleeps, and once every free body sleeps nothing can
 //!   move again, so the simulation stops early ([`StabilityReport::simulated_s`]).
@@ -56,8 +66,8 @@
 //!   for interpenetration under `penetration`).
 //! - Displacement is measured at the object's centre of mass, not at the world origin (there
 //!   an object 3 m from the origin that turns 0.2 degrees counts as moved 1 cm).
-//! - Walls are oriented boxes on the outside of their own room, with doors and windows open,
-//!   not axis-aligned boxes grown 0.5 m "away from the origin" (which grows them into rooms
+//! - Walls are oriented boxes outside every room, with doors and windows open, not
+//!   axis-aligned boxes grown 0.5 m "away from the origin" (which grows them into rooms
 //!   that do not straddle the origin).
 //! - Every object is simulated: ids containing "wall" or "floor" are not skipped.
 //! - Mass follows a uniform density instead of 1 kg per object ([`MassModel::PerObject`]
@@ -78,7 +88,7 @@
 //! ```
 //! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //! use sceneeval_physics::{DecompositionCache, Stability, StabilityParams, WeldReason};
-//! use sceneeval_scene::{Category, RoomBuilder, Scene, SupportType};
+//! use sceneeval_scene::{Category, Deadline, RoomBuilder, Scene, SupportType};
 //!
 //! let scene = Scene::builder()
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0)))
@@ -93,7 +103,7 @@
 //! let support = [Some(SupportType::Ground), Some(SupportType::Wall)];
 //! let cache = DecompositionCache::in_memory();
 //! let report = Stability::new(StabilityParams::default()).unwrap()
-//!     .evaluate(&scene, &support, &cache, &|| false)
+//!     .evaluate(&scene, &support, &cache, &Deadline::none())
 //!     .unwrap();
 //! assert!(report.objects[0].stable && !report.objects[0].welded);
 //! assert_eq!(report.objects[1].weld_reason, Some(WeldReason::Wall));
@@ -104,6 +114,8 @@
 pub mod arch;
 #[cfg(feature = "simulate")]
 mod cache;
+#[cfg(feature = "simulate")]
+mod contact;
 #[cfg(feature = "simulate")]
 pub mod decompose;
 mod error;

@@ -143,7 +143,9 @@ impl Default for DecompositionParams {
 pub struct StabilityParams {
     /// What is welded before simulating (default [`WeldMode::Architectural`]).
     pub weld: WeldMode,
-    /// Simulated time in seconds (above 0, at most 60; default 5, as the SceneSmith fork).
+    /// The most simulated time in seconds (above 0, at most 60; default 5, as the SceneSmith
+    /// fork); the simulation stops earlier once every free body has come to rest (see
+    /// [`StabilityParams::sleep_speed_m_s`]).
     pub duration_s: Real,
     /// Time step in seconds (1e-4 to 0.02; default 0.001, as the fork: see the crate docs for
     /// what coarser steps change).

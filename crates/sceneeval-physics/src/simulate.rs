@@ -8,12 +8,14 @@ use sceneeval_geom::{Isometry3, Point3, Real};
 use sceneeval_scene::{Scene, SupportType};
 
 use crate::arch::{ARCH_TAG, add_architecture};
+use crate::contact::ContactDispatcher;
 use crate::decompose::Decomposition;
 use crate::params::GRAVITY;
 use crate::report::{BodyShape, Interpenetration, ObjectStability, Pose, StabilityReport, WeldReason};
+use crate::stability::Check;
 use crate::{MassModel, PhysicsError, StabilityParams};
 
-/// The stop signal is polled every this many steps.
+/// The deadline is checked every this many steps.
 const POLL_STEPS: usize = 64;
 
 /// What one simulation gives: the report and every object's final pose (scene order).
@@ -28,7 +30,7 @@ pub(crate) fn simulate(
     support_types: &[Option<SupportType>],
     bodies: &[Arc<Decomposition>],
     params: &StabilityParams,
-    stop: &(dyn Fn() -> bool + Sync),
+    check: &Check<'_>,
 ) -> Result<Outcome, PhysicsError> {
     let mut built = build_world(scene, bodies, params)?;
 
@@ -46,8 +48,8 @@ pub(crate) fn simulate(
     let max_steps = if free == 0 { 0 } else { params.steps() };
     let mut steps = 0;
     while steps < max_steps {
-        if steps % POLL_STEPS == 0 && stop() {
-            return Err(PhysicsError::Stopped { stage: "simulation" });
+        if steps % POLL_STEPS == 0 {
+            check("simulation")?;
         }
         built.world.step();
         steps += 1;
@@ -142,6 +144,8 @@ fn build_world(
             contact_recycling: false,
             ..IntegrationParameters::default()
         },
+        // Contacts between convex pieces from full faces with a checked normal (`contact`).
+        narrow_phase: NarrowPhase::with_query_dispatcher(ContactDispatcher),
         ..PhysicsWorld::default()
     };
     let arch_names = add_architecture(&mut world, scene, params.friction);

@@ -5,7 +5,7 @@
 mod common;
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
 
 use common::{cuboid, evaluate, room};
 use sceneeval_geom::{CUBOID_TRIANGLES, Isometry3, Mesh, Point3, cuboid_corner};
@@ -13,7 +13,7 @@ use sceneeval_physics::{
     DecompositionCache, DecompositionKind, MassModel, PhysicsError, Stability, StabilityParams,
     StabilityReport, WeldMode,
 };
-use sceneeval_scene::{Scene, SceneObject, SupportType};
+use sceneeval_scene::{Deadline, Scene, SceneObject, SupportType};
 
 /// A table mesh with its origin at the floor: a 1 x 0.6 x 0.04 m top at z in [0.7, 0.74] on
 /// four 0.04 m square legs from z = 0 (five closed boxes).
@@ -60,7 +60,12 @@ fn furnished() -> (Scene, Vec<Option<SupportType>>) {
 fn run(scene: &Scene, support: &[Option<SupportType>], params: StabilityParams) -> StabilityReport {
     Stability::new(params)
         .unwrap()
-        .evaluate(scene, support, &DecompositionCache::in_memory(), &|| false)
+        .evaluate(
+            scene,
+            support,
+            &DecompositionCache::in_memory(),
+            &Deadline::none(),
+        )
         .unwrap()
 }
 
@@ -121,7 +126,7 @@ fn the_cache_decomposes_each_mesh_once_and_reuses_it_across_variants() {
             ..StabilityParams::default()
         })
         .unwrap();
-        reports.push(s.evaluate(&scene, &support, &cache, &|| false).unwrap());
+        reports.push(s.evaluate(&scene, &support, &cache, &Deadline::none()).unwrap());
     }
     // One mesh (shared by both tables), decomposed once; the other variants hit memory.
     let stats = cache.stats();
@@ -131,7 +136,7 @@ fn the_cache_decomposes_each_mesh_once_and_reuses_it_across_variants() {
     // A second run reads the file and gives the same report bit for bit.
     let again = DecompositionCache::on_disk(dir.path()).unwrap();
     let s = Stability::new(StabilityParams::default()).unwrap();
-    let r = s.evaluate(&scene, &support, &again, &|| false).unwrap();
+    let r = s.evaluate(&scene, &support, &again, &Deadline::none()).unwrap();
     assert_eq!(again.stats().disk_hits, 1);
     assert_eq!(
         serde_json::to_string(&r).unwrap(),
@@ -144,7 +149,12 @@ fn settle_returns_every_pose_at_rest() {
     let (scene, support) = furnished();
     let s = Stability::new(StabilityParams::default()).unwrap();
     let (poses, report) = s
-        .settle(&scene, &support, &DecompositionCache::in_memory(), &|| false)
+        .settle(
+            &scene,
+            &support,
+            &DecompositionCache::in_memory(),
+            &Deadline::none(),
+        )
         .unwrap();
     assert_eq!(poses.len(), scene.objects().len());
     // The falling box lands on the floor: its centre 0.2 m up.
@@ -164,7 +174,12 @@ fn settle_returns_every_pose_at_rest() {
         settled.set_pose(i, *p).unwrap();
     }
     let again = s
-        .evaluate(&settled, &support, &DecompositionCache::in_memory(), &|| false)
+        .evaluate(
+            &settled,
+            &support,
+            &DecompositionCache::in_memory(),
+            &Deadline::none(),
+        )
         .unwrap();
     assert!(again.objects.iter().all(|o| o.stable), "{again:?}");
 }
@@ -237,7 +252,9 @@ fn bad_input_is_a_clear_error() {
     let (scene, support) = furnished();
     let s = Stability::new(StabilityParams::default()).unwrap();
     let cache = DecompositionCache::in_memory();
-    let err = s.evaluate(&scene, &support[..2], &cache, &|| false).unwrap_err();
+    let err = s
+        .evaluate(&scene, &support[..2], &cache, &Deadline::none())
+        .unwrap_err();
     assert!(
         matches!(err, PhysicsError::SupportTypeCount { objects: 5, given: 2 }),
         "{err}"
@@ -248,7 +265,9 @@ fn bad_input_is_a_clear_error() {
         .object(cuboid("box", [0.2; 3], [0.0, 0.0, 0.2]))
         .build()
         .unwrap();
-    let err = s.evaluate(&no_rooms, &[None], &cache, &|| false).unwrap_err();
+    let err = s
+        .evaluate(&no_rooms, &[None], &cache, &Deadline::none())
+        .unwrap_err();
     assert!(matches!(err, PhysicsError::NoFloor { .. }), "{err}");
     assert!(err.to_string().contains("bare"), "{err}");
 
@@ -261,29 +280,49 @@ fn bad_input_is_a_clear_error() {
 }
 
 #[test]
-fn the_stop_signal_is_obeyed_in_each_stage() {
+fn a_zero_time_budget_fails_the_scene_naming_the_stage() {
     let (scene, support) = furnished();
     let s = Stability::new(StabilityParams::default()).unwrap();
+    let zero = Deadline::after(Duration::ZERO);
+    for result in [
+        s.evaluate(&scene, &support, &DecompositionCache::in_memory(), &zero)
+            .map(|_| ()),
+        s.settle(&scene, &support, &DecompositionCache::in_memory(), &zero)
+            .map(|_| ()),
+    ] {
+        let err = result.unwrap_err();
+        assert!(
+            matches!(err, PhysicsError::DeadlineExceeded { stage: "decomposition", budget_seconds: Some(b) } if b == 0.0),
+            "{err}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "stability stopped during decomposition: time budget exceeded (the scene's 0 s are used up)"
+        );
+    }
+    // A scene of boxes only decomposes no mesh: the budget is checked all the same.
+    let boxes = room(vec![cuboid("box", [0.2; 3], [2.0, 2.5, 0.2])]);
     let err = s
-        .evaluate(&scene, &support, &DecompositionCache::in_memory(), &|| true)
+        .evaluate(&boxes, &[None], &DecompositionCache::in_memory(), &zero)
         .unwrap_err();
     assert!(
         matches!(
             err,
-            PhysicsError::Stopped {
-                stage: "decomposition"
+            PhysicsError::DeadlineExceeded {
+                stage: "decomposition",
+                ..
             }
         ),
         "{err}"
     );
-    // Stop on the second poll: after decomposing the one mesh, at the first step.
-    let polls = AtomicUsize::new(0);
-    let stop = || polls.fetch_add(1, Ordering::Relaxed) >= 1;
+    // A cancelled run says so.
+    let cancelled = Deadline::none();
+    cancelled.cancel();
     let err = s
-        .evaluate(&scene, &support, &DecompositionCache::in_memory(), &stop)
+        .evaluate(&scene, &support, &DecompositionCache::in_memory(), &cancelled)
         .unwrap_err();
-    assert!(
-        matches!(err, PhysicsError::Stopped { stage: "simulation" }),
-        "{err}"
+    assert_eq!(
+        err.to_string(),
+        "stability stopped during decomposition: the run was cancelled"
     );
 }

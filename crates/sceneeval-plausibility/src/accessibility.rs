@@ -1,5 +1,7 @@
 //! Accessibility (ACC): whether the functional sides of objects can be reached.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use rayon::prelude::*;
 use sceneeval_geom::{Point2, Point3, Real, Side};
 use sceneeval_scene::{ObjectId, Scene, SceneObject};
@@ -106,6 +108,65 @@ pub struct AccessibilityReport {
     pub acc: Option<Real>,
 }
 
+/// The most convex pieces the free part of one access strip may be split into while the
+/// footprints are subtracted from it (about 100 bytes each). Subtraction leaves each piece in
+/// one cell of the arrangement of the footprints' edge lines, so a strip met by `k` footprints
+/// of `m` edges has at most `O((k m)^2)` pieces, and real strips have tens; the limit only
+/// bounds the memory of a pathological scene, which fails with
+/// [`PlausibilityError::TooManyPieces`] rather than allocating without bound.
+pub const MAX_STRIP_PIECES: usize = 1 << 16;
+
+/// The work of the accessibility metric ([`accessibility_with_work`]): deterministic counts
+/// that bound its cost, unlike times.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AccessibilityWork {
+    /// The spatial-index queries that found the footprints and floor pieces each strip can
+    /// meet.
+    pub index: IndexWork,
+    /// Footprints subtracted from a strip's free part (candidates whose box meets the strip).
+    pub subtractions: u64,
+    /// Convex pieces the strips' free parts were left in after each subtraction, summed over
+    /// every subtraction: the polygon work.
+    pub pieces: u64,
+    /// The most pieces any one strip's free part was split into at once (at most
+    /// [`MAX_STRIP_PIECES`]).
+    pub most_pieces: u64,
+}
+
+/// Counters of [`AccessibilityWork`] shared by the threads of one metric, and the limit on
+/// pieces per strip.
+#[derive(Debug)]
+struct Counters {
+    index: WorkCounter,
+    subtractions: AtomicU64,
+    pieces: AtomicU64,
+    most_pieces: AtomicU64,
+    max_pieces: usize,
+}
+
+impl Default for Counters {
+    fn default() -> Self {
+        Counters {
+            index: WorkCounter::default(),
+            subtractions: AtomicU64::default(),
+            pieces: AtomicU64::default(),
+            most_pieces: AtomicU64::default(),
+            max_pieces: MAX_STRIP_PIECES,
+        }
+    }
+}
+
+impl Counters {
+    fn total(&self) -> AccessibilityWork {
+        AccessibilityWork {
+            index: self.index.total(),
+            subtractions: self.subtractions.load(Ordering::Relaxed),
+            pieces: self.pieces.load(Ordering::Relaxed),
+            most_pieces: self.most_pieces.load(Ordering::Relaxed),
+        }
+    }
+}
+
 /// Computes the accessibility metric.
 ///
 /// For each functional side (front, back, left, right; others are ignored) the access strip
@@ -118,13 +179,18 @@ pub struct AccessibilityReport {
 /// of the projected meshes, a deliberate deviation from the reference's bounding rectangles
 /// ([`AccessibilityParams::footprint`] restores those). Off-floor area counts as blocked, as
 /// in the reference. The footprints and floor pieces a strip can meet are found with a
-/// bounding-volume hierarchy, so the metric grows as `n log n`.
+/// bounding-volume hierarchy, so the metric grows as `n log n`. The free part is kept as
+/// disjoint convex pieces; subtracting a footprint splits only the pieces it overlaps, and
+/// copies of an object at one place split nothing after the first
+/// ([`sceneeval_geom::planar::subtract_convex`]), so the pieces stay polynomial in the
+/// footprints (at most [`MAX_STRIP_PIECES`] per strip).
 ///
 /// A side's score is its free area over its strip area; an object's score is its best side's;
 /// ACC is the mean over objects with at least one functional side.
 ///
 /// # Errors
-/// [`PlausibilityError::InvalidParameter`] for bad parameters.
+/// [`PlausibilityError::InvalidParameter`] for bad parameters,
+/// [`PlausibilityError::TooManyPieces`] for a strip split beyond [`MAX_STRIP_PIECES`].
 pub fn accessibility(
     scene: &Scene,
     params: &AccessibilityParams,
@@ -133,8 +199,8 @@ pub fn accessibility(
     accessibility_with_work(scene, params, sides).map(|(report, _)| report)
 }
 
-/// [`accessibility`] and the work of its spatial-index queries (boxes tested, candidate
-/// footprints and floor pieces), for tests and profiling.
+/// [`accessibility`] and its work: the spatial-index queries (boxes tested, candidate
+/// footprints and floor pieces) and the polygon pieces, for tests and profiling.
 ///
 /// # Errors
 /// As [`accessibility`].
@@ -142,11 +208,11 @@ pub fn accessibility_with_work(
     scene: &Scene,
     params: &AccessibilityParams,
     sides: &dyn FunctionalSidesSource,
-) -> Result<(AccessibilityReport, IndexWork), PlausibilityError> {
+) -> Result<(AccessibilityReport, AccessibilityWork), PlausibilityError> {
     params.validate()?;
     let infos = object_infos(scene);
     let pieces = scene_floor_pieces(scene);
-    let work = WorkCounter::default();
+    let work = Counters::default();
     let report = accessibility_counted(scene, params, sides, &infos, &pieces, &work, &Deadline::none())?;
     Ok((report, work.total()))
 }
@@ -170,7 +236,7 @@ pub(crate) fn accessibility_with(
         source,
         infos,
         pieces,
-        &WorkCounter::default(),
+        &Counters::default(),
         deadline,
     )
 }
@@ -184,6 +250,8 @@ struct Blockers<'a> {
     index: BoxIndex,
     pieces: &'a [FloorPiece],
     piece_index: BoxIndex,
+    /// The most pieces a strip's free part may be split into ([`MAX_STRIP_PIECES`]).
+    max_pieces: usize,
 }
 
 fn accessibility_counted(
@@ -192,7 +260,7 @@ fn accessibility_counted(
     source: &dyn FunctionalSidesSource,
     infos: &[ObjectInfo],
     pieces: &[FloorPiece],
-    work: &WorkCounter,
+    work: &Counters,
     deadline: &Deadline,
 ) -> Result<AccessibilityReport, PlausibilityError> {
     let members: Vec<usize> = (0..infos.len())
@@ -213,6 +281,7 @@ fn accessibility_counted(
         members,
         pieces,
         piece_index: BoxIndex::new(&pieces.iter().map(|p| flat(&p.bounds)).collect::<Vec<_>>()),
+        max_pieces: work.max_pieces,
     };
     let objects: Vec<ObjectAccess> = scene
         .objects()
@@ -227,8 +296,8 @@ fn accessibility_counted(
             wanted.dedup();
             let sides: Vec<SideAccess> = wanted
                 .iter()
-                .map(|&s| side_access(scene, k, o, s, params, &blockers, work))
-                .collect();
+                .map(|&s| side_access(scene, k, o, s, params, &blockers, work, deadline))
+                .collect::<Result<_, _>>()?;
             let best = sides.iter().fold(None::<&SideAccess>, |b, s| match b {
                 Some(b) if b.score >= s.score => Some(b),
                 _ => Some(s),
@@ -274,6 +343,9 @@ pub(crate) fn access_strip(o: &SceneObject, side: Side, offset: Real, width: Rea
     ])
 }
 
+/// The free part of one strip: the strip over the floors minus the blocking footprints, which
+/// are subtracted one at a time in scene order (polling `deadline` before each).
+#[allow(clippy::too_many_arguments)]
 fn side_access(
     scene: &Scene,
     own: usize,
@@ -281,14 +353,15 @@ fn side_access(
     side: Side,
     params: &AccessibilityParams,
     blockers: &Blockers<'_>,
-    work: &WorkCounter,
-) -> SideAccess {
+    work: &Counters,
+    deadline: &Deadline,
+) -> Result<SideAccess, PlausibilityError> {
     let strip = access_strip(o, side, params.strip_offset, params.strip_width);
     let strip_area = area(&strip);
     let sb = bounds(&strip);
     let mut parts: Vec<Vec<Point2>> = blockers
         .piece_index
-        .query_flat(&sb, work)
+        .query_flat(&sb, &work.index)
         .into_iter()
         .map(|k| &blockers.pieces[k])
         .filter(|p| boxes_overlap(&p.bounds, &sb))
@@ -297,21 +370,35 @@ fn side_access(
         .collect();
     let on_floor_area = total_area(&parts);
     let mut blocked_by = Vec::new();
-    for m in blockers.index.query_flat(&sb, work) {
+    let mut most = parts.len();
+    for m in blockers.index.query_flat(&sb, &work.index) {
         let k = blockers.members[m];
         let (footprint, fb) = blockers.infos[k].footprint_of(blockers.kind);
         if k == own || !boxes_overlap(fb, &sb) {
             continue;
         }
+        deadline.check("accessibility")?;
         let before = total_area(&parts);
         parts = parts.iter().flat_map(|p| subtract_convex(p, footprint)).collect();
+        work.subtractions.fetch_add(1, Ordering::Relaxed);
+        work.pieces.fetch_add(parts.len() as u64, Ordering::Relaxed);
+        most = most.max(parts.len());
+        if parts.len() > blockers.max_pieces {
+            return Err(PlausibilityError::TooManyPieces {
+                object: o.id().clone(),
+                side,
+                pieces: parts.len(),
+                max: blockers.max_pieces,
+            });
+        }
         let after = total_area(&parts);
         if before - after > 1e-12 {
             blocked_by.push(scene.objects()[k].id().clone());
         }
     }
+    work.most_pieces.fetch_max(most as u64, Ordering::Relaxed);
     let free_area = total_area(&parts);
-    SideAccess {
+    Ok(SideAccess {
         side,
         score: if strip_area > 0.0 {
             (free_area / strip_area).clamp(0.0, 1.0)
@@ -323,7 +410,7 @@ fn side_access(
         on_floor_area,
         free_area,
         blocked_by,
-    }
+    })
 }
 
 pub(crate) fn validate(params: &AccessibilityParams) -> Result<(), PlausibilityError> {
@@ -333,4 +420,72 @@ pub(crate) fn validate(params: &AccessibilityParams) -> Result<(), PlausibilityE
 /// Sum of the pieces' areas, starting from +0 (an empty float `sum` is -0).
 fn total_area(parts: &[Vec<Point2>]) -> Real {
     parts.iter().fold(0.0, |acc, p| acc + area(p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sources::GivenFunctionalSides;
+    use sceneeval_geom::Vector3;
+    use sceneeval_geom::conventions::pose_from_yaw;
+    use sceneeval_scene::{Category, RoomBuilder};
+
+    #[test]
+    fn a_strip_split_beyond_the_limit_fails_with_the_object_and_side() {
+        // A 2 m long strip in front of a cabinet, crossed by ten thin posts (0.05 m wide,
+        // turned 45 degrees) spread along it: its free part is left in about three pieces
+        // per post (the parts of the strip between posts and beside each one).
+        let mut b = Scene::builder()
+            .room_builder(RoomBuilder::rectangle(
+                "r0",
+                Point2::new(0.0, 0.0),
+                Point2::new(6.0, 6.0),
+            ))
+            .add_box(
+                "cabinet",
+                Category::new("cabinet"),
+                Vector3::new(1.0, 0.3, 0.5),
+                pose_from_yaw(Point3::new(3.0, 3.0, 0.5), 0.0),
+            );
+        for k in 0..10 {
+            b = b.add_box(
+                format!("post{k}"),
+                Category::new("post"),
+                Vector3::new(0.025, 0.025, 1.0),
+                pose_from_yaw(Point3::new(2.1 + 0.2 * f64::from(k), 2.6, 1.0), 0.785),
+            );
+        }
+        let scene = b.build().unwrap();
+        let mut sides = GivenFunctionalSides::default();
+        sides.insert("cabinet", vec![Side::Front]);
+        let params = AccessibilityParams::default();
+        let infos = object_infos(&scene);
+        let pieces = scene_floor_pieces(&scene);
+        let run = |max_pieces| {
+            let work = Counters {
+                max_pieces,
+                ..Counters::default()
+            };
+            let r = accessibility_counted(&scene, &params, &sides, &infos, &pieces, &work, &Deadline::none());
+            (r, work.total())
+        };
+        let (report, work) = run(MAX_STRIP_PIECES);
+        let front = &report.unwrap().objects[0].sides[0];
+        assert_eq!(front.blocked_by.len(), 10);
+        assert_eq!(work.subtractions, 10);
+        let most = work.most_pieces as usize;
+        assert!((10..=40).contains(&most), "{work:?}");
+        // The same scene under a limit one below what its strip needs.
+        let (err, _) = run(most - 1);
+        let err = err.unwrap_err();
+        assert!(
+            matches!(&err, PlausibilityError::TooManyPieces { object, side: Side::Front, max, .. }
+                if object.as_str() == "cabinet" && *max == most - 1),
+            "{err}"
+        );
+        assert!(
+            err.to_string().contains("front access strip of object cabinet"),
+            "{err}"
+        );
+    }
 }

@@ -8,7 +8,10 @@ use sceneeval_scene::Scene;
 
 use crate::clearance::{OcclusionMap, OpeningFrame, intruding_parts};
 use crate::raster::{Grid, Storage, check_raster};
-use crate::{PlausibilityError, PlausibilityParams, Sources};
+use crate::{Deadline, PlausibilityError, PlausibilityParams, Sources};
+
+/// The stage named when the deadline passes while the images are drawn.
+const STAGE: &str = "diagnostics";
 
 const OFF_FLOOR: Rgb<u8> = Rgb([40, 40, 40]);
 const BLOCKED: Rgb<u8> = Rgb([200, 70, 60]);
@@ -32,26 +35,35 @@ const OCCLUDED: Rgb<u8> = Rgb([220, 50, 50]);
 ///   seen from the checked side, occluded pixels red.
 ///
 /// The bytes are deterministic (same scene and parameters, same files). Each file is written
-/// through a unique temporary file and an atomic rename.
+/// through a unique temporary file and an atomic rename. The metrics behind the images run
+/// under `deadline` (a scene's time budget covers its images too), which is also checked
+/// between the images and per footprint and opening drawn.
 ///
 /// # Errors
-/// The metrics' parameter errors, [`PlausibilityError::Io`] when a file cannot be written,
+/// The metrics' errors (bad parameters, [`PlausibilityError::DeadlineExceeded`] naming the
+/// stage, ...), [`PlausibilityError::Io`] when a file cannot be written,
 /// [`PlausibilityError::Image`] when a PNG cannot be encoded.
 pub fn write_diagnostics(
     scene: &Scene,
     params: &PlausibilityParams,
     sources: &Sources,
     dir: &Path,
+    deadline: &Deadline,
 ) -> Result<Vec<PathBuf>, PlausibilityError> {
+    crate::navigability::validate(&params.navigability)?;
     std::fs::create_dir_all(dir).map_err(|source| PlausibilityError::Io {
         path: dir.to_owned(),
         source,
     })?;
     let mut written = Vec::new();
-    let map = crate::occupancy_map(scene, &params.navigability)?;
+    let infos = crate::objects::object_infos_within(scene, deadline, STAGE)?;
+    let map = crate::navigability::build_map(scene, &params.navigability, &infos, deadline)
+        .map_err(in_diagnostics)?
+        .0;
     let grid = map.grid;
     // The images hold a value per pixel, unlike the navigability raster's runs.
     check_raster("diagnostics", grid.width, grid.height, Storage::Dense)?;
+    deadline.check(STAGE)?;
     let (run_labels, sizes) = map.components();
     let largest = (0..sizes.len()).max_by(|&a, &b| sizes[a].cmp(&sizes[b]).then(b.cmp(&a)));
     // Per pixel: on a floor, and the free region's label (u32::MAX where not free).
@@ -83,7 +95,6 @@ pub fn write_diagnostics(
     });
     written.push(save(&nav, &dir.join("navigability.png"))?);
 
-    let infos = crate::objects::object_infos(scene);
     let pieces = crate::accessibility::scene_floor_pieces(scene);
     let acc = crate::accessibility::accessibility_with(
         scene,
@@ -91,14 +102,16 @@ pub fn write_diagnostics(
         sources.functional_sides.as_ref(),
         &infos,
         &pieces,
-        &crate::Deadline::none(),
-    )?;
+        deadline,
+    )
+    .map_err(in_diagnostics)?;
     let mut occupied = vec![false; grid.len()];
     let p = &params.accessibility;
     for info in infos
         .iter()
         .filter(|i| i.obstructs(p.height_cutoff, p.walkable_height))
     {
+        deadline.check(STAGE)?;
         grid.for_convex_within(&info.footprint, 0.0, |k| occupied[k] = true);
     }
     let mut colours: Vec<Rgb<u8>> = (0..grid.len())
@@ -109,6 +122,7 @@ pub fn write_diagnostics(
         })
         .collect();
     for side in acc.objects.iter().flat_map(|o| &o.sides) {
+        deadline.check(STAGE)?;
         grid.for_convex_within(&side.strip, 0.0, |k| {
             colours[k] = if on_floor[k] && !occupied[k] {
                 STRIP_FREE
@@ -120,12 +134,9 @@ pub fn write_diagnostics(
     let acc_img = image_from(&grid, |k| colours[k]);
     written.push(save(&acc_img, &dir.join("accessibility.png"))?);
 
-    let clearance = crate::clearance::opening_clearance_with(
-        scene,
-        &params.opening_clearance,
-        &infos,
-        &crate::Deadline::none(),
-    )?;
+    let clearance =
+        crate::clearance::opening_clearance_with(scene, &params.opening_clearance, &infos, deadline)
+            .map_err(in_diagnostics)?;
     let candidates = crate::clearance::Candidates::new(scene, &infos, &params.opening_clearance);
     for (room, wall, opening) in scene.openings() {
         let Some(report) = clearance
@@ -147,6 +158,7 @@ pub fn write_diagnostics(
             let mut mask = vec![false; occ.nu * occ.nw];
             for (_, parts) in intruding_parts(scene, &candidates, &frame) {
                 for part in &parts {
+                    deadline.check(STAGE)?;
                     occ.fill(part, |i| mask[i] = true);
                 }
             }
@@ -167,6 +179,18 @@ pub fn write_diagnostics(
         }
     }
     Ok(written)
+}
+
+/// A deadline error of a metric run for the images, as the diagnostics stage's (the metric
+/// itself ran, or will run, under its own name).
+fn in_diagnostics(e: PlausibilityError) -> PlausibilityError {
+    match e {
+        PlausibilityError::DeadlineExceeded { budget_seconds, .. } => PlausibilityError::DeadlineExceeded {
+            stage: STAGE,
+            budget_seconds,
+        },
+        e => e,
+    }
 }
 
 /// An image of the grid, north (highest y) up.

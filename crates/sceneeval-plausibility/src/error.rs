@@ -48,6 +48,23 @@ pub enum PlausibilityError {
         /// The budget in seconds, `None` when the deadline was cancelled without one.
         budget_seconds: Option<f64>,
     },
+    /// The free part of an access strip was split into more convex pieces than
+    /// [`crate::MAX_STRIP_PIECES`] allows while the footprints over it were subtracted (a
+    /// pathological scene: real strips have tens); the metric stops rather than allocating
+    /// without bound.
+    #[error(
+        "accessibility: the free part of the {side} access strip of object {object} splits into {pieces} convex pieces, over the limit of {max}"
+    )]
+    TooManyPieces {
+        /// The object whose strip it is.
+        object: sceneeval_scene::ObjectId,
+        /// The side of the strip.
+        side: sceneeval_geom::Side,
+        /// The pieces when the limit was passed.
+        pieces: usize,
+        /// The limit, [`crate::MAX_STRIP_PIECES`].
+        max: usize,
+    },
     /// A metric name that is not one of [`crate::Metric::ALL`].
     #[error(
         "unknown metric {name:?}: expected one of collision, support, navigability, accessibility, out_of_bounds, opening_clearance"

@@ -4,8 +4,9 @@
 //!
 //! Every metric is a function of a [`sceneeval_scene::Scene`] and its parameter struct (whose
 //! defaults are the reference's, documented with units and the reference's parameter name);
-//! [`evaluate`] runs them all and [`evaluate_metrics`] (the one dispatcher) any subset, under
-//! a [`Deadline`], into one [`PlausibilityReport`] type. Support types and functional sides,
+//! [`evaluate`] runs them all and [`evaluate_metrics`] (the one dispatcher; [`evaluate_metrics_each`]
+//! goes on past a failed metric) any subset, under a [`Deadline`], into one [`PlausibilityReport`]
+//! type. Support types and functional sides,
 //! which the reference asks a VLM for, come from [`Source`] implementations (one generic trait
 //! per [`Question`]: caller-given maps, what the scene states, built-in category tables, or
 //! chains of these), never from the geometry being checked.
@@ -59,10 +60,15 @@
 //! every box up in a bounding-volume hierarchy and its narrow phase is a bounded search per overlapping pair
 //! ([`collision_with_work`] counts its point queries); support, accessibility, clearance and
 //! out-of-bounds find what a ray, strip or box can meet through a bounding-volume hierarchy
-//! ([`support_with_work`], [`accessibility_with_work`] count its box tests); navigability
+//! ([`support_with_work`], [`accessibility_with_work`] count its box tests; accessibility's exact
+//! clipping also counts its polygon pieces, which copies of an object at one place do not
+//! multiply, and stops at [`MAX_STRIP_PIECES`] per strip); navigability
 //! works on runs of free pixels per row, so its memory grows with rows, not pixels. Per-mesh
 //! tables (inside tests, hierarchies) are built once per mesh and shared by every object
-//! placing it.
+//! placing it. Objects that pile up are the exception: `k` copies of an object at one place
+//! make `k^2` overlapping pairs for collision, `k` supporters under each of their rays for
+//! support and `k^2` footprint subtractions for their strips, so those metrics grow as `k^2`
+//! there (polynomially; docs/performance.md has the figures).
 //!
 //! # Example
 //! ```
@@ -128,8 +134,8 @@ use sceneeval_scene::{ObjectId, Scene};
 use serde::{Deserialize, Serialize};
 
 pub use accessibility::{
-    AccessibilityParams, AccessibilityReport, ObjectAccess, SideAccess, accessibility,
-    accessibility_with_work,
+    AccessibilityParams, AccessibilityReport, AccessibilityWork, MAX_STRIP_PIECES, ObjectAccess, SideAccess,
+    accessibility, accessibility_with_work,
 };
 pub use clearance::{
     BlockingObject, OpeningClearance, OpeningClearanceParams, OpeningClearanceReport, OpeningSide,
@@ -451,12 +457,14 @@ pub fn evaluate(
 /// loops (see [`Deadline`]).
 ///
 /// This is the one place that dispatches metrics: the per-metric functions ([`collision`],
-/// [`support`], ...) give the same results.
+/// [`support`], ...) give the same results. [`evaluate_metrics_each`] goes on past a failed
+/// metric.
 ///
 /// # Errors
 /// [`PlausibilityError::InvalidParameter`] / [`PlausibilityError::RasterTooLarge`] for bad
 /// parameters (checked before any metric runs), [`PlausibilityError::DeadlineExceeded`] when
-/// the deadline passes.
+/// the deadline passes, naming the metric that was running; otherwise the first metric's error
+/// (the metrics after it do not run).
 pub fn evaluate_metrics(
     scene: &Scene,
     params: &PlausibilityParams,
@@ -465,70 +473,169 @@ pub fn evaluate_metrics(
     deadline: &Deadline,
     timings: &mut Vec<MetricTiming>,
 ) -> Result<PlausibilityReport, PlausibilityError> {
+    let mut failure = None;
+    let report = run_metrics(scene, params, sources, metrics, deadline, timings, &mut |_, e| {
+        failure = Some(e);
+        false
+    })?;
+    match failure {
+        Some(e) => Err(e),
+        None => Ok(report),
+    }
+}
+
+/// [`evaluate_metrics`], going on past a metric that fails: the report holds every metric
+/// that ran to the end, and each failed metric comes with its error, in the order of
+/// [`Metric::ALL`]. Once the deadline has passed, every remaining metric fails at once with
+/// [`PlausibilityError::DeadlineExceeded`] naming it, so the call returns promptly.
+///
+/// ```
+/// use std::time::Duration;
+/// use sceneeval_plausibility::{evaluate_metrics_each, Deadline, Metric, PlausibilityParams, Sources};
+/// use sceneeval_scene::Scene;
+///
+/// let scene = Scene::builder().build().unwrap();
+/// let (report, failed) = evaluate_metrics_each(&scene, &PlausibilityParams::default(),
+///     &Sources::default(), &[Metric::Collision, Metric::Support],
+///     &Deadline::after(Duration::ZERO), &mut Vec::new()).unwrap();
+/// assert!(report.collision.is_none() && report.support.is_none());
+/// assert_eq!(failed.iter().map(|(m, _)| *m).collect::<Vec<_>>(), [Metric::Collision, Metric::Support]);
+/// assert!(failed[1].1.to_string().starts_with("support stopped: the scene's time budget of 0 s"));
+/// ```
+///
+/// # Errors
+/// [`PlausibilityError::InvalidParameter`] / [`PlausibilityError::RasterTooLarge`] for bad
+/// parameters (checked before any metric runs).
+pub fn evaluate_metrics_each(
+    scene: &Scene,
+    params: &PlausibilityParams,
+    sources: &Sources,
+    metrics: &[Metric],
+    deadline: &Deadline,
+    timings: &mut Vec<MetricTiming>,
+) -> Result<(PlausibilityReport, Vec<(Metric, PlausibilityError)>), PlausibilityError> {
+    let mut failed = Vec::new();
+    let report = run_metrics(scene, params, sources, metrics, deadline, timings, &mut |m, e| {
+        failed.push((m, e));
+        true
+    })?;
+    Ok((report, failed))
+}
+
+/// The dispatcher of [`evaluate_metrics`] and [`evaluate_metrics_each`]: each failed metric
+/// is handed to `failed`, which says whether to go on.
+fn run_metrics(
+    scene: &Scene,
+    params: &PlausibilityParams,
+    sources: &Sources,
+    metrics: &[Metric],
+    deadline: &Deadline,
+    timings: &mut Vec<MetricTiming>,
+    failed: &mut dyn FnMut(Metric, PlausibilityError) -> bool,
+) -> Result<PlausibilityReport, PlausibilityError> {
     params.validate()?;
     let mut report = PlausibilityReport::empty(scene, metrics);
-    let selected = report.metrics.clone();
-    let mut infos: Option<Vec<objects::ObjectInfo>> = None;
-    let mut pieces: Option<Vec<plane::FloorPiece>> = None;
-    for metric in selected {
-        deadline.check(metric.name())?;
+    let mut shared = Shared::default();
+    for metric in report.metrics.clone() {
         let start = std::time::Instant::now();
-        match metric {
-            Metric::Collision => {
-                report.collision = Some(collision::collision_with(scene, &params.collision, deadline)?.0);
-            }
-            Metric::Support => {
-                report.support = Some(
-                    support::support_with(scene, &params.support, sources.support_types.as_ref(), deadline)?
-                        .0,
-                );
-            }
-            Metric::Navigability => {
-                let infos = infos.get_or_insert_with(|| objects::object_infos(scene));
-                report.navigability = Some(navigability::navigability_with(
-                    scene,
-                    &params.navigability,
-                    infos,
-                    deadline,
-                )?);
-            }
-            Metric::Accessibility => {
-                let infos = infos.get_or_insert_with(|| objects::object_infos(scene));
-                let pieces = pieces.get_or_insert_with(|| accessibility::scene_floor_pieces(scene));
-                report.accessibility = Some(accessibility::accessibility_with(
-                    scene,
-                    &params.accessibility,
-                    sources.functional_sides.as_ref(),
-                    infos,
-                    pieces,
-                    deadline,
-                )?);
-            }
-            Metric::OutOfBounds => {
-                let pieces = pieces.get_or_insert_with(|| accessibility::scene_floor_pieces(scene));
-                report.out_of_bounds = Some(oob::out_of_bounds_with(
-                    scene,
-                    &params.out_of_bounds,
-                    pieces,
-                    deadline,
-                )?);
-            }
-            Metric::OpeningClearance => {
-                let infos = infos.get_or_insert_with(|| objects::object_infos(scene));
-                report.opening_clearance = Some(clearance::opening_clearance_with(
-                    scene,
-                    &params.opening_clearance,
-                    infos,
-                    deadline,
-                )?);
+        match run_metric(scene, params, sources, metric, deadline, &mut shared, &mut report) {
+            Ok(()) => timings.push(MetricTiming {
+                metric,
+                seconds: start.elapsed().as_secs_f64(),
+            }),
+            Err(e) => {
+                tracing::debug!(scene = ?scene.id(), %metric, error = %e, "metric not computed");
+                if !failed(metric, e) {
+                    break;
+                }
             }
         }
-        timings.push(MetricTiming {
-            metric,
-            seconds: start.elapsed().as_secs_f64(),
-        });
     }
     report.summary = PlausibilitySummary::of(&report);
     tracing::debug!(scene = ?scene.id(), summary = ?report.summary, "plausibility");
     Ok(report)
+}
+
+/// What several metrics compute on the way, kept for the next.
+#[derive(Default)]
+struct Shared {
+    infos: Option<Vec<objects::ObjectInfo>>,
+    pieces: Option<Vec<plane::FloorPiece>>,
+}
+
+/// The objects' footprints, computed on the first call for `metric` and kept.
+fn shared_infos<'a>(
+    slot: &'a mut Option<Vec<objects::ObjectInfo>>,
+    scene: &Scene,
+    deadline: &Deadline,
+    metric: Metric,
+) -> Result<&'a [objects::ObjectInfo], PlausibilityError> {
+    if slot.is_none() {
+        *slot = Some(objects::object_infos_within(scene, deadline, metric.name())?);
+    }
+    Ok(slot.as_deref().unwrap_or_default())
+}
+
+/// Runs one metric into its field of `report`.
+fn run_metric(
+    scene: &Scene,
+    params: &PlausibilityParams,
+    sources: &Sources,
+    metric: Metric,
+    deadline: &Deadline,
+    shared: &mut Shared,
+    report: &mut PlausibilityReport,
+) -> Result<(), PlausibilityError> {
+    deadline.check(metric.name())?;
+    let Shared { infos, pieces } = shared;
+    match metric {
+        Metric::Collision => {
+            report.collision = Some(collision::collision_with(scene, &params.collision, deadline)?.0);
+        }
+        Metric::Support => {
+            report.support = Some(
+                support::support_with(scene, &params.support, sources.support_types.as_ref(), deadline)?.0,
+            );
+        }
+        Metric::Navigability => {
+            let infos = shared_infos(infos, scene, deadline, metric)?;
+            report.navigability = Some(navigability::navigability_with(
+                scene,
+                &params.navigability,
+                infos,
+                deadline,
+            )?);
+        }
+        Metric::Accessibility => {
+            let infos = shared_infos(infos, scene, deadline, metric)?;
+            let pieces = pieces.get_or_insert_with(|| accessibility::scene_floor_pieces(scene));
+            report.accessibility = Some(accessibility::accessibility_with(
+                scene,
+                &params.accessibility,
+                sources.functional_sides.as_ref(),
+                infos,
+                pieces,
+                deadline,
+            )?);
+        }
+        Metric::OutOfBounds => {
+            let pieces = pieces.get_or_insert_with(|| accessibility::scene_floor_pieces(scene));
+            report.out_of_bounds = Some(oob::out_of_bounds_with(
+                scene,
+                &params.out_of_bounds,
+                pieces,
+                deadline,
+            )?);
+        }
+        Metric::OpeningClearance => {
+            let infos = shared_infos(infos, scene, deadline, metric)?;
+            report.opening_clearance = Some(clearance::opening_clearance_with(
+                scene,
+                &params.opening_clearance,
+                infos,
+                deadline,
+            )?);
+        }
+    }
+    Ok(())
 }

@@ -249,7 +249,7 @@ enum Blocker<'a> {
 /// The map and, per object, whether it was drawn as an obstacle. Row by row (in parallel):
 /// the floor's intervals minus the intervals within the robot's half width of a blocker,
 /// each computed in closed form; blockers are bucketed by their first row and swept.
-fn build_map(
+pub(crate) fn build_map(
     scene: &Scene,
     params: &NavigabilityParams,
     infos: &[ObjectInfo],

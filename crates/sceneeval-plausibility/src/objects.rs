@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 use sceneeval_geom::{Mesh, Point2, Point3, Real, Vector3};
-use sceneeval_scene::{Scene, SceneObject};
+use sceneeval_scene::{Deadline, DeadlineExceeded, Scene, SceneObject};
 use serde::{Deserialize, Serialize};
 
 use crate::plane::{bounds, convex_hull_fast};
@@ -136,6 +136,18 @@ pub(crate) fn rectangle(object: &SceneObject) -> Vec<Point2> {
 
 /// [`ObjectInfo`] for every object, in scene order.
 pub(crate) fn object_infos(scene: &Scene) -> Vec<ObjectInfo> {
+    let infos = object_infos_within(scene, &Deadline::none(), "");
+    // Without a deadline nothing can stop it.
+    infos.unwrap_or_default()
+}
+
+/// [`object_infos`] for `stage` (the metric that needs them), polling `deadline` per mesh
+/// hull and per object.
+pub(crate) fn object_infos_within(
+    scene: &Scene,
+    deadline: &Deadline,
+    stage: &'static str,
+) -> Result<Vec<ObjectInfo>, DeadlineExceeded> {
     let lowest = lowest_floor(scene);
     // Objects sharing a mesh (the same asset placed several times) share its local hull.
     let mut meshes: Vec<&Arc<Mesh>> = Vec::new();
@@ -152,12 +164,19 @@ pub(crate) fn object_infos(scene: &Scene) -> Vec<ObjectInfo> {
             })
         })
         .collect();
-    let hulls: Vec<Vec<Point2>> = meshes.par_iter().map(|m| local_hull(m)).collect();
+    let hulls: Vec<Vec<Point2>> = meshes
+        .par_iter()
+        .map(|m| {
+            deadline.check(stage)?;
+            Ok(local_hull(m))
+        })
+        .collect::<Result<_, _>>()?;
     scene
         .objects()
         .par_iter()
         .zip(slot.par_iter())
         .map(|(o, slot)| {
+            deadline.check(stage)?;
             let fp = footprint(o, slot.map(|k| hulls[k].as_slice()));
             let aabb = o.world_aabb();
             let c = aabb.center();
@@ -172,7 +191,7 @@ pub(crate) fn object_infos(scene: &Scene) -> Vec<ObjectInfo> {
                 }
             };
             let rect = rectangle(o);
-            ObjectInfo {
+            Ok(ObjectInfo {
                 bounds: bounds_of(&fp),
                 footprint: fp,
                 rectangle_bounds: bounds_of(&rect),
@@ -180,7 +199,7 @@ pub(crate) fn object_infos(scene: &Scene) -> Vec<ObjectInfo> {
                 floor_z,
                 min_z: aabb.min.z,
                 max_z: aabb.max.z,
-            }
+            })
         })
         .collect()
 }

@@ -11,10 +11,11 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use common::scene;
+use sceneeval_geom::Side;
 use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Isometry3, Mesh, Point3, Vector3};
 use sceneeval_plausibility::*;
-use sceneeval_scene::{Category, Scene, SceneObject};
+use sceneeval_scene::{Category, ObjectId, Scene, SceneObject};
 
 /// `n` boxes in a row, 0.4 m apart, all on the floor.
 fn row_of_boxes(n: usize) -> Scene {
@@ -73,17 +74,22 @@ impl Source<SupportTypeOf> for CancelAfter {
     }
 }
 
-#[test]
-fn a_cancelled_deadline_stops_a_metric_inside_its_loop() {
-    // 36 objects; the deadline is cancelled while the support metric handles the 5th.
-    let s = row_of_boxes(36);
-    let deadline = Deadline::none();
+/// Sources whose support types cancel `deadline` when the 5th object is asked.
+fn cancelling_at_fifth(deadline: &Deadline) -> Sources {
     let source = CancelAfter {
         calls: AtomicUsize::new(0),
         after: 5,
         deadline: deadline.clone(),
     };
-    let sources = Sources::new(source, FunctionalSidePriors::default());
+    Sources::new(source, FunctionalSidePriors::default())
+}
+
+#[test]
+fn a_cancelled_deadline_stops_a_metric_inside_its_loop() {
+    // 36 objects; the deadline is cancelled while the support metric handles the 5th.
+    let s = row_of_boxes(36);
+    let deadline = Deadline::none();
+    let sources = cancelling_at_fifth(&deadline);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
     let mut timings = Vec::new();
     let err = pool
@@ -491,4 +497,292 @@ fn the_deadline_stops_the_navigability_raster_inside_its_rows() {
         ),
         "{err}"
     );
+}
+
+/// The bed of issue 34 (a 1.6 x 2.1 m bed against the far wall of the 4 x 5 m room, front,
+/// left and right functional sides) and `n` copies of a round plant (a 32-segment sphere of
+/// radius 0.25 m, turned 0.3 rad) at one pose, over the bed's left access strip.
+fn bed_with_plants(n: usize) -> Scene {
+    let plant = common::sphere(0.25, 16);
+    let mut b = scene().add_box(
+        "bed",
+        Category::new("bed"),
+        Vector3::new(0.8, 1.05, 0.3),
+        pose_from_yaw(Point3::new(2.0, 3.95, 0.3), 0.0),
+    );
+    for k in 0..n {
+        b = b.object(
+            SceneObject::from_mesh(
+                format!("plant{k}"),
+                Arc::clone(&plant),
+                common::at(1.0, 3.95, 0.25, 0.3),
+            )
+            .unwrap()
+            .with_category("plant"),
+        );
+    }
+    b.build().unwrap()
+}
+
+#[test]
+fn coincident_round_objects_keep_accessibility_polynomial() {
+    // Issue 34, item 7: a bed plus 45 plants at one pose took 4 s and 437 MB, plus 50 took
+    // 19 s and 2.16 GB: every copy split each piece of the strip's free part again into
+    // slivers of rounding-error width. Now the copies after the first split nothing: the
+    // pieces per strip stay those of one plant, the total work grows linearly, and the scores
+    // are those of one plant.
+    let sides = FunctionalSidePriors::default();
+    let (one, one_work) =
+        accessibility_with_work(&bed_with_plants(1), &AccessibilityParams::default(), &sides).unwrap();
+    for n in [16, 50] {
+        let (r, work) =
+            accessibility_with_work(&bed_with_plants(n), &AccessibilityParams::default(), &sides).unwrap();
+        assert_eq!(work.most_pieces, one_work.most_pieces, "{n}: {work:?}");
+        assert_eq!(
+            work.subtractions,
+            n as u64 * one_work.subtractions,
+            "{n}: {work:?}"
+        );
+        assert_eq!(work.pieces, n as u64 * one_work.pieces, "{n}: {work:?}");
+        let (bed, bed_one) = (&r.objects[0], &one.objects[0]);
+        assert_eq!(bed.sides, bed_one.sides, "{n}: only the first plant blocks");
+        assert_eq!(bed.score, bed_one.score);
+    }
+    // The plant covers part of the left strip (x in [0.95, 1.15], y in [2.9, 5]); the front and
+    // right strips are free, so the bed's best side scores 1.
+    let left = &one.objects[0].sides[1];
+    assert_eq!(left.side, Side::Left);
+    assert_eq!(left.blocked_by, vec![ObjectId::new("plant0")]);
+    assert!(left.score > 0.5 && left.score < 0.95, "{}", left.score);
+    assert_eq!(one.objects[0].score, Some(1.0));
+}
+
+/// A box object: category, half extents, centre, yaw and functional sides.
+type Furniture = (&'static str, Vector3, (f64, f64, f64), f64, &'static [Side]);
+
+/// A Holodeck-like bedroom (issue 34: six objects x 200 duplicates was OOM-killed at 24 GB):
+/// a bed, two nightstands, a desk, a round lamp and a wardrobe, each placed `copies` times at
+/// one pose, with their functional sides stated.
+fn duplicated_bedroom(copies: usize) -> Scene {
+    let lamp = common::sphere(0.2, 8);
+    let mut b = scene();
+    let boxes: [Furniture; 5] = [
+        (
+            "bed",
+            Vector3::new(0.8, 1.05, 0.3),
+            (2.0, 3.9, 0.3),
+            0.0,
+            &[Side::Front, Side::Left, Side::Right],
+        ),
+        (
+            "nightstand",
+            Vector3::new(0.22, 0.2, 0.28),
+            (0.9, 4.7, 0.28),
+            0.0,
+            &[Side::Front],
+        ),
+        (
+            "nightstand",
+            Vector3::new(0.22, 0.2, 0.28),
+            (3.1, 4.7, 0.28),
+            0.1,
+            &[Side::Front],
+        ),
+        (
+            "desk",
+            Vector3::new(0.6, 0.3, 0.38),
+            (3.6, 1.5, 0.38),
+            1.2,
+            &[Side::Front],
+        ),
+        (
+            "wardrobe",
+            Vector3::new(0.5, 0.3, 1.0),
+            (0.35, 1.6, 1.0),
+            -std::f64::consts::FRAC_PI_2,
+            &[Side::Front],
+        ),
+    ];
+    for k in 0..copies {
+        for (i, (cat, half, (x, y, z), yaw, sides)) in boxes.iter().enumerate() {
+            b = b.object(
+                SceneObject::new_box(
+                    format!("{cat}{i}_{k}"),
+                    *half,
+                    pose_from_yaw(Point3::new(*x, *y, *z), *yaw),
+                )
+                .unwrap()
+                .with_category(*cat)
+                .with_functional_sides(sides.iter().copied()),
+            );
+        }
+        b = b.object(
+            SceneObject::from_mesh(
+                format!("lamp_{k}"),
+                Arc::clone(&lamp),
+                common::at(1.05, 3.0, 0.2, 0.4),
+            )
+            .unwrap()
+            .with_category("floor lamp")
+            .with_functional_sides([Side::Front]),
+        );
+    }
+    b.build().unwrap()
+}
+
+#[test]
+fn duplicated_objects_cost_polynomially_in_every_metric() {
+    // The house of issue 34 scaled down to 40 copies of each object. Accessibility's pieces
+    // stay those of one copy; every metric finishes and every first copy scores as alone.
+    let params = PlausibilityParams::default();
+    let sides = Stated;
+    let single = duplicated_bedroom(1);
+    let (one, one_work) = accessibility_with_work(&single, &params.accessibility, &sides).unwrap();
+    let copies = 40;
+    let s = duplicated_bedroom(copies);
+    let (acc, work) = accessibility_with_work(&s, &params.accessibility, &sides).unwrap();
+    // Every copy's strip meets every copy of what one strip met (its own object's copies
+    // included): subtractions grow with the square of the copies, and each leaves no more
+    // pieces than one copy's strips hold.
+    assert_eq!(work.most_pieces, one_work.most_pieces, "{work:?} {one_work:?}");
+    let strips: usize = one.objects.iter().map(|o| o.sides.len()).sum();
+    let squared = (copies * copies) as u64;
+    assert!(
+        work.subtractions <= squared * (one_work.subtractions + strips as u64),
+        "{work:?}"
+    );
+    assert!(
+        work.pieces <= work.subtractions * one_work.most_pieces,
+        "{work:?}"
+    );
+    for (k, o) in one.objects.iter().enumerate() {
+        // The first copy of object k is object k of the duplicated scene.
+        assert_eq!(acc.objects[k].score, o.score, "{}", o.id);
+    }
+    let report = evaluate(&s, &params, &Sources::default()).unwrap();
+    common::check_invariants(&report);
+    // Collision's narrow phase sees every pair of copies (6 groups of C(40, 2) = 780) plus the
+    // pairs of different objects whose boxes meet (the lamp and the bed's foot, 40 x 40).
+    let (_, cw) = collision_with_work(&s, &params.collision).unwrap();
+    assert!(cw.candidate_pairs >= 6 * 780, "{cw:?}");
+    assert!(cw.candidate_pairs <= 6 * 780 + 3 * copies * copies, "{cw:?}");
+}
+
+/// Answers "no sides" for every object but `last`, whose sides are asked last on one thread;
+/// asked for `last`, it cancels `deadline` and answers its front.
+struct CancelAtLast {
+    last: &'static str,
+    deadline: Deadline,
+}
+
+impl Source<FunctionalSidesOf> for CancelAtLast {
+    fn answer(&self, _: &Scene, o: &SceneObject) -> Option<Answer<Vec<Side>>> {
+        let value = if o.id().as_str() == self.last {
+            self.deadline.cancel();
+            vec![Side::Front]
+        } else {
+            Vec::new()
+        };
+        Some(Answer {
+            value,
+            source: "test".into(),
+        })
+    }
+}
+
+#[test]
+fn a_deadline_stops_accessibility_inside_one_strip() {
+    // The deadline passes while the last object's strip is computed: the footprints over it
+    // are subtracted one at a time, checking the deadline before each, so the metric stops
+    // (it used to check only before each object, and finished a strip however long it took).
+    let mut b = scene();
+    for k in 0..8 {
+        b = b.add_box(
+            format!("post{k}"),
+            Category::new("post"),
+            Vector3::new(0.03, 0.03, 1.0),
+            pose_from_yaw(Point3::new(1.3 + 0.2 * f64::from(k), 2.6, 1.0), 0.7),
+        );
+    }
+    let s = b
+        .add_box(
+            "cabinet",
+            Category::new("cabinet"),
+            Vector3::new(1.0, 0.3, 0.5),
+            pose_from_yaw(Point3::new(2.0, 3.0, 0.5), 0.0),
+        )
+        .build()
+        .unwrap();
+    let deadline = Deadline::none();
+    let sources = Sources::new(
+        SupportTypePriors::default(),
+        CancelAtLast {
+            last: "cabinet",
+            deadline: deadline.clone(),
+        },
+    );
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let run = |deadline: &Deadline| {
+        pool.install(|| {
+            evaluate_metrics(
+                &s,
+                &PlausibilityParams::default(),
+                &sources,
+                &[Metric::Accessibility],
+                deadline,
+                &mut Vec::new(),
+            )
+        })
+    };
+    let err = run(&deadline).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            PlausibilityError::DeadlineExceeded {
+                stage: "accessibility",
+                budget_seconds: None
+            }
+        ),
+        "{err}"
+    );
+    // Without a deadline to cancel, the strip is blocked by the eight posts.
+    let r = run(&Deadline::none()).unwrap();
+    assert_eq!(r.accessibility.unwrap().objects[8].sides[0].blocked_by.len(), 8);
+}
+
+#[test]
+fn metrics_finished_before_the_deadline_are_kept() {
+    // The deadline is cancelled while support handles its 5th object: collision is kept,
+    // support and every later metric fail at once, each naming itself.
+    let s = row_of_boxes(36);
+    let deadline = Deadline::none();
+    let sources = cancelling_at_fifth(&deadline);
+    let mut timings = Vec::new();
+    let (report, failed) = evaluate_metrics_each(
+        &s,
+        &PlausibilityParams::default(),
+        &sources,
+        &Metric::ALL,
+        &deadline,
+        &mut timings,
+    )
+    .unwrap();
+    let alone = collision(&s, &CollisionParams::default()).unwrap();
+    assert_eq!(report.collision, Some(alone));
+    assert!(report.support.is_none() && report.opening_clearance.is_none());
+    assert_eq!(
+        timings.iter().map(|t| t.metric).collect::<Vec<_>>(),
+        [Metric::Collision]
+    );
+    let stopped: Vec<(Metric, &str)> = failed
+        .iter()
+        .map(|(m, e)| match e {
+            PlausibilityError::DeadlineExceeded { stage, .. } => (*m, *stage),
+            e => panic!("{m}: {e}"),
+        })
+        .collect();
+    let names: Vec<(Metric, &str)> = Metric::ALL[1..].iter().map(|m| (*m, m.name())).collect();
+    assert_eq!(stopped, names);
+    assert_eq!(report.summary.col_sc, Some(false));
+    assert_eq!(report.summary.sup, None);
 }

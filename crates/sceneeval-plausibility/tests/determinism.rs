@@ -8,7 +8,7 @@ mod common;
 use common::{at, check_invariants, scene, sphere};
 use sceneeval_geom::conventions::pose_from_yaw;
 use sceneeval_geom::{Point3, Vector3};
-use sceneeval_plausibility::{PlausibilityParams, PlausibilityReport, Sources, evaluate};
+use sceneeval_plausibility::{Deadline, PlausibilityParams, PlausibilityReport, Sources, evaluate};
 use sceneeval_scene::Category;
 use sceneeval_scene::Scene;
 
@@ -81,10 +81,23 @@ fn diagnostic_images_are_deterministic() {
     let params = PlausibilityParams::default();
     let a = tempfile::tempdir().unwrap();
     let b = tempfile::tempdir().unwrap();
-    let files_a =
-        sceneeval_plausibility::write_diagnostics(&s, &params, &Sources::default(), a.path()).unwrap();
+    let files_a = sceneeval_plausibility::write_diagnostics(
+        &s,
+        &params,
+        &Sources::default(),
+        a.path(),
+        &Deadline::none(),
+    )
+    .unwrap();
     let files_b = run_in_pool(2, || {
-        sceneeval_plausibility::write_diagnostics(&s, &params, &Sources::default(), b.path()).unwrap()
+        sceneeval_plausibility::write_diagnostics(
+            &s,
+            &params,
+            &Sources::default(),
+            b.path(),
+            &Deadline::none(),
+        )
+        .unwrap()
     });
     let names: Vec<String> = files_a
         .iter()
@@ -137,7 +150,14 @@ fn two_writers_of_one_diagnostics_folder_never_fail_and_leave_whole_images() {
         .iter()
         .map(|s| {
             let dir = tempfile::tempdir().unwrap();
-            sceneeval_plausibility::write_diagnostics(s, &params, &Sources::default(), dir.path()).unwrap();
+            sceneeval_plausibility::write_diagnostics(
+                s,
+                &params,
+                &Sources::default(),
+                dir.path(),
+                &Deadline::none(),
+            )
+            .unwrap();
             std::fs::read(dir.path().join("navigability.png")).unwrap()
         })
         .collect();
@@ -148,7 +168,14 @@ fn two_writers_of_one_diagnostics_folder_never_fail_and_leave_whole_images() {
             let (params, dir) = (&params, shared.path());
             t.spawn(move || {
                 for _ in 0..10 {
-                    sceneeval_plausibility::write_diagnostics(s, params, &Sources::default(), dir).unwrap();
+                    sceneeval_plausibility::write_diagnostics(
+                        s,
+                        params,
+                        &Sources::default(),
+                        dir,
+                        &Deadline::none(),
+                    )
+                    .unwrap();
                 }
             });
         }

@@ -268,7 +268,10 @@ fn support_and_accessibility_index_work_grows_as_n_log_n() {
         assert_eq!(sup.num_supported, n);
         let (acc, aw) = accessibility_with_work(&s, &AccessibilityParams::default(), &Stated).unwrap();
         assert_eq!(acc.num_scored, n);
-        per_object.push((sw.box_tests as f64 / n as f64, aw.box_tests as f64 / n as f64));
+        per_object.push((
+            sw.box_tests as f64 / n as f64,
+            aw.index.box_tests as f64 / n as f64,
+        ));
     }
     // Sixteen times the objects: a scan of every box would test sixteen times as many per
     // object; the index's tests grow with log n (log2 4096 / log2 256 = 1.5).

@@ -23,6 +23,8 @@
 //!   same plans, run and files; `vlm` (a dict of [`sceneeval::VlmOptions`]' fields, the
 //!   `--vlm-*` settings) asks an OpenAI-compatible endpoint. `evaluation_request(...)` gives
 //!   the request itself, as `sceneeval evaluate --print-request` prints it.
+//! - `sceneeval.stats` ([`stats`]): Cohen's and Fleiss' kappa, bootstrap intervals, paired
+//!   differences with the Wilcoxon test, Holm, McNemar and majority votes from `sceneeval-stats`.
 //!
 //! Every computation runs with the GIL released; bad arguments raise `ValueError`, files that
 //! cannot be read or evaluated raise `sceneeval.SceneEvalError`, with the Rust error's message
@@ -43,6 +45,7 @@ pub mod errors;
 pub mod relations;
 pub mod run;
 pub mod scene;
+pub mod stats;
 
 /// SceneEval's predicates, scenes, plausibility metrics and evaluation, implemented in Rust.
 #[pyo3::pymodule]
@@ -57,6 +60,8 @@ mod _sceneeval {
     use crate::run::{evaluate, evaluation_request};
     #[pymodule_export]
     use crate::scene::{PyScene, load_scene};
+    #[pymodule_export]
+    use crate::stats::stats;
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -182,6 +182,7 @@ fn request(
     vlm: Option<&Bound<'_, PyDict>>,
     force: bool,
     threads: Option<usize>,
+    strict: bool,
 ) -> PyResult<EvaluationRequest> {
     let matching = matching
         .map(|m| {
@@ -209,6 +210,7 @@ fn request(
         force,
         shard: None,
         diagnostics: false,
+        strict,
     })
 }
 
@@ -216,7 +218,7 @@ fn request(
 /// `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
 /// dry_run is accepted as evaluate() takes it; it is not part of the request.
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, dry_run=false))]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, strict=false, dry_run=false))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluation_request<'py>(
     py: Python<'py>,
@@ -233,6 +235,7 @@ pub fn evaluation_request<'py>(
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
+    strict: bool,
     dry_run: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let _ = dry_run;
@@ -251,6 +254,7 @@ pub fn evaluation_request<'py>(
         vlm.as_ref(),
         force,
         threads,
+        strict,
     )?;
     to_python(py, &request)
 }
@@ -333,7 +337,8 @@ struct Incomplete {
 /// lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
 /// the run's note. A re-run into the same out reuses a scene's result while nothing it depends
 /// on changed (force=True evaluates every scene again). threads: worker threads (default one
-/// per core). dry_run=True evaluates nothing, writes nothing and sends nothing: it returns what
+/// per core). strict=True fails each scene file that has keys the sceneState format does not
+/// have (a misspelt key is read as absent), as --strict; by default each is a warning. dry_run=True evaluates nothing, writes nothing and sends nothing: it returns what
 /// the run would ask the VLM (see below). Runs with the GIL released.
 ///
 /// With dry_run=True, returns scenes, evaluated (scenes the run would evaluate), reused,
@@ -352,7 +357,7 @@ struct Incomplete {
 /// ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
 /// with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, dry_run=false))]
+#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, strict=false, dry_run=false))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluate<'py>(
     py: Python<'py>,
@@ -369,6 +374,7 @@ pub fn evaluate<'py>(
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
+    strict: bool,
     dry_run: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = request(
@@ -386,6 +392,7 @@ pub fn evaluate<'py>(
         vlm.as_ref(),
         force,
         threads,
+        strict,
     )?;
     let prepared = detached(py, || request.prepare().map_err(|e| run_error(&e)))?;
     for warning in prepared.warnings() {

@@ -74,6 +74,8 @@ impl PyScene {
             },
             weld,
             vlm: vlm.map(vlm_options).transpose()?,
+            // The scene is read already: `strict` applies to reading a file.
+            ..SettleRequest::default()
         };
         let prepared = detached(py, || request.prepare().map_err(|e| request_error(&e)))?;
         let settled = detached(py, || {
@@ -605,19 +607,23 @@ impl PyScene {
 /// assets maps a model id prefix to its folder, {"objaverse": "/data/objathor-assets"}; the
 /// folder layout is chosen from the prefix as by `sceneeval evaluate --assets`, or given as
 /// "LAYOUT:folder" (3d-future, objathor, hssd, layoutvlm, plain). Read with the GIL released.
+/// Keys the sceneState format does not have (a misspelt key is read as absent) are each logged
+/// as a warning; strict=True raises SceneEvalError listing them instead.
 ///
 /// Raises SceneEvalError naming the file, the JSON pointer and the asset when the scene
 /// cannot be read, and ValueError for a bad assets mapping.
 #[pyfunction]
-#[pyo3(signature = (path, assets=None))]
+#[pyo3(signature = (path, assets=None, *, strict=false))]
 pub fn load_scene(
     py: Python<'_>,
     path: PathBuf,
     assets: Option<BTreeMap<String, PathBuf>>,
+    strict: bool,
 ) -> PyResult<PyScene> {
     let library = asset_library(assets)?;
+    let options = ReadOptions::default().with_strict(strict);
     let scene = detached(py, || {
-        read_scene_state(&path, &library, &ReadOptions::default()).map_err(|e| scene_error(&e))
+        read_scene_state(&path, &library, &options).map_err(|e| scene_error(&e))
     })?;
     Ok(PyScene::new(scene))
 }

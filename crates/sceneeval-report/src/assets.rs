@@ -20,7 +20,12 @@ use sceneeval_results::SceneRecord;
 /// records name. A prefix whose folder cannot be recovered (files moved, paths relative to
 /// another working folder) is left out: reading a scene that uses it then fails naming the
 /// prefix.
-pub fn recorded_assets(records: &[SceneRecord]) -> AssetLibrary {
+///
+/// Only folders inside one of `within` (after following symbolic links; canonical paths) are
+/// registered: a record can name any file, and the report reads only inside the folders it is
+/// given (the run folder, the scene folder). A prefix whose folder lies elsewhere is left out
+/// as above.
+pub fn recorded_assets(records: &[SceneRecord], within: &[&Path]) -> AssetLibrary {
     // Per prefix, per model id: the mesh file and the first metadata file.
     let mut meshes: BTreeMap<String, BTreeMap<String, (PathBuf, Option<PathBuf>)>> = BTreeMap::new();
     for record in records {
@@ -45,12 +50,20 @@ pub fn recorded_assets(records: &[SceneRecord]) -> AssetLibrary {
         };
         let default = Layout::for_prefix(&prefix);
         let layouts = std::iter::once(default).chain(Layout::ALL.into_iter().filter(|l| *l != default));
+        // A folder outside the folders given is not looked into at all (locating an asset
+        // reads metadata files).
+        let allowed = |root: &Path| {
+            root.canonicalize()
+                .is_ok_and(|r| within.iter().any(|w| r.starts_with(w)))
+        };
         let found = layouts
             .filter_map(|layout| {
-                Some((
-                    layout,
-                    root(layout, first_mesh, first_metadata.as_deref(), asset_id)?,
-                ))
+                let root = root(layout, first_mesh, first_metadata.as_deref(), asset_id)?;
+                if !allowed(&root) {
+                    tracing::info!(%prefix, %layout, "a recorded asset folder lies outside the folders given: not read");
+                    return None;
+                }
+                Some((layout, root))
             })
             .find(|(layout, root)| {
                 let source = layout.source(root.clone());

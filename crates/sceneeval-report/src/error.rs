@@ -7,16 +7,24 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum ReportError {
     /// A run folder holds no `<scene>/eval.json`.
-    #[error("{}: no <scene>/eval.json in this folder (is it the --out folder of sceneeval evaluate?)", dir.display())]
+    #[error("{}: no <scene>/eval.json in this folder (not the output folder of an evaluation)", dir.display())]
     NoRecords {
         /// The folder.
         dir: PathBuf,
     },
-    /// A record could not be read (the error names the file).
+    /// A run folder holds records, but none can be read.
+    #[error("{}: no record of this folder can be read; {}: {}", dir.display(), first.path.display(), first.reason)]
+    NoReadableRecords {
+        /// The folder.
+        dir: PathBuf,
+        /// The first record (in scene order) and why it cannot be read.
+        first: Box<crate::Unreadable>,
+    },
+    /// A record could not be read, or a file written (the error names the file).
     #[error(transparent)]
     Results(#[from] sceneeval_results::ResultsError),
-    /// An `--assets` specification is wrong.
-    #[error("--assets: {0}")]
+    /// An asset folder specification (`PREFIX=[LAYOUT:]DIR`) is wrong.
+    #[error("asset folders: {0}")]
     Assets(#[source] sceneeval_io::IoError),
     /// A file or folder could not be read or written.
     #[error("{}: {source}", path.display())]

@@ -57,9 +57,12 @@ pub mod escape;
 mod html;
 mod report;
 mod run;
+mod within;
 
 pub use assets::recorded_assets;
 pub use compare::{CompareOptions, Comparison, compare};
 pub use error::ReportError;
-pub use report::{DEFAULT_DIR, FILES_DIR, INDEX, ReportOptions, SCENES_DIR, Written, write_report};
-pub use run::{Run, groups, metrics_in, scene_values, summary_columns};
+pub use report::{
+    DEFAULT_DIR, FILES_DIR, INDEX, NoTopView, ReportOptions, SCENES_DIR, Written, write_report,
+};
+pub use run::{Run, Unreadable, groups, metrics_in, scene_values, summary_columns};

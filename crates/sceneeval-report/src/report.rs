@@ -17,6 +17,7 @@ use crate::html::relative_href;
 use crate::html::scene::{Image, ScenePage, scene_page};
 use crate::html::topview::Overlay;
 use crate::run::{Run, summary_columns};
+use crate::within::{Inside, inside, is_file_name};
 
 /// The report's folder inside a run folder when none is given (`RUN/report`).
 pub const DEFAULT_DIR: &str = "report";
@@ -31,9 +32,10 @@ pub const FILES_DIR: &str = "files";
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct ReportOptions {
     /// Asset folders as `--assets` takes them (`PREFIX=[LAYOUT:]DIR`); empty: the folders the
-    /// records name ([`recorded_assets`]).
+    /// records name ([`recorded_assets`]), those inside the run folder or `scenes` only.
     pub assets: Vec<String>,
-    /// The folder holding the scene files (`<scene>.json`); `None`: the file each record names.
+    /// The folder holding the scene files (`<scene>.json`); `None`: the file each record
+    /// names, only when it lies inside the run folder.
     pub scenes: Option<PathBuf>,
 }
 
@@ -45,34 +47,78 @@ pub struct Written {
     /// Scene pages written.
     pub pages: usize,
     /// Scenes whose top view could not be drawn, and why.
-    pub without_top_view: Vec<(String, String)>,
+    pub without_top_view: Vec<(String, NoTopView)>,
+}
+
+/// Why a scene page has no top view.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum NoTopView {
+    /// No scene folder was given and the record names no scene file (it has no fingerprint).
+    NotRecorded,
+    /// No scene folder was given and the scene file the record names lies outside the run
+    /// folder: it is not read (a record could name any file).
+    OutsideRun,
+    /// The scene's name is not a file name (`..`, a separator): no path is made of it.
+    NotAFileName,
+    /// The scene file could not be read.
+    Unreadable {
+        /// The file.
+        path: PathBuf,
+        /// Why, with the causes.
+        reason: String,
+    },
+}
+
+impl std::fmt::Display for NoTopView {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NoTopView::NotRecorded => f.write_str(
+                "the record names no scene file (it has no fingerprint) and the report was given no scene folder",
+            ),
+            NoTopView::OutsideRun => f.write_str(
+                "the scene file the record names lies outside the run folder and the report was given no scene \
+                 folder; the report reads scene files only inside the run folder or the scene folder it is given",
+            ),
+            NoTopView::NotAFileName => f.write_str("the scene's name is not a file name"),
+            NoTopView::Unreadable { path, reason } => write!(f, "reading {} failed: {reason}", path.display()),
+        }
+    }
 }
 
 /// Writes the report of `run` into `out` (created if needed): `index.html` and
 /// `scenes/<scene>.html`. Images the run wrote (`<scene>/views/*.png`,
 /// `<scene>/diagnostics/*.png`) are linked where they are when `out` lies inside the run
 /// folder (the default, `RUN/report`), and copied under `out/files/` otherwise, so the folder
-/// works on its own. Each scene's top view is drawn from the scene file its record names (or
-/// `options.scenes`), read with the default read options through `options.assets` or the
-/// asset folders the records name; a scene that cannot be read gets a page saying why. Every
-/// file is written atomically.
+/// works on its own. Each scene's top view is drawn from `options.scenes/<scene>.json`, or
+/// without it from the scene file its record names when that lies inside the run folder, read
+/// with the default read options through `options.assets` or the asset folders the records
+/// name inside the run folder or `options.scenes`; a scene that cannot be read gets a page
+/// saying why. Every file is written atomically.
+///
+/// The report reads only inside the run folder, `options.scenes` and `options.assets`: a path
+/// a record names elsewhere is not read (nor quoted), and an image that is a symbolic link out
+/// of the run folder is neither linked nor copied (its page says so).
 ///
 /// # Errors
 /// [`ReportError::File`] when a folder cannot be created or an image read,
 /// [`ReportError::File`] when a file cannot be written, [`ReportError::Assets`] for a bad
-/// `--assets` specification.
+/// asset folder specification.
 pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Written, ReportError> {
     let pages_dir = out.join(SCENES_DIR);
     std::fs::create_dir_all(&pages_dir).map_err(|e| ReportError::file(&pages_dir, e))?;
+    let root = run
+        .dir
+        .canonicalize()
+        .map_err(|e| ReportError::file(&run.dir, e))?;
     let assets = if options.assets.is_empty() {
-        recorded_assets(&run.records)
+        let scenes = options.scenes.as_deref().and_then(|d| d.canonicalize().ok());
+        let within: Vec<&Path> = std::iter::once(root.as_path()).chain(scenes.as_deref()).collect();
+        recorded_assets(&run.records, &within)
     } else {
         AssetLibrary::from_specs(&options.assets).map_err(ReportError::Assets)?
     };
-    let inside = match (out.canonicalize(), run.dir.canonicalize()) {
-        (Ok(o), Ok(r)) => o.starts_with(r),
-        _ => false,
-    };
+    let inside_run = out.canonicalize().is_ok_and(|o| o.starts_with(&root));
     let metrics = run.metrics();
     let columns: Vec<(&'static str, sceneeval_results::Metric)> = summary_columns()
         .into_iter()
@@ -83,47 +129,17 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
     for record in &run.records {
         let name = record.scene.as_str();
         let file = format!("{}.html", escape::file_name(name));
-        let (loaded, remarks) = load(record, options, &assets);
-        if let Err(why) = &loaded {
-            without_top_view.push((name.to_owned(), why.clone()));
-        }
-        let scene_dir = run.dir.join(name);
-        let images = |kind: &str| -> Result<Vec<Image>, ReportError> {
-            let mut list = Vec::new();
-            for path in pngs(&scene_dir.join(kind))? {
-                let file_name = path
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                let href = if inside {
-                    relative_href(&pages_dir, &path)
-                } else {
-                    None
-                };
-                let href = match href {
-                    Some(h) => h,
-                    None => {
-                        let bytes = std::fs::read(&path).map_err(|e| ReportError::file(&path, e))?;
-                        let folder = escape::file_name(name);
-                        write_atomic(
-                            &out.join(FILES_DIR).join(&folder).join(kind).join(&file_name),
-                            &bytes,
-                        )?;
-                        format!(
-                            "../{FILES_DIR}/{folder}/{kind}/{}",
-                            escape::url_segment(&file_name)
-                        )
-                    }
-                };
-                list.push(Image {
-                    name: file_name,
-                    href,
-                });
-            }
-            Ok(list)
+        let (loaded, mut remarks) = load(record, &root, options, &assets);
+        let images = Images {
+            root: &root,
+            scene_dir: run.scene_dir(name),
+            scene: name,
+            out,
+            pages_dir: &pages_dir,
+            inside_run,
         };
-        let views = images("views")?;
-        let diagnostics = images("diagnostics")?;
+        let views = images.list("views", &mut remarks)?;
+        let diagnostics = images.list("diagnostics", &mut remarks)?;
         let overlay = match (
             record.report().and_then(|r| r.navigability.as_ref()),
             diagnostics.iter().find(|i| i.name == "navigability.png"),
@@ -138,13 +154,16 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
             run: &run.name,
             record,
             difficulty: run.difficulty(name),
-            scene: loaded.as_ref().map(SceneInfo::new).map_err(Clone::clone),
+            scene: loaded.as_ref().map(SceneInfo::new).map_err(ToString::to_string),
             views,
             diagnostics,
             overlay,
             remarks,
             columns: &columns,
         });
+        if let Err(why) = loaded {
+            without_top_view.push((name.to_owned(), why));
+        }
         write_atomic(&pages_dir.join(&file), html.as_bytes())?;
         pages.insert(
             name.to_owned(),
@@ -160,22 +179,89 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
     })
 }
 
-/// The scene of `record` read from its file, or why it cannot be; and remarks on it.
+/// A scene's images in the run folder, linked or copied into the report.
+struct Images<'a> {
+    /// The run folder, canonical.
+    root: &'a Path,
+    /// The scene's folder in the run, when its name is a file name.
+    scene_dir: Option<PathBuf>,
+    scene: &'a str,
+    out: &'a Path,
+    pages_dir: &'a Path,
+    /// Whether the report lies inside the run folder (images are linked, not copied).
+    inside_run: bool,
+}
+
+impl Images<'_> {
+    /// The PNG files of `<scene>/<kind>`; a file that leads out of the run folder is left out
+    /// with a remark.
+    fn list(&self, kind: &str, remarks: &mut Vec<String>) -> Result<Vec<Image>, ReportError> {
+        let Some(scene_dir) = &self.scene_dir else {
+            return Ok(Vec::new());
+        };
+        let mut list = Vec::new();
+        for path in pngs(&scene_dir.join(kind))? {
+            let file_name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let Inside::Yes(real) = inside(self.root, &path) else {
+                remarks.push(format!(
+                    "The image {kind}/{file_name} is a symbolic link that leads out of the run folder: not shown."
+                ));
+                continue;
+            };
+            let href = if self.inside_run {
+                relative_href(self.pages_dir, &path)
+            } else {
+                None
+            };
+            let href = match href {
+                Some(h) => h,
+                None => {
+                    let mut bytes = Vec::new();
+                    sceneeval_files::open_regular(&real)
+                        .and_then(|mut f| std::io::Read::read_to_end(&mut f, &mut bytes))
+                        .map_err(|e| ReportError::file(&path, e))?;
+                    let folder = escape::file_name(self.scene);
+                    write_atomic(
+                        &self.out.join(FILES_DIR).join(&folder).join(kind).join(&file_name),
+                        &bytes,
+                    )?;
+                    format!(
+                        "../{FILES_DIR}/{folder}/{kind}/{}",
+                        escape::url_segment(&file_name)
+                    )
+                }
+            };
+            list.push(Image {
+                name: file_name,
+                href,
+            });
+        }
+        Ok(list)
+    }
+}
+
+/// The scene of `record` read from its file, or why it cannot be; and remarks on it. `root` is
+/// the run folder (canonical).
 fn load(
     record: &SceneRecord,
+    root: &Path,
     options: &ReportOptions,
     assets: &AssetLibrary,
-) -> (Result<Scene, String>, Vec<String>) {
+) -> (Result<Scene, NoTopView>, Vec<String>) {
     let recorded = record.fingerprint.as_ref().map(|f| &f.scene);
+    let name = record.scene.as_str();
     let path = match (&options.scenes, recorded) {
-        (Some(dir), _) => dir.join(format!("{}.json", record.scene)),
-        (None, Some(f)) => PathBuf::from(&f.path),
-        (None, None) => {
-            return (
-                Err("the record names no scene file (it has no fingerprint); pass --scenes DIR".to_owned()),
-                Vec::new(),
-            );
-        }
+        (Some(_), _) if !is_file_name(name) => return (Err(NoTopView::NotAFileName), Vec::new()),
+        (Some(dir), _) => dir.join(format!("{name}.json")),
+        (None, Some(f)) => match inside(root, Path::new(&f.path)) {
+            Inside::Yes(path) => path,
+            // Not followed, not quoted: a record can name any file.
+            Inside::No | Inside::Missing => return (Err(NoTopView::OutsideRun), Vec::new()),
+        },
+        (None, None) => return (Err(NoTopView::NotRecorded), Vec::new()),
     };
     let mut remarks = Vec::new();
     match read_scene_state(&path, assets, &ReadOptions::default()) {
@@ -191,13 +277,10 @@ fn load(
             (Ok(scene), remarks)
         }
         Err(e) => (
-            Err(format!(
-                "reading {} failed: {:#}. The record names the scene file and its asset files as the run read them \
-                 (relative paths are relative to the folder sceneeval evaluate ran in): write the report from that \
-                 folder, or pass --scenes DIR and --assets PREFIX=DIR.",
-                path.display(),
-                ErrorChain::new(&e)
-            )),
+            Err(NoTopView::Unreadable {
+                reason: format!("{:#}", ErrorChain::new(&e)),
+                path,
+            }),
             remarks,
         ),
     }

@@ -5,12 +5,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use sceneeval_annotation::Annotations;
+use sceneeval_files::ErrorChain;
 use sceneeval_results::{
-    ALL_SCENES, GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneRecord, SceneReport, Summary,
-    UNANNOTATED,
+    ALL_SCENES, GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneName, SceneRecord, SceneReport,
+    Summary, UNANNOTATED,
 };
 
 use crate::ReportError;
+use crate::within::{Inside, inside, is_file_name};
 
 /// The records of one run folder and the difficulty of each scene.
 #[derive(Debug, Clone)]
@@ -21,8 +23,23 @@ pub struct Run {
     pub dir: PathBuf,
     /// One record per scene, in scene order (benchmark id, then name).
     pub records: Vec<SceneRecord>,
+    /// The records of the folder that could not be read, in scene order: listed by the report
+    /// and the comparison as a missing scene is, with the reason.
+    pub unreadable: Vec<Unreadable>,
     /// Scene name to difficulty (`easy`, `medium`, `hard`, ...), for scenes that have one.
     difficulty: BTreeMap<String, String>,
+}
+
+/// A record of a run folder that could not be read.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Unreadable {
+    /// The scene: the name of the folder the record is in.
+    pub scene: SceneName,
+    /// The record file (`<scene>/eval.json`).
+    pub path: PathBuf,
+    /// Why it could not be read: the parse error with its causes, a symbolic link out of the
+    /// run folder, a record of another scene than its folder's.
+    pub reason: String,
 }
 
 impl Run {
@@ -30,29 +47,74 @@ impl Run {
     /// `summary_scenes.csv` when it has one (the difficulty the annotations of the run gave;
     /// [`Run::with_annotations`] replaces them).
     ///
+    /// Only what lies inside `dir` is read: a record (or its folder) that is a symbolic link
+    /// leading out of `dir` is not read. A record that cannot be read (not JSON, another
+    /// schema, a link out of the folder, not a regular file, or the record of another scene
+    /// than the folder it is in) is listed in [`Run::unreadable`] with the reason, and the
+    /// others are read.
+    ///
     /// # Errors
-    /// [`ReportError::File`] when the folder cannot be listed, [`ReportError::Results`] for a
-    /// record that cannot be read, [`ReportError::NoRecords`] when there is none,
+    /// [`ReportError::File`] when the folder cannot be listed, [`ReportError::NoRecords`] when
+    /// it holds no record, [`ReportError::NoReadableRecords`] when none can be read,
     /// [`ReportError::Csv`] for a malformed `summary_scenes.csv`.
     pub fn open(dir: &Path) -> Result<Run, ReportError> {
+        let root = dir.canonicalize().map_err(|e| ReportError::file(dir, e))?;
         let entries = std::fs::read_dir(dir).map_err(|e| ReportError::file(dir, e))?;
         let mut records = Vec::new();
+        let mut unreadable = Vec::new();
         for entry in entries {
             let entry = entry.map_err(|e| ReportError::file(dir, e))?;
             let path = entry.path().join(RECORD_FILE);
-            if path.is_file() {
-                records.push(SceneRecord::read(&path)?);
+            // A folder without a record (the report's own, a scratch folder) is not a scene.
+            if path.symlink_metadata().is_err() {
+                continue;
+            }
+            let scene = SceneName::new(entry.file_name().to_string_lossy());
+            match read_record(&root, &scene, &path) {
+                Ok(record) => records.push(record),
+                Err(reason) => {
+                    tracing::warn!(path = %path.display(), %reason, "record not read");
+                    unreadable.push(Unreadable { scene, path, reason });
+                }
             }
         }
         if records.is_empty() {
-            return Err(ReportError::NoRecords { dir: dir.to_owned() });
+            return Err(
+                match unreadable
+                    .into_iter()
+                    .min_by(|a, b| scene_order(&a.scene, &b.scene))
+                {
+                    None => ReportError::NoRecords { dir: dir.to_owned() },
+                    Some(first) => ReportError::NoReadableRecords {
+                        dir: dir.to_owned(),
+                        first: Box::new(first),
+                    },
+                },
+            );
         }
+        unreadable.sort_by(|a, b| scene_order(&a.scene, &b.scene));
         let name = dir
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| dir.display().to_string());
-        let difficulty = read_difficulties(&dir.join(SUMMARY_SCENES_CSV))?;
-        Ok(Run::from_records(name, dir, records).with_difficulties(difficulty))
+        let difficulty = match inside(&root, &dir.join(SUMMARY_SCENES_CSV)) {
+            Inside::Yes(path) => read_difficulties(&path)?,
+            Inside::Missing => BTreeMap::new(),
+            Inside::No => {
+                tracing::warn!(dir = %dir.display(), "{SUMMARY_SCENES_CSV} leads out of the run folder: not read");
+                BTreeMap::new()
+            }
+        };
+        let mut run = Run::from_records(name, dir, records).with_difficulties(difficulty);
+        run.unreadable = unreadable;
+        Ok(run)
+    }
+
+    /// The folder of `scene`'s files in the run folder (`<dir>/<scene>`), when the name is one
+    /// file name (not `..`, no separator): a record's name never builds a path out of the
+    /// folder.
+    pub fn scene_dir(&self, scene: &str) -> Option<PathBuf> {
+        is_file_name(scene).then(|| self.dir.join(scene))
     }
 
     /// A run of `records` (put in scene order), named `name`, whose files are in `dir`.
@@ -61,14 +123,12 @@ impl Run {
         dir: impl Into<PathBuf>,
         mut records: Vec<SceneRecord>,
     ) -> Run {
-        records.sort_by(|a, b| {
-            let key = |r: &SceneRecord| (r.scene.number().unwrap_or(u64::MAX), r.scene.to_string());
-            key(a).cmp(&key(b))
-        });
+        records.sort_by(|a, b| scene_order(&a.scene, &b.scene));
         Run {
             name: name.into(),
             dir: dir.into(),
             records,
+            unreadable: Vec::new(),
             difficulty: BTreeMap::new(),
         }
     }
@@ -138,6 +198,31 @@ impl Run {
             })
             .collect()
     }
+}
+
+/// Scenes in order: benchmark id, then name.
+pub(crate) fn scene_order(a: &SceneName, b: &SceneName) -> std::cmp::Ordering {
+    let key = |s: &SceneName| (s.number().unwrap_or(u64::MAX), s.as_str().to_owned());
+    key(a).cmp(&key(b))
+}
+
+/// The record `path` of the folder of `scene`, or why it cannot be read.
+fn read_record(root: &Path, scene: &SceneName, path: &Path) -> Result<SceneRecord, String> {
+    let file = match inside(root, path) {
+        Inside::Yes(file) => file,
+        Inside::No => return Err("a symbolic link that leads out of the run folder (not read)".to_owned()),
+        Inside::Missing => return Err("a symbolic link to nothing".to_owned()),
+    };
+    sceneeval_files::check_regular(&file).map_err(|e| e.to_string())?;
+    let record = SceneRecord::read(&file).map_err(|e| format!("{}", ErrorChain::new(&e)))?;
+    if record.scene != *scene {
+        return Err(format!(
+            "the record is of scene {:?}, not of the folder {:?} it is in",
+            record.scene.as_str(),
+            scene.as_str()
+        ));
+    }
+    Ok(record)
 }
 
 /// The metrics that ran on a scene, in [`Metric::ALL`] order: its geometry metrics and the
@@ -227,17 +312,16 @@ pub fn groups<'s, 'd>(
 }
 
 /// Scene name to difficulty from a run's `summary_scenes.csv` (columns `scene` and
-/// `difficulty`); empty when the file does not exist.
+/// `difficulty`).
 fn read_difficulties(path: &Path) -> Result<BTreeMap<String, String>, ReportError> {
-    if !path.is_file() {
-        return Ok(BTreeMap::new());
-    }
     let csv_error = |source| ReportError::Csv {
         path: path.to_owned(),
         source,
     };
     let file = sceneeval_files::open_regular(path).map_err(|e| ReportError::file(path, e))?;
     let mut reader = csv::Reader::from_reader(file);
+    // Cells a spreadsheet would run were written with a leading `'` (`Summary::scenes_csv`).
+    let cell = sceneeval_files::csv_cell::unescape;
     let headers = reader.headers().map_err(csv_error)?.clone();
     let column = |name: &str| headers.iter().position(|h| h == name);
     let (Some(scene), Some(difficulty)) = (column("scene"), column("difficulty")) else {
@@ -249,7 +333,7 @@ fn read_difficulties(path: &Path) -> Result<BTreeMap<String, String>, ReportErro
         if let (Some(s), Some(d)) = (row.get(scene), row.get(difficulty))
             && !d.is_empty()
         {
-            out.insert(s.to_owned(), d.to_owned());
+            out.insert(cell(s).to_owned(), cell(d).to_owned());
         }
     }
     Ok(out)

@@ -14,7 +14,9 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use sceneeval_report::compare::Verdict;
-use sceneeval_report::{CompareOptions, ReportOptions, Run, compare, write_report};
+use sceneeval_report::{
+    CompareOptions, NoTopView, ReportOptions, Run, compare, recorded_assets, write_report,
+};
 use sceneeval_results::{Metric, Preset, SceneName, SceneRecord, Stage};
 use sceneeval_run::EvaluationRequest;
 use sceneeval_test_support::fidelity_model::CSV;
@@ -24,6 +26,24 @@ struct Runs {
     root: PathBuf,
     a: PathBuf,
     b: PathBuf,
+}
+
+impl Runs {
+    /// What `sceneeval report RUN --scenes DIR --assets fixture=...` gives for run `name`.
+    fn options(&self, name: &str) -> ReportOptions {
+        ReportOptions {
+            assets: vec![fixture_assets()],
+            scenes: Some(self.root.join(format!("scenes-{name}"))),
+        }
+    }
+}
+
+/// The `--assets` of the fixture assets.
+fn fixture_assets() -> String {
+    format!(
+        "fixture={}",
+        fixtures().join("assets").canonicalize().unwrap().display()
+    )
 }
 
 fn fixtures() -> PathBuf {
@@ -48,10 +68,7 @@ fn runs() -> &'static Runs {
             }
             let out = root.join(name);
             let mut request = EvaluationRequest::new(&dir, &out);
-            request.assets = vec![format!(
-                "fixture={}",
-                fixtures().join("assets").canonicalize().unwrap().display()
-            )];
+            request.assets = vec![fixture_assets()];
             request.annotations = Some(annotations.clone());
             request.plan.plan = Some("full".into());
             request.plan.preset = Some(preset);
@@ -66,14 +83,13 @@ fn runs() -> &'static Runs {
         };
         let a = run("method-a", &[2, 5, 7, 8], Preset::Default, true);
         let b = run("method-b", &[2, 5, 8], Preset::Reference, false);
-        // The report of each run where `sceneeval report RUN` writes it.
-        for dir in [&a, &b] {
-            let written = write_report(
-                &Run::open(dir).unwrap(),
-                &dir.join("report"),
-                &ReportOptions::default(),
-            )
-            .unwrap();
+        // The report of each run where `sceneeval report RUN --scenes DIR --assets ...` writes it.
+        for (name, dir) in [("method-a", &a), ("method-b", &b)] {
+            let options = ReportOptions {
+                assets: vec![fixture_assets()],
+                scenes: Some(root.join(format!("scenes-{name}"))),
+            };
+            let written = write_report(&Run::open(dir).unwrap(), &dir.join("report"), &options).unwrap();
             assert!(
                 written.without_top_view.is_empty(),
                 "{:?}",
@@ -244,10 +260,15 @@ fn a_report_outside_its_run_copies_the_images_and_escapes_everything() {
         &err,
     ));
     let out = tempfile::tempdir().unwrap();
-    let written = write_report(&run, out.path(), &ReportOptions::default()).unwrap();
+    let written = write_report(&run, out.path(), &r.options("method-a")).unwrap();
     assert_eq!(written.pages, 5);
-    // The failed scene has no file recorded: its page says why there is no top view.
+    // The failed scene has no file in the scene folder: its page says why there is no top view.
     assert_eq!(written.without_top_view.len(), 1);
+    assert!(
+        matches!(&written.without_top_view[0].1, NoTopView::Unreadable { path, .. } if path.ends_with("scene_9<b>.json")),
+        "{:?}",
+        written.without_top_view
+    );
     assert!(
         out.path()
             .join("files/scene_8/diagnostics/navigability.png")
@@ -267,6 +288,204 @@ fn a_report_outside_its_run_copies_the_images_and_escapes_everything() {
     assert!(
         s8.contains("href=\"../files/scene_8/diagnostics/navigability.png\""),
         "{s8}"
+    );
+}
+
+/// A copy of run `method-a` in a folder of its own, next to a "secret" file outside it, then
+/// tampered with: scene 2's record names the secret file as its scene, scene 5's views hold a
+/// symbolic link to it, scene 7's record says its scene is `../..`, scene 8's record is not
+/// JSON, `scene_9/eval.json` is a link to a record outside the run and `scene_11/eval.json` a
+/// link to nothing.
+#[cfg(unix)]
+fn tampered_run() -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let r = runs();
+    let root = tempfile::tempdir().unwrap();
+    let run = root.path().join("run");
+    let copied = Command::new("cp").arg("-r").arg(&r.a).arg(&run).status().unwrap();
+    assert!(copied.success());
+    std::fs::remove_dir_all(run.join("report")).unwrap();
+    let secret = root.path().join("secret.json");
+    std::fs::write(
+        &secret,
+        r#"{"version": "TOP-SECRET-VALUE", "objects": "TOP-SECRET-VALUE"}"#,
+    )
+    .unwrap();
+    let edit = |scene: &str, f: &dyn Fn(&mut serde_json::Value)| {
+        let path = run.join(scene).join("eval.json");
+        let mut record: serde_json::Value = serde_json::from_str(&read(&path)).unwrap();
+        f(&mut record);
+        std::fs::write(&path, record.to_string()).unwrap();
+    };
+    let secret_path = secret.display().to_string();
+    edit("scene_2", &|r| {
+        r["fingerprint"]["scene"]["path"] = secret_path.clone().into();
+        r["fingerprint"]["scene"]["blake3"] = serde_json::Value::Null;
+    });
+    let views = run.join("scene_5/views");
+    std::fs::create_dir_all(&views).unwrap();
+    std::fs::copy(
+        run.join("scene_8/diagnostics/navigability.png"),
+        views.join("ok.png"),
+    )
+    .unwrap();
+    std::os::unix::fs::symlink(&secret, views.join("evil.png")).unwrap();
+    edit("scene_7", &|r| r["scene"] = "../..".into());
+    std::fs::write(run.join("scene_8/eval.json"), "{\"schema\": ").unwrap();
+    std::fs::create_dir_all(run.join("scene_9")).unwrap();
+    std::fs::copy(r.b.join("scene_2/eval.json"), root.path().join("elsewhere.json")).unwrap();
+    std::os::unix::fs::symlink(root.path().join("elsewhere.json"), run.join("scene_9/eval.json")).unwrap();
+    std::fs::create_dir_all(run.join("scene_11")).unwrap();
+    std::os::unix::fs::symlink(root.path().join("nowhere.json"), run.join("scene_11/eval.json")).unwrap();
+    (root, run, secret)
+}
+
+/// Every file below `dir`, as text.
+fn texts(dir: &Path) -> Vec<(PathBuf, String)> {
+    sceneeval_test_support::files_below(dir)
+        .into_iter()
+        .map(|path| {
+            let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+            (path, text)
+        })
+        .collect()
+}
+
+#[cfg(unix)]
+#[test]
+fn a_tampered_run_folder_makes_the_report_read_nothing_outside_it() {
+    let (root, run_dir, secret) = tampered_run();
+    let run = Run::open(&run_dir).unwrap();
+    // The corrupted record, the one of another scene and the link out are listed, with why.
+    let unreadable: Vec<(&str, &str)> = run
+        .unreadable
+        .iter()
+        .map(|u| (u.scene.as_str(), u.reason.as_str()))
+        .collect();
+    assert_eq!(unreadable.len(), 4, "{unreadable:?}");
+    assert_eq!(unreadable[0].0, "scene_7");
+    assert!(
+        unreadable[0]
+            .1
+            .contains("the record is of scene \"../..\", not of the folder \"scene_7\""),
+        "{unreadable:?}"
+    );
+    assert_eq!(unreadable[1].0, "scene_8");
+    assert!(
+        unreadable[1]
+            .1
+            .contains("not a valid result file: EOF while parsing"),
+        "{unreadable:?}"
+    );
+    assert_eq!(unreadable[3], ("scene_11", "a symbolic link to nothing"));
+    assert_eq!(unreadable[2].0, "scene_9");
+    assert!(
+        unreadable[2].1.contains("leads out of the run folder"),
+        "{unreadable:?}"
+    );
+    let names: Vec<&str> = run.records.iter().map(|r| r.scene.as_str()).collect();
+    assert_eq!(names, ["scene_2", "scene_5"]);
+
+    // Inside the run (links) and outside it (copies), without a scene folder.
+    for out in [run_dir.join("report"), root.path().join("copy")] {
+        let written = write_report(&run, &out, &ReportOptions::default()).unwrap();
+        assert_eq!(written.pages, 2);
+        let why: Vec<(&str, &NoTopView)> = written
+            .without_top_view
+            .iter()
+            .map(|(s, w)| (s.as_str(), w))
+            .collect();
+        assert_eq!(
+            why,
+            [
+                ("scene_2", &NoTopView::OutsideRun),
+                ("scene_5", &NoTopView::OutsideRun)
+            ]
+        );
+        for (path, text) in texts(&out) {
+            assert!(
+                !text.contains("TOP-SECRET"),
+                "{} quotes the secret file",
+                path.display()
+            );
+            assert!(
+                !text.contains(&secret.display().to_string()),
+                "{} names the secret file",
+                path.display()
+            );
+        }
+        let s5 = read(&out.join("scenes/scene_5.html"));
+        assert!(s5.contains("ok.png"), "{s5}");
+        assert!(
+            !s5.contains("href=\"../../scene_5/views/evil.png\"") && !s5.contains("views/evil.png\""),
+            "{s5}"
+        );
+        assert!(
+            s5.contains(
+                "The image views/evil.png is a symbolic link that leads out of the run folder: not shown."
+            ),
+            "{s5}"
+        );
+        assert!(!out.join("files/scene_5/views/evil.png").exists());
+        let index = read(&out.join("index.html"));
+        assert!(index.contains("<ul id=\"unreadable\">"), "{index}");
+        assert!(index.contains("scene_8/eval.json</code>: "), "{index}");
+        assert!(index.contains("EOF while parsing"), "{index}");
+    }
+    // Nothing was written outside the report folders.
+    let mut top = sceneeval_test_support::file_names(root.path());
+    top.sort();
+    assert_eq!(top, ["copy", "elsewhere.json", "run", "secret.json"]);
+
+    // A record whose name would leave the folder, in a run made in memory: no path is built.
+    let mut escaping = run.records[0].clone();
+    escaping.scene = SceneName::new("../..");
+    let mem = Run::from_records("mem", &run_dir, vec![escaping]);
+    assert_eq!(mem.scene_dir("../.."), None);
+    let out = root.path().join("mem-report");
+    let written = write_report(
+        &mem,
+        &out,
+        &ReportOptions {
+            assets: Vec::new(),
+            scenes: Some(root.path().to_owned()),
+        },
+    )
+    .unwrap();
+    assert_eq!(written.without_top_view[0].1, NoTopView::NotAFileName);
+    assert!(
+        out.join("scenes/~2E~2E~2F~2E~2E.html").is_file(),
+        "{:?}",
+        sceneeval_test_support::file_names(&out.join("scenes"))
+    );
+
+    // The asset folders the records name are used only inside the folders given.
+    let assets = fixtures().join("assets").canonicalize().unwrap();
+    let a = Run::open(&runs().a).unwrap();
+    assert_eq!(
+        recorded_assets(&a.records, &[run_dir.canonicalize().unwrap().as_path()])
+            .prefixes()
+            .count(),
+        0
+    );
+    let found: Vec<String> = recorded_assets(&a.records, &[assets.as_path()])
+        .prefixes()
+        .map(str::to_owned)
+        .collect();
+    assert_eq!(found, ["fixture"]);
+
+    // The comparison lists the unreadable records with the parse error and leaves their scenes out.
+    let c = compare(&[run, Run::open(&runs().b).unwrap()], &CompareOptions::default()).unwrap();
+    assert_eq!(c.scenes, ["scene_2", "scene_5"]);
+    let notes = c.notes.join("\n");
+    assert!(
+        notes.contains("run: 4 record(s) could not be read, their scenes are left out: "),
+        "{notes}"
+    );
+    assert!(notes.contains("EOF while parsing"), "{notes}");
+    assert!(notes.contains("scene_8 (unreadable in run)"), "{notes}");
+    assert!(
+        notes.contains("scene_7 (unreadable in run; not in method-b)"),
+        "{notes}"
     );
 }
 

@@ -1,6 +1,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use sceneeval_files::csv_cell;
 use serde::{Deserialize, Serialize};
 
 use sceneeval_annotation::Annotations;
@@ -358,7 +359,8 @@ impl Summary {
                 "error" => row.error.clone().unwrap_or_default(),
                 number => row.values.cell(number, 4),
             });
-            w.write_record(cells)?;
+            // A scene name or error a spreadsheet would run gets a leading `'`; numbers stay.
+            w.write_record(cells.map(csv_cell::escape_owned))?;
         }
         let bytes = w
             .into_inner()
@@ -371,7 +373,7 @@ impl Summary {
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record(COLUMNS)?;
         for g in &self.groups {
-            w.write_record(COLUMNS.iter().map(|c| g.cell(c, 4)))?;
+            w.write_record(COLUMNS.iter().map(|c| csv_cell::escape_owned(g.cell(c, 4))))?;
         }
         let bytes = w
             .into_inner()
@@ -706,6 +708,26 @@ mod tests {
             lines[3],
             "scene_2,2,,failed,,,,,,,,,,,,,,0,0,0,0,0,0,load stage: broken"
         );
+    }
+
+    #[test]
+    fn text_cells_a_spreadsheet_would_run_are_escaped_and_numbers_are_not() {
+        // A scene named like a formula (the error cell starts with its stage: plain text).
+        let err = std::io::Error::other("-1 objects: broken");
+        let mut recs = records();
+        recs.push(SceneRecord::failed(
+            SceneName::new("=cmd|calc!A1"),
+            Stage::Load,
+            &err,
+        ));
+        let s = Summary::from_records(&recs, None);
+        let scenes = s.scenes_csv().unwrap();
+        assert_eq!(
+            scenes.lines().last().unwrap(),
+            "'=cmd|calc!A1,,,failed,,,,,,,,,,,,,,0,0,0,0,0,0,load stage: -1 objects: broken"
+        );
+        // The numbers of the other scenes stay numbers.
+        assert!(scenes.contains(",50.0000,100.0000,"), "{scenes}");
     }
 
     #[test]

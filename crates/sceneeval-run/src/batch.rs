@@ -17,7 +17,7 @@ use sceneeval_eval::{EvalError, Evaluator, RequestField, SceneInputs, SharedVlm}
 use sceneeval_fidelity::{MatchingMethod, matching_file_for};
 use sceneeval_files::ErrorChain;
 use sceneeval_io::{AssetLibrary, read_scene_state};
-use sceneeval_plausibility::Metric;
+use sceneeval_plausibility::{Deadline, Metric};
 use sceneeval_results::{Outcome, ResultsError, SceneRecord, SceneTiming, Stage, TIMING_SCHEMA};
 
 use crate::dry_run::{DryRun, DryRunModel, SceneTally};
@@ -166,9 +166,10 @@ impl BatchOutcome {
 /// asset and metadata file it was built from, the plan, the tool version and the record
 /// schema; see [`Fingerprints::why_stale`]) and unless `options.force`; failed and partial
 /// scenes are always retried. A scene that fails to load, or runs past the plan's time budget
-/// while loading, is recorded as failed; a metric that fails (a VLM request without an answer,
-/// the time budget used up while the geometry metrics run, ...) makes the scene partial, its
-/// other results kept ([`Evaluator::evaluate_scene`]); the run goes on. The output folder is checked for
+/// (while loading, waiting for the VLM or in any metric; the error names the stage), is
+/// recorded as failed; a metric that fails otherwise (a VLM request without an answer, a
+/// malformed annotation entry, ...) makes the scene partial, its other results kept
+/// ([`Evaluator::evaluate_scene`]); the run goes on. The output folder is checked for
 /// writing before any scene is evaluated.
 ///
 /// Results do not depend on the number of threads: each scene is evaluated independently and
@@ -450,7 +451,7 @@ impl<'a> Batch<'a> {
                                 timing.fidelity_seconds = done.fidelity_seconds;
                                 timing.stability_seconds = done.stability_seconds;
                                 if self.options.diagnostics {
-                                    self.diagnostics(scene, &loaded, &dir);
+                                    self.diagnostics(scene, &loaded, &dir, &deadline);
                                 }
                                 let fingerprint = self.fingerprints.of_loaded(
                                     &scene.path,
@@ -495,12 +496,21 @@ impl<'a> Batch<'a> {
         Ok((record, status, Some(timing), failure))
     }
 
-    fn diagnostics(&self, scene: &SceneFile, loaded: &sceneeval_scene::Scene, dir: &Path) {
+    /// The diagnostic images, under the scene's time budget (a warning when they cannot be
+    /// drawn: they are not part of the record).
+    fn diagnostics(
+        &self,
+        scene: &SceneFile,
+        loaded: &sceneeval_scene::Scene,
+        dir: &Path,
+        deadline: &Deadline,
+    ) {
         if let Err(e) = sceneeval_plausibility::write_diagnostics(
             loaded,
             &self.evaluator.plan().params,
             self.evaluator.sources(),
             &dir.join("diagnostics"),
+            deadline,
         ) {
             tracing::warn!(scene = %scene.name, error = %e, "diagnostic images not written");
         }

@@ -36,6 +36,7 @@ use sceneeval_results::Summary;
 use serde::{Deserialize, Serialize};
 
 use crate::dry_run::{DryRun, DryRunModel};
+use crate::scene_file::check_annotation_rows;
 use crate::{
     BatchOptions, BatchOutcome, OutputLock, RunError, RunEvent, SceneFile, SkippedFile, check_output_dir,
     find_scenes, run_batch,
@@ -77,6 +78,10 @@ pub struct EvaluationRequest {
     /// Also write diagnostic images under `<out>/<scene>/diagnostics/`.
     #[serde(default)]
     pub diagnostics: bool,
+    /// Read the scene files strictly ([`sceneeval_io::ReadOptions::strict`]): a key the
+    /// sceneState format does not have fails its scene instead of being a warning.
+    #[serde(default)]
+    pub strict: bool,
 }
 
 /// A share of a run's scenes: shard `index` of `count` (1-based) holds the scenes whose
@@ -140,6 +145,7 @@ impl EvaluationRequest {
             force: false,
             shard: None,
             diagnostics: false,
+            strict: false,
         }
     }
 
@@ -175,9 +181,10 @@ impl EvaluationRequest {
                 .map(|(_, s)| s)
                 .collect();
         }
-        let ChosenPlan { plan, fallback } = self
+        let ChosenPlan { mut plan, fallback } = self
             .plan
             .resolve(self.vlm.is_some(), self.annotations.is_some())?;
+        plan.read.strict = self.strict;
         let mut evaluator = Evaluator::new(plan)
             .map_err(|e| EvalError::request_caused(RequestField::Plan, "invalid plan".to_owned(), e))?;
         let mut warnings = Vec::new();
@@ -218,6 +225,9 @@ impl EvaluationRequest {
                 })
             })
             .transpose()?;
+        if let Some(annotations) = &annotations {
+            check_annotation_rows(annotations, &scenes, evaluator.plan().has_fidelity())?;
+        }
         check_output_dir(&self.out)?;
         let lock = OutputLock::acquire(&self.out)?;
         #[cfg(feature = "physics")]

@@ -6,6 +6,9 @@ use std::path::{Path, PathBuf};
 
 use sceneeval_results::{RECORD_FILE, SceneName, TIMING_FILE};
 
+use sceneeval_annotation::Annotations;
+use sceneeval_eval::RequestField;
+
 use crate::RunError;
 
 /// A scene file found by [`find_scenes`].
@@ -131,6 +134,66 @@ fn scene_name_of(file_name: &OsStr) -> Result<SceneName, &'static str> {
         return Err("the ID is too large");
     }
     Ok(name)
+}
+
+/// The most findings [`check_annotation_rows`]'s error lists (it counts the rest).
+const MAX_LISTED_FINDINGS: usize = 20;
+
+/// Validates the annotation rows the run's `scenes` use, as the whole file's validation
+/// reports them ([`Annotations::validate_rows`]), so that a bad row stops the run before
+/// its first scene rather than failing scene after scene. A plan with text-fidelity metrics
+/// reads every cell of a row; any other reads only the ID and the difficulty (the summary's
+/// groups), so only findings about those count.
+///
+/// # Errors
+/// [`RunError::Eval`] with a request error on [`RequestField::Annotations`] listing the rows'
+/// errors; warnings are logged.
+pub(crate) fn check_annotation_rows(
+    annotations: &Annotations,
+    scenes: &[SceneFile],
+    fidelity: bool,
+) -> Result<(), RunError> {
+    use sceneeval_annotation::{Field, Severity};
+    let used: std::collections::BTreeSet<usize> = scenes
+        .iter()
+        .filter_map(|s| s.name.annotation_row(annotations))
+        .filter_map(|row| annotations.rows.iter().position(|r| std::ptr::eq(r, row)))
+        .collect();
+    let findings: Vec<_> = annotations
+        .validate_rows(&used)
+        .into_iter()
+        .filter(|f| fidelity || matches!(f.field, Field::Id | Field::Difficulty))
+        .collect();
+    let (errors, warnings): (Vec<_>, Vec<_>) = findings.iter().partition(|f| f.severity == Severity::Error);
+    for w in &warnings {
+        tracing::debug!("annotation row: {w}");
+    }
+    if !warnings.is_empty() {
+        tracing::warn!(
+            rows = used.len(),
+            warnings = warnings.len(),
+            "the annotation rows this run uses have {} warning(s) (probably wrong, still evaluable)",
+            warnings.len()
+        );
+    }
+    if errors.is_empty() {
+        return Ok(());
+    }
+    let rows: std::collections::BTreeSet<usize> = errors.iter().map(|f| f.row_index).collect();
+    let mut message = format!(
+        "{} of the {} rows this run uses {} {} error(s); nothing was evaluated:",
+        rows.len(),
+        used.len(),
+        if rows.len() == 1 { "has" } else { "have" },
+        errors.len()
+    );
+    for f in errors.iter().take(MAX_LISTED_FINDINGS) {
+        message.push_str(&format!("\n  {f}"));
+    }
+    if errors.len() > MAX_LISTED_FINDINGS {
+        message.push_str(&format!("\n  and {} more", errors.len() - MAX_LISTED_FINDINGS));
+    }
+    Err(RunError::request(RequestField::Annotations, message))
 }
 
 #[cfg(test)]

@@ -239,9 +239,12 @@ fn the_time_budget_ends_a_wait_for_the_model() {
     let (out, _, state, _) = run(1, 1, None, 2, Some(0.5));
     assert_eq!(state.cancelled.load(Ordering::SeqCst), 1, "the wait was given up");
     assert_eq!(state.answered.load(Ordering::SeqCst), 0);
-    let record = std::fs::read_to_string(out.path().join("scene_801/eval.json")).unwrap();
-    assert!(
-        record.contains("the scene's time budget of 0.5 s ran out while waiting for the model"),
-        "{record}"
+    // The scene over its budget failed, the error naming the stage that was stopped.
+    let text = std::fs::read_to_string(out.path().join("scene_801/eval.json")).unwrap();
+    let record: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(record["status"], "failed", "{text}");
+    assert_eq!(
+        record["error"], "vlm stopped: the scene's time budget of 0.5 s is used up",
+        "{text}"
     );
 }

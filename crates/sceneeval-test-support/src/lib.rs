@@ -3,7 +3,7 @@
 //! take, the procedural scenes of the plausibility benchmarks ([`scenes`]), a scripted VLM for
 //! fixture scenes 2 and 8 with the annotation rows its tests check ([`fidelity_model`]), a mock
 //! OpenAI-compatible endpoint on 127.0.0.1 with a fixed latency that counts the requests in
-//! flight at the server ([`mock_endpoint`]), and the one decision whether a test that needs a system package (a GPU driver) runs, skips with
+//! flight at the server ([`mock_endpoint`]), a log writer tests read back ([`logs`]), and the one decision whether a test that needs a system package (a GPU driver) runs, skips with
 //! the reason or fails ([`system`]). Not published; crates use it only as a dev-dependency
 //! (tier `dev`).
 //!
@@ -22,6 +22,7 @@
 //! ```
 
 pub mod fidelity_model;
+pub mod logs;
 pub mod mock_endpoint;
 pub mod scenes;
 pub mod system;
@@ -42,6 +43,26 @@ pub fn file_names(dir: &std::path::Path) -> Vec<String> {
         .collect();
     names.sort();
     names
+}
+
+/// Every file below folder `dir` (in its subfolders too), sorted: what a test checks about all
+/// that a command wrote (permissions, content).
+///
+/// # Panics
+/// When a folder cannot be read (a test's own temporary folder).
+#[allow(clippy::unwrap_used)]
+pub fn files_below(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            out.extend(files_below(&path));
+        } else {
+            out.push(path);
+        }
+    }
+    out.sort();
+    out
 }
 
 /// A deterministic sequence of numbers in `[0, 1)` (a 64-bit linear congruential generator

@@ -10,9 +10,7 @@
 
 mod support;
 
-use std::io::Write;
-use std::sync::{Arc, Mutex};
-
+use sceneeval_test_support::logs::SharedBuffer;
 use sceneeval_test_support::mock_endpoint::{MockEndpoint, completion as mock_completion, error};
 use sceneeval_vlm::check::{EndpointCheck, test_image};
 use sceneeval_vlm::tasks::SupportTypeTask;
@@ -25,19 +23,6 @@ use wiremock::{MockServer, ResponseTemplate};
 
 const KEY: &str = "sk-proj-Zq8TESTSECRETxY41mN0pLw";
 
-#[derive(Clone, Default)]
-struct Buffer(Arc<Mutex<Vec<u8>>>);
-
-impl Write for Buffer {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0.lock().unwrap().extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
-
 fn assert_no_key(what: &str, text: &str) {
     // The whole key, its distinctive middle, and OpenAI's masked form's tail.
     for needle in [KEY, "TESTSECRET", "Zq8T", "pLw"] {
@@ -47,7 +32,7 @@ fn assert_no_key(what: &str, text: &str) {
 
 #[tokio::test]
 async fn the_key_never_reaches_logs_errors_or_files() {
-    let buffer = Buffer::default();
+    let buffer = SharedBuffer::default();
     let writer = buffer.clone();
     tracing_subscriber::fmt()
         .with_max_level(tracing::Level::TRACE)
@@ -161,7 +146,7 @@ async fn the_key_never_reaches_logs_errors_or_files() {
     );
 
     // The log: it recorded the run (retries included) and nothing of the key.
-    let log = String::from_utf8(buffer.0.lock().unwrap().clone()).unwrap();
+    let log = buffer.text();
     assert!(
         log.contains("sending request") && log.contains("retrying"),
         "{log}"

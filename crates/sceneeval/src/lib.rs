@@ -19,6 +19,7 @@
 //! | [`relate`] | `sceneeval-relate` | relation queries as plain data, the relate line format |
 //! | [`annotate`] | `sceneeval-annotate` | annotation rows made with a model, the review store |
 //! | [`fidelity`] | `sceneeval-fidelity` | object matching, CNT, ATR, OOR, OAR |
+//! | [`stats`] | `sceneeval-stats` | kappas, the seeded bootstrap, Wilcoxon, Holm, McNemar |
 //! | [`results`] | `sceneeval-results` | `eval.json`, timings and summary tables as types |
 //! | [`eval`] | `sceneeval-eval` | plans, the evaluator (one call per scene), VLM options |
 //! | [`run`] | `sceneeval-run` | a run: request, batch, fingerprints, dry run |
@@ -89,6 +90,7 @@ pub use sceneeval_run as run;
 pub use sceneeval_scene as scene;
 /// What a scene contains, as plain values (`sceneeval_scene::inspect`).
 pub use sceneeval_scene::inspect;
+pub use sceneeval_stats as stats;
 pub use sceneeval_vlm as vlm;
 #[cfg(feature = "openai")]
 pub use sceneeval_vlm_openai as vlm_openai;

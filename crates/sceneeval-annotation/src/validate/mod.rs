@@ -71,6 +71,47 @@ pub fn validate(annotations: &Annotations) -> Vec<Finding> {
     out
 }
 
+/// The findings of [`validate`] (the whole file's validation, so exactly what it reports)
+/// that concern the rows at `indices` (positions in [`Annotations::rows`]): each row's own
+/// findings, and the `duplicate-id` findings of the other rows with its ID (another row with
+/// the ID makes a lookup of it ambiguous). What a run that uses only these rows checks before
+/// it starts.
+///
+/// ```
+/// use std::collections::BTreeSet;
+/// use sceneeval_annotation::{Annotations, FindingCode, validate_rows};
+/// let a = Annotations::from_csv_str(
+///     "ID,Difficulty,Description,ObjCount,ObjAttr,OORel,OARel\n\
+///      1,easy,a bed,\"eq,1,bed\",\"eq,1,chair,red\",,\n\
+///      2,easy,a desk,\"eq,1,desk\",,,\n\
+///      2,easy,two desks,\"eq,2,desk\",,,\n",
+/// ).unwrap();
+/// // Row 2 (index 1) is fine on its own, but its ID is used again by the last row.
+/// let codes: Vec<_> = validate_rows(&a, &BTreeSet::from([1])).iter().map(|f| f.code).collect();
+/// assert_eq!(codes, [FindingCode::DuplicateId]);
+/// // Row 1 counts no chair but gives one an attribute.
+/// assert_eq!(validate_rows(&a, &BTreeSet::from([0]))[0].code, FindingCode::UndefinedCategory);
+/// ```
+pub fn validate_rows(annotations: &Annotations, indices: &std::collections::BTreeSet<usize>) -> Vec<Finding> {
+    let ids: std::collections::HashSet<&str> = indices
+        .iter()
+        .filter_map(|&i| annotations.rows.get(i))
+        .map(|r| r.id.as_str())
+        .filter(|id| !id.is_empty())
+        .collect();
+    validate(annotations)
+        .into_iter()
+        .filter(|f| {
+            indices.contains(&f.row_index)
+                || (f.code == FindingCode::DuplicateId
+                    && annotations
+                        .rows
+                        .get(f.row_index)
+                        .is_some_and(|r| ids.contains(r.id.as_str())))
+        })
+        .collect()
+}
+
 /// The findings of one row alone (no `duplicate-id`, which needs the whole file);
 /// `row_index` is set to `index`.
 pub fn validate_row(row: &AnnotationRow, index: usize) -> Vec<Finding> {

@@ -18,6 +18,25 @@ pub fn native(sub: &str) -> PathBuf {
     sceneeval_fixtures::default_output_dir().join("native").join(sub)
 }
 
+/// Each format with its fixture batch folder (under `fixtures/native`) and the asset folders
+/// it converts with.
+pub fn fixture_batches() -> Vec<(Format, &'static str, Vec<AssetSpec>)> {
+    vec![
+        (
+            Format::Holodeck,
+            "holodeck/scenes",
+            specs(&[("objaverse", native("holodeck/objathor"))]),
+        ),
+        (
+            Format::LayoutVlm,
+            "layoutvlm/scenes",
+            specs(&[("layoutvlm-objaverse", native("layoutvlm/assets"))]),
+        ),
+        (Format::IDesign, "idesign/scenes", vec![]),
+        (Format::SceneAgent, "scene-agent/scenes", vec![]),
+    ]
+}
+
 /// `--assets` specifications.
 pub fn specs(specs: &[(&str, PathBuf)]) -> Vec<AssetSpec> {
     specs

@@ -62,31 +62,29 @@ struct StateObject {
 type StateCache = Mutex<HashMap<String, Result<Arc<HashMap<String, StateObject>>, MetadataError>>>;
 
 /// The scene files of a converted folder, each read once.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 struct SceneStates {
-    root: PathBuf,
     cache: StateCache,
 }
 
 impl SceneStates {
-    fn new(root: PathBuf) -> Self {
-        SceneStates {
-            root,
-            cache: Mutex::new(HashMap::new()),
-        }
+    /// The scene file of scene `scene` in the converted folder `root`.
+    fn path(root: &Path, scene: &str) -> PathBuf {
+        root.join(format!("scene_{scene}.json"))
     }
 
-    fn path(&self, scene: &str) -> PathBuf {
-        self.root.join(format!("scene_{scene}.json"))
-    }
-
-    /// The objects of scene `scene` by their `"id"`; `None` when its file does not exist.
-    fn objects(&self, scene: &str) -> Result<Option<Arc<HashMap<String, StateObject>>>, IoError> {
+    /// The objects of scene `scene` of the converted folder `root` by their `"id"`; `None`
+    /// when its file does not exist.
+    fn objects(
+        &self,
+        root: &Path,
+        scene: &str,
+    ) -> Result<Option<Arc<HashMap<String, StateObject>>>, IoError> {
         let mut cache = self.cache.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(entry) = cache.get(scene) {
             return entry.clone().map(Some).map_err(|e| e.to_io());
         }
-        let path = self.path(scene);
+        let path = Self::path(root, scene);
         let loaded = match read_json(&path) {
             Ok(None) => return Ok(None),
             Ok(Some(doc)) => state_objects(&path, &doc).map(Arc::new),
@@ -104,7 +102,7 @@ fn state_objects(path: &Path, doc: &Value) -> Result<HashMap<String, StateObject
     let Some(list) = list.as_array() else {
         return Err(MetadataError::new(path, "/scene/object", "expected an array"));
     };
-    let mut out = HashMap::with_capacity(list.len());
+    let mut out: HashMap<String, StateObject> = HashMap::with_capacity(list.len());
     for (i, entry) in list.iter().enumerate() {
         let pointer = format!("/scene/object/{i}");
         let id = match entry.get("id") {
@@ -128,7 +126,30 @@ fn state_objects(path: &Path, doc: &Value) -> Result<HashMap<String, StateObject
             sdf_path: text("sdfPath")?,
             pointer: pointer.clone(),
         };
-        out.entry(id).or_insert(object);
+        match out.get(&id) {
+            // Entries of one asset (SceneSmith lists each member of a stack under its asset's
+            // id): the same files, whichever entry is looked up.
+            Some(first) if first.description == object.description && first.sdf_path == object.sdf_path => {}
+            Some(first) => {
+                return Err(MetadataError::new(
+                    path,
+                    pointer,
+                    format!(
+                        "object id {id:?} is also the id of {} with another {}: the model id \
+                         names one asset, so one of the two objects would show the other's",
+                        first.pointer,
+                        if first.sdf_path == object.sdf_path {
+                            "description"
+                        } else {
+                            "sdfPath"
+                        }
+                    ),
+                ));
+            }
+            None => {
+                out.insert(id, object);
+            }
+        }
     }
     Ok(out)
 }
@@ -140,30 +161,21 @@ fn scene_asset_id<'a>(model_id: &str, asset_id: &'a str) -> Result<(&'a str, &'a
     })
 }
 
-/// IDesign scenes as converted: `DIR/scene_<ID>/assets/<object id>.glb` for asset id
-/// `scene_<ID>__<object id>`.
-///
-/// Category = the object id made readable ([`humanize_object_id`]); description = the
-/// `description` of the object entry with that `"id"` in `DIR/scene_<ID>.json`, else the
-/// category.
-#[derive(Debug)]
-pub struct IDesignSource {
-    states: SceneStates,
+folder_source! {
+    /// IDesign scenes as converted (by `sceneeval convert idesign` or the fork; the root is the
+    /// folder it wrote): `DIR/scene_<ID>/assets/<object id>.glb` for asset id
+    /// `scene_<ID>__<object id>`.
+    ///
+    /// Category = the object id made readable ([`humanize_object_id`]); description = the
+    /// `description` of the object entry with that `"id"` in `DIR/scene_<ID>.json`, else the
+    /// category.
+    IDesignSource, Layout::IDesign, { states: SceneStates = SceneStates::default() }
 }
 
 impl IDesignSource {
-    /// A source rooted at `root` (the folder `sceneeval convert idesign` wrote).
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        IDesignSource {
-            states: SceneStates::new(root.into()),
-        }
-    }
-}
-
-impl AssetSource for IDesignSource {
-    fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+    fn find(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let (scene, object) = scene_asset_id(model_id, asset_id)?;
-        let root = &self.states.root;
+        let root = &self.root;
         let path = mesh_file(
             model_id,
             vec![
@@ -174,7 +186,7 @@ impl AssetSource for IDesignSource {
         )?;
         let described = self
             .states
-            .objects(scene)?
+            .objects(root, scene)?
             .and_then(|objects| objects.get(object).and_then(|o| o.description.clone()));
         let category = humanize_object_id(object);
         Ok(AssetLocation {
@@ -184,46 +196,29 @@ impl AssetSource for IDesignSource {
                 category: Some(category),
             },
             alignment: None,
-            metadata: vec![self.states.path(scene)],
+            metadata: vec![SceneStates::path(root, scene)],
         })
-    }
-
-    fn layout(&self) -> Layout {
-        Layout::IDesign
-    }
-
-    fn root(&self) -> &Path {
-        &self.states.root
     }
 }
 
-/// SceneAgent / SceneSmith scenes as converted: asset id `scene_<ID>__<object id>` names the
-/// object entry with that `"id"` in `DIR/scene_<ID>.json`; its `sdfPath` (relative to
-/// `DIR/scene_<ID>/assets/`) is the object's SDF model file, and the mesh is the glTF of the
-/// first `<visual>`'s `<geometry><mesh><uri>` in it (relative to the SDF's folder, which it
-/// may not leave), as the fork reads it.
-///
-/// Category = the object id made readable ([`humanize_object_id`]); description = the object
-/// entry's `description`, else the category.
-#[derive(Debug)]
-pub struct SceneAgentSource {
-    states: SceneStates,
+folder_source! {
+    /// SceneAgent / SceneSmith scenes as converted (by `sceneeval convert scene-agent` or the
+    /// fork; the root is the folder it wrote): asset id `scene_<ID>__<object id>` names the
+    /// object entry with that `"id"` in `DIR/scene_<ID>.json`; its `sdfPath` (relative to
+    /// `DIR/scene_<ID>/assets/`) is the object's SDF model file, and the mesh is the glTF of the
+    /// first `<visual>`'s `<geometry><mesh><uri>` in it (relative to the SDF's folder, which it
+    /// may not leave), as the fork reads it.
+    ///
+    /// Category = the object id made readable ([`humanize_object_id`]); description = the
+    /// object entry's `description`, else the category.
+    SceneAgentSource, Layout::SceneAgent, { states: SceneStates = SceneStates::default() }
 }
 
 impl SceneAgentSource {
-    /// A source rooted at `root` (the folder `sceneeval convert scene-agent` wrote).
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        SceneAgentSource {
-            states: SceneStates::new(root.into()),
-        }
-    }
-}
-
-impl AssetSource for SceneAgentSource {
-    fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+    fn find(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let (scene, object) = scene_asset_id(model_id, asset_id)?;
-        let state_path = self.states.path(scene);
-        let Some(objects) = self.states.objects(scene)? else {
+        let state_path = SceneStates::path(&self.root, scene);
+        let Some(objects) = self.states.objects(&self.root, scene)? else {
             return Err(not_found(model_id, vec![state_path]));
         };
         let bad = |location: String, message: String| IoError::BadMetadata {
@@ -243,7 +238,7 @@ impl AssetSource for SceneAgentSource {
                 "missing: the object's SDF file is not named".into(),
             ));
         };
-        let assets = self.states.root.join(format!("scene_{scene}")).join("assets");
+        let assets = self.root.join(format!("scene_{scene}")).join("assets");
         let sdf = mesh_file(
             model_id,
             vec![crate::uri::resolve_in_folder(&assets, &state_path, sdf_uri)?],
@@ -259,14 +254,6 @@ impl AssetSource for SceneAgentSource {
             alignment: None,
             metadata: vec![state_path, sdf],
         })
-    }
-
-    fn layout(&self) -> Layout {
-        Layout::SceneAgent
-    }
-
-    fn root(&self) -> &Path {
-        &self.states.root
     }
 }
 

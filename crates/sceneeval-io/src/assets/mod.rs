@@ -18,6 +18,45 @@
 //! object of one asset (at one scale) shares one mesh and one BVH. It is `Sync`: share one
 //! library by reference across scenes and threads.
 
+/// Declares an asset source that reads a folder: the struct (the folder and the given
+/// fields, with their initial values), its `new(root)`, and its [`AssetSource`] impl (`locate`
+/// is the struct's own `find`, `layout` the given [`Layout`], `root` the folder). Each layout
+/// then writes only what is its own: where its meshes and metadata are.
+macro_rules! folder_source {
+    ($(#[$doc:meta])* $name:ident, $layout:expr, { $($field:ident: $ty:ty = $init:expr)? }) => {
+        $(#[$doc])*
+        #[derive(Debug)]
+        pub struct $name {
+            root: PathBuf,
+            $($field: $ty,)?
+        }
+
+        impl $name {
+            /// A source rooted at `root`.
+            pub fn new(root: impl Into<PathBuf>) -> Self {
+                $name {
+                    root: root.into(),
+                    $($field: $init,)?
+                }
+            }
+        }
+
+        impl AssetSource for $name {
+            fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+                self.find(model_id, asset_id)
+            }
+
+            fn layout(&self) -> Layout {
+                $layout
+            }
+
+            fn root(&self) -> &Path {
+                &self.root
+            }
+        }
+    };
+}
+
 mod generated;
 mod library;
 mod sources;

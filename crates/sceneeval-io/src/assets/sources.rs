@@ -122,26 +122,16 @@ pub(super) fn mesh_file(model_id: &str, tried: Vec<PathBuf>) -> Result<PathBuf, 
     Err(not_found(model_id, tried))
 }
 
-/// 3D-FUTURE: `ROOT/ID/raw_model.obj`; metadata `ROOT/model_info.json`, a list of objects with
-/// `model_id`, `category`, `super-category`, `style`, `theme`, `material`.
-///
-/// Category = `category` (else `super-category`); description = `category - super-category,
-/// style, theme, material` with missing fields left out.
-#[derive(Debug)]
-pub struct ThreeDFutureSource {
-    root: PathBuf,
-    metadata: Lazy<AssetInfo>,
+folder_source! {
+    /// 3D-FUTURE: `ROOT/ID/raw_model.obj`; metadata `ROOT/model_info.json`, a list of objects with
+    /// `model_id`, `category`, `super-category`, `style`, `theme`, `material`.
+    ///
+    /// Category = `category` (else `super-category`); description = `category - super-category,
+    /// style, theme, material` with missing fields left out.
+    ThreeDFutureSource, Layout::ThreeDFuture, { metadata: Lazy<AssetInfo> = OnceLock::new() }
 }
 
 impl ThreeDFutureSource {
-    /// A source rooted at `root`.
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        ThreeDFutureSource {
-            root: root.into(),
-            metadata: OnceLock::new(),
-        }
-    }
-
     fn load_metadata(&self) -> Result<HashMap<String, AssetInfo>, MetadataError> {
         let path = self.root.join("model_info.json");
         let Some(doc) = read_json(&path)? else {
@@ -172,10 +162,8 @@ impl ThreeDFutureSource {
         }
         Ok(out)
     }
-}
 
-impl AssetSource for ThreeDFutureSource {
-    fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+    fn find(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let path = mesh_file(model_id, vec![self.root.join(asset_id).join("raw_model.obj")])?;
         let info = lazy_get(&self.metadata, || self.load_metadata())?
             .get(asset_id)
@@ -188,37 +176,19 @@ impl AssetSource for ThreeDFutureSource {
             metadata: vec![self.root.join("model_info.json")],
         })
     }
-
-    fn layout(&self) -> Layout {
-        Layout::ThreeDFuture
-    }
-
-    fn root(&self) -> &Path {
-        &self.root
-    }
 }
 
-/// Objathor (Holodeck's Objaverse assets): `ROOT/ID/ID.glb`; metadata `ROOT/annotations.json`,
-/// an object keyed by asset id with `category`, `ref_category`, `description`,
-/// `description_auto`.
-///
-/// Category = `category`; description = `category - ref_category, description` (or
-/// `description_auto` when `description` is empty).
-#[derive(Debug)]
-pub struct ObjathorSource {
-    root: PathBuf,
-    metadata: Lazy<AssetInfo>,
+folder_source! {
+    /// Objathor (Holodeck's Objaverse assets): `ROOT/ID/ID.glb`; metadata `ROOT/annotations.json`,
+    /// an object keyed by asset id with `category`, `ref_category`, `description`,
+    /// `description_auto`.
+    ///
+    /// Category = `category`; description = `category - ref_category, description` (or
+    /// `description_auto` when `description` is empty).
+    ObjathorSource, Layout::Objathor, { metadata: Lazy<AssetInfo> = OnceLock::new() }
 }
 
 impl ObjathorSource {
-    /// A source rooted at `root`.
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        ObjathorSource {
-            root: root.into(),
-            metadata: OnceLock::new(),
-        }
-    }
-
     fn load_metadata(&self) -> Result<HashMap<String, AssetInfo>, MetadataError> {
         let path = self.root.join("annotations.json");
         let Some(doc) = read_json(&path)? else {
@@ -244,10 +214,8 @@ impl ObjathorSource {
             })
             .collect())
     }
-}
 
-impl AssetSource for ObjathorSource {
-    fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+    fn find(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let path = mesh_file(
             model_id,
             vec![self.root.join(asset_id).join(format!("{asset_id}.glb"))],
@@ -263,14 +231,6 @@ impl AssetSource for ObjathorSource {
             metadata: vec![self.root.join("annotations.json")],
         })
     }
-
-    fn layout(&self) -> Layout {
-        Layout::Objathor
-    }
-
-    fn root(&self) -> &Path {
-        &self.root
-    }
 }
 
 /// One row of HSSD's `fpmodels.csv`.
@@ -282,34 +242,24 @@ struct HssdRow {
     front: Option<(usize, String)>,
 }
 
-/// HSSD: `ROOT/glb/<first char of ID>/ID.glb`, or `ROOT/decomposed/<ID up to the first _>/ID.glb`
-/// for ids containing `part`; metadata `ROOT/fpmodels.csv` with columns `id`, `wnsynsetkey`,
-/// `name`, `up`, `front` (others ignored).
-///
-/// Category = `wnsynsetkey`; description = `wnsynsetkey - name` (`generic object category`
-/// when `wnsynsetkey` is empty, as in the reference).
-///
-/// **Alignment.** A row with non-empty `up` and `front` (comma-separated vectors in the file's
-/// coordinates) gets the rotation that sends the declared up to +y and the declared front to
-/// +z, so the asset is in the standard y-up, front-+z convention before the usual conversion.
-/// (The reference builds a different matrix that does not send every up/front pair to the
-/// canonical pose and applies it in different frames in its two scene representations; quirk
-/// Q28.)
-#[derive(Debug)]
-pub struct HssdSource {
-    root: PathBuf,
-    metadata: Lazy<HssdRow>,
+folder_source! {
+    /// HSSD: `ROOT/glb/<first char of ID>/ID.glb`, or `ROOT/decomposed/<ID up to the first _>/ID.glb`
+    /// for ids containing `part`; metadata `ROOT/fpmodels.csv` with columns `id`, `wnsynsetkey`,
+    /// `name`, `up`, `front` (others ignored).
+    ///
+    /// Category = `wnsynsetkey`; description = `wnsynsetkey - name` (`generic object category`
+    /// when `wnsynsetkey` is empty, as in the reference).
+    ///
+    /// **Alignment.** A row with non-empty `up` and `front` (comma-separated vectors in the file's
+    /// coordinates) gets the rotation that sends the declared up to +y and the declared front to
+    /// +z, so the asset is in the standard y-up, front-+z convention before the usual conversion.
+    /// (The reference builds a different matrix that does not send every up/front pair to the
+    /// canonical pose and applies it in different frames in its two scene representations; quirk
+    /// Q28.)
+    HssdSource, Layout::Hssd, { metadata: Lazy<HssdRow> = OnceLock::new() }
 }
 
 impl HssdSource {
-    /// A source rooted at `root`.
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        HssdSource {
-            root: root.into(),
-            metadata: OnceLock::new(),
-        }
-    }
-
     fn load_metadata(&self) -> Result<HashMap<String, HssdRow>, MetadataError> {
         let path = self.root.join("fpmodels.csv");
         if !path.exists() {
@@ -399,8 +349,8 @@ fn parse_vector(s: &str) -> Option<Vector3> {
         .then(|| Vector3::new(parts[0], parts[1], parts[2]))
 }
 
-impl AssetSource for HssdSource {
-    fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+impl HssdSource {
+    fn find(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let path = if asset_id.contains("part") {
             let base = asset_id.split('_').next().unwrap_or(asset_id);
             self.root
@@ -448,35 +398,19 @@ impl AssetSource for HssdSource {
             metadata: vec![csv_path],
         })
     }
-
-    fn layout(&self) -> Layout {
-        Layout::Hssd
-    }
-
-    fn root(&self) -> &Path {
-        &self.root
-    }
 }
 
-/// LayoutVLM's Objathor subset: `ROOT/ID/ID.glb`; metadata `ROOT/ID/data.json` with an
-/// `annotations` object holding `category`, `description`, `materials`.
-///
-/// Category = `category`; description = `category, description, materials`. A missing
-/// `data.json` leaves the asset without metadata (the reference refuses to load it).
-#[derive(Debug)]
-pub struct LayoutVlmSource {
-    root: PathBuf,
+folder_source! {
+    /// LayoutVLM's Objathor subset: `ROOT/ID/ID.glb`; metadata `ROOT/ID/data.json` with an
+    /// `annotations` object holding `category`, `description`, `materials`.
+    ///
+    /// Category = `category`; description = `category, description, materials`. A missing
+    /// `data.json` leaves the asset without metadata (the reference refuses to load it).
+    LayoutVlmSource, Layout::LayoutVlm, {}
 }
 
 impl LayoutVlmSource {
-    /// A source rooted at `root`.
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        LayoutVlmSource { root: root.into() }
-    }
-}
-
-impl AssetSource for LayoutVlmSource {
-    fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+    fn find(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let dir = self.root.join(asset_id);
         let path = mesh_file(model_id, vec![dir.join(format!("{asset_id}.glb"))])?;
         let data_path = dir.join("data.json");
@@ -507,33 +441,17 @@ impl AssetSource for LayoutVlmSource {
             metadata: vec![data_path],
         })
     }
-
-    fn layout(&self) -> Layout {
-        Layout::LayoutVlm
-    }
-
-    fn root(&self) -> &Path {
-        &self.root
-    }
 }
 
-/// A plain folder: `ROOT/ID.glb`, `ROOT/ID.gltf` or `ROOT/ID.obj` (the first that exists), with
-/// an optional sidecar `ROOT/ID.json` = `{"category": "...", "description": "..."}` (both
-/// optional). The generated fixtures use this layout.
-#[derive(Debug)]
-pub struct PlainFolderSource {
-    root: PathBuf,
+folder_source! {
+    /// A plain folder: `ROOT/ID.glb`, `ROOT/ID.gltf` or `ROOT/ID.obj` (the first that exists), with
+    /// an optional sidecar `ROOT/ID.json` = `{"category": "...", "description": "..."}` (both
+    /// optional). The generated fixtures use this layout.
+    PlainFolderSource, Layout::Plain, {}
 }
 
 impl PlainFolderSource {
-    /// A source rooted at `root`.
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        PlainFolderSource { root: root.into() }
-    }
-}
-
-impl AssetSource for PlainFolderSource {
-    fn locate(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
+    fn find(&self, model_id: &str, asset_id: &str) -> Result<AssetLocation, IoError> {
         let tried: Vec<PathBuf> = ["glb", "gltf", "obj"]
             .iter()
             .map(|ext| self.root.join(format!("{asset_id}.{ext}")))
@@ -571,14 +489,6 @@ impl AssetSource for PlainFolderSource {
             alignment: None,
             metadata: vec![sidecar],
         })
-    }
-
-    fn layout(&self) -> Layout {
-        Layout::Plain
-    }
-
-    fn root(&self) -> &Path {
-        &self.root
     }
 }
 

@@ -192,13 +192,43 @@ pub fn read_json_file(path: &Path, max_bytes: u64) -> Result<Value, IoError> {
 }
 
 /// Parses JSON text, reporting line and column (and a hint for NaN/Infinity, which some
-/// Python writers emit) on failure.
+/// Python writers emit) on failure. A key given twice in one object is an error: JSON readers
+/// silently keep one of the two (serde_json and Python's `json` the last), so the file does not
+/// say which value it means.
+///
+/// ```
+/// use std::path::Path;
+/// use sceneeval_io::IoError;
+/// use sceneeval_io::scene_state::json_in::parse;
+/// let err = parse(r#"{"a": [{"k": 1, "k": 2}]}"#, Path::new("s.json")).unwrap_err();
+/// assert!(matches!(&err, IoError::DuplicateKey { pointer, key, .. } if pointer == "/a/0" && key == "k"));
+/// assert_eq!(parse(r#"{"a": {"k": 1}, "b": {"k": 2}}"#, Path::new("s.json")).unwrap()["b"]["k"], 2);
+/// ```
 ///
 /// # Errors
-/// [`IoError::MalformedJson`] naming `path`.
+/// [`IoError::MalformedJson`] or [`IoError::DuplicateKey`] naming `path`.
 pub fn parse(text: &str, path: &Path) -> Result<Value, IoError> {
-    serde_json::from_str(text).map_err(|e| {
+    let duplicate = std::cell::RefCell::new(None);
+    let mut de = serde_json::Deserializer::from_str(text);
+    let parsed = serde::de::DeserializeSeed::deserialize(
+        strict::Node {
+            at: &strict::Place::Root,
+            duplicate: &duplicate,
+        },
+        &mut de,
+    )
+    .and_then(|v| de.end().map(|()| v));
+    parsed.map_err(|e| {
         let (line, column) = (e.line(), e.column());
+        if let Some((pointer, key)) = duplicate.into_inner() {
+            return IoError::DuplicateKey {
+                path: path.to_owned(),
+                pointer,
+                key,
+                line,
+                column,
+            };
+        }
         let full = e.to_string();
         let suffix = format!(" at line {line} column {column}");
         let mut message = full.strip_suffix(&suffix).unwrap_or(&full).to_owned();
@@ -220,6 +250,123 @@ pub fn parse(text: &str, path: &Path) -> Result<Value, IoError> {
             message,
         }
     })
+}
+
+/// A [`Value`] deserializer that refuses a key given twice in one object, remembering where.
+mod strict {
+    use std::cell::RefCell;
+    use std::fmt;
+
+    use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
+    use serde_json::{Map, Number, Value};
+
+    /// Where a value is, as a chain to the root (the pointer is written only for an error).
+    pub(super) enum Place<'a> {
+        Root,
+        Key(&'a Place<'a>, &'a str),
+        Index(&'a Place<'a>, usize),
+    }
+
+    impl Place<'_> {
+        fn pointer(&self) -> String {
+            match self {
+                Place::Root => String::new(),
+                Place::Key(parent, key) => super::ptr_key(&parent.pointer(), key),
+                Place::Index(parent, i) => super::ptr_index(&parent.pointer(), *i),
+            }
+        }
+    }
+
+    /// The first repeated key met: the pointer of its object and the key.
+    type Duplicate = RefCell<Option<(String, String)>>;
+
+    /// The value at `at`.
+    pub(super) struct Node<'a> {
+        pub(super) at: &'a Place<'a>,
+        pub(super) duplicate: &'a Duplicate,
+    }
+
+    impl<'de> DeserializeSeed<'de> for Node<'_> {
+        type Value = Value;
+
+        fn deserialize<D: de::Deserializer<'de>>(self, deserializer: D) -> Result<Value, D::Error> {
+            deserializer.deserialize_any(self)
+        }
+    }
+
+    impl<'de> Visitor<'de> for Node<'_> {
+        type Value = Value;
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("any JSON value")
+        }
+
+        fn visit_bool<E>(self, v: bool) -> Result<Value, E> {
+            Ok(Value::Bool(v))
+        }
+
+        fn visit_i64<E>(self, v: i64) -> Result<Value, E> {
+            Ok(Value::Number(v.into()))
+        }
+
+        fn visit_u64<E>(self, v: u64) -> Result<Value, E> {
+            Ok(Value::Number(v.into()))
+        }
+
+        fn visit_f64<E>(self, v: f64) -> Result<Value, E> {
+            // The parser gives only finite numbers.
+            Ok(Number::from_f64(v).map_or(Value::Null, Value::Number))
+        }
+
+        fn visit_str<E>(self, v: &str) -> Result<Value, E> {
+            Ok(Value::String(v.to_owned()))
+        }
+
+        fn visit_string<E>(self, v: String) -> Result<Value, E> {
+            Ok(Value::String(v))
+        }
+
+        fn visit_unit<E>(self) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+
+        fn visit_none<E>(self) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+            let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(4096));
+            loop {
+                let at = Place::Index(self.at, out.len());
+                let node = Node {
+                    at: &at,
+                    duplicate: self.duplicate,
+                };
+                match seq.next_element_seed(node)? {
+                    Some(v) => out.push(v),
+                    None => return Ok(Value::Array(out)),
+                }
+            }
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+            let mut out = Map::new();
+            while let Some(key) = map.next_key::<String>()? {
+                if out.contains_key(&key) {
+                    let message = format!("key {key:?} appears twice in one object");
+                    *self.duplicate.borrow_mut() = Some((self.at.pointer(), key));
+                    return Err(de::Error::custom(message));
+                }
+                let at = Place::Key(self.at, &key);
+                let value = map.next_value_seed(Node {
+                    at: &at,
+                    duplicate: self.duplicate,
+                })?;
+                out.insert(key, value);
+            }
+            Ok(Value::Object(out))
+        }
+    }
 }
 
 #[cfg(test)]

@@ -3,9 +3,11 @@
 //! `docs/formats.md` and in the crate docs.
 
 pub mod json_in;
+mod keys;
 mod read;
 mod write;
 
+pub use keys::{UnknownKey, unknown_keys};
 pub use read::{ArchitectureMode, ReadOptions, SimpleFloorHeight, read_scene_state, read_scene_state_str};
 pub use write::{scene_state_to_string, write_scene_state};
 

@@ -12,6 +12,7 @@ use sceneeval_scene::{
 use serde_json::{Map, Value};
 
 use super::json_in::{Doc, optional, parse, ptr_index, ptr_key};
+use super::keys::{OBJECT_KEYS, similar};
 use super::{ARCH_VERSION, FORMAT, SCENE_VERSION, derived_object_id};
 use crate::frames::{FrameError, ObjectFront, PlacedObject, TransformFrame};
 use crate::{AssetLibrary, IoError, MissingAsset};
@@ -53,6 +54,12 @@ pub struct ReadOptions {
     pub simple_wall_height: Real,
     /// Where the simple architecture's floor goes.
     pub simple_floor: SimpleFloorHeight,
+    /// Refuse a file with keys the sceneState format does not have
+    /// ([`IoError::UnknownKeys`]) instead of warning about each (default `false`). Whether a
+    /// scene is read strictly does not change what is read, so it is not part of a plan file
+    /// or of a result's fingerprint: it is set by the caller (`--strict`, `strict=True`).
+    #[serde(skip)]
+    pub strict: bool,
 }
 
 impl Default for ReadOptions {
@@ -61,12 +68,26 @@ impl Default for ReadOptions {
             architecture: ArchitectureMode::default(),
             simple_wall_height: 3.0,
             simple_floor: SimpleFloorHeight::default(),
+            strict: false,
         }
+    }
+}
+
+impl ReadOptions {
+    /// These options, reading strictly or not (see [`ReadOptions::strict`]).
+    pub fn with_strict(mut self, strict: bool) -> Self {
+        self.strict = strict;
+        self
     }
 }
 
 /// Reads the sceneState file at `path`, loading asset meshes through `assets`. The scene is
 /// named after the file's stem (`scene_12.json` -> `scene_12`).
+///
+/// Keys the format does not have ([`super::unknown_keys`]: a misspelt `"transfrom"`, say) are
+/// each logged as one warning naming the file, the key's first JSON pointer, how often it
+/// occurs and the known key it resembles; with [`ReadOptions::strict`] they are an error
+/// listing them all.
 ///
 /// # Errors
 /// Every problem is an [`IoError`] naming the file and the JSON pointer of the offending value
@@ -92,6 +113,7 @@ pub fn read_scene_state_str(
 ) -> Result<Scene, IoError> {
     let doc = Doc { path };
     let root = parse(text, path)?;
+    report_unknown_keys(&doc, &root, options.strict)?;
     let root = doc.object(&root, "")?;
     let format = doc.required(root, "", "format")?;
     if doc.string(format, "/format")? != FORMAT {
@@ -116,6 +138,31 @@ pub fn read_scene_state_str(
         pointer: "/scene".into(),
         source,
     })
+}
+
+/// Warns about each key the format does not have (once per key and place of the format), or
+/// with `strict` refuses the file.
+fn report_unknown_keys(doc: &Doc<'_>, root: &Value, strict: bool) -> Result<(), IoError> {
+    let keys = super::unknown_keys(root);
+    if keys.is_empty() {
+        return Ok(());
+    }
+    if strict {
+        return Err(IoError::UnknownKeys {
+            path: doc.path_buf(),
+            keys,
+        });
+    }
+    for k in &keys {
+        tracing::warn!(
+            file = %doc.path.display(),
+            pointer = %k.pointer,
+            key = %k.key,
+            occurrences = k.occurrences,
+            "{k}: not a sceneState key here, ignored (a misspelt key is read as absent)"
+        );
+    }
+    Ok(())
 }
 
 fn check_version(doc: &Doc<'_>, o: &Map<String, Value>, ptr: &str, expected: &str) {
@@ -256,10 +303,6 @@ fn bad_transform(doc: &Doc<'_>, data_ptr: &str, e: &FrameError) -> IoError {
     }
 }
 
-const IDENTITY: [Real; 16] = [
-    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
-];
-
 fn read_object(
     doc: &Doc<'_>,
     entry: &Value,
@@ -320,7 +363,19 @@ fn read_object(
 
     let data_ptr = ptr_key(&ptr_key(ptr, "transform"), "data");
     let data = match field("transform") {
-        None => IDENTITY,
+        None => {
+            let misspelt = o
+                .keys()
+                .filter(|k| !OBJECT_KEYS.contains(&k.as_str()))
+                .find(|k| similar(k, &["transform"]).is_some());
+            return Err(IoError::MissingTransform {
+                path: doc.path_buf(),
+                pointer: ptr.to_owned(),
+                index,
+                id,
+                similar: misspelt.cloned().unwrap_or_default(),
+            });
+        }
         Some((v, p)) => {
             let t = doc.object(v, &p)?;
             doc.numbers::<16>(doc.required(t, &p, "data")?, &data_ptr, "an array of 16 numbers")?

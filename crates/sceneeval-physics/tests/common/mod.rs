@@ -6,7 +6,7 @@
 use sceneeval_geom::na::{Translation3, UnitQuaternion};
 use sceneeval_geom::{Isometry3, Point3, Vector3};
 use sceneeval_physics::{DecompositionCache, Stability, StabilityParams, StabilityReport, WeldMode};
-use sceneeval_scene::{Scene, SceneObject, SupportType};
+use sceneeval_scene::{Deadline, Scene, SceneObject, SupportType};
 use sceneeval_test_support::bedroom;
 
 /// A box object: half extents `h`, centre `c`, no rotation.
@@ -58,7 +58,12 @@ pub fn evaluate_with(
     };
     Stability::new(params)
         .unwrap()
-        .evaluate(scene, &support, &DecompositionCache::in_memory(), &|| false)
+        .evaluate(
+            scene,
+            &support,
+            &DecompositionCache::in_memory(),
+            &Deadline::none(),
+        )
         .unwrap()
 }
 
@@ -66,4 +71,35 @@ pub fn evaluate_with(
 pub fn final_position(report: &StabilityReport, i: usize) -> Point3 {
     let p = report.objects[i].final_pose.position;
     Point3::new(p[0], p[1], p[2])
+}
+
+/// A scene read from sceneState JSON (`arch` elements and `object` entries as given) as a run
+/// reads it, with the repository's fixture furniture as the asset source `fixture`.
+pub fn read_scene(arch: serde_json::Value, objects: serde_json::Value) -> Scene {
+    use sceneeval_io::assets::PlainFolderSource;
+    use sceneeval_io::{AssetLibrary, ReadOptions, read_scene_state};
+    let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures"));
+    let library = AssetLibrary::new().with_source("fixture", PlainFolderSource::new(root.join("assets")));
+    let json = serde_json::json!({"format": "sceneState", "scene": {
+        "version": "scene@1.0.2", "up": [0.0, 0.0, 1.0], "unit": 1.0,
+        "arch": {"version": "arch@1.0.2", "elements": arch},
+        "object": objects}});
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.json");
+    std::fs::write(&path, json.to_string()).unwrap();
+    read_scene_state(&path, &library, &ReadOptions::default()).unwrap()
+}
+
+/// The `arch` element of a floor without walls, outline `points` (x, y) at z = 0.
+pub fn floor(room: &str, points: &[[f64; 2]]) -> serde_json::Value {
+    let points: Vec<[f64; 3]> = points.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    serde_json::json!({"id": format!("floor_{room}"), "roomId": room, "type": "Floor", "points": points})
+}
+
+/// A fixture asset (`fixture.plant`, ...) standing on the floor at (x, y) turned by `yaw`
+/// about z: the assets are y up, so the transform also turns y into z.
+pub fn fixture_object(index: usize, model: &str, x: f64, y: f64, yaw: f64) -> serde_json::Value {
+    let (s, c) = yaw.sin_cos();
+    serde_json::json!({"index": index, "modelId": model,
+        "transform": {"data": [c, s, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, s, -c, 0.0, 0.0, x, y, 0.0, 1.0]}})
 }

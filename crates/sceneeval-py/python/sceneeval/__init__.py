@@ -7,6 +7,7 @@ function, the type stubs, and the README's Python section.
 """
 
 import os as _os
+import sys as _sys
 
 # Mesa's device-select Vulkan layer asks libwayland for a display while the renderer picks its
 # adapter, and libwayland prints "error: XDG_RUNTIME_DIR is invalid or not set" where that
@@ -28,7 +29,13 @@ from ._sceneeval import (  # noqa: E402
     relation_batch,
     relation_names,
     relation_params,
+    stats,
 )
+
+# `import sceneeval.stats` and `from sceneeval.stats import wilcoxon` find the submodule of the
+# extension (which is not a package of its own).
+stats.__name__ = __name__ + ".stats"
+_sys.modules[stats.__name__] = stats
 
 __all__ = [
     "OBJECT_ARCHITECTURE_RELATIONS",
@@ -43,4 +50,5 @@ __all__ = [
     "relation_batch",
     "relation_names",
     "relation_params",
+    "stats",
 ]

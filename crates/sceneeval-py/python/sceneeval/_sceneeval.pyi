@@ -9,6 +9,8 @@ from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple,
 import numpy as np
 import numpy.typing as npt
 
+from . import stats as stats
+
 __version__: str
 OBJECT_OBJECT_RELATIONS: List[str]
 OBJECT_ARCHITECTURE_RELATIONS: List[str]
@@ -279,12 +281,16 @@ class Scene:
         """
     def __len__(self) -> int: ...
 
-def load_scene(path: PathLike, assets: Optional[Mapping[str, PathLike]] = None) -> Scene:
+def load_scene(
+    path: PathLike, assets: Optional[Mapping[str, PathLike]] = None, *, strict: bool = False
+) -> Scene:
     """Loads a sceneState file (`scene_<ID>.json`).
 
     assets maps a model id prefix to its folder, {"objaverse": "/data/objathor-assets"}; the
     folder layout is chosen from the prefix as by `sceneeval evaluate --assets`, or given as
     "LAYOUT:folder" (3d-future, objathor, hssd, layoutvlm, plain). Read with the GIL released.
+    Keys the sceneState format does not have (a misspelt key is read as absent) are each logged
+    as a warning; strict=True raises SceneEvalError listing them instead.
 
     Raises SceneEvalError naming the file, the JSON pointer and the asset when the scene
     cannot be read, and ValueError for a bad assets mapping.
@@ -305,6 +311,7 @@ def evaluate(
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
+    strict: bool = False,
     dry_run: bool = False,
 ) -> Dict[str, Any]:
     """Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
@@ -338,7 +345,8 @@ def evaluate(
     lexicon (ATR is not judged), as the CLI does without one, and say so with a UserWarning and
     the run's note. A re-run into the same out reuses a scene's result while nothing it depends
     on changed (force=True evaluates every scene again). threads: worker threads (default one
-    per core). dry_run=True evaluates nothing, writes nothing and sends nothing: it returns what
+    per core). strict=True fails each scene file that has keys the sceneState format does not
+    have (a misspelt key is read as absent), as --strict; by default each is a warning. dry_run=True evaluates nothing, writes nothing and sends nothing: it returns what
     the run would ask the VLM (see below). Runs with the GIL released.
 
     With dry_run=True, returns scenes, evaluated (scenes the run would evaluate), reused,
@@ -373,6 +381,7 @@ def evaluation_request(
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
+    strict: bool = False,
     dry_run: bool = False,
 ) -> Dict[str, Any]:
     """The evaluation request evaluate() makes of the same arguments, as a dict: what

@@ -15,7 +15,6 @@
 //! ranks, and its places the number of columns where it is first, second and third. Best
 //! values (rank 1) are bold, second (rank 2) italic.
 
-mod bootstrap;
 mod rank;
 #[cfg(test)]
 mod tests;
@@ -25,14 +24,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
 use sceneeval_fidelity::FidelityReport;
-use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneRecord};
+use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneName};
+use sceneeval_stats::bootstrap::{Bootstrap, DEFAULT_RESAMPLES};
 
-pub use bootstrap::{BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED, bootstrap_interval};
 pub use rank::competition_ranks;
 pub(crate) use text::{Emphasis, arrow as text_arrow, average, scenes, standing_order};
 
 use crate::ReportError;
-use crate::run::{Run, group_summary, groups, metrics_in, scene_values, summary_columns};
+use crate::run::{Run, group_summary, groups, metrics_in, scene_order, scene_values, summary_columns};
 
 /// How to compare.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -191,6 +190,7 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
     let metrics: Vec<Vec<Metric>> = runs.iter().map(Run::metrics).collect();
     let (shared, columns) = shared_columns(runs, &metrics, &mut notes);
     same_everywhere(runs, &mut notes);
+    unreadable_records(runs, &mut notes);
     let scenes = common_scenes(runs, &metrics, &shared, &mut notes);
     let difficulty = difficulties(runs, &scenes, &mut notes);
     let names: Vec<&str> = scenes.iter().map(String::as_str).collect();
@@ -199,7 +199,8 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
         grouped.truncate(1);
     } else if grouped.len() == 1 {
         notes.push(
-            "No run has difficulties (pass the annotations with --annotations): only the table of every scene."
+            "No run has difficulties (neither in its summary_scenes.csv nor from the annotations given): only the table \
+             of every scene."
                 .to_owned(),
         );
     }
@@ -275,6 +276,31 @@ fn shared_columns(
     (shared, columns)
 }
 
+/// A note per run with records that could not be read: each file and why (the first
+/// [`MAX_LISTED`]).
+fn unreadable_records(runs: &[Run], notes: &mut Vec<String>) {
+    for run in runs.iter().filter(|r| !r.unreadable.is_empty()) {
+        let listed: Vec<String> = run
+            .unreadable
+            .iter()
+            .take(MAX_LISTED)
+            .map(|u| format!("{} ({})", u.path.display(), u.reason))
+            .collect();
+        let more = run.unreadable.len() - listed.len();
+        notes.push(format!(
+            "{}: {} record(s) could not be read, their scenes are left out: {}{}.",
+            run.name,
+            run.unreadable.len(),
+            listed.join("; "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
+        ));
+    }
+}
+
 /// The scenes every run evaluated in full (every shared metric) with one annotation row, in
 /// scene order; a note names the others and why.
 fn common_scenes(
@@ -283,18 +309,30 @@ fn common_scenes(
     shared: &BTreeSet<Metric>,
     notes: &mut Vec<String>,
 ) -> Vec<String> {
-    let mut all_scenes: Vec<&SceneRecord> = runs.iter().flat_map(|r| &r.records).collect();
-    all_scenes.sort_by_key(|r| (r.scene.number().unwrap_or(u64::MAX), r.scene.to_string()));
-    all_scenes.dedup_by(|a, b| a.scene == b.scene);
+    // Every scene of any run, read or not.
+    let mut all_scenes: Vec<&SceneName> = runs
+        .iter()
+        .flat_map(|r| {
+            r.records
+                .iter()
+                .map(|r| &r.scene)
+                .chain(r.unreadable.iter().map(|u| &u.scene))
+        })
+        .collect();
+    all_scenes.sort_by(|a, b| scene_order(a, b));
+    all_scenes.dedup();
     let fidelity_shared = shared.iter().any(|m| m.fidelity().is_some());
     let mut left_out: Vec<String> = Vec::new();
     let mut scenes: Vec<String> = Vec::new();
-    for record in all_scenes {
-        let scene = record.scene.as_str();
+    for name in all_scenes {
+        let scene = name.as_str();
         let mut why = Vec::new();
         let mut digests = BTreeSet::new();
         for (run, run_metrics) in runs.iter().zip(metrics) {
             match run.record(scene).map(|r| (&r.outcome, r)) {
+                None if run.unreadable.iter().any(|u| u.scene == *name) => {
+                    why.push(format!("unreadable in {}", run.name));
+                }
                 None => why.push(format!("not in {}", run.name)),
                 Some((Outcome::Failed { .. }, _)) => why.push(format!("failed in {}", run.name)),
                 Some((Outcome::Ok { report } | Outcome::Partial { report }, r)) => {
@@ -372,6 +410,14 @@ fn difficulties<'r>(
     difficulty
 }
 
+/// The percentile bootstrap interval at `level` of the mean of a cell's per-scene values:
+/// `sceneeval-stats`' seeded bootstrap ([`Bootstrap::mean`], 1000 resamples, seed 20261121).
+/// `None` without values.
+fn mean_interval(values: &[f64], level: f64) -> Option<[f64; 2]> {
+    let bootstrap = Bootstrap::new(DEFAULT_RESAMPLES, level).ok()?;
+    bootstrap.mean(values).ok()?.bounds.ok()
+}
+
 /// One group's table.
 fn table(
     runs: &[Run],
@@ -399,7 +445,7 @@ fn table(
                         n: values.len(),
                         rank: None,
                         points: 0,
-                        ci: ci.and_then(|level| value.and(bootstrap_interval(&values, level))),
+                        ci: ci.and_then(|level| value.and(mean_interval(&values, level))),
                     }
                 })
                 .collect()

@@ -319,3 +319,22 @@ fn by_difficulty_and_intervals() {
     assert_eq!(c.tables.len(), 1);
     assert!(c.notes[0].starts_with("No run has difficulties"), "{:?}", c.notes);
 }
+
+#[test]
+fn csv_cells_a_spreadsheet_would_run_are_escaped_and_numbers_are_not() {
+    // Run names are the user's (`--names`, folder names): a formula is written as text.
+    let mut runs = three_runs();
+    runs[0] = runs[0].clone().with_name("=HYPERLINK(\"http://x\",\"A\")");
+    runs[1] = runs[1].clone().with_name("-B");
+    let csv = compare(&runs, &CompareOptions::default())
+        .unwrap()
+        .to_csv()
+        .unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[1],
+        "all,2,\"'=HYPERLINK(\"\"http://x\"\",\"\"A\"\")\",SUP,higher,75.0000,2,,,1,3"
+    );
+    assert_eq!(lines[4], "all,2,'-B,OOB,lower,0.0000,2,,,1,3");
+    assert_eq!(lines[6], "all,2,C,OOB,lower,50.0000,2,,,3,1");
+}

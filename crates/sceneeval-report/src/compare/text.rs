@@ -3,8 +3,9 @@
 use std::fmt::Write as _;
 
 use sceneeval_results::Better;
+use sceneeval_stats::bootstrap::DEFAULT_RESAMPLES;
 
-use super::{BOOTSTRAP_RESAMPLES, Cell, Comparison, Table};
+use super::{Cell, Comparison, Table};
 use crate::ReportError;
 use crate::escape;
 
@@ -61,7 +62,7 @@ impl Comparison {
         if let Some(level) = self.ci {
             let _ = write!(
                 s,
-                " [lo, hi]: {}% bootstrap interval over scenes ({BOOTSTRAP_RESAMPLES} resamples, fixed seed, \
+                " [lo, hi]: {}% bootstrap interval over scenes ({DEFAULT_RESAMPLES} resamples, fixed seed, \
                  percentile method).",
                 (level * 1e4).round() / 1e2
             );
@@ -160,7 +161,8 @@ impl Comparison {
         for table in &self.tables {
             for (run, row) in self.runs.iter().zip(&table.cells) {
                 for (column, cell) in self.columns.iter().zip(row) {
-                    w.write_record([
+                    // A run name or group a spreadsheet would run gets a leading `'`.
+                    let cells = [
                         table.group.clone(),
                         table.scenes.to_string(),
                         run.name.clone(),
@@ -172,8 +174,9 @@ impl Comparison {
                         num(cell.ci.map(|c| c[1])),
                         cell.rank.map(|r| r.to_string()).unwrap_or_default(),
                         cell.points.to_string(),
-                    ])
-                    .map_err(csv_error)?;
+                    ];
+                    w.write_record(cells.map(sceneeval_files::csv_cell::escape_owned))
+                        .map_err(csv_error)?;
                 }
             }
         }

@@ -51,10 +51,34 @@ pub(crate) fn overview(
         )
     );
 
+    unreadable(&mut b, run);
     summary_table(&mut b, columns, &groups);
     charts(&mut b, columns, &groups);
     scenes_table(&mut b, run, columns, pages);
     page(&format!("SceneEval report: {}", run.name), &b)
+}
+
+/// The records of the run folder that could not be read, each with why (`ul#unreadable`);
+/// nothing when every record was read. Their scenes are in no table.
+fn unreadable(b: &mut String, run: &Run) {
+    if run.unreadable.is_empty() {
+        return;
+    }
+    let _ = write!(
+        b,
+        "<div class=\"box\"><p>{} record(s) of the run folder could not be read; their scenes are in no table \
+         below:</p><ul id=\"unreadable\">",
+        run.unreadable.len()
+    );
+    for u in &run.unreadable {
+        let _ = write!(
+            b,
+            "<li><code>{}</code>: {}</li>",
+            html(&u.path.display().to_string()),
+            html(&u.reason)
+        );
+    }
+    b.push_str("</ul></div>");
 }
 
 /// The run's summary table, one row per group.

@@ -145,8 +145,8 @@ fn top_view(b: &mut String, p: &ScenePage<'_>, report: &SceneReport) {
              free region, yellow: other free regions, red: floor blocked for a 0.2 m robot).</p>"
         }
         (Ok(_), None) => {
-            "<p class=\"muted\">The navigable region is not in the record: evaluate with --diagnostics to have the \
-             run draw it (diagnostics/navigability.png), and it is shown here.</p>"
+            "<p class=\"muted\">The navigable region is not in the record: a run evaluated with diagnostics draws it \
+             (diagnostics/navigability.png), and it is shown here.</p>"
         }
         (Err(_), _) => "",
     });

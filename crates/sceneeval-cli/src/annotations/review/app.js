@@ -3,7 +3,8 @@
 // server's (the project's validator); this script only shows its findings.
 "use strict";
 
-const TOKEN = document.querySelector('meta[name="review-token"]').content;
+// Requests go through `sceneevalApi` (/sceneeval-api.js, the page server's client), which
+// carries the page's token.
 
 // The four annotation kinds: the row field, the column name, the columns of an entry. The
 // last column takes the rest of the entry (several objects or architecture elements).
@@ -27,19 +28,8 @@ function el(tag, attrs, text) {
 
 function $(id) { return document.getElementById(id); }
 
-async function api(method, path, body) {
-  const init = { method, headers: { "X-Review-Token": TOKEN } };
-  if (body !== undefined) {
-    init.headers["Content-Type"] = "application/json";
-    init.body = JSON.stringify(body);
-  }
-  const response = await fetch(path, init);
-  let data = null;
-  try { data = await response.json(); } catch (_) { data = null; }
-  if (!response.ok) {
-    throw new Error((data && data.error) || ("HTTP " + response.status));
-  }
-  return data;
+function api(method, path, body) {
+  return sceneevalApi(method, path, body);
 }
 
 function setStatus(text, isError) {
@@ -231,12 +221,8 @@ async function saveIfDirty() {
 function flushOnHide() {
   if (!state.dirty || !state.candidate) return;
   state.dirty = false;
-  fetch("/api/save", {
-    method: "POST",
-    keepalive: true,
-    headers: { "X-Review-Token": TOKEN, "Content-Type": "application/json" },
-    body: JSON.stringify({ id: state.candidate.id, content: currentContent() }),
-  }).catch(() => {});
+  sceneevalApi("POST", "/api/save", { id: state.candidate.id, content: currentContent() }, { keepalive: true })
+    .catch(() => {});
 }
 
 async function openCandidate(id) {
