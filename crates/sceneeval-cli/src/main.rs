@@ -14,6 +14,7 @@ mod annotations;
 mod compare;
 mod convert;
 mod evaluate;
+mod format;
 mod inspect;
 mod relate;
 mod render;
