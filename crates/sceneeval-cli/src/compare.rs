@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use sceneeval::annotation::Annotations;
-use sceneeval_report::{CompareOptions, Run, compare};
+use sceneeval::report::{CompareOptions, Run, compare};
 
 /// Arguments of `sceneeval compare`.
 #[derive(Debug, clap::Args)]
@@ -117,7 +117,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     match &args.out {
         Some(out) => {
-            sceneeval::write_atomic(out, text.as_bytes())?;
+            sceneeval::files::write_atomic(out, text.as_bytes())
+                .with_context(|| format!("writing {}", out.display()))?;
             eprintln!(
                 "{} runs compared on {} scenes: {}",
                 runs.len(),

@@ -15,8 +15,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 
 use anyhow::Context;
+use sceneeval::convert::{ConvertError, ConvertOptions, Format, IdMap, Report, convert};
 use sceneeval::io::assets::AssetSpec;
-use sceneeval_convert::{ConvertError, ConvertOptions, Format, IdMap, Report, convert};
 
 /// Arguments of `sceneeval convert`.
 #[derive(Debug, clap::Args)]

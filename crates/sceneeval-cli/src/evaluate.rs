@@ -165,39 +165,62 @@ pub fn option_name(field: RequestField) -> &'static str {
 }
 
 /// An error of the facade shown as the CLI's: a request error names the option that sets the
-/// field (`--plan: ...`, through `name`), keeping its causes.
+/// field (`--plan: ...`, through `name`), keeping its causes; any other error is shown as it is.
 #[derive(Debug)]
 pub struct OptionError {
-    /// The facade's error.
-    pub error: sceneeval::EvalError,
+    /// The facade's error (a run's request error is kept as the evaluator's error it wraps).
+    pub error: Box<dyn std::error::Error + Send + Sync + 'static>,
     /// The option of the command that sets a request field.
     pub name: fn(RequestField) -> &'static str,
 }
 
 impl OptionError {
     /// `error` with the options of `sceneeval evaluate`.
-    pub fn evaluate(error: sceneeval::EvalError) -> Self {
-        OptionError {
-            error,
-            name: option_name,
+    pub fn evaluate(error: impl Into<sceneeval::RunError>) -> Self {
+        OptionError::new(error, option_name)
+    }
+
+    /// `error` with the options `name` gives for the request's fields.
+    pub fn new(error: impl Into<sceneeval::RunError>, name: fn(RequestField) -> &'static str) -> Self {
+        let error: Box<dyn std::error::Error + Send + Sync> = match error.into() {
+            sceneeval::RunError::Eval(e) => Box::new(e),
+            other => Box::new(other),
+        };
+        OptionError { error, name }
+    }
+
+    /// The request error this is, if it is one.
+    fn request(&self) -> Option<(RequestField, &str, Option<&(dyn std::error::Error + 'static)>)> {
+        match self.error.downcast_ref::<sceneeval::EvalError>()? {
+            sceneeval::EvalError::Request {
+                field,
+                message,
+                source,
+            } => Some((
+                *field,
+                message.as_str(),
+                source.as_deref().map(|s| s as &(dyn std::error::Error + 'static)),
+            )),
+            _ => None,
         }
     }
 }
 
 impl std::fmt::Display for OptionError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.error {
-            sceneeval::EvalError::Request { field, message, .. } => {
-                write!(f, "{}: {message}", (self.name)(*field))
-            }
-            other => other.fmt(f),
+        match self.request() {
+            Some((field, message, _)) => write!(f, "{}: {message}", (self.name)(field)),
+            None => self.error.fmt(f),
         }
     }
 }
 
 impl std::error::Error for OptionError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        std::error::Error::source(&self.error)
+        match self.request() {
+            Some((_, _, source)) => source,
+            None => self.error.source(),
+        }
     }
 }
 

@@ -14,6 +14,7 @@ mod annotations;
 mod compare;
 mod convert;
 mod evaluate;
+mod format;
 mod inspect;
 mod relate;
 mod render;
@@ -163,11 +164,11 @@ pub fn hint(err: &(dyn std::error::Error + 'static)) -> Option<String> {
     }
     std::iter::once(err).chain(sceneeval::causes(err)).find_map(|cause| {
         // The report crate's errors name no option: the command line adds them.
-        match cause.downcast_ref::<sceneeval_report::ReportError>() {
-            Some(sceneeval_report::ReportError::NoRecords { .. }) => {
+        match cause.downcast_ref::<sceneeval::report::ReportError>() {
+            Some(sceneeval::report::ReportError::NoRecords { .. }) => {
                 return Some("give the --out folder of sceneeval evaluate".to_owned());
             }
-            Some(sceneeval_report::ReportError::Assets(_)) => {
+            Some(sceneeval::report::ReportError::Assets(_)) => {
                 return Some("each --assets is PREFIX=DIR or PREFIX=LAYOUT:DIR".to_owned());
             }
             _ => {}

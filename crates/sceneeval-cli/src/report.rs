@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use sceneeval::annotation::Annotations;
-use sceneeval_report::{DEFAULT_DIR, NoTopView, ReportOptions, Run, Written, write_report};
+use sceneeval::report::{DEFAULT_DIR, NoTopView, ReportOptions, Run, Written, write_report};
 
 /// Arguments of `sceneeval report`.
 #[derive(Debug, clap::Args)]

@@ -1,20 +1,23 @@
-//! `sceneeval settle SCENE.json --assets PREFIX=DIR ... --out FILE [--plan FILE] [--weld MODE]`:
+//! `sceneeval settle SCENE.json --assets PREFIX=DIR ... --out FILE [--plan PLAN] [--weld MODE]`:
 //! simulate the scene under gravity as the stability metric does and write it back with every
 //! object at its settled pose (welded objects where they were), through the sceneState writer,
 //! atomically. Prints one line per object that moved beyond the stability limits.
 //!
-//! The parameters are the plan's `stability` section (`--plan`, default the built-in plan),
-//! with `--weld` replacing its weld mode; support types come from the scene file, then (with
-//! `--vlm-base-url`, as `evaluate` asks them) the VLM for the objects that state none, then the
-//! category tables; the plan's time budget applies.
+//! The options make one `sceneeval::SettleRequest` (the Python package's `Scene.settle` makes
+//! the same): the plan as `evaluate --plan` takes it (its `stability` section, reading options,
+//! limits and time budget apply), `--weld` replacing its weld mode; support types come from
+//! the scene file, then (with `--vlm-base-url`, as `evaluate` asks them) the VLM for the objects
+//! that state none, then the category tables.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use sceneeval::io::{AssetLibrary, read_scene_state, write_scene_state};
+use sceneeval::io::write_scene_state;
 use sceneeval::physics::WeldMode;
-use sceneeval::{EvaluationPlan, Evaluator, PlacementSource, SceneInputs};
+use sceneeval::{PlacementSource, PlanRequest, Preset, SettleRequest, VlmOptions};
+
+use crate::evaluate::OptionError;
 
 /// Arguments of `sceneeval settle`.
 #[derive(Debug, clap::Args)]
@@ -29,18 +32,24 @@ pub struct Args {
     /// The settled scene's file (sceneState JSON; replaced atomically; may be SCENE itself).
     #[arg(long, short = 'o', value_name = "FILE")]
     pub out: PathBuf,
-    /// A plan file (JSON, or TOML ending in .toml) whose `stability` section, `read` options,
-    /// `limits` and `time_budget_seconds` apply.
-    #[arg(long, value_name = "FILE")]
-    pub plan: Option<PathBuf>,
+    /// The plan, as `evaluate --plan` takes it: `geometry` (the default: the built-in
+    /// parameters), `full`, a metric list, or a plan file (JSON or TOML) whose stability
+    /// parameters, reading options, limits and time budget apply.
+    #[arg(long, value_name = "geometry|full|LIST|FILE")]
+    pub plan: Option<String>,
+    /// Parameter preset: `default` or `reference`, as for `evaluate`.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<Preset>,
+    /// Wall-time budget in seconds, overriding the plan's (default 600); 0 means no budget.
+    #[arg(long, value_name = "SECONDS")]
+    pub time_budget: Option<f64>,
     /// What is fixed in place: architectural (objects on walls and ceilings, the default),
     /// penetration (objects interpenetrating another object or the architecture), combined
     /// (both) or none. Replaces the plan's `stability.weld`.
     #[arg(long, value_name = "MODE", value_parser = str::parse::<WeldMode>)]
     pub weld: Option<WeldMode>,
     /// The VLM asked for the support types the scene does not state, as `evaluate` asks them
-    /// (it is shown each object's views; answers cached in `vlm-cache` beside FILE unless
-    /// `--vlm-cache`).
+    /// (it is shown each object's views; answers kept only in `--vlm-cache` when given).
     #[command(flatten)]
     pub vlm: crate::vlm::VlmArgs,
     /// Side of the square object views shown to the VLM, pixels (default 512; 16 to 4096).
@@ -52,44 +61,40 @@ pub struct Args {
     pub strict: bool,
 }
 
+impl Args {
+    /// The settle request these options make.
+    ///
+    /// # Errors
+    /// A VLM sampling option without `--vlm-base-url`.
+    pub fn request(&self) -> anyhow::Result<SettleRequest> {
+        Ok(SettleRequest {
+            assets: self.assets.clone(),
+            plan: PlanRequest {
+                plan: self.plan.clone(),
+                preset: self.preset,
+                time_budget_seconds: self.time_budget,
+                ..PlanRequest::default()
+            },
+            weld: self.weld,
+            vlm: self.vlm.options()?.map(|options| VlmOptions {
+                render_size: self.render_size,
+                ..options
+            }),
+            strict: self.strict,
+        })
+    }
+}
+
 /// Runs the subcommand.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let mut plan = match &args.plan {
-        Some(path) => EvaluationPlan::read(path).context("invalid --plan")?,
-        None => EvaluationPlan::geometry_only(),
-    };
-    if let Some(weld) = args.weld {
-        plan.stability.weld = weld;
-    }
-    let vlm = args.vlm.options()?.map(|mut v| {
-        v.render_size = args.render_size;
-        v
-    });
-    let mut evaluator = Evaluator::new(plan).context("invalid --plan")?;
-    if let Some(vlm) = &vlm {
-        let beside = args
-            .out
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        evaluator = vlm.attach(evaluator, beside)?;
-    }
-    let plan = evaluator.plan();
-    let library = AssetLibrary::from_specs(&args.assets)
-        .context("invalid --assets")?
-        .with_limits(plan.limits);
-    let deadline = plan.deadline();
-    let scene = read_scene_state(&args.scene, &library, &plan.read.with_strict(args.strict))
+    let prepared = args.request()?.prepare().map_err(OptionError::evaluate)?;
+    let scene = prepared
+        .read_scene(&args.scene)
         .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
-    let inputs = SceneInputs {
-        assets: Some(&library),
-        deadline: Some(&deadline),
-        ..SceneInputs::default()
-    };
-    let (settled, report, placement) = evaluator
-        .settle_scene(&scene, &inputs)
+    let settled = prepared
+        .settle(&scene)
         .with_context(|| format!("cannot settle scene {}", args.scene.display()))?;
-    if let Some(placement) = placement {
+    if let Some(placement) = &settled.placement {
         let count = |source: PlacementSource| {
             placement
                 .iter()
@@ -104,13 +109,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             count(PlacementSource::CategoryPrior),
             count(PlacementSource::None)
         );
-        for p in &placement {
+        for p in placement {
             if let Some(s) = p.support_type.as_ref().filter(|s| s.source.is_fallback()) {
                 tracing::warn!(object = %p.object, reason = %s.reason, "support type from the category tables");
             }
         }
     }
-    write_scene_state(&settled, &args.out)?;
+    write_scene_state(&settled.scene, &args.out)?;
+    let report = &settled.report;
     let mut lines = String::new();
     for o in report.objects.iter().filter(|o| !o.stable) {
         lines.push_str(&format!(

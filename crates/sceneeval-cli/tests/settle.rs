@@ -204,6 +204,32 @@ fn settle_asks_the_vlm_for_the_support_types_the_scene_does_not_state() {
     let tasks: Vec<String> = server.bodies().iter().map(|b| task_of(b).to_owned()).collect();
     assert_eq!(tasks.len(), 9, "{tasks:?}");
     assert!(tasks.iter().all(|t| t == "obj_support_type"), "{tasks:?}");
-    // The answers were cached beside the output file.
-    assert!(dir.path().join("vlm-cache").is_dir());
+    // Nothing is kept without `--vlm-cache` (as in Python's `Scene.settle`)...
+    assert!(!dir.path().join("vlm-cache").exists());
+    // ...and with it, the answers are kept there and a re-run asks nothing.
+    let cache = dir.path().join("answers");
+    let cache_arg = cache.to_str().unwrap();
+    let args = [
+        "--vlm-base-url",
+        url.as_str(),
+        "--vlm-model",
+        "mock",
+        "--render-size",
+        "64",
+        "--vlm-cache",
+        cache_arg,
+    ];
+    settle(&unstated, &out, &args).success();
+    assert!(cache.is_dir());
+    assert_eq!(
+        server.bodies().len(),
+        18,
+        "the first run with the cache asks again"
+    );
+    settle(&unstated, &out, &args).success();
+    assert_eq!(
+        server.bodies().len(),
+        18,
+        "the second run is answered from the cache"
+    );
 }

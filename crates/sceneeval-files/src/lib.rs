@@ -21,7 +21,9 @@
 //!   unescaped by the readers of CSV files the tool wrote.
 //!
 //! Errors are [`std::io::Error`]s without the path; callers wrap them in their own error types,
-//! which name the file.
+//! which name the file. Every front end shows such an error with its causes one way:
+//! [`ErrorChain`] (each cause the message before it does not already say, on one line or one per
+//! line), the one printer of error chains of the workspace.
 //!
 //! ```
 //! let dir = tempfile::tempdir().unwrap();
@@ -36,6 +38,9 @@
 //! assert_eq!(err.to_string(), "is a directory, not a regular file");
 //! ```
 
+mod chain;
+
+pub use chain::{ErrorChain, causes};
 pub mod csv_cell;
 
 use std::fmt;
@@ -122,6 +127,36 @@ pub fn open_regular(path: &Path) -> io::Result<File> {
         ));
     }
     Ok(file)
+}
+
+/// Checks that files can be written into `dir` before any work is done: creates it if
+/// missing, then writes, syncs and removes a probe file in it.
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// sceneeval_files::check_writable_dir(&dir.path().join("new")).unwrap();
+/// assert!(dir.path().join("new").is_dir());
+/// // A file where the folder should be.
+/// std::fs::write(dir.path().join("file"), "x").unwrap();
+/// assert!(sceneeval_files::check_writable_dir(&dir.path().join("file")).is_err());
+/// ```
+///
+/// # Errors
+/// Why the folder cannot be created or written (read-only, vanished, a file in its place, no
+/// space left).
+pub fn check_writable_dir(dir: &Path) -> io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let probe = dir.join(format!(".sceneeval-write-check.{}", std::process::id()));
+    let result = (|| {
+        let mut f = File::create(&probe)?;
+        f.write_all(b"ok")?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::remove_file(&probe)
+    })();
+    result.inspect_err(|_| {
+        let _ = std::fs::remove_file(&probe);
+    })
 }
 
 /// Writes `bytes` to `path` atomically; see [`write_atomic_with`].

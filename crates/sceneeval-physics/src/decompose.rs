@@ -24,52 +24,15 @@ use rapier3d_f64::parry::shape::SharedShape;
 use rapier3d_f64::parry::transformation::vhacd::{VHACD, VHACDParameters};
 use sceneeval_geom::parry_adapter::{point_from_parry, point_to_parry};
 use sceneeval_geom::{Mesh, Point3, Real, Vector3, weld_vertices};
-use serde::{Deserialize, Serialize};
 
 use crate::DecompositionParams;
+pub use crate::report::DecompositionKind;
 
 /// Pieces with a smaller volume (m³) are dropped: a 1 mm cube.
 pub const MIN_PIECE_VOLUME: Real = 1e-9;
 
 /// Smallest half thickness (m) of the box that stands in for a mesh without volume.
 pub const MIN_HALF_THICKNESS: Real = 5e-4;
-
-/// How an object's convex pieces were made.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DecompositionKind {
-    /// A box object: one exact cuboid.
-    Box,
-    /// V-HACD pieces (hulls of the mesh's own surface).
-    Vhacd,
-    /// The convex hull of the whole mesh: a closed mesh that fills its hull up to the
-    /// concavity, or a mesh of which no V-HACD piece had volume.
-    ConvexHull,
-    /// The mesh has no volume at all: its bounding box, at least 1 mm thick.
-    FlatBox,
-}
-
-impl DecompositionKind {
-    pub(crate) fn code(self) -> u8 {
-        match self {
-            DecompositionKind::Box => 0,
-            DecompositionKind::Vhacd => 1,
-            DecompositionKind::ConvexHull => 2,
-            DecompositionKind::FlatBox => 3,
-        }
-    }
-
-    pub(crate) fn from_code(code: u8) -> Option<Self> {
-        [
-            DecompositionKind::Box,
-            DecompositionKind::Vhacd,
-            DecompositionKind::ConvexHull,
-            DecompositionKind::FlatBox,
-        ]
-        .into_iter()
-        .find(|k| k.code() == code)
-    }
-}
 
 /// One convex piece in the object frame.
 #[derive(Debug, Clone, PartialEq)]

@@ -79,6 +79,11 @@
 //! - The fork's `combined` variant also welds objects of support type `ground`; here
 //!   `combined` is exactly `architectural` plus `penetration`.
 //!
+//! # Features
+//! `simulate` (default) is the simulation itself and pulls in rapier. Without it the crate holds
+//! the metric's parameters ([`StabilityParams`]), its report ([`StabilityReport`]) and errors:
+//! what a program that reads or writes results needs (`sceneeval-results` depends on it so).
+//!
 //! # Example
 //! ```
 //! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
@@ -105,19 +110,30 @@
 //! assert_eq!(report.frac_unstable, Some(0.0)); // 0 of the 1 free object moved
 //! ```
 
+#[cfg(feature = "simulate")]
 pub mod arch;
+#[cfg(feature = "simulate")]
 mod cache;
+#[cfg(feature = "simulate")]
 mod contact;
+#[cfg(feature = "simulate")]
 pub mod decompose;
 mod error;
 pub mod params;
 mod report;
+#[cfg(feature = "simulate")]
 mod simulate;
+#[cfg(feature = "simulate")]
 mod stability;
 
+#[cfg(feature = "simulate")]
 pub use cache::{CacheStats, DecompositionCache, MeshKey};
-pub use decompose::{Decomposition, DecompositionKind, Piece};
+#[cfg(feature = "simulate")]
+pub use decompose::{Decomposition, Piece};
 pub use error::PhysicsError;
 pub use params::{DecompositionParams, MassModel, StabilityParams, WeldMode};
-pub use report::{BodyShape, Interpenetration, ObjectStability, Pose, StabilityReport, WeldReason};
+pub use report::{
+    BodyShape, DecompositionKind, Interpenetration, ObjectStability, Pose, StabilityReport, WeldReason,
+};
+#[cfg(feature = "simulate")]
 pub use stability::Stability;

@@ -5,7 +5,7 @@ use sceneeval_geom::{Isometry3, Real};
 use sceneeval_scene::{ObjectId, SupportType};
 use serde::{Deserialize, Serialize};
 
-use crate::{DecompositionKind, WeldMode};
+use crate::WeldMode;
 
 /// Why an object was welded (fixed in place) before the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -127,6 +127,45 @@ impl StabilityReport {
     /// The share of free objects that stayed (the `STAB` column), `None` when none was free.
     pub fn frac_stable(&self) -> Option<Real> {
         self.frac_unstable.map(|u| 1.0 - u)
+    }
+}
+
+/// How an object's convex pieces were made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DecompositionKind {
+    /// A box object: one exact cuboid.
+    Box,
+    /// V-HACD pieces (hulls of the mesh's own surface).
+    Vhacd,
+    /// The convex hull of the whole mesh: a closed mesh that fills its hull up to the
+    /// concavity, or a mesh of which no V-HACD piece had volume.
+    ConvexHull,
+    /// The mesh has no volume at all: its bounding box, at least 1 mm thick.
+    FlatBox,
+}
+
+// The codes are the decomposition cache's (feature `simulate`).
+#[cfg_attr(not(feature = "simulate"), allow(dead_code))]
+impl DecompositionKind {
+    pub(crate) fn code(self) -> u8 {
+        match self {
+            DecompositionKind::Box => 0,
+            DecompositionKind::Vhacd => 1,
+            DecompositionKind::ConvexHull => 2,
+            DecompositionKind::FlatBox => 3,
+        }
+    }
+
+    pub(crate) fn from_code(code: u8) -> Option<Self> {
+        [
+            DecompositionKind::Box,
+            DecompositionKind::Vhacd,
+            DecompositionKind::ConvexHull,
+            DecompositionKind::FlatBox,
+        ]
+        .into_iter()
+        .find(|k| k.code() == code)
     }
 }
 

@@ -356,8 +356,12 @@ impl PlausibilitySummary {
 
 /// What the metrics found on one scene: the scene-level numbers and each metric's
 /// per-object evidence (`None` for a metric that did not run).
+///
+/// The summary's type is a parameter so that a report of more metrics can carry its own
+/// scene-level numbers in the same place and flatten this report into its own
+/// (`sceneeval_results::SceneReport`; see [`PlausibilityReport::with_summary`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PlausibilityReport {
+pub struct PlausibilityReport<S = PlausibilitySummary> {
     /// The scene's name, if it has one.
     pub scene_id: Option<String>,
     /// The object ids, in scene order.
@@ -365,7 +369,7 @@ pub struct PlausibilityReport {
     /// The metrics that ran, in the order of [`Metric::ALL`].
     pub metrics: Vec<Metric>,
     /// The scene-level numbers.
-    pub summary: PlausibilitySummary,
+    pub summary: S,
     /// Collision.
     pub collision: Option<CollisionReport>,
     /// Support.
@@ -378,6 +382,24 @@ pub struct PlausibilityReport {
     pub out_of_bounds: Option<OutOfBoundsReport>,
     /// Opening clearance.
     pub opening_clearance: Option<OpeningClearanceReport>,
+}
+
+impl<S> PlausibilityReport<S> {
+    /// The same report with the summary `summary` makes of this one's.
+    pub fn with_summary<T>(self, summary: impl FnOnce(S) -> T) -> PlausibilityReport<T> {
+        PlausibilityReport {
+            scene_id: self.scene_id,
+            object_ids: self.object_ids,
+            metrics: self.metrics,
+            summary: summary(self.summary),
+            collision: self.collision,
+            support: self.support,
+            navigability: self.navigability,
+            accessibility: self.accessibility,
+            out_of_bounds: self.out_of_bounds,
+            opening_clearance: self.opening_clearance,
+        }
+    }
 }
 
 impl PlausibilityReport {

@@ -8,7 +8,9 @@ use std::str::FromStr;
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sceneeval::{EvalError, EvaluationRequest, Metric, PlanRequest, Preset, RequestField, VlmOptions};
+use sceneeval::{
+    EvalError, EvaluationRequest, Metric, PlanRequest, Preset, RequestField, RunError, VlmOptions,
+};
 use serde::Serialize;
 
 use crate::convert::{to_json, to_python};
@@ -73,6 +75,16 @@ pub fn request_error(e: &EvalError) -> PyErr {
         SceneEvalError::new_err(text)
     } else {
         value_error(text)
+    }
+}
+
+/// A run's error as a Python exception: its request and evaluation errors as
+/// [`request_error`] raises them, anything else (the scene folder, the output folder, a result
+/// file) a `SceneEvalError`.
+pub fn run_error(e: &RunError) -> PyErr {
+    match e {
+        RunError::Eval(e) => request_error(e),
+        other => crate::errors::scene_error(other),
     }
 }
 
@@ -382,7 +394,7 @@ pub fn evaluate<'py>(
         threads,
         strict,
     )?;
-    let prepared = detached(py, || request.prepare().map_err(|e| request_error(&e)))?;
+    let prepared = detached(py, || request.prepare().map_err(|e| run_error(&e)))?;
     for warning in prepared.warnings() {
         let category = py.get_type::<PyUserWarning>();
         let message = std::ffi::CString::new(warning.as_str()).map_err(|e| value_error(e.to_string()))?;
@@ -406,7 +418,7 @@ pub fn evaluate<'py>(
         let message = std::ffi::CString::new(note.as_str()).map_err(|e| value_error(e.to_string()))?;
         PyErr::warn(py, &category, &message, 1)?;
     }
-    let outcome = detached(py, || prepared.run(&|_| {}).map_err(|e| request_error(&e)))?;
+    let outcome = detached(py, || prepared.run(&|_| {}).map_err(|e| run_error(&e)))?;
     let failures = outcome
         .batch
         .records

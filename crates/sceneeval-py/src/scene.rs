@@ -16,7 +16,7 @@ use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
 use sceneeval::physics::WeldMode;
 use sceneeval::relations::{Query, Relation, SceneRelations};
 use sceneeval::scene::{Category, Room, Scene, SceneObject};
-use sceneeval::{Deadline, EvaluationPlan, Evaluator, ObjectPlacement, PlanRequest, SceneInputs};
+use sceneeval::{EvaluationPlan, Evaluator, ObjectPlacement, PlanRequest, SceneInputs, SettleRequest};
 
 use crate::convert::{rows, to_json, to_python};
 use crate::errors::{chain, detached, eval_error, relation_error, scene_error, value_error};
@@ -46,46 +46,50 @@ impl PyScene {
     }
 
     /// What `stability` and `settle` share: the settled scene and the report (with
-    /// `placement` when the VLM was asked), support types as [`Evaluator::settle_scene`] gets
-    /// them.
+    /// `placement` when the VLM was asked), from the one request `sceneeval settle` makes too
+    /// ([`SettleRequest`]).
     fn settled<'py>(
         &self,
         py: Python<'py>,
         plan: Option<PathBuf>,
+        preset: Option<&str>,
         weld: Option<&str>,
         vlm: Option<&Bound<'py, PyDict>>,
         assets: Option<BTreeMap<String, PathBuf>>,
     ) -> PyResult<(PyScene, Bound<'py, PyAny>)> {
-        let (evaluator, deadline) = stability_evaluator(plan, weld)?;
-        let library = asset_library(assets)?;
-        // Without vlm["cache"] the answers go to a folder removed when the call returns.
-        let (evaluator, _answers) = match vlm.map(vlm_options).transpose()? {
-            Some(options) => {
-                let answers = match options.cache {
-                    Some(_) => None,
-                    None => Some(tempfile::tempdir().map_err(|e| {
-                        value_error(format!("vlm: cannot make a folder for the answers: {e}"))
-                    })?),
-                };
-                let out = answers.as_ref().map_or(std::path::Path::new("."), |d| d.path());
-                let evaluator = options.attach(evaluator, out).map_err(|e| request_error(&e))?;
-                (evaluator, answers)
-            }
-            None => (evaluator, None),
-        };
-        let (settled, report, placement) = detached(py, || {
-            self.with_scene(|scene| {
-                let inputs = SceneInputs {
-                    assets: Some(&library),
-                    deadline: Some(&deadline),
-                    ..SceneInputs::default()
-                };
-                evaluator.settle_scene(scene, &inputs)
+        let plan = plan.map(|p| p.to_string_lossy().into_owned());
+        let (plan, preset) = plan_and_preset(py, plan.as_deref(), preset)?;
+        let weld = weld
+            .map(|w| {
+                w.parse::<WeldMode>()
+                    .map_err(|e| value_error(format!("weld: {e}")))
             })
-            .map_err(|e| eval_error(&e))
+            .transpose()?;
+        let request = SettleRequest {
+            assets: asset_specs(assets),
+            plan: PlanRequest {
+                plan,
+                preset,
+                ..PlanRequest::default()
+            },
+            weld,
+            vlm: vlm.map(vlm_options).transpose()?,
+            // The scene is read already: `strict` applies to reading a file.
+            ..SettleRequest::default()
+        };
+        let prepared = detached(py, || request.prepare().map_err(|e| request_error(&e)))?;
+        let settled = detached(py, || {
+            self.with_scene(|scene| prepared.settle(scene))
+                .map_err(|e| eval_error(&e))
         })?;
-        let report = to_python(py, &StabilityWithPlacement { report, placement })?;
-        Ok((PyScene::new(settled), report))
+        let report = to_python(
+            py,
+            &StabilityWithPlacement {
+                report: settled.report,
+                placement: settled.placement,
+            },
+        )?;
+        Ok((PyScene::new(settled.scene), report))
     }
 
     /// `f` applied to the scene, read-locked (`f` must not call Python).
@@ -143,23 +147,6 @@ fn plausibility_plan(
         )));
     }
     Ok(chosen.plan)
-}
-
-/// The evaluator and deadline of `Scene.stability` and `Scene.settle`: the plan file's
-/// `stability` section (default: the built-in one) with `weld` replacing its weld mode.
-fn stability_evaluator(plan: Option<PathBuf>, weld: Option<&str>) -> PyResult<(Evaluator, Deadline)> {
-    let mut plan = match plan {
-        Some(path) => EvaluationPlan::read(&path).map_err(|e| value_error(format!("plan: {}", chain(&e))))?,
-        None => EvaluationPlan::geometry_only(),
-    };
-    if let Some(weld) = weld {
-        plan.stability.weld = weld
-            .parse::<WeldMode>()
-            .map_err(|e| value_error(format!("weld: {e}")))?;
-    }
-    let deadline = plan.deadline();
-    let evaluator = Evaluator::new(plan).map_err(|e| value_error(format!("plan: {}", chain(&e))))?;
-    Ok((evaluator, deadline))
 }
 
 /// What `Scene.stability` returns: the stability report, and with a VLM where each object's
@@ -521,7 +508,8 @@ impl PyScene {
         let evaluator =
             Evaluator::new(plausibility_plan(py, plan, preset, metrics)?).map_err(|e| eval_error(&e))?;
         let report = detached(py, || {
-            self.with_scene(|scene| evaluator.evaluate(scene))
+            self.with_scene(|scene| evaluator.evaluate_scene(scene, &SceneInputs::default()))
+                .map(|done| done.report)
                 .map_err(|e| eval_error(&e))
         })?;
         to_python(py, &report)
@@ -532,14 +520,18 @@ impl PyScene {
     /// welded, weld_reason, final_pose, ...; and frac_unstable (unstable over the objects free
     /// to move; None when none was, with frac_unstable_missing saying why).
     ///
-    /// plan: the path of a plan file whose stability section (and time budget) applies;
-    /// weld: "architectural" (default: objects on walls and ceilings are fixed in place),
+    /// plan: as for evaluate() ("geometry", the default: the built-in parameters; "full"; a
+    /// metric list; or a plan file, JSON or TOML) and preset ("default" or "reference"): the
+    /// plan's stability section, reading options, limits and time budget apply, as
+    /// `sceneeval settle --plan` takes it; weld: "architectural" (default: objects on walls and
+    /// ceilings are fixed in place),
     /// "penetration", "combined" or "none", replacing the plan's. Support types come from
     /// what the objects state, then (with vlm) the VLM's answer for each object that states
     /// none, then the category tables, as evaluate() gets them. vlm: the OpenAI-compatible
     /// endpoint asked, the same dict as evaluate()'s vlm (base_url, model, api_key_env,
-    /// cache, render_size, ...); its answers are cached in vlm["cache"] when given (else
-    /// kept for this call only), and the report then has placement: for each object, where
+    /// cache, render_size, ...); its answers are kept in vlm["cache"] when given (else for
+    /// this call only, as `sceneeval settle` keeps them), and the report then has placement: for
+    /// each object, where
     /// its support type came from and why (eval.json's report.placement). assets: as for
     /// load_scene, the library the VLM's object views are drawn from (their materials;
     /// default: plain colours). The scene is not moved. Computed with the GIL released.
@@ -547,32 +539,34 @@ impl PyScene {
     /// Raises ValueError for a bad plan, weld mode, vlm dict or assets mapping (the message
     /// starts with the keyword at fault, `vlm["model"]: ...`), SceneEvalError when the
     /// scene cannot be simulated (no room, hence no floor; the time budget ran out).
-    #[pyo3(signature = (*, plan=None, weld=None, vlm=None, assets=None))]
+    #[pyo3(signature = (*, plan=None, preset=None, weld=None, vlm=None, assets=None))]
     fn stability<'py>(
         &self,
         py: Python<'py>,
         plan: Option<PathBuf>,
+        preset: Option<&str>,
         weld: Option<&str>,
         vlm: Option<Bound<'py, PyDict>>,
         assets: Option<BTreeMap<String, PathBuf>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (_settled, report) = self.settled(py, plan, weld, vlm.as_ref(), assets)?;
+        let (_settled, report) = self.settled(py, plan, preset, weld, vlm.as_ref(), assets)?;
         Ok(report)
     }
 
     /// Simulates the scene as stability() does and returns (settled, report): a new Scene
     /// with every object at its pose after the simulation (fixed objects where they were),
     /// and the report. This scene is not moved. Arguments and errors as stability().
-    #[pyo3(signature = (*, plan=None, weld=None, vlm=None, assets=None))]
+    #[pyo3(signature = (*, plan=None, preset=None, weld=None, vlm=None, assets=None))]
     fn settle<'py>(
         &self,
         py: Python<'py>,
         plan: Option<PathBuf>,
+        preset: Option<&str>,
         weld: Option<&str>,
         vlm: Option<Bound<'py, PyDict>>,
         assets: Option<BTreeMap<String, PathBuf>>,
     ) -> PyResult<(PyScene, Bound<'py, PyAny>)> {
-        self.settled(py, plan, weld, vlm.as_ref(), assets)
+        self.settled(py, plan, preset, weld, vlm.as_ref(), assets)
     }
 
     /// The score of a relation between objects of this scene, by object id.

@@ -4,9 +4,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use sceneeval::SceneRecord;
-use sceneeval::io::AssetLibrary;
-use sceneeval::io::assets::{Layout, split_model_id};
+use sceneeval_io::AssetLibrary;
+use sceneeval_io::assets::{Layout, split_model_id};
+use sceneeval_results::SceneRecord;
 
 /// An [`AssetLibrary`] with, for each model-id prefix of the records, the folder and layout
 /// the run read its assets from.

@@ -20,12 +20,12 @@ pub enum ReportError {
         /// The first record (in scene order) and why it cannot be read.
         first: Box<crate::Unreadable>,
     },
-    /// A record could not be read, or a file written (the facade's error names the file).
+    /// A record could not be read, or a file written (the error names the file).
     #[error(transparent)]
-    Eval(#[from] sceneeval::EvalError),
+    Results(#[from] sceneeval_results::ResultsError),
     /// An asset folder specification (`PREFIX=[LAYOUT:]DIR`) is wrong.
     #[error("asset folders: {0}")]
-    Assets(#[source] sceneeval::io::IoError),
+    Assets(#[source] sceneeval_io::IoError),
     /// A file or folder could not be read or written.
     #[error("{}: {source}", path.display())]
     File {

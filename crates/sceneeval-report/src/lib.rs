@@ -2,8 +2,9 @@
 //! browsable static report of a run.
 //!
 //! Everything here reads what a run wrote (`<scene>/eval.json`, `summary_scenes.csv`, the view
-//! and diagnostic images) through the facade's types ([`sceneeval::SceneRecord`],
-//! [`sceneeval::Summary`]); nothing is evaluated again.
+//! and diagnostic images) through the result types of `sceneeval-results`
+//! ([`sceneeval_results::SceneRecord`], [`sceneeval_results::Summary`]), every section of a
+//! record included (stability too, without the simulation); nothing is evaluated again.
 //!
 //! - [`Run`]: a run folder's records and the difficulty of each scene.
 //! - [`compare()`]: the runs side by side on what they share ([`Comparison`]), with ranks and
@@ -16,13 +17,14 @@
 //! The formats are described in `docs/formats.md` ("Comparison tables", "The static report").
 //!
 //! Every string that reaches a file is escaped for its language ([`escape`]), and every file is
-//! written through [`sceneeval::write_atomic`].
+//! written through [`sceneeval_files::write_atomic`].
 //!
 //! # Example
 //! ```
-//! use sceneeval::{Evaluator, EvaluationPlan, SceneName, SceneRecord};
-//! use sceneeval::scene::{Category, RoomBuilder, Scene};
-//! use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
+//! use sceneeval_eval::{Evaluator, EvaluationPlan, SceneInputs};
+//! use sceneeval_results::{SceneName, SceneRecord};
+//! use sceneeval_scene::{Category, RoomBuilder, Scene};
+//! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //! use sceneeval_report::{CompareOptions, Run, compare};
 //!
 //! // One scene, evaluated twice: once with the bed inside the room, once half outside.
@@ -34,7 +36,8 @@
 //!                  pose_from_yaw(Point3::new(x, 2.5, 0.25), 0.0))
 //!         .build()
 //!         .unwrap();
-//!     let report = Evaluator::new(EvaluationPlan::geometry_only()).unwrap().evaluate(&scene).unwrap();
+//!     let evaluator = Evaluator::new(EvaluationPlan::geometry_only()).unwrap();
+//!     let report = evaluator.evaluate_scene(&scene, &SceneInputs::default()).unwrap().report;
 //!     SceneRecord::ok(SceneName::new("scene_0"), report)
 //! };
 //! let a = Run::from_records("inside", "runs/a", vec![record(2.0)]);

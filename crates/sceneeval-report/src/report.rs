@@ -3,10 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
-use sceneeval::inspect::SceneInfo;
-use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
-use sceneeval::scene::Scene;
-use sceneeval::{ErrorChain, Fingerprints, SceneRecord, write_atomic};
+use sceneeval_files::ErrorChain;
+use sceneeval_io::{AssetLibrary, ReadOptions, read_scene_state};
+use sceneeval_results::{FileDigest, SceneRecord};
+use sceneeval_scene::Scene;
+use sceneeval_scene::inspect::SceneInfo;
 
 use crate::ReportError;
 use crate::assets::recorded_assets;
@@ -101,7 +102,7 @@ impl std::fmt::Display for NoTopView {
 ///
 /// # Errors
 /// [`ReportError::File`] when a folder cannot be created or an image read,
-/// [`ReportError::Eval`] when a file cannot be written, [`ReportError::Assets`] for a bad
+/// [`ReportError::File`] when a file cannot be written, [`ReportError::Assets`] for a bad
 /// asset folder specification.
 pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Written, ReportError> {
     let pages_dir = out.join(SCENES_DIR);
@@ -119,17 +120,16 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
     };
     let inside_run = out.canonicalize().is_ok_and(|o| o.starts_with(&root));
     let metrics = run.metrics();
-    let columns: Vec<(&'static str, sceneeval::Metric)> = summary_columns()
+    let columns: Vec<(&'static str, sceneeval_results::Metric)> = summary_columns()
         .into_iter()
         .filter(|(_, m)| metrics.contains(m))
         .collect();
-    let fingerprints = Fingerprints::new();
     let mut pages = std::collections::BTreeMap::new();
     let mut without_top_view = Vec::new();
     for record in &run.records {
         let name = record.scene.as_str();
         let file = format!("{}.html", escape::file_name(name));
-        let (loaded, mut remarks) = load(record, &root, options, &assets, &fingerprints);
+        let (loaded, mut remarks) = load(record, &root, options, &assets);
         let images = Images {
             root: &root,
             scene_dir: run.scene_dir(name),
@@ -250,7 +250,6 @@ fn load(
     root: &Path,
     options: &ReportOptions,
     assets: &AssetLibrary,
-    fingerprints: &Fingerprints,
 ) -> (Result<Scene, NoTopView>, Vec<String>) {
     let recorded = record.fingerprint.as_ref().map(|f| &f.scene);
     let name = record.scene.as_str();
@@ -268,7 +267,7 @@ fn load(
     match read_scene_state(&path, assets, &ReadOptions::default()) {
         Ok(scene) => {
             if let Some(old) = recorded.and_then(|f| f.blake3.as_deref())
-                && fingerprints.file(&path).blake3.as_deref() != Some(old)
+                && FileDigest::of(&path).blake3.as_deref() != Some(old)
             {
                 remarks.push(format!(
                     "The scene file {} changed since the run evaluated it: the top view shows the file as it is now.",
@@ -285,6 +284,11 @@ fn load(
             remarks,
         ),
     }
+}
+
+/// Writes `bytes` to `path` atomically, the error naming the file.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
+    sceneeval_files::write_atomic(path, bytes).map_err(|e| ReportError::file(path, e))
 }
 
 /// The PNG files of `dir` in name order; none when it does not exist.

@@ -4,10 +4,11 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use sceneeval::annotation::Annotations;
-use sceneeval::{
-    ALL_SCENES, ErrorChain, GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneName, SceneRecord,
-    SceneReport, Summary, UNANNOTATED,
+use sceneeval_annotation::Annotations;
+use sceneeval_files::ErrorChain;
+use sceneeval_results::{
+    ALL_SCENES, GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneName, SceneRecord, SceneReport,
+    Summary, UNANNOTATED,
 };
 
 use crate::ReportError;
@@ -145,7 +146,7 @@ impl Run {
     }
 
     /// The run with each scene's difficulty from its row in `annotations`
-    /// ([`sceneeval::SceneName::annotation_row`], the rule the run itself used).
+    /// ([`sceneeval_results::SceneName::annotation_row`], the rule the run itself used).
     pub fn with_annotations(mut self, annotations: &Annotations) -> Self {
         self.difficulty = self
             .records
@@ -228,7 +229,7 @@ fn read_record(root: &Path, scene: &SceneName, path: &Path) -> Result<SceneRecor
 /// fidelity metrics that have a section, without those the scene could not compute
 /// ([`SceneReport::incomplete`], status partial).
 pub fn metrics_in(report: &SceneReport) -> Vec<Metric> {
-    let mut metrics: Vec<Metric> = report.geometry_metrics.iter().map(|&m| Metric::from(m)).collect();
+    let mut metrics: Vec<Metric> = report.metrics.iter().map(|&m| Metric::from(m)).collect();
     if let Some(f) = &report.fidelity {
         for (present, m) in [
             (f.cnt.is_some(), Metric::Cnt),
@@ -254,12 +255,7 @@ pub fn metrics_in(report: &SceneReport) -> Vec<Metric> {
 /// The summary's metric columns in the summary's order (`summary.csv`: CNT, ATR, OOR, OAR, then
 /// COL_ob ... WIN_blk, STAB), each with its metric.
 pub fn summary_columns() -> Vec<(&'static str, Metric)> {
-    let fidelity = Metric::ALL.into_iter().filter(|m| m.fidelity().is_some());
-    let others = Metric::ALL.into_iter().filter(|m| m.fidelity().is_none());
-    fidelity
-        .chain(others)
-        .flat_map(|m| m.columns().iter().map(move |&c| (c, m)))
-        .collect()
+    Metric::summary_columns()
 }
 
 /// The table row of `records` as `summary.csv` computes it, named `group`.

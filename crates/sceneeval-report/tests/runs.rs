@@ -13,11 +13,12 @@ use std::process::Command;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-use sceneeval::{EvaluationRequest, Metric, Preset, SceneName, SceneRecord, Stage};
 use sceneeval_report::compare::Verdict;
 use sceneeval_report::{
     CompareOptions, NoTopView, ReportOptions, Run, compare, recorded_assets, write_report,
 };
+use sceneeval_results::{Metric, Preset, SceneName, SceneRecord, Stage};
+use sceneeval_run::EvaluationRequest;
 use sceneeval_test_support::fidelity_model::CSV;
 use sceneeval_test_support::system::{BROWSER, available};
 
@@ -73,7 +74,7 @@ fn runs() -> &'static Runs {
             request.plan.preset = Some(preset);
             request.diagnostics = diagnostics;
             // With physics, method-a runs the stability metric too (method-b does not).
-            if cfg!(feature = "physics") && diagnostics {
+            if diagnostics {
                 request.plan.metrics = Some(Metric::ALL.to_vec());
             }
             let outcome = request.run(&|_| {}).unwrap();
@@ -200,7 +201,6 @@ fn scene_pages_show_what_is_wrong_where() {
 
 /// Physics: scene 5's wardrobe and nightstand, which interpenetrate, are pushed apart by the
 /// simulation (unstable, olive in the top view); scene 8's ceiling lamp is welded.
-#[cfg(feature = "physics")]
 #[test]
 fn scene_pages_show_stability() {
     let r = runs();

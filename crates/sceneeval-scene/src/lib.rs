@@ -61,6 +61,10 @@
 //! normalisation of free-text labels (categories, attributes, relationship words) they compare
 //! text in.
 //!
+//! # Inspection
+//! [`inspect`] gives a scene's objects, rooms, walls and openings as plain values (centres,
+//! sizes, yaws, fronts, areas), what `sceneeval inspect` prints and the report draws.
+//!
 //! # Errors
 //! A [`SceneError`] names the element at fault as an [`Element`] (object, room, floor,
 //! ceiling, wall or opening, with the wall's and opening's positions), so that a loader maps
@@ -72,6 +76,7 @@ mod element;
 mod error;
 pub mod hints;
 mod ids;
+pub mod inspect;
 pub mod label;
 mod object;
 mod scene;

@@ -1,47 +1,48 @@
-//! SceneEval facade: one dependency that re-exports the member crates as modules and runs
-//! evaluation plans on scenes.
+//! SceneEval facade: one dependency that re-exports the member crates as modules, and their
+//! most used types at the top, as bevy's facade does. It holds no code of its own
+//! (`.ci/check-layering` checks that it stays re-exports only).
 //!
 //! | module | crate | what |
 //! |---|---|---|
+//! | [`files`] | `sceneeval-files` | how files are read and written; [`ErrorChain`] |
 //! | [`geom`] | `sceneeval-geom` | boxes, meshes, polygons, conventions |
-//! | [`scene`] | `sceneeval-scene` | the scene model |
+//! | [`scene`] | `sceneeval-scene` | the scene model; [`inspect`] |
 //! | [`relations`] | `sceneeval-relations` | the 23 spatial predicates |
 //! | [`io`] | `sceneeval-io` | sceneState files and assets |
 //! | [`annotation`] | `sceneeval-annotation` | the SceneEval-500 annotation schema |
-//! | [`plausibility`] | `sceneeval-plausibility` | collision, support, navigability, ... |
-//! | `render` (feature `render`) | `sceneeval-render` | offscreen wgpu renders of scenes |
 //! | [`vlm`] | `sceneeval-vlm` | VLM tasks, sessions, the response cache |
-//! | [`fidelity`] | `sceneeval-fidelity` | object matching, CNT, ATR, OOR, OAR |
+//! | [`plausibility`] | `sceneeval-plausibility` | collision, support, navigability, ... |
+//! | [`physics`] | `sceneeval-physics` | physical stability (the simulation with the feature `physics`) |
+//! | `render` (feature `render`) | `sceneeval-render` | offscreen wgpu renders of scenes |
 //! | `vlm_openai` (feature `openai`) | `sceneeval-vlm-openai` | the OpenAI-compatible HTTP client |
-//! | `physics` (feature `physics`) | `sceneeval-physics` | physical stability (the `stability` metric) |
+//! | [`convert`] | `sceneeval-convert` | generators' native outputs to sceneState files |
+//! | [`relate`] | `sceneeval-relate` | relation queries as plain data, the relate line format |
+//! | [`annotate`] | `sceneeval-annotate` | annotation rows made with a model, the review store |
+//! | [`fidelity`] | `sceneeval-fidelity` | object matching, CNT, ATR, OOR, OAR |
+//! | [`stats`] | `sceneeval-stats` | kappas, the seeded bootstrap, Wilcoxon, Holm, McNemar |
+//! | [`results`] | `sceneeval-results` | `eval.json`, timings and summary tables as types |
+//! | [`eval`] | `sceneeval-eval` | plans, the evaluator (one call per scene), VLM options |
+//! | [`run`] | `sceneeval-run` | a run: request, batch, fingerprints, dry run |
+//! | `report` (feature `report`) | `sceneeval-report` | comparisons of runs, the static report |
 //!
-//! On top of them:
-//! - an [`EvaluationPlan`] names the [`Metric`]s to run and their parameters (starting from a
-//!   [`Preset`]: this implementation's defaults or every reference-parity switch);
-//! - an [`Evaluator`] runs a plan: [`Evaluator::evaluate_scene`] is the per-scene pipeline
-//!   (the VLM's object views, support types and functional sides when one is configured, the
-//!   geometry metrics, then CNT, ATR, OOR, OAR against the scene's annotation row) and returns
-//!   the [`SceneReport`], built once;
-//! - an [`EvaluationRequest`] is a whole run (scenes, assets, annotations, output folder, plan,
-//!   VLM, threads, shard), each default written once, that `sceneeval evaluate` and the Python
-//!   package's `sceneeval.evaluate` both build; [`EvaluationRequest::prepare`] checks it before
-//!   any work and [`PreparedRun::run`] runs it: [`run_batch`] (files, fingerprints, reuse,
-//!   parallelism: one [`SceneRecord`] per scene in `eval.json`, written as it finishes, reused
-//!   only while its [`Fingerprint`] matches), then the paper's tables ([`Summary`], overall and
-//!   by difficulty);
-//! - a scene's identity, [`SceneName`] (its name and benchmark id, which finds its annotation
-//!   row), is made once where scene files are found ([`find_scenes`]);
-//! - [`annotate`] makes annotation rows with a model, the paper's semi-automatic process
-//!   (`sceneeval annotations annotate` and `generate`);
-//! - [`ErrorChain`] prints an error and its causes as every front end shows them, and
-//!   [`inspect`] gives a scene's objects, rooms, walls and openings as plain values.
+//! At the top: an [`EvaluationPlan`] names the [`Metric`]s to run and their parameters (from
+//! a [`Preset`]); an [`Evaluator`] runs it on one scene ([`Evaluator::evaluate_scene`], the
+//! one per-scene call, which returns the scene's [`SceneReport`]); an [`EvaluationRequest`] is
+//! a whole run (scenes, assets, annotations, output folder, plan, VLM, threads, shard), which
+//! [`EvaluationRequest::prepare`] checks and [`PreparedRun::run`] runs, writing one
+//! [`SceneRecord`] per scene and the paper's tables ([`Summary`]).
 //!
-//! Every result file is written atomically ([`write_atomic`]). File formats and the guarantees
-//! a user may rely on: `docs/formats.md`; the data flow: `docs/architecture.md`.
+//! File formats and the guarantees a user may rely on: `docs/formats.md`; the crates and the
+//! data flow: `docs/architecture.md`.
+//!
+//! # Features
+//! `render`, `openai` and `physics` choose the heavy parts (wgpu; tokio and reqwest; rapier),
+//! `report` the comparison tables and the static report; none is on by default, so the
+//! default facade is CPU-only and offline.
 //!
 //! # Example
 //! ```
-//! use sceneeval::{Evaluator, EvaluationPlan, SceneName, SceneRecord, Summary};
+//! use sceneeval::{Evaluator, EvaluationPlan, SceneInputs, SceneName, SceneRecord, Summary};
 //! use sceneeval::scene::{Category, RoomBuilder, Scene};
 //! use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //!
@@ -56,82 +57,64 @@
 //!     .unwrap();
 //! let plan = EvaluationPlan::geometry_only();
 //! let evaluator = Evaluator::new(plan.clone()).unwrap();
-//! let report = evaluator.evaluate(&scene).unwrap();
+//! let report = evaluator.evaluate_scene(&scene, &SceneInputs::default()).unwrap().report;
 //! assert_eq!(report.summary.geometry.col_sc, Some(false));
 //! assert_eq!(report.summary.geometry.oob, Some(0.0));
 //!
 //! let summary = Summary::from_records(&[SceneRecord::ok(SceneName::new("scene_0"), report)], None)
-//!     .with_plan(&plan);
+//!     .with_plan(plan.preset, plan.result_digest());
 //! assert_eq!(summary.groups[0].col_ob, Some(0.0));
 //! let md = summary.to_markdown();
 //! assert!(md.starts_with("| group | scenes |"));
 //! assert!(md.contains("Preset: `default`"));
 //! ```
 
+pub use sceneeval_annotate as annotate;
 pub use sceneeval_annotation as annotation;
+pub use sceneeval_convert as convert;
+pub use sceneeval_eval as eval;
 pub use sceneeval_fidelity as fidelity;
+pub use sceneeval_files as files;
 pub use sceneeval_geom as geom;
 pub use sceneeval_io as io;
-#[cfg(feature = "physics")]
 pub use sceneeval_physics as physics;
 pub use sceneeval_plausibility as plausibility;
+pub use sceneeval_relate as relate;
 pub use sceneeval_relations as relations;
 #[cfg(feature = "render")]
 pub use sceneeval_render as render;
+#[cfg(feature = "report")]
+pub use sceneeval_report as report;
+pub use sceneeval_results as results;
+pub use sceneeval_run as run;
 pub use sceneeval_scene as scene;
+/// What a scene contains, as plain values (`sceneeval_scene::inspect`).
+pub use sceneeval_scene::inspect;
+pub use sceneeval_stats as stats;
 pub use sceneeval_vlm as vlm;
 #[cfg(feature = "openai")]
 pub use sceneeval_vlm_openai as vlm_openai;
 
-pub mod annotate;
-mod batch;
-mod chain;
-mod dry_run;
-mod dyn_vlm;
-mod error;
-mod evaluator;
-mod files;
-mod fingerprint;
-pub mod inspect;
-mod metric;
-mod plan;
-mod record;
-pub mod relate;
-mod report;
-mod request;
-mod scene_file;
-mod schedule;
-mod summary;
-
-pub use batch::{
-    BatchOptions, BatchOutcome, Reason, RunEvent, SceneStatus, SceneTiming, TIMING_SCHEMA, run_batch,
+#[cfg(feature = "physics")]
+pub use sceneeval_eval::Settled;
+pub use sceneeval_eval::{
+    BudgetSpent, ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_TIME_BUDGET_SECONDS,
+    DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS, EvalError, EvaluationPlan,
+    Evaluator, MAX_VLM_TIMEOUT_SECONDS, NoVlmFallback, PlanRequest, PlanSpec, PreparedSettle,
+    RENDER_SIZE_RANGE, RequestField, SceneEvaluation, SceneInputs, SettleRequest, SharedVlm, VlmOptions,
 };
-pub use chain::{ErrorChain, causes};
-pub use dry_run::{DryRun, TaskCost};
-pub use dyn_vlm::SharedVlm;
-pub use error::EvalError;
-pub use evaluator::{Evaluator, SceneEvaluation, SceneInputs};
-pub use files::{LOCK_FILE, OutputLock, check_output_dir, write_atomic, write_atomic_with};
-pub use fingerprint::{
-    AssetDigest, FileDigest, Fingerprint, Fingerprints, TOOL_VERSION, annotation_digest, matching_file_digest,
+pub use sceneeval_files::{ErrorChain, causes};
+pub use sceneeval_plausibility::MetricTiming;
+pub use sceneeval_results::{
+    ALL_SCENES, AssetDigest, Better, FileDigest, Fingerprint, GroupSummary, IncompleteMetric, LEGEND, Metric,
+    ObjectPlacement, Outcome, PlacementSource, Preset, Provenance, RECORD_FILE, RECORD_SCHEMA, ResultsError,
+    SCENE_REPORT_SCHEMA, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneName, SceneRecord, SceneReport,
+    SceneRow, SceneSummary, SceneTiming, Stage, Summary, TIMING_FILE, TIMING_SCHEMA, TOOL_VERSION,
+    UNANNOTATED, UnknownMetric, UnknownPreset,
 };
-pub use metric::{Better, Metric, UnknownMetric};
-pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, Preset};
-pub use plausibility::{Deadline, MetricTiming};
-pub use record::{Outcome, RECORD_SCHEMA, SceneRecord, Stage};
-pub use report::{
-    IncompleteMetric, ObjectPlacement, PlacementSource, Provenance, SCENE_REPORT_SCHEMA, SceneReport,
-    SceneSummary,
+pub use sceneeval_run::{
+    BatchOptions, BatchOutcome, DryRun, EvaluationRequest, Fingerprints, LOCK_FILE, OutputLock, PreparedRun,
+    Reason, RunError, RunEvent, RunOutcome, SceneFile, SceneSet, SceneStatus, Shard, SkippedFile, TaskCost,
+    annotation_digest, check_output_dir, find_scenes, matching_file_digest, run_batch,
 };
-pub use request::{
-    ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR,
-    DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS, EvaluationRequest, MAX_VLM_TIMEOUT_SECONDS,
-    NoVlmFallback, PlanRequest, PlanSpec, PreparedRun, RENDER_SIZE_RANGE, RequestField, RunOutcome, Shard,
-    VlmOptions,
-};
-pub use scene_file::{RECORD_FILE, SceneFile, SceneName, SceneSet, SkippedFile, TIMING_FILE, find_scenes};
-pub use schedule::BudgetSpent;
-pub use summary::{
-    ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneRow, Summary,
-    UNANNOTATED,
-};
+pub use sceneeval_scene::Deadline;

@@ -9,19 +9,17 @@
 //! without error, 2 when some line got an error answer, 1 when the input could not be read at
 //! all.
 //!
-//! This command is the framing of a query stream: it reads lines, hands each to the facade's
-//! `sceneeval::relate::Session` (declared names, prepared rooms, the asset library, scoring
-//! through the one dispatcher; the Python package goes through the same session type) and
-//! writes one answer per line.
+//! This command is the framing of a query stream: it reads lines, numbers them and hands each
+//! to `sceneeval::relate::answer_line`, which parses it (the one reader of the line format),
+//! asks the `sceneeval::relate::Session` (declared names, prepared rooms, the asset library,
+//! scoring through the one dispatcher; the Python package goes through the same session type)
+//! and gives the answer it writes.
 //!
-//! Speed: each line is parsed once into borrowed, typed fields ([`line`]; a query by name
-//! through a scanner of its own, [`flat`], every other line through serde_json; see
-//! [`parse_line`]); the session prepares rooms once per distinct room text, so an inline room
-//! costs what a declared one costs; answers are buffered and flushed only when the input has
-//! nothing more to read at once (see [`answer_all`]).
-
-mod flat;
-mod line;
+//! Speed: each line is parsed once into borrowed, typed fields (a query by name through a
+//! scanner of its own, every other line through serde_json); the session prepares rooms once
+//! per distinct room text, so an inline room costs what a declared one costs; answers are
+//! buffered and flushed only when the input has nothing more to read at once (see
+//! [`answer_all`]).
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
@@ -29,16 +27,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use sceneeval::geom::Real;
 use sceneeval::io::AssetLibrary;
-use sceneeval::relate::{Session, error_path};
+use sceneeval::relate::{Answer, RawText, Session, answer_line, write_answer};
 use sceneeval::relations::RelationParams;
-use serde::Serialize;
-
-use line::{DeclareOnly, IdOnly, Line, LineKind, RawText};
-
-/// The only line-schema version this build understands.
-pub const SCHEMA_VERSION: u64 = 1;
 
 /// Size of the input and output buffers.
 const BUFFER_BYTES: usize = 1 << 16;
@@ -174,149 +165,6 @@ impl Stream<'_> {
         };
         write_answer(out, &answer)
     }
-}
-
-/// One answer line: `{"id", "score", "holds"}`, `{"id", "declared"}` or `{"id", "error"}`.
-/// The id is the line's JSON text, echoed byte for byte (a 30-digit integer stays a 30-digit
-/// integer).
-#[derive(Debug, Serialize)]
-#[serde(untagged)]
-enum Answer<'a> {
-    Score {
-        id: RawText<'a>,
-        score: Real,
-        holds: bool,
-    },
-    Declared {
-        id: RawText<'a>,
-        declared: String,
-    },
-    Error {
-        id: RawText<'a>,
-        error: String,
-    },
-}
-
-/// Writes `answer` and a newline. A score, the answer of almost every line, is written field by
-/// field (the id's raw text, the score as serde_json writes a number): the same bytes as
-/// serialising the enum, at a fifth of the cost.
-fn write_answer(out: &mut impl Write, answer: &Answer<'_>) -> io::Result<()> {
-    match answer {
-        Answer::Score { id, score, holds } => {
-            out.write_all(b"{\"id\":")?;
-            out.write_all(id.0.as_bytes())?;
-            out.write_all(b",\"score\":")?;
-            serde_json::to_writer(&mut *out, score)?;
-            out.write_all(if *holds {
-                b",\"holds\":true}\n"
-            } else {
-                b",\"holds\":false}\n"
-            })
-        }
-        other => {
-            serde_json::to_writer(&mut *out, other)?;
-            out.write_all(b"\n")
-        }
-    }
-}
-
-impl<'a> Answer<'a> {
-    fn error(id: RawText<'a>, error: impl Into<String>) -> Self {
-        Answer::Error {
-            id,
-            error: error.into(),
-        }
-    }
-}
-
-/// The id of a line that did not parse as a whole, verbatim, or `null`.
-fn raw_id(text: &str) -> RawText<'_> {
-    match serde_json::from_str::<IdOnly<'_>>(text) {
-        Ok(IdOnly { id: Some(id) }) => id,
-        _ => RawText::NULL,
-    }
-}
-
-/// The line in `text` (one JSON object), built in the caller's `slot` (a line is a few hundred
-/// bytes: it is not moved once per call): through the fast scanner ([`flat::read`]) when it is
-/// a flat object of plain strings and integers, else through serde_json, whose errors are the
-/// answer's.
-#[inline]
-fn parse_line<'a, 's>(text: &'a str, slot: &'s mut Option<Line<'a>>) -> serde_json::Result<&'s Line<'a>> {
-    let line = slot.insert(Line::default());
-    if flat::read(text, line).is_none() {
-        *line = serde_json::from_str(text)?;
-    }
-    Ok(line)
-}
-
-/// The error answer of a line that serde_json could not read as a [`Line`]: `invalid JSON`
-/// when the text is not JSON, else `invalid query` with the path of the key at fault
-/// (`target.half_size`, `targets[1].center`) and, for a declaration, its name.
-fn unreadable(text: &str, e: &serde_json::Error) -> String {
-    if !e.is_data() && serde_json::from_str::<serde::de::IgnoredAny>(text).is_err() {
-        return format!("invalid JSON: {e}");
-    }
-    let path = error_path::<Line<'_>>(text).unwrap_or_default();
-    let declared = serde_json::from_str::<DeclareOnly<'_>>(text)
-        .ok()
-        .and_then(|d| d.declare)
-        .and_then(|raw| serde_json::from_str::<String>(raw.get()).ok());
-    match (declared, path.is_empty()) {
-        (Some(name), false) => format!("invalid declaration of {name:?}: {path}: {e}"),
-        (Some(name), true) => format!("invalid declaration of {name:?}: {e}"),
-        (None, false) => format!("invalid query: {path}: {e}"),
-        (None, true) => format!("invalid query: {e}"),
-    }
-}
-
-/// Answers one non-blank line (line `number` of the input).
-fn answer_line<'t>(text: &'t str, number: usize, session: &mut Session) -> Answer<'t> {
-    // Checked first: serde would also read a struct from an array of its fields.
-    if !text.trim_ascii_start().starts_with('{') {
-        return match serde_json::from_str::<serde::de::IgnoredAny>(text) {
-            Ok(_) => Answer::error(RawText::NULL, "a line must be a JSON object"),
-            Err(e) => Answer::error(RawText::NULL, format!("invalid JSON: {e}")),
-        };
-    }
-    let mut slot = None;
-    let line = match parse_line(text, &mut slot) {
-        Ok(line) => line,
-        // The line may be well-formed JSON whose id can be read even when the rest cannot be
-        // converted (for example a number too large for a double elsewhere).
-        Err(e) => return Answer::error(raw_id(text), unreadable(text, &e)),
-    };
-    let id = line.id.unwrap_or(RawText::NULL);
-    if let Some(version) = line.version
-        && version.0 != "1"
-    {
-        return Answer::error(
-            id,
-            format!(
-                "unsupported schema version {} (this build reads version {SCHEMA_VERSION})",
-                version.0
-            ),
-        );
-    }
-    let declared = |name: &str| Answer::Declared {
-        id,
-        declared: name.to_owned(),
-    };
-    let answer = match line.kind() {
-        Ok(LineKind::Query(query)) => session.score(&query).map(|score| Answer::Score {
-            id,
-            score,
-            holds: session.holds(score),
-        }),
-        Ok(LineKind::DeclareObject(name, object)) => session
-            .declare_object(name, object, number)
-            .map(|()| declared(name)),
-        Ok(LineKind::DeclareRoom(name, room)) => {
-            session.declare_room(name, room, number).map(|()| declared(name))
-        }
-        Err(e) => return Answer::error(id, e),
-    };
-    answer.unwrap_or_else(|e| Answer::error(id, e.to_string()))
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@
 //! **Ranks** are competition ranks ("1224": runs with equal values share the best rank, the
 //! next rank skips the places they fill) per column, on the values as printed (two decimals),
 //! among the runs with a value in that column; the direction is the metric's
-//! ([`sceneeval::Metric::better`]). A run ranked `r` of the `N` runs with a value gets
+//! ([`sceneeval_results::Metric::better`]). A run ranked `r` of the `N` runs with a value gets
 //! `N - r + 1` points; a run's total is the sum over columns, its average rank the mean of its
 //! ranks, and its places the number of columns where it is first, second and third. Best
 //! values (rank 1) are bold, second (rank 2) italic.
@@ -23,8 +23,8 @@ mod text;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
-use sceneeval::fidelity::FidelityReport;
-use sceneeval::{Better, GroupSummary, Metric, Outcome, SceneName};
+use sceneeval_fidelity::FidelityReport;
+use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneName};
 use sceneeval_stats::bootstrap::{Bootstrap, DEFAULT_RESAMPLES};
 
 pub use rank::competition_ranks;
@@ -499,7 +499,7 @@ fn table(
 
 /// Notes for what should be the same in every run and is not: the plan, the preset, the tool.
 fn same_everywhere(runs: &[Run], notes: &mut Vec<String>) {
-    type Get = fn(&sceneeval::Fingerprint) -> Option<String>;
+    type Get = fn(&sceneeval_results::Fingerprint) -> Option<String>;
     let aspects: [(&str, Get); 3] = [
         ("plans (result digests: metrics or parameters differ)", |f| {
             // The digest's first 16 characters (a record is input: not cut inside a character).

@@ -1,14 +1,14 @@
 //! Competition ranking ("1224"): runs with equal values share the best rank, and the next rank
 //! skips as many places as runs tied.
 
-use sceneeval::Better;
+use sceneeval_results::Better;
 
 /// The rank of each value (1 = best) among the values present, by competition ranking: a
 /// value's rank is one more than the number of values strictly better than it. `None` where
 /// the value is missing (not ranked).
 ///
 /// ```
-/// use sceneeval::Better;
+/// use sceneeval_results::Better;
 /// use sceneeval_report::compare::competition_ranks;
 /// // Higher is better: 90 first, the two 80s share second, 70 is fourth.
 /// let ranks = competition_ranks(&[Some(80.0), Some(90.0), None, Some(80.0), Some(70.0)], Better::Higher);

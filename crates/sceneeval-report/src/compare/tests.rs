@@ -2,8 +2,10 @@
 
 use std::collections::BTreeMap;
 
-use sceneeval::plausibility::{self, PlausibilityReport, PlausibilitySummary};
-use sceneeval::{FileDigest, Fingerprint, Preset, SceneName, SceneRecord, SceneReport, Stage, TOOL_VERSION};
+use sceneeval_plausibility::{self as plausibility, PlausibilityReport, PlausibilitySummary};
+use sceneeval_results::{
+    FileDigest, Fingerprint, Preset, SceneName, SceneRecord, SceneReport, Stage, TOOL_VERSION,
+};
 
 use super::*;
 
@@ -33,7 +35,7 @@ fn record(name: &str, metrics: &[P], summary: PlausibilitySummary, plan: &str) -
 fn fingerprint(plan: &str) -> Fingerprint {
     Fingerprint {
         tool: TOOL_VERSION.to_owned(),
-        schema: sceneeval::RECORD_SCHEMA.to_owned(),
+        schema: sceneeval_results::RECORD_SCHEMA.to_owned(),
         scene: FileDigest {
             path: "scenes/x.json".into(),
             blake3: None,
@@ -191,15 +193,9 @@ fn a_metric_missing_from_one_run_failed_and_partial_scenes_and_other_plans_are_n
             // Status partial: support listed as not computed (its value is not compared).
             {
                 let r = record("scene_5", &both, sup(1.0), "aaaa");
-                let report =
-                    r.report()
-                        .unwrap()
-                        .clone()
-                        .with_incomplete(vec![sceneeval::IncompleteMetric::new(
-                            Metric::Support,
-                            false,
-                            &err,
-                        )]);
+                let report = r.report().unwrap().clone().with_incomplete(vec![
+                    sceneeval_results::IncompleteMetric::new(Metric::Support, false, &err),
+                ]);
                 SceneRecord::ok(SceneName::new("scene_5"), report).with_fingerprint(fingerprint("aaaa"))
             },
         ],

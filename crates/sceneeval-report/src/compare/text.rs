@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use sceneeval::Better;
+use sceneeval_results::Better;
 use sceneeval_stats::bootstrap::DEFAULT_RESAMPLES;
 
 use super::{Cell, Comparison, Table};

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use sceneeval::Better;
+use sceneeval_results::Better;
 
 use crate::compare::text_arrow;
 use crate::escape;

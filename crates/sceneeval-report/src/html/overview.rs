@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use sceneeval::{Better, GroupSummary, Metric, Outcome, Summary};
+use sceneeval_results::{Better, GroupSummary, Metric, Outcome, Summary};
 
 use super::chart::{GROUP_COLOURS, bars};
 use super::scene::problem_keys;

@@ -5,9 +5,10 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use sceneeval::fidelity::{FidelityReport, MetricResult, RelationMappingInfo};
-use sceneeval::inspect::SceneInfo;
-use sceneeval::{ErrorChain, Metric, Outcome, SceneRecord, SceneReport, Stage};
+use sceneeval_fidelity::{FidelityReport, MetricResult, RelationMappingInfo};
+use sceneeval_files::ErrorChain;
+use sceneeval_results::{Metric, Outcome, SceneRecord, SceneReport, Stage};
+use sceneeval_scene::inspect::SceneInfo;
 use serde::Serialize;
 
 use super::topview::{self, Overlay, Problem};
@@ -94,7 +95,6 @@ pub(crate) fn scene_page(p: &ScenePage<'_>) -> String {
         b.push_str("</tr></tbody></table></div><p class=\"muted\">Percent, this scene alone (as in summary_scenes.csv).</p>");
         top_view(&mut b, p, report);
         geometry_evidence(&mut b, report);
-        #[cfg(feature = "physics")]
         stability(&mut b, report);
         if let Some(f) = &report.fidelity {
             fidelity(&mut b, f);
@@ -209,9 +209,8 @@ fn top_view_only(b: &mut String, p: &ScenePage<'_>) {
 
 /// The stability metric's verdicts: how far each object moved and turned under physics, and
 /// which were welded in place and why.
-#[cfg(feature = "physics")]
 fn stability(b: &mut String, report: &SceneReport) {
-    use sceneeval::physics::WeldReason;
+    use sceneeval_physics::WeldReason;
     let Some(s) = &report.stability else {
         return;
     };
@@ -258,7 +257,7 @@ fn stability(b: &mut String, report: &SceneReport) {
 
 fn geometry_evidence(b: &mut String, report: &SceneReport) {
     b.push_str("<h2>Geometry evidence</h2>");
-    if report.geometry_metrics.is_empty() {
+    if report.metrics.is_empty() {
         b.push_str("<p class=\"muted\">No geometry metric ran.</p>");
         return;
     }
@@ -278,8 +277,8 @@ fn geometry_evidence(b: &mut String, report: &SceneReport) {
                     html(x.a.as_str()),
                     html(x.b.as_str()),
                     html(&match &x.kind {
-                        sceneeval::plausibility::ContactKind::Surface => "surfaces cross".to_owned(),
-                        sceneeval::plausibility::ContactKind::Nested { inner } =>
+                        sceneeval_plausibility::ContactKind::Surface => "surfaces cross".to_owned(),
+                        sceneeval_plausibility::ContactKind::Nested { inner } =>
                             format!("{} inside the other", inner.as_str()),
                     }),
                     x.depth

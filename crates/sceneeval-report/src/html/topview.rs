@@ -7,9 +7,9 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use sceneeval::SceneReport;
-use sceneeval::inspect::SceneInfo;
-use sceneeval::plausibility::{AccessibilityReport, Grid, Supporter};
+use sceneeval_plausibility::{AccessibilityReport, Grid, Supporter};
+use sceneeval_results::SceneReport;
+use sceneeval_scene::inspect::SceneInfo;
 
 use crate::escape;
 
@@ -194,7 +194,6 @@ pub(crate) fn problems(report: &SceneReport) -> BTreeMap<String, Vec<(Problem, S
             }
         }
     }
-    #[cfg(feature = "physics")]
     if let Some(s) = &report.stability {
         for o in s.objects.iter().filter(|o| !o.stable) {
             add(
