@@ -25,7 +25,7 @@ pub struct Args {
     /// `3dfModel` 3D-FUTURE, `objaverse` Objathor, `fpModel` HSSD, `layoutvlm-objaverse`
     /// LayoutVLM, anything else a plain folder of `ID.glb`/`ID.gltf`/`ID.obj`) or
     /// `PREFIX=LAYOUT:DIR` with LAYOUT one of `3d-future`, `objathor`, `hssd`, `layoutvlm`,
-    /// `plain`. Repeatable.
+    /// `idesign`, `scene-agent`, `plain`. Repeatable.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
     /// `--format json`: one JSON document (`scene`, `objects`, `rooms` with their walls and
