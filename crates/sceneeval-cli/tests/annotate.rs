@@ -194,7 +194,8 @@ fn annotate_a_list_of_descriptions_then_check_and_continue() {
         "annotate",
         "--descriptions",
         list.to_str().unwrap(),
-        "--out",
+        // -o: the short --out of every command that writes.
+        "-o",
         out_arg,
         "--id",
         "3",
@@ -339,7 +340,7 @@ fn generate_filters_near_duplicates_and_resumes() {
             "generate",
             "--examples",
             examples.to_str().unwrap(),
-            "--out",
+            "-o",
             out.to_str().unwrap(),
             "--difficulty",
             "easy",

@@ -32,7 +32,7 @@ pub struct AnnotateArgs {
     pub descriptions: Option<PathBuf>,
     /// With `--descriptions`: the annotation file the rows are appended to (CSV; JSON for
     /// `.json`).
-    #[arg(long, value_name = "FILE", requires = "descriptions")]
+    #[arg(long, short = 'o', value_name = "FILE", requires = "descriptions")]
     pub out: Option<PathBuf>,
     /// The description's difficulty level (with `--descriptions`: of every description);
     /// without it the model chooses by the paper's rules.
@@ -73,7 +73,7 @@ pub struct GenerateArgs {
     pub count: usize,
     /// The annotation file accepted rows are appended to (CSV; JSON for `.json`); rejected
     /// candidates go to OUT.rejected.jsonl.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, short = 'o', value_name = "FILE")]
     pub out: PathBuf,
     /// The level of every description (default: easy, medium and hard in turn).
     #[arg(long, value_name = "easy|medium|hard")]
