@@ -84,8 +84,9 @@ pub struct GenerateArgs {
     /// In-context examples per request (the paper showed three to five).
     #[arg(long, default_value_t = DEFAULT_EXAMPLES_PER_REQUEST, value_name = "K")]
     pub examples_per_request: usize,
-    /// The first ID when `--out` has no rows (default: one more than the examples' largest ID).
-    #[arg(long, value_name = "N")]
+    /// The first ID when `--out` has no rows (default: one more than the examples' largest ID);
+    /// `--id` as in `annotate` (`--first-id` is its old spelling).
+    #[arg(long = "id", alias = "first-id", value_name = "N")]
     pub first_id: Option<u64>,
     /// Jaccard similarity of content words at and above which a description is too similar to
     /// an existing one.
