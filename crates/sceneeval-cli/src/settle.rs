@@ -45,7 +45,7 @@ pub struct Args {
     pub time_budget: Option<f64>,
     /// What is fixed in place: architectural (objects on walls and ceilings, the default),
     /// penetration (objects interpenetrating another object or the architecture), combined
-    /// (both) or none. Replaces the plan's `stability.weld`.
+    /// (both) or none. Replaces the plan's `params.stability.weld`.
     #[arg(long, value_name = "MODE", value_parser = str::parse::<WeldMode>)]
     pub weld: Option<WeldMode>,
     /// The VLM asked for the support types the scene does not state, as `evaluate` asks them
