@@ -25,8 +25,8 @@ pub struct Args {
     /// The sceneState JSON file.
     pub scene: PathBuf,
     /// Asset folder for a model-id prefix, as `PREFIX=DIR` (layout chosen from the prefix) or
-    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, plain.
-    /// Repeat for several prefixes.
+    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, idesign,
+    /// scene-agent, plain. Repeat for several prefixes.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
     /// The settled scene's file (sceneState JSON; replaced atomically; may be SCENE itself).
