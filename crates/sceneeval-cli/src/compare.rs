@@ -1,11 +1,13 @@
 //! `sceneeval compare RUN...`: the runs of several methods side by side, as a paper table
-//! (Markdown, CSV, LaTeX or HTML) with ranks and rank points, compared only on what they share.
+//! (Markdown, CSV, LaTeX or HTML) with ranks and rank points, compared only on what they share;
+//! with `--paired`, paired differences and tests per pair of runs.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use sceneeval::annotation::Annotations;
+use sceneeval::report::compare::{FailedScenes, Pairing, RankBy};
 use sceneeval::report::{CompareOptions, Run, compare};
 
 /// Arguments of `sceneeval compare`.
@@ -13,8 +15,12 @@ use sceneeval::report::{CompareOptions, Run, compare};
 #[command(
     after_help = "Runs are compared on the scenes every run evaluated in full and on the metrics every run \
 ran; every difference (scenes left out and why, metrics not shared, other plans, presets or tool versions) is a \
-note under the table. Ranks are competition ranks (1224) per column among the runs with a value; a run ranked r \
-of N gets N - r + 1 points. Bold: best value, italic: second. The formats are described in docs/formats.md."
+note under the table, and every table names, per run, the scenes it lacks or failed among every scene of any \
+run. Ranks (--rank tested): 1 + the number of runs better in the column by a paired Wilcoxon test, Holm-adjusted \
+across the pair's columns, p < --alpha; runs no test separates share a rank (--rank mean: competition ranks of \
+the means). A run ranked r of N gets N - r + 1 points. Bold: best value, italic: second. --paired adds, per pair \
+of runs and column, the mean paired difference b - a, its bootstrap interval, the Wilcoxon p-value and its Holm \
+adjustment, and McNemar's test on the fidelity verdicts. The formats are described in docs/formats.md."
 )]
 pub struct Args {
     /// Output folders of `sceneeval evaluate`, one per method, in the order of the table's rows.
@@ -39,9 +45,48 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub annotations: Option<PathBuf>,
     /// A bootstrap confidence interval at this level beside each value, e.g. 0.95 (resampling
-    /// the scenes 1000 times with a fixed seed; percentile method).
+    /// the scenes 1000 times with a fixed seed; percentile method); also the level of the
+    /// paired differences' intervals (default there: 0.95).
     #[arg(long, value_name = "LEVEL")]
     pub ci: Option<f64>,
+    /// Paired comparisons of every pair of runs on the scenes both evaluated: per column n, the
+    /// mean difference b - a, its bootstrap interval, the Wilcoxon p-value and its Holm
+    /// adjustment; McNemar's test on the fidelity verdicts. With --format csv, these rows.
+    #[arg(long)]
+    pub paired: bool,
+    /// With --paired: each run against the first only.
+    #[arg(long, requires = "paired")]
+    pub against_first: bool,
+    /// The significance level of the tested ranks and the paired tables' marks.
+    #[arg(long, value_name = "ALPHA", default_value_t = 0.05)]
+    pub alpha: f64,
+    /// How runs are ranked: tested (runs a paired test does not separate share a rank) or
+    /// mean (by the means alone).
+    #[arg(long, value_enum, default_value_t = Rank::Tested)]
+    pub rank: Rank,
+    /// How failed and missing scenes count in the per-run means: skip (values over the scenes
+    /// every run evaluated in full) or worst (every scene of any run, a failed or missing one
+    /// at the column's worst value).
+    #[arg(long, value_enum, default_value_t = Failed::Skip)]
+    pub failed: Failed,
+}
+
+/// `--rank`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Rank {
+    /// 1 + the number of runs better by a paired test (Holm-adjusted p < --alpha).
+    Tested,
+    /// Competition ranks of the means as printed.
+    Mean,
+}
+
+/// `--failed`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Failed {
+    /// Values over the scenes every run evaluated in full.
+    Skip,
+    /// Failed and missing scenes at the column's worst value.
+    Worst,
 }
 
 /// The output formats.
@@ -100,6 +145,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         &CompareOptions {
             by_difficulty: args.by == Some(By::Difficulty),
             ci: args.ci,
+            paired: args.paired.then_some(if args.against_first {
+                Pairing::AgainstFirst
+            } else {
+                Pairing::All
+            }),
+            rank: match args.rank {
+                Rank::Tested => RankBy::Tested,
+                Rank::Mean => RankBy::Mean,
+            },
+            alpha: args.alpha,
+            failed: match args.failed {
+                Failed::Skip => FailedScenes::Skip,
+                Failed::Worst => FailedScenes::Worst,
+            },
         },
     )?;
     // The folder the page will be in: links to the runs' reports are relative to it.
@@ -111,6 +170,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .map_or_else(|| PathBuf::from("."), PathBuf::from);
     let text = match args.format {
         Format::Md => comparison.to_markdown(),
+        Format::Csv if args.paired => comparison.to_paired_csv()?,
         Format::Csv => comparison.to_csv()?,
         Format::Latex => comparison.to_latex(),
         Format::Html => comparison.to_html(&page_dir),
@@ -133,6 +193,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         for note in &comparison.notes {
             eprintln!("note: {note}");
         }
+        if args.format == Format::Csv {
+            for line in comparison.coverage_lines() {
+                eprintln!("note: {line}");
+            }
+        }
+    }
+    // Pairs of runs made with different plans, presets or annotation rows: always said.
+    for note in comparison.pairs.iter().flat_map(|p| &p.notes) {
+        eprintln!("warning: {note}");
     }
     Ok(ExitCode::SUCCESS)
 }

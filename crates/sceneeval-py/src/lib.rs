@@ -23,6 +23,9 @@
 //!   same plans, run and files; `vlm` (a dict of [`sceneeval::VlmOptions`]' fields, the
 //!   `--vlm-*` settings) asks an OpenAI-compatible endpoint. `evaluation_request(...)` gives
 //!   the request itself, as `sceneeval evaluate --print-request` prints it.
+//! - `compare(runs, *, paired=False, against_first=False, ci=None, alpha=0.05, rank="tested",
+//!   failed="skip", ...)` ([`compare`]): `sceneeval compare` through `sceneeval-report`, the
+//!   rows as dicts (`paired=True`: the paired differences, Wilcoxon and Holm, McNemar).
 //! - `sceneeval.stats` ([`stats`]): Cohen's and Fleiss' kappa, bootstrap intervals, paired
 //!   differences with the Wilcoxon test, Holm, McNemar and majority votes from `sceneeval-stats`.
 //!
@@ -40,6 +43,7 @@
 //! assert_eq!(on_top, vec![1.0]);
 //! ```
 
+pub mod compare;
 pub mod convert;
 pub mod errors;
 pub mod relations;
@@ -52,6 +56,8 @@ pub mod stats;
 mod _sceneeval {
     use pyo3::prelude::*;
 
+    #[pymodule_export]
+    use crate::compare::compare;
     #[pymodule_export]
     use crate::errors::SceneEvalError;
     #[pymodule_export]

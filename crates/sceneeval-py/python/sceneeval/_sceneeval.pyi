@@ -300,6 +300,35 @@ def load_scene(
     cannot be read, and ValueError for a bad assets mapping.
     """
 
+def compare(
+    runs: Sequence[PathLike],
+    *,
+    names: Optional[Sequence[str]] = None,
+    paired: bool = False,
+    against_first: bool = False,
+    ci: Optional[float] = None,
+    alpha: float = 0.05,
+    rank: Literal["tested", "mean"] = "tested",
+    failed: Literal["skip", "worst"] = "skip",
+    by_difficulty: bool = False,
+) -> List[Dict[str, Any]]:
+    """Compares the runs (output folders of `evaluate`) as `sceneeval compare` does.
+
+    With `paired=True`, one dict per pair of runs (each against the first with
+    `against_first=True`) and metric column: `kind` (`paired`), `a`, `b`, `metric`, `n`,
+    `mean_diff` (b - a, percentage points), `diff_low`, `diff_high` (the paired bootstrap
+    interval at `ci`, default 0.95), `p_value` (two-sided Wilcoxon signed-rank; `None` from
+    fewer than two non-zero differences, `note` says why), `p_holm` (Holm across the pair's
+    columns), `better`, `method`, `zeros`, `favours`, `note`; and one per pair and fidelity
+    metric with `kind` `mcnemar` (McNemar's exact test on the specs both judged, `a_only`,
+    `b_only`). Without it, one dict per run and column: `group`, `scenes`, `run`, `column`,
+    `better`, `value`, `n`, `ci_low`, `ci_high`, `rank`, `points`, `missing`, `failed`.
+    `rank` is `tested` or `mean`, `failed` `skip` or `worst` (docs/formats.md).
+
+    Raises SceneEvalError when a folder cannot be read, ValueError for a bad option (the
+    message starts with the keyword).
+    """
+
 def evaluate(
     scenes_dir: PathLike,
     *,

@@ -7,17 +7,33 @@
 //! had an annotation row), with the same annotation row, and on the metrics every run ran; every difference (scenes left out and why, metrics not shared, different
 //! plans, presets or tool versions) is a note printed under the table.
 //!
-//! **Ranks** are competition ranks ("1224": runs with equal values share the best rank, the
-//! next rank skips the places they fill) per column, on the values as printed (two decimals),
-//! among the runs with a value in that column; the direction is the metric's
-//! ([`sceneeval_results::Metric::better`]). A run ranked `r` of the `N` runs with a value gets
+//! Every table names, per run, the scenes it lacks or failed among every scene of any run
+//! ([`Coverage`]); with [`FailedScenes::Worst`] the values are computed over every scene of any
+//! run instead, a failed or missing scene at the column's worst value. A column no run has a
+//! value in is left out, with a note.
+//!
+//! **Ranks** per column, among the runs with a value, in the metric's direction
+//! ([`sceneeval_results::Metric::better`]): by default ([`RankBy::Tested`]) 1 + the number of
+//! runs better by a paired Wilcoxon signed-rank test on the scenes both have, Holm-adjusted
+//! across the pair's columns, below alpha, so runs no test separates share a rank;
+//! [`RankBy::Mean`] gives competition ranks ("1224": runs with equal values, as printed with
+//! two decimals, share the best rank). A run ranked `r` of the `N` runs with a value gets
 //! `N - r + 1` points; a run's total is the sum over columns, its average rank the mean of its
-//! ranks, and its places the number of columns where it is first, second and third. Best
-//! values (rank 1) are bold, second (rank 2) italic.
+//! ranks, and its places the number of columns where it is first, second and third. The best
+//! value is bold, the second italic, whatever the ranking.
+//!
+//! **Paired comparisons** ([`CompareOptions::paired`]): per pair of runs and column, the
+//! scenes both evaluated, the mean difference `b - a` with its paired bootstrap interval, the
+//! Wilcoxon p-value and Holm's adjustment across the pair's columns, and McNemar's exact test
+//! on the fidelity verdicts ([`PairComparison`]); every statistic from `sceneeval-stats`.
 
+mod paired;
+mod paired_text;
 mod rank;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_paired;
 mod text;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -27,19 +43,63 @@ use sceneeval_fidelity::FidelityReport;
 use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneName};
 use sceneeval_stats::bootstrap::{Bootstrap, DEFAULT_RESAMPLES};
 
-pub use rank::competition_ranks;
+pub use paired::{PairComparison, PairedRow, Pairing, VerdictRow};
+pub(crate) use paired_text::p_text;
+pub use paired_text::{PAIRED_CSV_COLUMNS, PairedRecord};
+pub use rank::{RankBy, competition_ranks};
 pub(crate) use text::{Emphasis, arrow as text_arrow, average, scenes, standing_order};
 
 use crate::ReportError;
 use crate::run::{Run, group_summary, groups, metrics_in, scene_order, scene_values, summary_columns};
 
 /// How to compare.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CompareOptions {
     /// One table per difficulty after the table of every scene (`--by difficulty`).
     pub by_difficulty: bool,
-    /// A bootstrap confidence interval per value at this level (`--ci 0.95`).
+    /// A bootstrap confidence interval per value at this level (`--ci 0.95`); also the level
+    /// of the paired differences' intervals ([`DEFAULT_LEVEL`] when `None`).
     pub ci: Option<f64>,
+    /// Paired comparisons of these pairs of runs (`--paired`, `--against-first`).
+    pub paired: Option<Pairing>,
+    /// How runs are ranked (`--rank`).
+    pub rank: RankBy,
+    /// The significance level of the tested ranks and the tables' marks (`--alpha`).
+    pub alpha: f64,
+    /// How a run's failed and missing scenes count in its means (`--failed`).
+    pub failed: FailedScenes,
+}
+
+impl Default for CompareOptions {
+    fn default() -> Self {
+        Self {
+            by_difficulty: false,
+            ci: None,
+            paired: None,
+            rank: RankBy::Tested,
+            alpha: DEFAULT_ALPHA,
+            failed: FailedScenes::Skip,
+        }
+    }
+}
+
+/// The significance level unless asked otherwise.
+pub const DEFAULT_ALPHA: f64 = 0.05;
+
+/// The confidence level of the paired differences' intervals unless `--ci` gives one.
+pub const DEFAULT_LEVEL: f64 = 0.95;
+
+/// How a run's failed and missing scenes count in its per-run means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FailedScenes {
+    /// The values are computed over the scenes every run evaluated in full; the others are
+    /// named in the notes and under every table.
+    #[default]
+    Skip,
+    /// Over every scene of any run: a scene a run failed or lacks counts at the column's worst
+    /// value (0 % where higher is better, 100 % where lower is better) wherever another run has
+    /// a value for it, so a method that crashes on hard prompts does not skip them.
+    Worst,
 }
 
 /// The comparison of several runs: what every output format writes.
@@ -60,6 +120,77 @@ pub struct Comparison {
     pub ci: Option<f64>,
     /// Per common scene and fidelity spec, the verdicts when they differ between runs.
     pub differences: Vec<SpecDifference>,
+    /// Per run, the scenes it lacks or failed among every scene of any run, one sentence each
+    /// ("B: 2 of 20 scenes missing (scene_0, scene_1)"), printed under every table.
+    pub coverage: Vec<Coverage>,
+    /// The paired comparisons, when asked (`--paired`).
+    pub pairs: Vec<PairComparison>,
+    /// The confidence level of the paired differences' intervals.
+    pub paired_level: f64,
+    /// The significance level of the tested ranks and the marks.
+    pub alpha: f64,
+    /// How the ranks were made.
+    pub rank: RankBy,
+    /// How failed and missing scenes counted.
+    pub failed: FailedScenes,
+}
+
+/// A run's scenes against every scene of any run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Coverage {
+    /// The run's index.
+    pub run: usize,
+    /// Every scene of any run.
+    pub total: usize,
+    /// Scenes the run has no record of (or an unreadable one).
+    pub missing: Vec<String>,
+    /// Scenes the run failed.
+    pub failed: Vec<String>,
+}
+
+impl Coverage {
+    /// "B: 2 of 20 scenes missing (scene_0, scene_1), 1 failed (scene_3)" or "A: all 20 scenes".
+    pub fn sentence(&self, name: &str) -> String {
+        let names = |v: &[String]| {
+            let shown: Vec<&str> = v.iter().take(MAX_LISTED).map(String::as_str).collect();
+            let more = v.len() - shown.len();
+            format!(
+                "{}{}",
+                shown.join(", "),
+                if more > 0 {
+                    format!(" and {more} more")
+                } else {
+                    String::new()
+                }
+            )
+        };
+        let mut parts = Vec::new();
+        if !self.missing.is_empty() {
+            parts.push(format!(
+                "{} of {} missing ({})",
+                self.missing.len(),
+                scenes(self.total),
+                names(&self.missing)
+            ));
+        }
+        if !self.failed.is_empty() {
+            let of = if parts.is_empty() {
+                format!(" of {}", scenes(self.total))
+            } else {
+                String::new()
+            };
+            parts.push(format!(
+                "{}{of} failed ({})",
+                self.failed.len(),
+                names(&self.failed)
+            ));
+        }
+        if parts.is_empty() {
+            format!("{name}: all {}", scenes(self.total))
+        } else {
+            format!("{name}: {}", parts.join(", "))
+        }
+    }
 }
 
 /// A run of a [`Comparison`].
@@ -103,8 +234,11 @@ pub struct Cell {
     pub value: Option<f64>,
     /// The scenes behind the value (those with a value for the column).
     pub n: usize,
-    /// The run's rank in the column, when it has a value.
+    /// The run's rank in the column, when it has a value ([`RankBy`]).
     pub rank: Option<usize>,
+    /// The competition rank of the value as printed, which the emphasis follows (bold: best
+    /// value, italic: second), whatever the ranking.
+    pub value_rank: Option<usize>,
     /// Its points, `N - rank + 1` (0 without a value).
     pub points: usize,
     /// The bootstrap interval, when asked and there is a value.
@@ -174,7 +308,7 @@ const MAX_LISTED: usize = 12;
 ///
 /// # Errors
 /// [`ReportError::NoRuns`] without runs; [`ReportError::ConfidenceLevel`] for a level outside
-/// (0, 1).
+/// (0, 1); [`ReportError::Alpha`] for a significance level outside (0, 1).
 pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, ReportError> {
     if runs.is_empty() {
         return Err(ReportError::NoRuns);
@@ -184,14 +318,24 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
     {
         return Err(ReportError::ConfidenceLevel(level));
     }
+    if !(options.alpha > 0.0 && options.alpha < 1.0) {
+        return Err(ReportError::Alpha(options.alpha));
+    }
     let mut notes = Vec::new();
 
     // Columns: the metrics every run ran; scenes: those every run evaluated in full.
     let metrics: Vec<Vec<Metric>> = runs.iter().map(Run::metrics).collect();
-    let (shared, columns) = shared_columns(runs, &metrics, &mut notes);
+    let (shared, mut columns) = shared_columns(runs, &metrics, &mut notes);
     same_everywhere(runs, &mut notes);
     unreadable_records(runs, &mut notes);
-    let scenes = common_scenes(runs, &metrics, &shared, &mut notes);
+    let all_scenes = every_scene(runs);
+    let coverage = coverage(runs, &all_scenes);
+    let common = common_scenes(runs, &metrics, &shared, &all_scenes, options.failed, &mut notes);
+    // The scenes of the tables: the common ones, or every scene when failures count as worst.
+    let scenes: Vec<String> = match options.failed {
+        FailedScenes::Skip => common,
+        FailedScenes::Worst => all_scenes.iter().map(|s| s.as_str().to_owned()).collect(),
+    };
     let difficulty = difficulties(runs, &scenes, &mut notes);
     let names: Vec<&str> = scenes.iter().map(String::as_str).collect();
     let mut grouped = groups(&names, |s| difficulty.get(s).copied());
@@ -215,12 +359,30 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
                 .collect()
         })
         .collect();
-    let tables = grouped
+    let mut tables: Vec<Table> = grouped
         .into_iter()
-        .map(|(group, members)| table(runs, &columns, &per_scene, group, &members, options.ci))
+        .map(|(group, members)| {
+            let values = TableValues {
+                runs,
+                columns: &columns,
+                per_scene: &per_scene,
+                members: &members,
+                failed: options.failed,
+            };
+            table(&values, group, options)
+        })
         .collect();
+    drop_empty_columns(&mut columns, &mut tables, &mut notes);
 
     let differences = differences(runs, &names, &shared);
+    let paired_level = options.ci.unwrap_or(DEFAULT_LEVEL);
+    let pairs = options.paired.map_or_else(Vec::new, |pairing| {
+        pairing
+            .pairs(runs.len())
+            .into_iter()
+            .map(|(a, b)| paired::compare_pair(runs, a, b, &columns, paired_level))
+            .collect()
+    });
     Ok(Comparison {
         runs: runs
             .iter()
@@ -235,9 +397,84 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
         notes,
         ci: options.ci,
         differences,
+        coverage,
+        pairs,
+        paired_level,
+        alpha: options.alpha,
+        rank: options.rank,
+        failed: options.failed,
     })
 }
 
+/// Every scene of any run, read or not, in scene order.
+fn every_scene(runs: &[Run]) -> Vec<&SceneName> {
+    let mut all: Vec<&SceneName> = runs
+        .iter()
+        .flat_map(|r| {
+            r.records
+                .iter()
+                .map(|r| &r.scene)
+                .chain(r.unreadable.iter().map(|u| &u.scene))
+        })
+        .collect();
+    all.sort_by(|a, b| scene_order(a, b));
+    all.dedup();
+    all
+}
+
+/// Each run's missing and failed scenes among `all`.
+fn coverage(runs: &[Run], all: &[&SceneName]) -> Vec<Coverage> {
+    runs.iter()
+        .enumerate()
+        .map(|(k, run)| {
+            let mut missing = Vec::new();
+            let mut failed = Vec::new();
+            for scene in all {
+                match run.record(scene.as_str()) {
+                    None => missing.push(scene.as_str().to_owned()),
+                    Some(r) if matches!(r.outcome, Outcome::Failed { .. }) => {
+                        failed.push(scene.as_str().to_owned());
+                    }
+                    Some(_) => {}
+                }
+            }
+            Coverage {
+                run: k,
+                total: all.len(),
+                missing,
+                failed,
+            }
+        })
+        .collect()
+}
+
+/// Leaves out the columns no run has a value in, in any table, with a note.
+fn drop_empty_columns(columns: &mut Vec<Column>, tables: &mut [Table], notes: &mut Vec<String>) {
+    let empty: Vec<usize> = (0..columns.len())
+        .filter(|&k| {
+            tables
+                .iter()
+                .all(|t| t.cells.iter().all(|row| row[k].value.is_none()))
+        })
+        .collect();
+    if empty.is_empty() {
+        return;
+    }
+    let names: Vec<&str> = empty.iter().map(|&k| columns[k].name).collect();
+    notes.push(format!(
+        "{} left out: no run has a value in {}.",
+        list(&names),
+        if names.len() == 1 { "it" } else { "them" }
+    ));
+    for &k in empty.iter().rev() {
+        columns.remove(k);
+        for t in tables.iter_mut() {
+            for row in &mut t.cells {
+                row.remove(k);
+            }
+        }
+    }
+}
 /// The metrics every run ran (a note for each one some runs lack) and their summary columns.
 fn shared_columns(
     runs: &[Run],
@@ -302,29 +539,20 @@ fn unreadable_records(runs: &[Run], notes: &mut Vec<String>) {
 }
 
 /// The scenes every run evaluated in full (every shared metric) with one annotation row, in
-/// scene order; a note names the others and why.
+/// scene order; a note names the others and why (with `--failed worst`, a note says how they
+/// count instead).
 fn common_scenes(
     runs: &[Run],
     metrics: &[Vec<Metric>],
     shared: &BTreeSet<Metric>,
+    all_scenes: &[&SceneName],
+    failed: FailedScenes,
     notes: &mut Vec<String>,
 ) -> Vec<String> {
-    // Every scene of any run, read or not.
-    let mut all_scenes: Vec<&SceneName> = runs
-        .iter()
-        .flat_map(|r| {
-            r.records
-                .iter()
-                .map(|r| &r.scene)
-                .chain(r.unreadable.iter().map(|u| &u.scene))
-        })
-        .collect();
-    all_scenes.sort_by(|a, b| scene_order(a, b));
-    all_scenes.dedup();
     let fidelity_shared = shared.iter().any(|m| m.fidelity().is_some());
     let mut left_out: Vec<String> = Vec::new();
     let mut scenes: Vec<String> = Vec::new();
-    for name in all_scenes {
+    for &name in all_scenes {
         let scene = name.as_str();
         let mut why = Vec::new();
         let mut digests = BTreeSet::new();
@@ -365,7 +593,14 @@ fn common_scenes(
             left_out.push(format!("{scene} ({})", why.join("; ")));
         }
     }
-    if !left_out.is_empty() {
+    if !left_out.is_empty() && failed == FailedScenes::Worst {
+        notes.push(format!(
+            "Values over every scene of any run ({}): a scene a run failed or lacks counts at the column's worst value \
+             (0 where higher is better, 100 where lower is better) wherever another run has a value; a metric a \
+             scene could not compute (partial) is left out of that run's mean.",
+            all_scenes.len()
+        ));
+    } else if !left_out.is_empty() {
         let total = scenes.len() + left_out.len();
         let shown = left_out.len().min(MAX_LISTED);
         let more = left_out.len() - shown;
@@ -418,47 +653,101 @@ fn mean_interval(values: &[f64], level: f64) -> Option<[f64; 2]> {
     bootstrap.mean(values).ok()?.bounds.ok()
 }
 
+/// What a table is computed from.
+struct TableValues<'a> {
+    runs: &'a [Run],
+    columns: &'a [Column],
+    per_scene: &'a [BTreeMap<&'a str, GroupSummary>],
+    members: &'a [&'a str],
+    failed: FailedScenes,
+}
+
+impl TableValues<'_> {
+    /// Per run, the values of column `k` on the members (`None`: no value), failed and missing
+    /// scenes at the worst value with [`FailedScenes::Worst`] where another run has a value.
+    fn column(&self, k: usize) -> Vec<Vec<Option<f64>>> {
+        let name = self.columns[k].name;
+        let mut values: Vec<Vec<Option<f64>>> = self
+            .per_scene
+            .iter()
+            .map(|scenes| {
+                self.members
+                    .iter()
+                    .map(|s| scenes.get(s).and_then(|v| v.value(name)))
+                    .collect()
+            })
+            .collect();
+        if self.failed == FailedScenes::Worst {
+            let worst = match self.columns[k].better {
+                Better::Higher => 0.0,
+                Better::Lower => 100.0,
+            };
+            for (i, scene) in self.members.iter().enumerate() {
+                if !values.iter().any(|v| v[i].is_some()) {
+                    continue;
+                }
+                for (run, v) in self.runs.iter().zip(values.iter_mut()) {
+                    let lacks = run
+                        .record(scene)
+                        .is_none_or(|r| matches!(r.outcome, Outcome::Failed { .. }));
+                    if lacks {
+                        v[i] = Some(worst);
+                    }
+                }
+            }
+        }
+        values
+    }
+}
+
 /// One group's table.
-fn table(
-    runs: &[Run],
-    columns: &[Column],
-    per_scene: &[BTreeMap<&str, GroupSummary>],
-    group: String,
-    members: &[&str],
-    ci: Option<f64>,
-) -> Table {
+fn table(values: &TableValues<'_>, group: String, options: &CompareOptions) -> Table {
+    let (runs, columns, members) = (values.runs, values.columns, values.members);
+    let per_column: Vec<Vec<Vec<Option<f64>>>> = (0..columns.len()).map(|k| values.column(k)).collect();
     let mut cells: Vec<Vec<Cell>> = runs
         .iter()
-        .zip(per_scene)
-        .map(|(run, scenes)| {
+        .enumerate()
+        .map(|(r, run)| {
             let summary = group_summary(&group, members.iter().filter_map(|s| run.record(s)));
             columns
                 .iter()
-                .map(|c| {
-                    let values: Vec<f64> = members
-                        .iter()
-                        .filter_map(|s| scenes.get(s)?.value(c.name))
-                        .collect();
-                    let value = summary.value(c.name);
+                .enumerate()
+                .map(|(k, c)| {
+                    let scene_values: Vec<f64> = per_column[k][r].iter().flatten().copied().collect();
+                    let value = match options.failed {
+                        FailedScenes::Skip => summary.value(c.name),
+                        FailedScenes::Worst => (!scene_values.is_empty())
+                            .then(|| scene_values.iter().sum::<f64>() / scene_values.len() as f64),
+                    };
                     Cell {
                         value,
-                        n: values.len(),
+                        n: scene_values.len(),
                         rank: None,
+                        value_rank: None,
                         points: 0,
-                        ci: ci.and_then(|level| value.and(mean_interval(&values, level))),
+                        ci: options
+                            .ci
+                            .and_then(|level| value.and(mean_interval(&scene_values, level))),
                     }
                 })
                 .collect()
         })
         .collect();
+    let tested =
+        (options.rank == RankBy::Tested).then(|| rank::tested_ranks(&per_column, columns, options.alpha));
     for (k, column) in columns.iter().enumerate() {
         let printed: Vec<Option<f64>> = cells
             .iter()
             .map(|row| row[k].value.map(rank::as_printed))
             .collect();
-        let ranks = competition_ranks(&printed, column.better);
-        let ranked = ranks.iter().flatten().count();
-        for (row, rank) in cells.iter_mut().zip(ranks) {
+        let by_value = competition_ranks(&printed, column.better);
+        let ranked = by_value.iter().flatten().count();
+        for (r, (row, value_rank)) in cells.iter_mut().zip(by_value).enumerate() {
+            let rank = match &tested {
+                Some(t) => value_rank.and(t[k][r]),
+                None => value_rank,
+            };
+            row[k].value_rank = value_rank;
             row[k].rank = rank;
             row[k].points = rank.map_or(0, |r| ranked + 1 - r);
         }

@@ -12,7 +12,7 @@ use super::*;
 type P = plausibility::Metric;
 
 /// A record of `name` that ran `metrics` and found `summary`, with a fingerprint of `plan`.
-fn record(name: &str, metrics: &[P], summary: PlausibilitySummary, plan: &str) -> SceneRecord {
+pub(super) fn record(name: &str, metrics: &[P], summary: PlausibilitySummary, plan: &str) -> SceneRecord {
     let geometry = PlausibilityReport {
         scene_id: Some(name.into()),
         object_ids: vec![],
@@ -32,7 +32,7 @@ fn record(name: &str, metrics: &[P], summary: PlausibilitySummary, plan: &str) -
     .with_fingerprint(fingerprint(plan))
 }
 
-fn fingerprint(plan: &str) -> Fingerprint {
+pub(super) fn fingerprint(plan: &str) -> Fingerprint {
     Fingerprint {
         tool: TOOL_VERSION.to_owned(),
         schema: sceneeval_results::RECORD_SCHEMA.to_owned(),
@@ -44,6 +44,14 @@ fn fingerprint(plan: &str) -> Fingerprint {
         preset: Some(Preset::Default),
         annotation: None,
         assets: vec![],
+    }
+}
+
+/// Ranks by mean, as before `--rank tested`.
+fn by_mean() -> CompareOptions {
+    CompareOptions {
+        rank: RankBy::Mean,
+        ..CompareOptions::default()
     }
 }
 
@@ -81,7 +89,7 @@ fn three_runs() -> Vec<Run> {
 
 #[test]
 fn ties_lower_is_better_and_rank_points_by_hand() {
-    let c = compare(&three_runs(), &CompareOptions::default()).unwrap();
+    let c = compare(&three_runs(), &by_mean()).unwrap();
     assert!(c.notes.is_empty(), "{:?}", c.notes);
     assert_eq!(c.scenes, ["scene_0", "scene_1"]);
     let names: Vec<&str> = c.columns.iter().map(|c| c.name).collect();
@@ -133,6 +141,8 @@ fn ties_lower_is_better_and_rank_points_by_hand() {
              | B | **75.00** (2) | **0.00** (2) |\n\
              | C | 50.00 (2) | 50.00 (2) |\n\
              \n\
+             - Every run has all 2 scenes, none failed.\n\
+             \n\
              | place | run | points | average rank | 1st | 2nd | 3rd | SUP | OOB |\n\
              |---:|---|---:|---:|---:|---:|---:|---:|---:|\n\
              | 1 | B | 6 | 1.00 | 2 | 0 | 0 | 1 | 1 |\n\
@@ -144,13 +154,13 @@ fn ties_lower_is_better_and_rank_points_by_hand() {
     );
     assert_eq!(
         c.to_csv().unwrap(),
-        "group,scenes,run,column,better,value,n,ci_low,ci_high,rank,points\n\
-         all,2,A,SUP,higher,75.0000,2,,,1,3\n\
-         all,2,A,OOB,lower,25.0000,2,,,2,2\n\
-         all,2,B,SUP,higher,75.0000,2,,,1,3\n\
-         all,2,B,OOB,lower,0.0000,2,,,1,3\n\
-         all,2,C,SUP,higher,50.0000,2,,,3,1\n\
-         all,2,C,OOB,lower,50.0000,2,,,3,1\n"
+        "group,scenes,run,column,better,value,n,ci_low,ci_high,rank,points,missing,failed\n\
+         all,2,A,SUP,higher,75.0000,2,,,1,3,,\n\
+         all,2,A,OOB,lower,25.0000,2,,,2,2,,\n\
+         all,2,B,SUP,higher,75.0000,2,,,1,3,,\n\
+         all,2,B,OOB,lower,0.0000,2,,,1,3,,\n\
+         all,2,C,SUP,higher,50.0000,2,,,3,1,,\n\
+         all,2,C,OOB,lower,50.0000,2,,,3,1,,\n"
     );
     let latex = c.to_latex();
     let table: Vec<&str> = latex.lines().filter(|l| !l.starts_with('%')).collect();
@@ -164,6 +174,7 @@ fn ties_lower_is_better_and_rank_points_by_hand() {
             r"A & \textbf{75.00} {\scriptsize (2)} & \textit{25.00} {\scriptsize (2)} & 5 & 1.50 & 1 & 1 & 0 \\",
             r"B & \textbf{75.00} {\scriptsize (2)} & \textbf{0.00} {\scriptsize (2)} & 6 & 1.00 & 2 & 0 & 0 \\",
             r"C & 50.00 {\scriptsize (2)} & 50.00 {\scriptsize (2)} & 2 & 3.00 & 0 & 0 & 2 \\",
+            r"\multicolumn{8}{l}{\footnotesize Every run has all 2 scenes, none failed.} \\",
             r"\bottomrule",
             r"\end{tabular}",
         ]
@@ -212,7 +223,7 @@ fn a_metric_missing_from_one_run_failed_and_partial_scenes_and_other_plans_are_n
             record("scene_5", &[P::Support], sup(1.0), "bbbb"),
         ],
     );
-    let c = compare(&[a, b], &CompareOptions::default()).unwrap();
+    let c = compare(&[a, b], &by_mean()).unwrap();
     // Only SUP is shared; collision is A's alone.
     let names: Vec<&str> = c.columns.iter().map(|c| c.name).collect();
     assert_eq!(names, ["SUP"]);
@@ -238,6 +249,32 @@ fn a_metric_missing_from_one_run_failed_and_partial_scenes_and_other_plans_are_n
     assert!(
         md.contains("Notes:\n\n- COL\\_ob, COL\\_sc (collision) left out"),
         "{md}"
+    );
+    // Every table names what each run lacks among the 6 scenes of either run.
+    assert_eq!(
+        c.coverage_lines(),
+        [
+            "A: 1 of 6 scenes missing (scene_4)",
+            "B: 1 of 6 scenes failed (scene_2)"
+        ]
+    );
+    assert!(
+        md.contains("- A: 1 of 6 scenes missing (scene\\_4)\n- B: 1 of 6 scenes failed (scene\\_2)\n"),
+        "{md}"
+    );
+    let csv = c.to_csv().unwrap();
+    assert!(
+        csv.contains("\nall,2,A,SUP,higher,75.0000,2,,,1,2,scene_4,\n"),
+        "{csv}"
+    );
+    assert!(
+        csv.contains("\nall,2,B,SUP,higher,50.0000,2,,,2,1,,scene_2\n"),
+        "{csv}"
+    );
+    let latex = c.to_latex();
+    assert!(
+        latex.contains(r"\multicolumn{7}{l}{\footnotesize B: 1 of 6 scenes failed (scene\_2)} \\"),
+        "{latex}"
     );
 }
 
@@ -279,6 +316,7 @@ fn by_difficulty_and_intervals() {
     let options = CompareOptions {
         by_difficulty: true,
         ci: Some(0.95),
+        ..CompareOptions::default()
     };
     let c = compare(&runs, &options).unwrap();
     let groups: Vec<(&str, usize)> = c.tables.iter().map(|t| (t.group.as_str(), t.scenes)).collect();
@@ -304,8 +342,8 @@ fn by_difficulty_and_intervals() {
         compare(
             &runs,
             &CompareOptions {
-                by_difficulty: false,
-                ci: Some(1.0)
+                ci: Some(1.0),
+                ..CompareOptions::default()
             }
         ),
         Err(ReportError::ConfidenceLevel(_))
@@ -326,15 +364,12 @@ fn csv_cells_a_spreadsheet_would_run_are_escaped_and_numbers_are_not() {
     let mut runs = three_runs();
     runs[0] = runs[0].clone().with_name("=HYPERLINK(\"http://x\",\"A\")");
     runs[1] = runs[1].clone().with_name("-B");
-    let csv = compare(&runs, &CompareOptions::default())
-        .unwrap()
-        .to_csv()
-        .unwrap();
+    let csv = compare(&runs, &by_mean()).unwrap().to_csv().unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
         lines[1],
-        "all,2,\"'=HYPERLINK(\"\"http://x\"\",\"\"A\"\")\",SUP,higher,75.0000,2,,,1,3"
+        "all,2,\"'=HYPERLINK(\"\"http://x\"\",\"\"A\"\")\",SUP,higher,75.0000,2,,,1,3,,"
     );
-    assert_eq!(lines[4], "all,2,'-B,OOB,lower,0.0000,2,,,1,3");
-    assert_eq!(lines[6], "all,2,C,OOB,lower,50.0000,2,,,3,1");
+    assert_eq!(lines[4], "all,2,'-B,OOB,lower,0.0000,2,,,1,3,,");
+    assert_eq!(lines[6], "all,2,C,OOB,lower,50.0000,2,,,3,1,,");
 }

@@ -19,7 +19,7 @@ pub(crate) enum Emphasis {
 
 impl Cell {
     pub(crate) fn emphasis(&self) -> Emphasis {
-        match self.rank {
+        match self.value_rank {
             Some(1) => Emphasis::Bold,
             Some(2) => Emphasis::Italic,
             _ => Emphasis::Plain,
@@ -53,12 +53,34 @@ pub(crate) fn arrow(better: Better) -> &'static str {
 impl Comparison {
     /// The legend under every table: what the numbers, emphasis and ranks mean.
     pub fn legend(&self) -> String {
-        let mut s = String::from(
-            "Values are percentages, macro-averaged over each group's common scenes as summary.csv averages \
-             them; (n): the scenes behind a value. ↑ higher is better, ↓ lower is better. Bold: best; italic: \
-             second. Ranks are competition ranks (1224: equal values, as printed, share the best rank) among \
-             the runs with a value; a run ranked r of N gets N - r + 1 points.",
-        );
+        let mut s = String::from(match self.failed {
+            super::FailedScenes::Skip => {
+                "Values are percentages, macro-averaged over each group's common scenes as summary.csv averages \
+                 them; (n): the scenes behind a value."
+            }
+            super::FailedScenes::Worst => {
+                "Values are percentages, averaged over every scene of any run, a failed or missing scene at the \
+                 column's worst value (0 where higher is better, 100 where lower is better); (n): the scenes behind \
+                 a value."
+            }
+        });
+        s.push_str(" ↑ higher is better, ↓ lower is better. Bold: best value; italic: second.");
+        match self.rank {
+            super::RankBy::Tested => {
+                let _ = write!(
+                    s,
+                    " Ranks: 1 + the number of runs better in the column by a paired two-sided Wilcoxon signed-rank \
+                     test on the scenes both have, Holm-adjusted across the pair's columns, p < {}; runs no test \
+                     separates share a rank.",
+                    self.alpha
+                );
+            }
+            super::RankBy::Mean => s.push_str(
+                " Ranks by mean (--rank mean): competition ranks (1224: equal values, as printed, share the best \
+                 rank), whatever their uncertainty.",
+            ),
+        }
+        s.push_str(" A run ranked r of the N runs with a value gets N - r + 1 points.");
         if let Some(level) = self.ci {
             let _ = write!(
                 s,
@@ -103,6 +125,10 @@ impl Comparison {
                 let _ = writeln!(out, "| {} |", cells.join(" | "));
             }
             out.push('\n');
+            for line in self.coverage_lines() {
+                let _ = writeln!(out, "- {}", escape::markdown(&line));
+            }
+            out.push('\n');
             let mut header: Vec<String> = ["place", "run", "points", "average rank", "1st", "2nd", "3rd"]
                 .map(str::to_owned)
                 .to_vec();
@@ -138,12 +164,18 @@ impl Comparison {
         }
         out.push_str(&self.legend());
         out.push('\n');
+        let paired = self.paired_markdown();
+        if !paired.is_empty() {
+            out.push('\n');
+            out.push_str(&paired);
+        }
         out
     }
 
     /// The values as CSV, one row per group, run and column: `group, scenes, run, column,
-    /// better, value, n, ci_low, ci_high, rank, points` (values with four decimals, empty
-    /// cells where there is none).
+    /// better, value, n, ci_low, ci_high, rank, points, missing, failed` (values with four
+    /// decimals, empty cells where there is none; `missing` and `failed`: the run's scenes
+    /// missing or failed among every scene of any run, space-separated).
     ///
     /// # Errors
     /// [`ReportError::Csv`] when the CSV writer fails.
@@ -154,12 +186,13 @@ impl Comparison {
         };
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record([
-            "group", "scenes", "run", "column", "better", "value", "n", "ci_low", "ci_high", "rank", "points",
+            "group", "scenes", "run", "column", "better", "value", "n", "ci_low", "ci_high", "rank",
+            "points", "missing", "failed",
         ])
         .map_err(csv_error)?;
         let num = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
         for table in &self.tables {
-            for (run, row) in self.runs.iter().zip(&table.cells) {
+            for ((run, row), coverage) in self.runs.iter().zip(&table.cells).zip(&self.coverage) {
                 for (column, cell) in self.columns.iter().zip(row) {
                     // A run name or group a spreadsheet would run gets a leading `'`.
                     let cells = [
@@ -174,6 +207,8 @@ impl Comparison {
                         num(cell.ci.map(|c| c[1])),
                         cell.rank.map(|r| r.to_string()).unwrap_or_default(),
                         cell.points.to_string(),
+                        coverage.missing.join(" "),
+                        coverage.failed.join(" "),
                     ];
                     w.write_record(cells.map(sceneeval_files::csv_cell::escape_owned))
                         .map_err(csv_error)?;
@@ -252,12 +287,20 @@ impl Comparison {
                 cells.extend(s.places.iter().map(usize::to_string));
                 let _ = writeln!(out, "{} \\\\", cells.join(" & "));
             }
+            for line in self.coverage_lines() {
+                let _ = writeln!(
+                    out,
+                    "\\multicolumn{{{width}}}{{l}}{{\\footnotesize {}}} \\\\",
+                    escape::latex(&line)
+                );
+            }
         }
         out.push_str("\\bottomrule\n\\end{tabular}\n");
         for note in &self.notes {
             let _ = writeln!(out, "% Note: {}", escape::latex(note));
         }
         let _ = writeln!(out, "% {}", escape::latex(&self.legend()));
+        out.push_str(&self.paired_latex());
         out
     }
 }

@@ -70,7 +70,11 @@ impl Comparison {
                 }
                 b.push_str("</tr>");
             }
-            b.push_str("</tbody></table></div><div class=\"wide\"><table class=\"standings\"><thead><tr><th class=\"num\">place</th><th>run</th><th class=\"num\">points</th><th class=\"num\">average rank</th><th class=\"num\">1st</th><th class=\"num\">2nd</th><th class=\"num\">3rd</th>");
+            b.push_str("</tbody></table></div><ul class=\"coverage\">");
+            for line in self.coverage_lines() {
+                let _ = write!(b, "<li>{}</li>", html(&line));
+            }
+            b.push_str("</ul><div class=\"wide\"><table class=\"standings\"><thead><tr><th class=\"num\">place</th><th>run</th><th class=\"num\">points</th><th class=\"num\">average rank</th><th class=\"num\">1st</th><th class=\"num\">2nd</th><th class=\"num\">3rd</th>");
             for c in &self.columns {
                 let _ = write!(b, "<th class=\"num\">{}</th>", html(c.name));
             }
@@ -107,6 +111,7 @@ impl Comparison {
             b.push_str("</ul></div>");
         }
         let _ = write!(b, "<p class=\"muted\">{}</p>", html(&self.legend()));
+        self.paired_html(&mut b);
 
         b.push_str("<h2>Scene by scene</h2>");
         if self.differences.is_empty() {
@@ -156,5 +161,77 @@ impl Comparison {
             b.push_str("</tbody></table></div>");
         }
         page("SceneEval comparison", &b)
+    }
+
+    /// The paired comparisons: a table of differences with significance marks, McNemar's
+    /// tests, the pairs' notes and the legend (nothing without `--paired`).
+    fn paired_html(&self, b: &mut String) {
+        if self.pairs.is_empty() {
+            return;
+        }
+        b.push_str(
+            "<h2>Paired differences (b - a)</h2><div class=\"wide\"><table id=\"paired\"><thead><tr><th>a</th><th>b</th>\
+             <th>column</th><th class=\"num\">n</th><th class=\"num\">b - a</th><th>interval</th><th class=\"num\">p</th>\
+             <th class=\"num\">p (Holm)</th><th>better</th></tr></thead><tbody>",
+        );
+        for pair in &self.pairs {
+            for row in &pair.rows {
+                let t = row.text(self.alpha);
+                let better = match (row.significant(self.alpha), row.favours_b()) {
+                    (true, Some(true)) => html(&self.runs[pair.b].name),
+                    (true, Some(false)) => html(&self.runs[pair.a].name),
+                    _ => String::new(),
+                };
+                let _ = write!(
+                    b,
+                    "<tr><td>{}</td><td>{}</td><td>{} {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td>\
+                     <td class=\"num\">{}</td><td class=\"num\">{}</td><td>{better}</td></tr>",
+                    html(&self.runs[pair.a].name),
+                    html(&self.runs[pair.b].name),
+                    html(row.column.name),
+                    text_arrow(row.column.better),
+                    row.n,
+                    html(&t.diff),
+                    html(&t.interval),
+                    html(&t.p),
+                    html(&t.p_holm)
+                );
+            }
+        }
+        b.push_str("</tbody></table></div>");
+        if self.pairs.iter().any(|p| !p.verdicts.is_empty()) {
+            b.push_str(
+                "<h3>Fidelity verdicts (McNemar)</h3><div class=\"wide\"><table id=\"mcnemar\"><thead><tr><th>a</th><th>b</th>\
+                 <th>metric</th><th class=\"num\">specs</th><th class=\"num\">a only</th><th class=\"num\">b only</th>\
+                 <th class=\"num\">p</th><th class=\"num\">p (Holm)</th></tr></thead><tbody>",
+            );
+            for pair in &self.pairs {
+                for v in &pair.verdicts {
+                    let _ = write!(
+                        b,
+                        "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
+                         <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
+                        html(&self.runs[pair.a].name),
+                        html(&self.runs[pair.b].name),
+                        v.metric.columns()[0],
+                        v.n,
+                        v.test.b,
+                        v.test.c,
+                        crate::compare::p_text(v.test.p),
+                        v.p_holm.map_or_else(|| "-".to_owned(), crate::compare::p_text)
+                    );
+                }
+            }
+            b.push_str("</tbody></table></div>");
+        }
+        let notes = self.paired_notes();
+        if !notes.is_empty() {
+            b.push_str("<div class=\"box\" id=\"paired-notes\"><strong>Paired notes</strong><ul>");
+            for note in &notes {
+                let _ = write!(b, "<li>{}</li>", html(note));
+            }
+            b.push_str("</ul></div>");
+        }
+        let _ = write!(b, "<p class=\"muted\">{}</p>", html(&self.paired_legend()));
     }
 }
