@@ -40,6 +40,7 @@
 //! assert_eq!(on_top, vec![1.0]);
 //! ```
 
+pub mod agreement;
 pub mod convert;
 pub mod errors;
 pub mod relations;
@@ -52,6 +53,8 @@ pub mod stats;
 mod _sceneeval {
     use pyo3::prelude::*;
 
+    #[pymodule_export]
+    use crate::agreement::agreement;
     #[pymodule_export]
     use crate::errors::SceneEvalError;
     #[pymodule_export]
