@@ -150,51 +150,61 @@ pub enum LabelError {
         message: String,
     },
     /// The index is past the metric's specs in the run's record of the scene.
-    #[error(
-        "{}:{line}: {metric} spec {index} of {scene}: {run} has {count} {metric} specs for this scene \
-         (were the labels made for other annotations?)",
-        path.display()
-    )]
-    IndexPastSpecs {
-        /// The label file.
-        path: PathBuf,
-        /// The line.
-        line: u64,
-        /// The run folder.
-        run: String,
-        /// The scene.
-        scene: String,
-        /// The metric.
-        metric: FidelityMetric,
-        /// The label's index.
-        index: usize,
-        /// The specs the run has.
-        count: usize,
-    },
+    #[error(transparent)]
+    IndexPastSpecs(Box<IndexPastSpecs>),
     /// The spec text differs from the run's at that index (or from another label file's).
-    #[error(
-        "{}:{line}: {metric} spec {index} of {scene} is {found:?} here but {expected:?} in {source_name} \
-         (the labels were made for other annotations)",
-        path.display()
-    )]
-    SpecDiffers {
-        /// The label file.
-        path: PathBuf,
-        /// The line.
-        line: u64,
-        /// The run folder or label file (with its line) that has the other text.
-        source_name: String,
-        /// The scene.
-        scene: String,
-        /// The metric.
-        metric: FidelityMetric,
-        /// The index.
-        index: usize,
-        /// The text there.
-        expected: String,
-        /// The label's text.
-        found: String,
-    },
+    #[error(transparent)]
+    SpecDiffers(Box<SpecDiffers>),
+}
+
+/// A label whose index is past the metric's specs in a run's record of the scene.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{}:{line}: {metric} spec {index} of {scene}: {run} has {count} {metric} specs for this scene \
+     (were the labels made for other annotations?)",
+    path.display()
+)]
+pub struct IndexPastSpecs {
+    /// The label file.
+    pub path: PathBuf,
+    /// The line.
+    pub line: u64,
+    /// The run folder.
+    pub run: String,
+    /// The scene.
+    pub scene: String,
+    /// The metric.
+    pub metric: FidelityMetric,
+    /// The label's index.
+    pub index: usize,
+    /// The specs the run has.
+    pub count: usize,
+}
+
+/// A label whose spec text differs from a run's at that index (or from another label file's).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{}:{line}: {metric} spec {index} of {scene} is {found:?} here but {expected:?} in {source_name} \
+     (the labels were made for other annotations)",
+    path.display()
+)]
+pub struct SpecDiffers {
+    /// The label file.
+    pub path: PathBuf,
+    /// The line.
+    pub line: u64,
+    /// The run folder or label file (with its line) that has the other text.
+    pub source_name: String,
+    /// The scene.
+    pub scene: String,
+    /// The metric.
+    pub metric: FidelityMetric,
+    /// The index.
+    pub index: usize,
+    /// The text there.
+    pub expected: String,
+    /// The label's text.
+    pub found: String,
 }
 
 impl LabelFile {
@@ -378,7 +388,7 @@ impl LabelFile {
             }
             match specs.get(label.index) {
                 None => {
-                    return Err(LabelError::IndexPastSpecs {
+                    return Err(LabelError::IndexPastSpecs(Box::new(IndexPastSpecs {
                         path: self.path.clone(),
                         line: *line,
                         run: run.dir.display().to_string(),
@@ -386,10 +396,10 @@ impl LabelFile {
                         metric: label.metric,
                         index: label.index,
                         count: specs.len(),
-                    });
+                    })));
                 }
                 Some((text, _)) if *text != label.spec => {
-                    return Err(LabelError::SpecDiffers {
+                    return Err(LabelError::SpecDiffers(Box::new(SpecDiffers {
                         path: self.path.clone(),
                         line: *line,
                         source_name: run.dir.display().to_string(),
@@ -398,7 +408,7 @@ impl LabelFile {
                         index: label.index,
                         expected: (*text).to_owned(),
                         found: label.spec.clone(),
-                    });
+                    })));
                 }
                 Some(_) => {}
             }

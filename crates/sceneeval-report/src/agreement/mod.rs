@@ -17,6 +17,8 @@
 
 mod text;
 
+pub use text::CSV_COLUMNS;
+
 use std::collections::{BTreeMap, BTreeSet};
 
 use sceneeval_fidelity::FidelityMetric;
@@ -24,7 +26,7 @@ use sceneeval_stats::{Bootstrap, BootstrapInterval, Confusion, Decision, FleissT
 use serde::Serialize;
 
 use crate::Run;
-use crate::labels::{Item, LabelError, LabelFile};
+use crate::labels::{Item, LabelError, LabelFile, SpecDiffers};
 
 /// A source of verdicts: a run folder (its VLM judge) or a label file (its annotators).
 #[derive(Debug, Clone)]
@@ -200,28 +202,33 @@ pub enum AgreementError {
         second: String,
     },
     /// Two runs have different spec texts at one item (other annotations).
-    #[error(
-        "{metric} spec {index} of {scene} is {a_text:?} in {a} but {b_text:?} in {b}: the runs used other annotations"
-    )]
-    RunsDiffer {
-        /// The first run.
-        a: String,
-        /// The second run.
-        b: String,
-        /// The scene.
-        scene: String,
-        /// The metric.
-        metric: FidelityMetric,
-        /// The index.
-        index: usize,
-        /// The first run's text.
-        a_text: String,
-        /// The second run's text.
-        b_text: String,
-    },
+    #[error(transparent)]
+    RunsDiffer(Box<RunsDiffer>),
     /// Nothing to compare.
     #[error("{0}")]
     Nothing(String),
+}
+
+/// Two runs with different spec texts at one item: they used other annotations.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{metric} spec {index} of {scene} is {a_text:?} in {a} but {b_text:?} in {b}: the runs used other annotations"
+)]
+pub struct RunsDiffer {
+    /// The first run.
+    pub a: String,
+    /// The second run.
+    pub b: String,
+    /// The scene.
+    pub scene: String,
+    /// The metric.
+    pub metric: FidelityMetric,
+    /// The index.
+    pub index: usize,
+    /// The first run's text.
+    pub a_text: String,
+    /// The second run's text.
+    pub b_text: String,
 }
 
 /// One rater: a name, where it comes from, and its verdict on each item it judged.
@@ -406,7 +413,7 @@ fn spec_texts(
         for (item, (text, _)) in run_items(run) {
             match texts.get(&item) {
                 Some((other, origin)) if *other != text => {
-                    return Err(AgreementError::RunsDiffer {
+                    return Err(AgreementError::RunsDiffer(Box::new(RunsDiffer {
                         a: origin.clone(),
                         b: run.dir.display().to_string(),
                         scene: item.scene,
@@ -414,7 +421,7 @@ fn spec_texts(
                         index: item.index,
                         a_text: other.clone(),
                         b_text: text,
-                    });
+                    })));
                 }
                 Some(_) => {}
                 None => {
@@ -447,7 +454,7 @@ fn spec_texts(
             let label = &line.label;
             match texts.get(&label.item()) {
                 Some((other, origin)) if *other != label.spec => {
-                    return Err(LabelError::SpecDiffers {
+                    return Err(LabelError::SpecDiffers(Box::new(SpecDiffers {
                         path: file.path.clone(),
                         line: line.line,
                         source_name: origin.clone(),
@@ -456,7 +463,7 @@ fn spec_texts(
                         index: label.index,
                         expected: other.clone(),
                         found: label.spec.clone(),
-                    }
+                    }))
                     .into());
                 }
                 Some(_) => {}

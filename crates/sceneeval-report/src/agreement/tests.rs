@@ -303,7 +303,12 @@ fn the_bootstrap_is_seeded_and_stays_around_kappa() {
 fn names_and_spec_texts_must_fit() {
     let reference = file("ref.jsonl", &[("alice", &[T])]);
     let twin = file("judge.jsonl", &[("alice", &[T])]);
-    let err = agreement(&[reference.clone()], &[Source::Labels(twin)], &no_bootstrap()).unwrap_err();
+    let err = agreement(
+        std::slice::from_ref(&reference),
+        &[Source::Labels(twin)],
+        &no_bootstrap(),
+    )
+    .unwrap_err();
     assert!(
         err.to_string()
             .contains("two raters are named \"alice\": ref.jsonl and judge.jsonl"),
