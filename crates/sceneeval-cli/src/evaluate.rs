@@ -21,8 +21,8 @@ pub struct Args {
     /// Folder holding the `scene_<ID>.json` files to evaluate.
     pub scenes: PathBuf,
     /// Asset folder for a model-id prefix, as `PREFIX=DIR` (layout chosen from the prefix) or
-    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, plain.
-    /// Repeat for several prefixes.
+    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, idesign,
+    /// scene-agent, plain. Repeat for several prefixes.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
     /// Output folder (created if missing; checked for writing before any scene is evaluated).

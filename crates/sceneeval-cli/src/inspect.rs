@@ -1,6 +1,6 @@
 //! `sceneeval inspect SCENE.json --assets PREFIX=DIR ...`: load a sceneState file and print its
 //! objects (id, model id, category, OBB centre, size, yaw, stated support type), rooms, walls
-//! and openings, as aligned tables or (`--json`) as one JSON document.
+//! and openings, as aligned tables or (`--format json`, alias `--json`) as one JSON document.
 //!
 //! A scene that fails to load is an error: `main` prints its chain (the file, the JSON
 //! pointer, the asset) and the process exits with status 1.
@@ -25,13 +25,13 @@ pub struct Args {
     /// `3dfModel` 3D-FUTURE, `objaverse` Objathor, `fpModel` HSSD, `layoutvlm-objaverse`
     /// LayoutVLM, anything else a plain folder of `ID.glb`/`ID.gltf`/`ID.obj`) or
     /// `PREFIX=LAYOUT:DIR` with LAYOUT one of `3d-future`, `objathor`, `hssd`, `layoutvlm`,
-    /// `plain`. Repeatable.
+    /// `idesign`, `scene-agent`, `plain`. Repeatable.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
-    /// Print one JSON document (`scene`, `objects`, `rooms` with their walls and openings)
-    /// instead of tables.
-    #[arg(long)]
-    pub json: bool,
+    /// `--format json`: one JSON document (`scene`, `objects`, `rooms` with their walls and
+    /// openings) instead of tables.
+    #[command(flatten)]
+    pub format: crate::format::FormatArgs,
     /// Refuse a scene file with keys the sceneState format does not have (a misspelt key is
     /// read as absent) instead of warning about each.
     #[arg(long)]
@@ -56,7 +56,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let report = Report::new(&args.scene, &scene);
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
-    if args.json {
+    if args.format.json() {
         serde_json::to_writer_pretty(&mut out, &report).context("writing JSON")?;
         writeln!(out)?;
     } else {

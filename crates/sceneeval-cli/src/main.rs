@@ -15,6 +15,7 @@ mod annotations;
 mod compare;
 mod convert;
 mod evaluate;
+mod format;
 mod inspect;
 mod relate;
 mod render;
@@ -24,7 +25,9 @@ mod settle;
 mod summarize;
 mod vlm;
 
-/// Evaluate text-conditioned 3D indoor scenes (SceneEval) and query its spatial predicates.
+/// Evaluate text-conditioned 3D indoor scenes (SceneEval): convert, inspect, render, evaluate and
+/// settle scenes; summarize, compare and report runs; answer predicate queries; check, make and
+/// review annotations; check a VLM endpoint.
 #[derive(Debug, Parser)]
 #[command(name = "sceneeval", version, about, long_about = None)]
 struct Cli {

@@ -1,5 +1,5 @@
 //! `sceneeval render SCENE.json --assets PREFIX=DIR ... --out DIR [--views front,size,surroundings,top]
-//! [--objects ID,...] [--size N]`: render the reference's views of a scene as PNG files
+//! [--objects ID,...] [--render-size PX]`: render the reference's views of a scene as PNG files
 //! (`front_<id>.png`, `size_<id>.png`, `surroundings_<id>.png`, `top.png`) and print each
 //! file's path.
 
@@ -17,8 +17,8 @@ pub struct Args {
     /// The sceneState JSON file.
     pub scene: PathBuf,
     /// Asset folder for a model-id prefix, as `PREFIX=DIR` (layout chosen from the prefix) or
-    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, plain.
-    /// Repeat for several prefixes.
+    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, idesign,
+    /// scene-agent, plain. Repeat for several prefixes.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
     /// Output folder (created if missing).
@@ -36,9 +36,10 @@ pub struct Args {
     /// inspect` prints them). Default: every object.
     #[arg(long, value_delimiter = ',', value_name = "ID,...")]
     pub objects: Option<Vec<String>>,
-    /// Image width and height in pixels.
-    #[arg(long, value_name = "N", default_value_t = RenderSettings::DEFAULT_SIZE)]
-    pub size: u32,
+    /// Image width and height in pixels (the same option as `evaluate`'s and `settle`'s;
+    /// `--size` is its old spelling).
+    #[arg(long, alias = "size", value_name = "PX", default_value_t = RenderSettings::DEFAULT_SIZE)]
+    pub render_size: u32,
     /// Refuse a scene file with keys the sceneState format does not have (a misspelt key is
     /// read as absent) instead of warning about each.
     #[arg(long)]
@@ -47,8 +48,8 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    if args.size == 0 {
-        bail!("--size must be at least 1");
+    if args.render_size == 0 {
+        bail!("--render-size must be at least 1");
     }
     let library = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
     let scene = read_scene_state(
@@ -91,7 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let prepared = renderer
         .prepare(&scene, &library)
         .with_context(|| format!("cannot prepare {} for rendering", args.scene.display()))?;
-    let settings = RenderSettings::square(args.size);
+    let settings = RenderSettings::square(args.render_size);
 
     let progress = ProgressBar::new(views.len() as u64);
     if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} images {msg}") {

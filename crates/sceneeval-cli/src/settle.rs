@@ -25,8 +25,8 @@ pub struct Args {
     /// The sceneState JSON file.
     pub scene: PathBuf,
     /// Asset folder for a model-id prefix, as `PREFIX=DIR` (layout chosen from the prefix) or
-    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, plain.
-    /// Repeat for several prefixes.
+    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, idesign,
+    /// scene-agent, plain. Repeat for several prefixes.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
     /// The settled scene's file (sceneState JSON; replaced atomically; may be SCENE itself).
@@ -45,7 +45,7 @@ pub struct Args {
     pub time_budget: Option<f64>,
     /// What is fixed in place: architectural (objects on walls and ceilings, the default),
     /// penetration (objects interpenetrating another object or the architecture), combined
-    /// (both) or none. Replaces the plan's `stability.weld`.
+    /// (both) or none. Replaces the plan's `params.stability.weld`.
     #[arg(long, value_name = "MODE", value_parser = str::parse::<WeldMode>)]
     pub weld: Option<WeldMode>,
     /// The VLM asked for the support types the scene does not state, as `evaluate` asks them

@@ -19,7 +19,8 @@ pub struct Args {
     /// The annotation CSV (or JSON) the runs used: adds the rows per difficulty.
     #[arg(long, value_name = "FILE")]
     pub annotations: Option<PathBuf>,
-    /// Write `summary.csv` and `summary.md` into this folder (else only print the table).
+    /// Write `summary.csv`, `summary.md` and `summary_scenes.csv` (one row per scene) into
+    /// this folder (else only print the table).
     #[arg(long, short = 'o', value_name = "DIR")]
     pub out: Option<PathBuf>,
 }

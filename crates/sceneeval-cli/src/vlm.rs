@@ -1,6 +1,6 @@
 //! `sceneeval vlm`: commands about the vision-language model endpoint.
 //!
-//! `sceneeval vlm check --base-url URL --model NAME` sends one small structured request with
+//! `sceneeval vlm check --vlm-base-url URL --vlm-model NAME` sends one small structured request with
 //! an image (a red square, "what colour is it?") and says whether the endpoint works: it
 //! answers, follows the JSON schema and sees the image. Exit status 0 when it does, 1 with the
 //! reason when it does not (a refused key, an unreachable server, a refusal, an answer that
@@ -8,12 +8,11 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Duration;
 
 use anyhow::{Context, bail};
+use sceneeval::VlmOptions;
 use sceneeval::vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
 use sceneeval::vlm::{Outcome, Session};
-use sceneeval::{RequestField, VlmOptions};
 
 use crate::evaluate::OptionError;
 use sceneeval::vlm_openai::{OpenAiVlm, RuntimeVlm};
@@ -30,23 +29,28 @@ pub enum Command {
 pub struct CheckArgs {
     /// The API base URL, e.g. https://api.openai.com/v1, http://localhost:8000/v1 (vLLM) or
     /// http://localhost:11434/v1 (Ollama).
-    #[arg(long, value_name = "URL")]
+    #[arg(long = "vlm-base-url", alias = "base-url", value_name = "URL")]
     pub base_url: String,
     /// The model name, e.g. gpt-4o-2024-08-06 or Qwen/Qwen2.5-VL-7B-Instruct.
-    #[arg(long, value_name = "NAME")]
+    #[arg(long = "vlm-model", alias = "model", value_name = "NAME")]
     pub model: String,
     /// The environment variable holding the API key; it must then be set. Without this option
     /// OPENAI_API_KEY is used when set (local servers need no key).
-    #[arg(long, value_name = "VAR")]
+    #[arg(long = "vlm-api-key-env", alias = "api-key-env", value_name = "VAR")]
     pub api_key_env: Option<String>,
     /// What is sent with every request (the same options as `evaluate`'s).
     #[command(flatten)]
     pub sampling: SamplingArgs,
-    /// Seconds to wait for the answer (per attempt).
-    #[arg(long, default_value_t = 60.0, value_name = "SECS")]
-    pub timeout: f64,
+    /// Seconds to wait for the answer (per attempt; default 60, as `evaluate`'s).
+    #[arg(long = "vlm-timeout", alias = "timeout", value_name = "SECS")]
+    pub timeout: Option<f64>,
     /// Retries after a failed attempt (429, 5xx, timeouts, connection errors).
-    #[arg(long, default_value_t = 2, value_name = "N")]
+    #[arg(
+        long = "vlm-retries",
+        alias = "retries",
+        default_value_t = 2,
+        value_name = "N"
+    )]
     pub retries: u32,
 }
 
@@ -216,17 +220,14 @@ pub fn run(command: Command) -> anyhow::Result<ExitCode> {
 }
 
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    if !(args.timeout.is_finite() && args.timeout > 0.0) {
-        bail!("--timeout must be a positive number of seconds");
-    }
     let options = VlmOptions {
         api_key_env: args.api_key_env.clone(),
+        timeout: args.timeout,
         ..args.sampling.options(&args.base_url, &args.model)
     };
     let mut config = options
         .config()
-        .map_err(|error| OptionError::new(error, check_option_name))?;
-    config.timeout = Duration::from_secs_f64(args.timeout);
+        .map_err(|error| OptionError::new(error, crate::evaluate::option_name))?;
     config.retry.max_retries = args.retries;
     let vlm = RuntimeVlm::start(OpenAiVlm::new(config).context("cannot set up the client")?)?;
     let session = Session::new(&vlm);
@@ -279,15 +280,5 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::FAILURE)
         }
         None => bail!("the endpoint check asked no question"),
-    }
-}
-
-/// The option of `vlm check` that sets `field`.
-fn check_option_name(field: RequestField) -> &'static str {
-    match field {
-        RequestField::VlmBaseUrl => "--base-url",
-        RequestField::VlmModel => "--model",
-        RequestField::VlmApiKeyEnv => "--api-key-env",
-        other => crate::evaluate::option_name(other),
     }
 }

@@ -194,7 +194,8 @@ fn annotate_a_list_of_descriptions_then_check_and_continue() {
         "annotate",
         "--descriptions",
         list.to_str().unwrap(),
-        "--out",
+        // -o: the short --out of every command that writes.
+        "-o",
         out_arg,
         "--id",
         "3",
@@ -339,11 +340,15 @@ fn generate_filters_near_duplicates_and_resumes() {
             "generate",
             "--examples",
             examples.to_str().unwrap(),
-            "--out",
+            "-o",
             out.to_str().unwrap(),
             "--difficulty",
             "easy",
             "--no-progress",
+            // The first ID, named as `annotate --id` names it (default: the examples' largest
+            // ID plus one, 42).
+            "--id",
+            "142",
             "--count",
             count,
         ]
@@ -360,7 +365,7 @@ fn generate_filters_near_duplicates_and_resumes() {
             "1 rows (1 accepted now, 0 already there)",
         ));
     // The run ended at its count, as if it had been interrupted there; a re-run with a larger
-    // count continues: the near copy and the refusal are rejected, then ID 43 is accepted.
+    // count continues: the near copy and the refusal are rejected, then ID 143 is accepted.
     let a = args("2");
     let a: Vec<&str> = a.iter().map(String::as_str).collect();
     sceneeval(&server, &a)
@@ -376,7 +381,7 @@ fn generate_filters_near_duplicates_and_resumes() {
         .skip(1)
         .map(|l| l.split(',').next().unwrap())
         .collect();
-    assert_eq!(ids, ["42", "43"], "{written}");
+    assert_eq!(ids, ["142", "143"], "{written}");
     let rejected = std::fs::read_to_string(dir.path().join("generated.csv.rejected.jsonl")).unwrap();
     let lines: Vec<Value> = rejected
         .lines()

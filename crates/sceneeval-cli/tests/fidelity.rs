@@ -2,7 +2,7 @@
 //! OpenAI-compatible server on 127.0.0.1 (interrupted and resumed, sampling options), without a
 //! VLM, sharded and summarised. The model and the annotation rows are
 //! `sceneeval_test_support::fidelity_model`, shared with the facade's pipeline tests
-//! (`crates/sceneeval/tests/pipeline.rs`, which run the same scenes through the library).
+//! (`crates/sceneeval-run/tests/pipeline.rs`, which run the same scenes through the library).
 //! Expected values are worked out by hand in the comments.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]

@@ -107,6 +107,19 @@ fn json_output_has_objects_rooms_walls_and_openings() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // `--json` is the old spelling of `--format json`: the same document.
+    let format = sceneeval()
+        .args(["inspect", "--format", "json", "--assets", &spec])
+        .arg(dir.path().join("scene_0.json"))
+        .output()
+        .unwrap();
+    assert_eq!(format.stdout, out.stdout);
+    sceneeval()
+        .args(["inspect", "--format", "text", "--json", "--assets", &spec])
+        .arg(dir.path().join("scene_0.json"))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--format"));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["scene"], "scene_0");
     let dresser = &v["objects"][0];

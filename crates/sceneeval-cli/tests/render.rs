@@ -39,7 +39,7 @@ fn writes_the_requested_views_with_inspect_ids_as_file_names() {
             "--objects",
             "idx0_fixture.bed,idx3_fixture.table_lamp",
         ])
-        .args(["--size", "65"])
+        .args(["--render-size", "65"])
         .assert()
         .success();
     let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
@@ -114,10 +114,10 @@ fn bad_arguments_are_clear_errors() {
     render()
         .arg("--out")
         .arg(out.path())
-        .args(["--size", "0"])
+        .args(["--render-size", "0"])
         .assert()
         .failure()
-        .stderr(predicate::str::contains("--size"));
+        .stderr(predicate::str::contains("--render-size"));
 }
 
 #[test]

@@ -38,11 +38,11 @@ async fn check(base_url: String, extra: &[&str], key_var: Option<(&str, &str)>) 
             "-vvv",
             "vlm",
             "check",
-            "--base-url",
+            "--vlm-base-url",
             &base_url,
-            "--model",
+            "--vlm-model",
             "test-vlm",
-            "--timeout",
+            "--vlm-timeout",
             "5",
         ])
         .args(&extra)
@@ -99,7 +99,7 @@ async fn a_refused_key_fails_with_the_reason() {
     .await;
     let (code, stdout, stderr) = check(
         format!("{}/v1", server.uri()),
-        &["--api-key-env", "MY_VLM_KEY"],
+        &["--vlm-api-key-env", "MY_VLM_KEY"],
         Some(("MY_VLM_KEY", KEY)),
     )
     .await;
@@ -118,6 +118,7 @@ async fn a_refused_key_fails_with_the_reason() {
 async fn a_named_key_variable_must_be_set() {
     let (code, _, stderr) = check(
         "http://127.0.0.1:9/v1".into(),
+        // The old spelling of --vlm-api-key-env still works.
         &["--api-key-env", "UNSET_VLM_KEY_VAR"],
         None,
     )
@@ -131,6 +132,7 @@ async fn an_unreachable_endpoint_fails_with_the_reason() {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let port = listener.local_addr().unwrap().port();
     drop(listener);
+    // --retries: the old spelling of --vlm-retries.
     let (code, _, stderr) = check(format!("http://127.0.0.1:{port}/v1"), &["--retries", "0"], None).await;
     assert_eq!(code, 1);
     assert!(stderr.contains("error: the endpoint check failed"), "{stderr}");

@@ -21,9 +21,9 @@ pub enum EvalError {
         /// What is wrong.
         message: String,
     },
-    /// A field of an [`crate::EvaluationRequest`] is wrong or does not fit the others (a plan
-    /// that cannot be read, fidelity metrics without annotations, a VLM setting out of range).
-    /// Front ends show the field under their own name for it (`--plan`, `plan=`).
+    /// A field of a request (`sceneeval-run`'s `EvaluationRequest`, a [`crate::SettleRequest`])
+    /// is wrong or does not fit the others (a plan that cannot be read, fidelity metrics
+    /// without annotations, a VLM setting out of range). Front ends show the field under their own name for it (`--plan`, `plan=`).
     #[error("{field}: {message}")]
     Request {
         /// The field at fault.

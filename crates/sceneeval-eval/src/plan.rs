@@ -43,8 +43,13 @@ pub const DEFAULT_TIME_BUDGET_SECONDS: f64 = 600.0;
 ///     r#"{"params": {"collision": {"exclude_floor_covering": true}}}"#).unwrap_err();
 /// assert!(err.to_string().contains("params.collision.exclude_floor_covering"));
 /// ```
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+///
+/// Every metric's parameters are under `params.<metric>`: the geometry metrics'
+/// (`params.collision`, ...), `params.stability`, `params.fidelity` (the text-fidelity
+/// metrics') and `params.relations` (the spatial predicates'). Plans written before had the
+/// last three at the top level; they are still read, with a warning that names the new place.
+/// Serialising a plan writes the new places.
+#[derive(Debug, Clone, PartialEq)]
 pub struct EvaluationPlan {
     /// The preset the parameters start from (recorded in `summary.md`).
     pub preset: Preset,
@@ -52,12 +57,13 @@ pub struct EvaluationPlan {
     /// ATR, OOR, OAR, which need the scene's annotation row). They always run and are reported
     /// in the order of [`Metric::ALL`].
     pub metrics: Vec<Metric>,
-    /// Parameters of the plausibility metrics.
+    /// Parameters of the plausibility metrics (`params.collision`, ...).
     pub params: PlausibilityParams,
-    /// Parameters of the fidelity metrics: matching, relation mapping, reference switches.
+    /// Parameters of the fidelity metrics (`params.fidelity`): matching, relation mapping,
+    /// reference switches.
     pub fidelity: FidelityParams,
-    /// Parameters of the spatial predicates, for the text-fidelity metrics (OOR, OAR) and
-    /// recorded in every result's fingerprint.
+    /// Parameters of the spatial predicates (`params.relations`), for the text-fidelity
+    /// metrics (OOR, OAR) and recorded in every result's fingerprint.
     pub relations: RelationParams,
     /// How scene files are read (architecture, the simple architecture's walls and floor).
     pub read: ReadOptions,
@@ -67,8 +73,8 @@ pub struct EvaluationPlan {
     /// Wall-time budget per scene in seconds (loading and metrics together); a scene over it
     /// is recorded as failed and the run goes on. `null` for no budget. Default 600.
     pub time_budget_seconds: Option<f64>,
-    /// Parameters of the stability metric (`stability.weld`, `stability.duration_s`, ...): the
-    /// same under both presets. Read and checked in every build; a plan that runs the metric
+    /// Parameters of the stability metric (`params.stability.weld`,
+    /// `params.stability.duration_s`, ...): the same under both presets. Read and checked in every build; a plan that runs the metric
     /// needs the feature `physics`.
     pub stability: StabilityParams,
 }
@@ -256,6 +262,7 @@ impl EvaluationPlan {
         let Value::Object(given) = value else {
             return Err(plan_error(None, "a plan must be a JSON object".into()));
         };
+        let given = sections_under_params(given)?;
         if given.contains_key("fidelity_metrics") {
             return Err(plan_error(
                 Some("fidelity_metrics"),
@@ -288,10 +295,11 @@ impl EvaluationPlan {
         if let Value::Object(m) = &mut merged {
             m.insert("preset".into(), Value::String(preset.name().into()));
         }
-        let plan: EvaluationPlan = serde_path_to_error::deserialize(&merged).map_err(|e| {
-            let path = e.path().to_string();
+        let fields: PlanFields = serde_path_to_error::deserialize(&sections_at_top(merged)).map_err(|e| {
+            let path = params_path(&e.path().to_string());
             plan_error(Some(&path), e.into_inner().to_string())
         })?;
+        let plan = EvaluationPlan::from(fields);
         // Every key given must survive the round trip; one that does not is unknown.
         let back = serde_json::to_value(&plan).map_err(|e| plan_error(None, e.to_string()))?;
         if let Some(path) = unknown_key(&given, &back, "") {
@@ -362,9 +370,9 @@ impl EvaluationPlan {
         self.fidelity.validate().map_err(|e| {
             let field = match &e {
                 sceneeval_fidelity::FidelityError::InvalidParameter { name, .. } => {
-                    format!("fidelity.{name}")
+                    format!("params.fidelity.{name}")
                 }
-                _ => "fidelity".to_owned(),
+                _ => "params.fidelity".to_owned(),
             };
             plan_error(Some(&field), e.to_string())
         })?;
@@ -381,8 +389,10 @@ impl EvaluationPlan {
         }
         self.stability.validate().map_err(|e| {
             let field = match &e {
-                sceneeval_physics::PhysicsError::InvalidParameter { name, .. } => format!("stability.{name}"),
-                _ => "stability".to_owned(),
+                sceneeval_physics::PhysicsError::InvalidParameter { name, .. } => {
+                    format!("params.stability.{name}")
+                }
+                _ => "params.stability".to_owned(),
             };
             plan_error(Some(&field), e.to_string())
         })?;
@@ -396,7 +406,7 @@ impl EvaluationPlan {
         })?;
         self.relations
             .validate()
-            .map_err(|e| plan_error(Some("relations"), e.to_string()))?;
+            .map_err(|e| plan_error(Some("params.relations"), e.to_string()))?;
         self.limits
             .validate()
             .map_err(|m| plan_error(Some(&format!("limits.{}", m.split(' ').next().unwrap_or(""))), m))?;
@@ -495,6 +505,153 @@ fn plan_error(field: Option<&str>, message: String) -> EvalError {
         path: None,
         field: field.filter(|f| !f.is_empty() && *f != ".").map(str::to_owned),
         message,
+    }
+}
+
+/// The parameter sections a plan has under `params` beside the geometry metrics', which plans
+/// written before had at the top level.
+const PARAM_SECTIONS: [&str; 3] = ["fidelity", "relations", "stability"];
+
+/// A plan as serde reads it once its parameter sections are back at the top level (every field
+/// present: the preset's values merged with the file's).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlanFields {
+    preset: Preset,
+    metrics: Vec<Metric>,
+    params: PlausibilityParams,
+    // Absent only when `params` was replaced whole because of an unknown key, which serde then
+    // names.
+    #[serde(default)]
+    fidelity: FidelityParams,
+    #[serde(default)]
+    relations: RelationParams,
+    read: ReadOptions,
+    limits: Limits,
+    time_budget_seconds: Option<f64>,
+    #[serde(default)]
+    stability: StabilityParams,
+}
+
+impl From<PlanFields> for EvaluationPlan {
+    fn from(f: PlanFields) -> Self {
+        EvaluationPlan {
+            preset: f.preset,
+            metrics: f.metrics,
+            params: f.params,
+            fidelity: f.fidelity,
+            relations: f.relations,
+            read: f.read,
+            limits: f.limits,
+            time_budget_seconds: f.time_budget_seconds,
+            stability: f.stability,
+        }
+    }
+}
+
+/// Writes the plan as a plan file has it: `params` holds every metric's parameters.
+impl Serialize for EvaluationPlan {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        #[derive(Serialize)]
+        struct Params<'a> {
+            #[serde(flatten)]
+            geometry: &'a PlausibilityParams,
+            stability: &'a StabilityParams,
+            fidelity: &'a FidelityParams,
+            relations: &'a RelationParams,
+        }
+        #[derive(Serialize)]
+        struct File<'a> {
+            preset: Preset,
+            metrics: &'a [Metric],
+            params: Params<'a>,
+            read: &'a ReadOptions,
+            limits: &'a Limits,
+            time_budget_seconds: Option<f64>,
+        }
+        File {
+            preset: self.preset,
+            metrics: &self.metrics,
+            params: Params {
+                geometry: &self.params,
+                stability: &self.stability,
+                fidelity: &self.fidelity,
+                relations: &self.relations,
+            },
+            read: &self.read,
+            limits: &self.limits,
+            time_budget_seconds: self.time_budget_seconds,
+        }
+        .serialize(serializer)
+    }
+}
+
+/// Reads a plan as [`EvaluationPlan::from_json_str`] does (the preset's values, then the
+/// given ones).
+impl<'de> Deserialize<'de> for EvaluationPlan {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let value = Value::deserialize(deserializer)?;
+        EvaluationPlan::from_value(value, None).map_err(serde::de::Error::custom)
+    }
+}
+
+/// `given` with the parameter sections written at the top level (the place of plans written
+/// before) moved under `params`, each with a warning naming its new place.
+///
+/// # Errors
+/// A section given in both places.
+fn sections_under_params(mut given: Map<String, Value>) -> Result<Map<String, Value>, EvalError> {
+    for key in PARAM_SECTIONS {
+        let Some(old) = given.remove(key) else {
+            continue;
+        };
+        let params = given.entry("params").or_insert_with(|| Value::Object(Map::new()));
+        let Value::Object(params) = params else {
+            // `params` is not an object: serde names it below.
+            given.insert(key.to_owned(), old);
+            continue;
+        };
+        if params.contains_key(key) {
+            return Err(plan_error(
+                Some(key),
+                format!("given twice: here and as `params.{key}` (its place); remove this one"),
+            ));
+        }
+        tracing::warn!(
+            "plan: `{key}` at the top level is read as `params.{key}`, its place now: move it there"
+        );
+        params.insert(key.to_owned(), old);
+    }
+    Ok(given)
+}
+
+/// A merged plan (parameter sections under `params`) with those sections at the top level, as
+/// [`PlanFields`] reads them.
+fn sections_at_top(mut merged: Value) -> Value {
+    if let Value::Object(plan) = &mut merged {
+        let moved: Vec<(&str, Value)> = match plan.get_mut("params") {
+            Some(Value::Object(params)) => PARAM_SECTIONS
+                .iter()
+                .filter_map(|&key| params.remove(key).map(|v| (key, v)))
+                .collect(),
+            _ => Vec::new(),
+        };
+        for (key, v) in moved {
+            plan.insert(key.to_owned(), v);
+        }
+    }
+    merged
+}
+
+/// The path a user wrote for the field at `path` of [`PlanFields`] (`stability.duration_s` is
+/// `params.stability.duration_s`).
+fn params_path(path: &str) -> String {
+    match PARAM_SECTIONS
+        .iter()
+        .any(|k| path == *k || path.starts_with(&format!("{k}.")))
+    {
+        true => format!("params.{path}"),
+        false => path.to_owned(),
     }
 }
 
@@ -644,6 +801,63 @@ mod tests {
     }
 
     #[test]
+    fn every_metrics_parameters_are_under_params_and_the_old_places_still_read() {
+        let new = EvaluationPlan::from_json_str(
+            r#"{"metrics": ["collision", "oor"],
+                "params": {"stability": {"duration_s": 2.5}, "fidelity": {"size_aware_matching": true},
+                           "relations": {"threshold": 0.4}, "collision": {"contact_tolerance": 0.01}}}"#,
+        )
+        .unwrap();
+        assert_eq!(new.stability.duration_s, 2.5);
+        assert!(new.fidelity.size_aware_matching);
+        assert_eq!(new.relations.threshold, 0.4);
+        assert_eq!(new.params.collision.contact_tolerance, 0.01);
+        // The same plan written as before: the sections at the top level (a warning is logged).
+        let old = EvaluationPlan::from_json_str(
+            r#"{"metrics": ["collision", "oor"], "stability": {"duration_s": 2.5},
+                "fidelity": {"size_aware_matching": true}, "relations": {"threshold": 0.4},
+                "params": {"collision": {"contact_tolerance": 0.01}}}"#,
+        )
+        .unwrap();
+        assert_eq!(old, new);
+        assert_eq!(old.result_digest(), new.result_digest());
+        // Written in the new places, read back the same.
+        let value = serde_json::to_value(&new).unwrap();
+        assert!(value.get("stability").is_none() && value.get("fidelity").is_none());
+        assert_eq!(value["params"]["stability"]["duration_s"], 2.5);
+        assert_eq!(value["params"]["relations"]["threshold"], 0.4);
+        assert_eq!(value["params"]["collision"]["contact_tolerance"], 0.01);
+        let back: EvaluationPlan = serde_json::from_value(value).unwrap();
+        assert_eq!(back, new);
+        // Both places at once is an error; errors name the new place.
+        let (field, message) =
+            field_of(r#"{"stability": {"duration_s": 1}, "params": {"stability": {"duration_s": 2}}}"#);
+        assert_eq!(field.as_deref(), Some("stability"));
+        assert!(message.contains("params.stability"), "{message}");
+        for (text, path) in [
+            (
+                r#"{"params": {"stability": {"duration": 1}}}"#,
+                "params.stability.duration",
+            ),
+            (r#"{"stability": {"duration": 1}}"#, "params.stability.duration"),
+            (
+                r#"{"params": {"stability": {"duration_s": "long"}}}"#,
+                "params.stability.duration_s",
+            ),
+            (
+                r#"{"params": {"stability": {"duration_s": -1}}}"#,
+                "params.stability.duration_s",
+            ),
+            (
+                r#"{"params": {"fidelity": {"matchng": "vlm"}}}"#,
+                "params.fidelity.matchng",
+            ),
+        ] {
+            assert_eq!(field_of(text).0.as_deref(), Some(path), "{text}");
+        }
+    }
+
+    #[test]
     fn unknown_fields_are_named_at_every_depth() {
         for (text, path) in [
             (r#"{"metric": []}"#, "metric"),
@@ -658,7 +872,7 @@ mod tests {
             ),
             (r#"{"limits": {"max_triangle": 5}}"#, "limits.max_triangle"),
             (r#"{"read": {"architecture": "file_only", "x": 1}}"#, "read.x"),
-            (r#"{"relations": {"thresold": 0.4}}"#, "relations.thresold"),
+            (r#"{"relations": {"thresold": 0.4}}"#, "params.relations.thresold"),
         ] {
             let (field, message) = field_of(text);
             assert_eq!(field.as_deref(), Some(path), "{text}: {message}");
@@ -739,32 +953,32 @@ mod tests {
         for (text, path, words) in [
             (
                 r#"{"stability": {"weld": "glued"}}"#,
-                "stability.weld",
+                "params.stability.weld",
                 "unknown variant",
             ),
             (
                 r#"{"stability": {"duration_s": 0}}"#,
-                "stability.duration_s",
+                "params.stability.duration_s",
                 "(0, 60]",
             ),
             (
                 r#"{"stability": {"time_step_s": 0.5}}"#,
-                "stability.time_step_s",
+                "params.stability.time_step_s",
                 "[0.0001, 0.02]",
             ),
             (
                 r#"{"stability": {"duraton_s": 1}}"#,
-                "stability.duraton_s",
+                "params.stability.duraton_s",
                 "unknown field",
             ),
             (
                 r#"{"stability": {"decomposition": {"resolution": 4}}}"#,
-                "stability.decomposition.resolution",
+                "params.stability.decomposition.resolution",
                 "[8, 128]",
             ),
             (
                 r#"{"stability": {"mass": {"density": -1}}}"#,
-                "stability.mass.density",
+                "params.stability.mass.density",
                 "must lie in",
             ),
         ] {

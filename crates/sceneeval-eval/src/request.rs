@@ -714,7 +714,7 @@ pub struct SettleRequest {
     /// The plan (default `geometry`: the built-in parameters).
     #[serde(default)]
     pub plan: PlanRequest,
-    /// The weld mode, replacing the plan's `stability.weld`.
+    /// The weld mode, replacing the plan's `params.stability.weld`.
     #[serde(default)]
     pub weld: Option<sceneeval_physics::WeldMode>,
     /// The VLM asked for the support types the scene does not state, shown each object's views;

@@ -5,7 +5,7 @@
 //! scene runs on a thread of its own, but only a scene holding one of the run's [`CpuSlots`]
 //! (as many as worker threads) computes. While a scene waits for the model, its slot goes to
 //! another scene; it takes one again when its answers are in. The scene's thread says which
-//! scene it works for ([`SceneSchedule::enter`]); [`wait_for_model`] (what `SharedVlm` answers
+//! scene it works for ([`SceneSchedule::enter`]); `wait_for_model` (what `SharedVlm` answers
 //! through) gives the slot back while the model's answer is pending and ends the wait with an
 //! error when the scene's time budget runs out.
 //!

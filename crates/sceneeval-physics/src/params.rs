@@ -125,7 +125,7 @@ impl Default for DecompositionParams {
     }
 }
 
-/// Parameters of the stability metric (plan parameters `stability.*`).
+/// Parameters of the stability metric (plan parameters `params.stability.*`).
 ///
 /// Every field has a default (below); unknown fields are rejected. [`StabilityParams::validate`]
 /// checks every range before anything is simulated.

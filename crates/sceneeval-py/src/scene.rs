@@ -523,13 +523,15 @@ impl PyScene {
     /// plan: as for evaluate() ("geometry", the default: the built-in parameters; "full"; a
     /// metric list; or a plan file, JSON or TOML) and preset ("default" or "reference"): the
     /// plan's stability section, reading options, limits and time budget apply, as
-    /// `sceneeval settle --plan` takes it; weld: "architectural" (default: objects on walls and ceilings are fixed in place),
+    /// `sceneeval settle --plan` takes it; weld: "architectural" (default: objects on walls and
+    /// ceilings are fixed in place),
     /// "penetration", "combined" or "none", replacing the plan's. Support types come from
     /// what the objects state, then (with vlm) the VLM's answer for each object that states
     /// none, then the category tables, as evaluate() gets them. vlm: the OpenAI-compatible
     /// endpoint asked, the same dict as evaluate()'s vlm (base_url, model, api_key_env,
     /// cache, render_size, ...); its answers are kept in vlm["cache"] when given (else for
-    /// this call only, as `sceneeval settle` keeps them), and the report then has placement: for each object, where
+    /// this call only, as `sceneeval settle` keeps them), and the report then has placement: for
+    /// each object, where
     /// its support type came from and why (eval.json's report.placement). assets: as for
     /// load_scene, the library the VLM's object views are drawn from (their materials;
     /// default: plain colours). The scene is not moved. Computed with the GIL released.

@@ -255,12 +255,7 @@ pub fn metrics_in(report: &SceneReport) -> Vec<Metric> {
 /// The summary's metric columns in the summary's order (`summary.csv`: CNT, ATR, OOR, OAR, then
 /// COL_ob ... WIN_blk, STAB), each with its metric.
 pub fn summary_columns() -> Vec<(&'static str, Metric)> {
-    let fidelity = Metric::ALL.into_iter().filter(|m| m.fidelity().is_some());
-    let others = Metric::ALL.into_iter().filter(|m| m.fidelity().is_none());
-    fidelity
-        .chain(others)
-        .flat_map(|m| m.columns().iter().map(move |&c| (c, m)))
-        .collect()
+    Metric::summary_columns()
 }
 
 /// The table row of `records` as `summary.csv` computes it, named `group`.

@@ -123,6 +123,30 @@ impl Metric {
         }
     }
 
+    /// The metrics in the order of the summary tables (`summary.csv`, `summary.md`, the
+    /// comparisons and the report): the text-fidelity metrics first, as in the paper's tables,
+    /// then the others in the order of [`Metric::ALL`].
+    pub fn table_order() -> impl Iterator<Item = Metric> {
+        let fidelity = Metric::ALL.into_iter().filter(|m| m.fidelity().is_some());
+        let others = Metric::ALL.into_iter().filter(|m| m.fidelity().is_none());
+        fidelity.chain(others)
+    }
+
+    /// Every summary column with its metric, in table order ([`Metric::table_order`], each
+    /// metric's [`Metric::columns`]): the one list every table of the workspace is made from.
+    ///
+    /// ```
+    /// use sceneeval_results::Metric;
+    /// let columns: Vec<&str> = Metric::summary_columns().into_iter().map(|(c, _)| c).collect();
+    /// assert_eq!(&columns[..5], ["CNT", "ATR", "OOR", "OAR", "COL_ob"]);
+    /// assert_eq!(columns.last(), Some(&"STAB"));
+    /// ```
+    pub fn summary_columns() -> Vec<(&'static str, Metric)> {
+        Metric::table_order()
+            .flat_map(|m| m.columns().iter().map(move |&c| (c, m)))
+            .collect()
+    }
+
     /// The metric named `name` or one of its columns, ignoring ASCII case, surrounding
     /// spaces, and `-` for `_`; `None` when there is none.
     pub fn from_name(name: &str) -> Option<Metric> {

@@ -94,31 +94,23 @@ pub struct SceneRow {
 
 /// The columns of the per-scene table: the scene, then the group table's numbers for the
 /// scene alone ([`GroupSummary::cell`]), then why it failed or is partial.
-const SCENE_COLUMNS: [&str; 24] = [
-    "scene",
-    "scene_id",
-    "difficulty",
-    "status",
-    "CNT",
-    "ATR",
-    "OOR",
-    "OAR",
-    "COL_ob",
-    "COL_sc",
-    "SUP",
-    "NAV",
-    "ACC",
-    "OOB",
-    "DOOR_blk",
-    "WIN_blk",
-    "STAB",
+fn scene_columns() -> Vec<&'static str> {
+    let mut columns = vec!["scene", "scene_id", "difficulty", "status"];
+    columns.extend(Metric::summary_columns().into_iter().map(|(c, _)| c));
+    columns.extend(VLM_COLUMNS);
+    columns.push("error");
+    columns
+}
+
+/// The columns of both tables after the metrics': the VLM questions without an answer and the
+/// category-table fallbacks.
+const VLM_COLUMNS: [&str; 6] = [
     "CNT_unanswered",
     "ATR_unanswered",
     "OOR_unanswered",
     "OAR_unanswered",
     "SUP_fallback",
     "ACC_fallback",
-    "error",
 ];
 
 /// One row of the [`Summary`].
@@ -197,36 +189,16 @@ is missing, left out of the scores). `failed` scenes are counted but not average
 `SUP_fallback`, `ACC_fallback`: objects whose support type or functional sides came from the \
 category table because the VLM's question failed or got no usable answer.\n";
 
-const COLUMNS: [&str; 28] = [
-    "group",
-    "scenes",
-    "evaluated",
-    "failed",
-    "partial",
-    "CNT",
-    "ATR",
-    "OOR",
-    "OAR",
-    "COL_ob",
-    "COL_sc",
-    "SUP",
-    "NAV",
-    "ACC",
-    "OOB",
-    "DOOR_blk",
-    "WIN_blk",
-    "STAB",
-    "CNT_n",
-    "ATR_n",
-    "OOR_n",
-    "OAR_n",
-    "CNT_unanswered",
-    "ATR_unanswered",
-    "OOR_unanswered",
-    "OAR_unanswered",
-    "SUP_fallback",
-    "ACC_fallback",
-];
+/// The group table's columns: the group and its counts, each metric's columns
+/// ([`Metric::summary_columns`]), the text-fidelity metrics' scored counts, then
+/// [`VLM_COLUMNS`].
+fn columns() -> Vec<&'static str> {
+    let mut columns = vec!["group", "scenes", "evaluated", "failed", "partial"];
+    columns.extend(Metric::summary_columns().into_iter().map(|(c, _)| c));
+    columns.extend(["CNT_n", "ATR_n", "OOR_n", "OAR_n"]);
+    columns.extend(VLM_COLUMNS);
+    columns
+}
 
 impl Summary {
     /// Summarises scene records, grouped by the difficulty of each scene's row in
@@ -349,9 +321,10 @@ impl Summary {
     /// its incomplete metrics and why.
     pub fn scenes_csv(&self) -> Result<String, ResultsError> {
         let mut w = csv::Writer::from_writer(Vec::new());
-        w.write_record(SCENE_COLUMNS)?;
+        let columns = scene_columns();
+        w.write_record(&columns)?;
         for row in &self.scenes {
-            let cells = SCENE_COLUMNS.iter().map(|&column| match column {
+            let cells = columns.iter().map(|&column| match column {
                 "scene" => row.scene.clone(),
                 "scene_id" => row.scene_id.clone().unwrap_or_default(),
                 "difficulty" => row.difficulty.clone().unwrap_or_default(),
@@ -371,9 +344,10 @@ impl Summary {
     /// The table as CSV (header row, numbers with four decimals, empty cells for missing values).
     pub fn to_csv(&self) -> Result<String, ResultsError> {
         let mut w = csv::Writer::from_writer(Vec::new());
-        w.write_record(COLUMNS)?;
+        let columns = columns();
+        w.write_record(&columns)?;
         for g in &self.groups {
-            w.write_record(COLUMNS.iter().map(|c| csv_cell::escape_owned(g.cell(c, 4))))?;
+            w.write_record(columns.iter().map(|c| csv_cell::escape_owned(g.cell(c, 4))))?;
         }
         let bytes = w
             .into_inner()
@@ -385,10 +359,11 @@ impl Summary {
     /// followed by the preset and plan digest (when known) and a legend.
     pub fn to_markdown(&self) -> String {
         let mut out = String::new();
-        let _ = writeln!(out, "| {} |", COLUMNS.join(" | "));
-        let _ = writeln!(out, "|{}", "---|".repeat(COLUMNS.len()));
+        let columns = columns();
+        let _ = writeln!(out, "| {} |", columns.join(" | "));
+        let _ = writeln!(out, "|{}", "---|".repeat(columns.len()));
         for g in &self.groups {
-            let cells: Vec<String> = COLUMNS
+            let cells: Vec<String> = columns
                 .iter()
                 .map(|c| g.cell(c, 2))
                 .map(|c| if c.is_empty() { "-".to_owned() } else { c })
@@ -669,7 +644,13 @@ mod tests {
         assert_eq!(all.door_blocked, Some(25.0));
         assert_eq!(all.window_blocked, None);
         let csv = s.to_csv().unwrap();
-        assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
+        // The header, written out: the columns made from the Metric table are the paper's.
+        assert_eq!(
+            csv.lines().next().unwrap(),
+            "group,scenes,evaluated,failed,partial,CNT,ATR,OOR,OAR,COL_ob,COL_sc,SUP,NAV,ACC,OOB,DOOR_blk,\
+             WIN_blk,STAB,CNT_n,ATR_n,OOR_n,OAR_n,CNT_unanswered,ATR_unanswered,OOR_unanswered,\
+             OAR_unanswered,SUP_fallback,ACC_fallback"
+        );
         assert_eq!(
             csv.lines().nth(1).unwrap(),
             "all,3,2,1,0,,,,,25.0000,50.0000,75.0000,90.0000,25.0000,12.5000,25.0000,,,0,0,0,0,0,0,0,0,0,0"
@@ -697,7 +678,12 @@ mod tests {
         // The per-scene table: each scene's own numbers, and the failure with its cause.
         let scenes = s.scenes_csv().unwrap();
         let lines: Vec<&str> = scenes.lines().collect();
-        assert_eq!(lines[0], SCENE_COLUMNS.join(","));
+        assert_eq!(
+            lines[0],
+            "scene,scene_id,difficulty,status,CNT,ATR,OOR,OAR,COL_ob,COL_sc,SUP,NAV,ACC,OOB,DOOR_blk,\
+             WIN_blk,STAB,CNT_unanswered,ATR_unanswered,OOR_unanswered,OAR_unanswered,SUP_fallback,\
+             ACC_fallback,error"
+        );
         // scene_0: COL_ob 50 %, COL_sc 100 %, SUP 100 %, NAV 80 %, OOB 0 %, doors 1/2 = 50 %,
         // windows: 0 of 0 is no value.
         assert_eq!(
@@ -812,7 +798,7 @@ mod tests {
         let s = Summary::from_records(&records(), None);
         let all = &s.groups[0];
         // The accessor gives the CSV's cells of every metric column (CNT .. STAB).
-        let metric_columns: Vec<&str> = COLUMNS
+        let metric_columns: Vec<&str> = columns()
             .iter()
             .copied()
             .filter(|c| crate::Metric::from_name(c).is_some())

@@ -148,7 +148,7 @@ pub fn annotation_digest(row: &sceneeval_annotation::AnnotationRow) -> String {
 }
 
 /// An annotation row's digest extended by the contents of the scene's matching file (the
-/// plan's `fidelity.matching` is a file): editing the file invalidates the scene's record as
+/// plan's `params.fidelity.matching` is a file): editing the file invalidates the scene's record as
 /// editing the row does. A missing or unreadable file digests as such; reading it for the
 /// metrics then fails the scene with the reason.
 ///

@@ -32,7 +32,7 @@ pub struct AnnotateArgs {
     pub descriptions: Option<PathBuf>,
     /// With `--descriptions`: the annotation file the rows are appended to (CSV; JSON for
     /// `.json`).
-    #[arg(long, value_name = "FILE", requires = "descriptions")]
+    #[arg(long, short = 'o', value_name = "FILE", requires = "descriptions")]
     pub out: Option<PathBuf>,
     /// The description's difficulty level (with `--descriptions`: of every description);
     /// without it the model chooses by the paper's rules.
@@ -73,7 +73,7 @@ pub struct GenerateArgs {
     pub count: usize,
     /// The annotation file accepted rows are appended to (CSV; JSON for `.json`); rejected
     /// candidates go to OUT.rejected.jsonl.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, short = 'o', value_name = "FILE")]
     pub out: PathBuf,
     /// The level of every description (default: easy, medium and hard in turn).
     #[arg(long, value_name = "easy|medium|hard")]
@@ -84,8 +84,9 @@ pub struct GenerateArgs {
     /// In-context examples per request (the paper showed three to five).
     #[arg(long, default_value_t = DEFAULT_EXAMPLES_PER_REQUEST, value_name = "K")]
     pub examples_per_request: usize,
-    /// The first ID when `--out` has no rows (default: one more than the examples' largest ID).
-    #[arg(long, value_name = "N")]
+    /// The first ID when `--out` has no rows (default: one more than the examples' largest ID);
+    /// `--id` as in `annotate` (`--first-id` is its old spelling).
+    #[arg(long = "id", alias = "first-id", value_name = "N")]
     pub first_id: Option<u64>,
     /// Jaccard similarity of content words at and above which a description is too similar to
     /// an existing one.

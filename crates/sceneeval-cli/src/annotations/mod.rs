@@ -22,18 +22,19 @@ pub enum Command {
     Check {
         /// The annotation file: `.json` for the JSON form, anything else is read as CSV.
         file: PathBuf,
-        /// Print one JSON document (file, rows, errors, warnings, findings) instead of text.
-        #[arg(long)]
-        json: bool,
+        /// `--format json`: one JSON document (file, rows, errors, warnings, findings) instead
+        /// of text.
+        #[command(flatten)]
+        format: crate::format::FormatArgs,
     },
     /// Print the paper's Table 1 per difficulty: scenes, words per description, objects
     /// specified, and entries per field (averages per scene).
     Stats {
         /// The annotation file: `.json` for the JSON form, anything else is read as CSV.
         file: PathBuf,
-        /// Print JSON instead of a Markdown table.
-        #[arg(long)]
-        json: bool,
+        /// `--format json`: JSON instead of a Markdown table.
+        #[command(flatten)]
+        format: crate::format::FormatArgs,
     },
     /// Ask a model for the annotation row of a scene description and print it as CSV (with its
     /// header), or (`--descriptions LIST --out FILE`) for every description of a list, appending
@@ -51,7 +52,7 @@ pub enum Command {
     Review(Box<review::ReviewArgs>),
 }
 
-/// The JSON document of `check --json`.
+/// The JSON document of `check --format json`.
 #[derive(Debug, Serialize)]
 struct CheckReport<'a> {
     file: &'a Path,
@@ -66,8 +67,8 @@ pub fn run(cmd: Command) -> anyhow::Result<ExitCode> {
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     let code = match cmd {
-        Command::Check { file, json } => check(&file, json, &mut out)?,
-        Command::Stats { file, json } => stats(&file, json, &mut out)?,
+        Command::Check { file, format } => check(&file, format.json(), &mut out)?,
+        Command::Stats { file, format } => stats(&file, format.json(), &mut out)?,
         Command::Annotate(args) => generate::annotate(*args)?,
         Command::Generate(args) => generate::generate(*args)?,
         Command::Review(args) => review::review(*args)?,

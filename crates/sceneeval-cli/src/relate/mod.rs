@@ -46,9 +46,9 @@ pub struct Args {
     #[arg(long)]
     pub reference: bool,
     /// Asset folder for a model-id prefix, as `PREFIX=DIR` (layout chosen from the prefix) or
-    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, plain:
-    /// objects may then name an asset (`"asset": "PREFIX.ID"`) instead of being boxes.
-    /// Repeat for several prefixes.
+    /// `PREFIX=LAYOUT:DIR` with LAYOUT one of 3d-future, objathor, hssd, layoutvlm, idesign,
+    /// scene-agent, plain: objects may then name an asset (`"asset": "PREFIX.ID"`) instead of
+    /// being boxes. Repeat for several prefixes.
     #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
     pub assets: Vec<String>,
     /// How many distinct rooms written in place (not declared) stay prepared at once; the
