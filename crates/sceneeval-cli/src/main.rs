@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod agreement;
 mod annotations;
 mod compare;
 mod convert;
@@ -55,6 +56,8 @@ enum Command {
     Summarize(summarize::Args),
     /// Compare the runs of several methods: a paper table with ranks (Markdown, CSV, LaTeX, HTML).
     Compare(compare::Args),
+    /// How far judges agree with people on the fidelity specs: agreement and Cohen's/Fleiss' kappa.
+    Agreement(agreement::Args),
     /// Write a browsable static report of a finished run (RUN/report/index.html).
     Report(report::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
@@ -81,6 +84,7 @@ fn main() -> ExitCode {
         Command::Summarize(args) => summarize::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Report(args) => report::run(args),
+        Command::Agreement(args) => agreement::run(args),
         Command::Vlm(cmd) => vlm::run(cmd),
     };
     match result {

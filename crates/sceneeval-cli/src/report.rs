@@ -89,6 +89,12 @@ pub fn after_evaluate(
 /// not be read.
 pub fn open_run(dir: &Path) -> anyhow::Result<Run> {
     let run = Run::open(dir)?;
+    warn_unreadable(&run);
+    Ok(run)
+}
+
+/// Warns about each record of `run` that could not be read.
+pub fn warn_unreadable(run: &Run) {
     for u in &run.unreadable {
         eprintln!(
             "warning: {} could not be read ({}); scene {} is left out",
@@ -97,7 +103,6 @@ pub fn open_run(dir: &Path) -> anyhow::Result<Run> {
             u.scene
         );
     }
-    Ok(run)
 }
 
 /// Says where the report is and which scenes have no top view, and what to pass.

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::matching::MatchingSource;
-use crate::params::RelationMapping;
+use crate::params::{FidelityMetric, RelationMapping};
 
 /// What the fidelity metrics found in one scene.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -41,6 +41,27 @@ pub struct FidelityReport {
     /// Everything worth a second look: caps that bit, room types without a room, ...
     #[serde(default)]
     pub warnings: Vec<String>,
+}
+
+impl FidelityReport {
+    /// Each spec of `metric` as written in the annotation, with its verdict (`None`: no
+    /// verdict), in the order of the metric's `specs` (a spec's position there is its index in
+    /// label files); empty when the metric did not run.
+    #[must_use]
+    pub fn verdicts(&self, metric: FidelityMetric) -> Vec<(&str, Option<bool>)> {
+        fn of<'a, T>(
+            m: Option<&'a MetricResult<T>>,
+            f: impl Fn(&'a T) -> (&'a str, Option<bool>),
+        ) -> Vec<(&'a str, Option<bool>)> {
+            m.map(|m| m.specs.iter().map(f).collect()).unwrap_or_default()
+        }
+        match metric {
+            FidelityMetric::Cnt => of(self.cnt.as_ref(), |s| (s.spec.as_str(), s.satisfied)),
+            FidelityMetric::Atr => of(self.atr.as_ref(), |s| (s.spec.as_str(), s.satisfied)),
+            FidelityMetric::Oor => of(self.oor.as_ref(), |s| (s.spec.as_str(), s.satisfied)),
+            FidelityMetric::Oar => of(self.oar.as_ref(), |s| (s.spec.as_str(), s.satisfied)),
+        }
+    }
 }
 
 /// The satisfied share of specs per metric: satisfied specs over the specs with a verdict;

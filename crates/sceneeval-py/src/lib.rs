@@ -43,6 +43,7 @@
 //! assert_eq!(on_top, vec![1.0]);
 //! ```
 
+pub mod agreement;
 pub mod compare;
 pub mod convert;
 pub mod errors;
@@ -56,6 +57,8 @@ pub mod stats;
 mod _sceneeval {
     use pyo3::prelude::*;
 
+    #[pymodule_export]
+    use crate::agreement::agreement;
     #[pymodule_export]
     use crate::compare::compare;
     #[pymodule_export]

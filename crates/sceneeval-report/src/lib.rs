@@ -14,6 +14,10 @@
 //!   top view coloured by what is wrong with each object, the evidence of every metric and
 //!   fidelity spec, the images the run wrote), opened from disk with no server or network.
 //!
+//! - [`labels`]: human verdicts on a run's specs (label files), and [`agreement()`]: how far a
+//!   judge agrees with people (Cohen's and Fleiss' kappa with bootstrap intervals) as
+//!   Markdown, CSV, LaTeX or JSON (`docs/judge.md`).
+//!
 //! The formats are described in `docs/formats.md` ("Comparison tables", "The static report").
 //!
 //! Every string that reaches a file is escaped for its language ([`escape`]), and every file is
@@ -50,15 +54,18 @@
 //! assert!(table.to_latex().contains("\\textbf{0.00}"));
 //! ```
 
+pub mod agreement;
 mod assets;
 pub mod compare;
 mod error;
 pub mod escape;
 mod html;
+pub mod labels;
 mod report;
 mod run;
 mod within;
 
+pub use agreement::{Agreement, AgreementError, AgreementOptions, AgreementRow, Source, agreement};
 pub use assets::recorded_assets;
 pub use compare::{CompareOptions, Comparison, compare};
 pub use error::ReportError;

@@ -421,3 +421,27 @@ def evaluation_request(
     `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
     dry_run is accepted as evaluate() takes it; it is not part of the request.
     """
+
+def agreement(
+    sources: Sequence[PathLike],
+    reference: Optional[Union[PathLike, Sequence[PathLike]]] = None,
+    *,
+    bootstrap: int = 1000,
+    seed: int = 20261121,
+) -> List[Dict[str, Any]]:
+    """How far judges agree with people on the fidelity specs (`sceneeval agreement`,
+    docs/judge.md).
+
+    `sources`: run folders (each its VLM judge, named after the folder) and label files (one
+    rater per annotator). `reference`: a label file or a list of them whose annotators'
+    majority is the reference; `None` compares every pair of raters. `bootstrap`: resamples of
+    each kappa's 95 % percentile interval (0: none); `seed`: the bootstrap's seed.
+
+    Returns a list of dicts, one per rater pair and metric, with the keys of the CSV
+    (`kind`, `a`, `b`, `metric`, `n`, `agreement`, `kappa`, `kappa_low`, `kappa_high`,
+    `undefined`, `tt`, `tf`, `ft`, `ff`, `left_out_null`, `left_out_tie`, ...); a kappa that
+    does not exist is `None` with the reason in `undefined`.
+
+    Raises `SceneEvalError` for a file that cannot be read or a label that does not fit a run
+    (the message names the file and line), `ValueError` for bad arguments.
+    """
