@@ -311,7 +311,7 @@ fn written_run(
             tool: sceneeval::results::TOOL_VERSION.to_owned(),
             schema: sceneeval::results::RECORD_SCHEMA.to_owned(),
             scene: FileDigest {
-                path: format!("scenes/{scene}.json").into(),
+                path: format!("scenes/{scene}.json"),
                 blake3: None,
             },
             plan: plan.to_owned(),

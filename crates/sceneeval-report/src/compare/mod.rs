@@ -875,35 +875,18 @@ fn differences(runs: &[Run], scenes: &[&str], shared: &BTreeSet<Metric>) -> Vec<
     out
 }
 
-/// Each spec of `metric` in `f` with its verdict, in the report's order.
+/// Each spec of `metric` in `f` with its verdict, in the report's order (the fidelity crate's
+/// [`FidelityReport::verdicts`]; nothing for a metric that is not a fidelity metric).
 pub(crate) fn spec_verdicts(f: &FidelityReport, metric: Metric) -> Vec<(String, Verdict)> {
-    match metric {
-        Metric::Cnt => f
-            .cnt
-            .iter()
-            .flat_map(|m| &m.specs)
-            .map(|s| (s.spec.clone(), Verdict::of(s.satisfied)))
-            .collect(),
-        Metric::Atr => f
-            .atr
-            .iter()
-            .flat_map(|m| &m.specs)
-            .map(|s| (s.spec.clone(), Verdict::of(s.satisfied)))
-            .collect(),
-        Metric::Oor => f
-            .oor
-            .iter()
-            .flat_map(|m| &m.specs)
-            .map(|s| (s.spec.clone(), Verdict::of(s.satisfied)))
-            .collect(),
-        Metric::Oar => f
-            .oar
-            .iter()
-            .flat_map(|m| &m.specs)
-            .map(|s| (s.spec.clone(), Verdict::of(s.satisfied)))
-            .collect(),
-        _ => Vec::new(),
-    }
+    metric
+        .fidelity()
+        .map(|m| {
+            f.verdicts(m)
+                .into_iter()
+                .map(|(spec, satisfied)| (spec.to_owned(), Verdict::of(satisfied)))
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// "A", "A and B", "A, B and C".
