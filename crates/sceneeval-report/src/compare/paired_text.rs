@@ -73,6 +73,29 @@ impl PairedRow {
 }
 
 impl Comparison {
+    /// The cells of the McNemar table, one row per pair of runs and fidelity metric, the run
+    /// names escaped by `escape` (Markdown or LaTeX): a, b, metric, specs, a only, b only,
+    /// b - a, p, p (Holm).
+    fn verdict_cells(&self, escape: fn(&str) -> String) -> Vec<[String; 9]> {
+        self.pairs
+            .iter()
+            .flat_map(|pair| pair.verdicts.iter().map(move |v| (pair, v)))
+            .map(|(pair, v)| {
+                [
+                    escape(&self.runs[pair.a].name),
+                    escape(&self.runs[pair.b].name),
+                    v.metric.columns()[0].to_string(),
+                    v.n.to_string(),
+                    v.test.b.to_string(),
+                    v.test.c.to_string(),
+                    v.difference().map_or_else(|| "-".to_owned(), signed),
+                    p_text(v.test.p),
+                    v.p_holm.map_or_else(|| "-".to_owned(), p_text),
+                ]
+            })
+            .collect()
+    }
+
     /// The sentence under every table for each run that lacks or failed scenes, or one
     /// sentence saying every run has every scene.
     pub fn coverage_lines(&self) -> Vec<String> {
@@ -162,22 +185,8 @@ impl Comparison {
             out.push_str("### Fidelity verdicts (McNemar)\n\n");
             out.push_str("| a | b | metric | specs | a only | b only | b - a | p | p (Holm) |\n");
             out.push_str("|---|---|---|---:|---:|---:|---:|---:|---:|\n");
-            for pair in &self.pairs {
-                for v in &pair.verdicts {
-                    let _ = writeln!(
-                        out,
-                        "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                        md(&self.runs[pair.a].name),
-                        md(&self.runs[pair.b].name),
-                        v.metric.columns()[0],
-                        v.n,
-                        v.test.b,
-                        v.test.c,
-                        v.difference().map_or_else(|| "-".to_owned(), signed),
-                        p_text(v.test.p),
-                        v.p_holm.map_or_else(|| "-".to_owned(), p_text)
-                    );
-                }
+            for cells in self.verdict_cells(md) {
+                let _ = writeln!(out, "| {} |", cells.join(" | "));
             }
             out.push('\n');
         }
@@ -244,22 +253,8 @@ impl Comparison {
             out.push_str(
                 "a & b & Metric & Specs & $a$ only & $b$ only & $b - a$ & $p$ & $p_{\\mathrm{Holm}}$ \\\\\n\\midrule\n",
             );
-            for pair in &self.pairs {
-                for v in &pair.verdicts {
-                    let _ = writeln!(
-                        out,
-                        "{} & {} & {} & {} & {} & {} & {} & {} & {} \\\\",
-                        tex(&self.runs[pair.a].name),
-                        tex(&self.runs[pair.b].name),
-                        v.metric.columns()[0],
-                        v.n,
-                        v.test.b,
-                        v.test.c,
-                        v.difference().map_or_else(|| "-".to_owned(), signed),
-                        p_text(v.test.p),
-                        v.p_holm.map_or_else(|| "-".to_owned(), p_text)
-                    );
-                }
+            for cells in self.verdict_cells(tex) {
+                let _ = writeln!(out, "{} \\\\", cells.join(" & "));
             }
             out.push_str("\\bottomrule\n\\end{tabular}\n");
         }

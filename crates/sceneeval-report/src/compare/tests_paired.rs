@@ -443,4 +443,9 @@ fn mcnemar_on_the_specs_both_runs_judged() {
         c.to_markdown()
             .contains("| A | B | CNT | 7 | 1 | 4 | +42.86 | 0.375 | 0.375 |")
     );
+    let latex = c.to_latex();
+    assert!(
+        latex.contains("\nA & B & CNT & 7 & 1 & 4 & +42.86 & 0.375 & 0.375 \\\\\n"),
+        "{latex}"
+    );
 }
