@@ -450,63 +450,21 @@ fn wait_for(what: &str, mut check: impl FnMut() -> bool) {
 }
 
 mod browser {
-    use std::ffi::OsStr;
-    use std::sync::{Arc, Mutex};
-
-    use headless_chrome::protocol::cdp::types::Event;
-    use headless_chrome::{Browser, LaunchOptions, Tab};
-    use sceneeval_test_support::system::{BROWSER, available};
+    use headless_chrome::Tab;
 
     use super::*;
 
-    /// The system's chromium (`/usr/bin/chromium` or on the PATH), never a downloaded one.
-    fn chromium() -> Option<PathBuf> {
-        let probe = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
-            .iter()
-            .map(PathBuf::from)
-            .find(|p| p.exists())
-            .ok_or_else(|| "no /usr/bin/chromium".to_owned());
-        available(&BROWSER, probe, |_| true)
-    }
-
-    /// A headless browser on the page, and every error the page logs.
-    fn open(chromium: PathBuf, url: &str, profile: &Path) -> (Browser, Arc<Tab>, Arc<Mutex<Vec<String>>>) {
-        let user_data = format!("--user-data-dir={}", profile.display());
-        let browser = Browser::new(
-            LaunchOptions::default_builder()
-                .path(Some(chromium))
-                .headless(true)
-                .sandbox(false)
-                .args(vec![OsStr::new(&user_data), OsStr::new("--no-first-run")])
-                .idle_browser_timeout(Duration::from_secs(120))
-                .build()
-                .unwrap(),
-        )
-        .unwrap();
-        let tab = browser.new_tab().unwrap();
-        tab.set_default_timeout(Duration::from_secs(60));
-        let errors = Arc::new(Mutex::new(Vec::<String>::new()));
-        let sink = Arc::clone(&errors);
-        tab.enable_runtime().unwrap();
-        tab.add_event_listener(Arc::new(move |event: &Event| {
-            let message = match event {
-                Event::RuntimeExceptionThrown(e) => {
-                    Some(format!("exception: {:?}", e.params.exception_details))
-                }
-                Event::RuntimeConsoleAPICalled(e)
-                    if format!("{:?}", e.params.Type).to_lowercase().contains("error") =>
-                {
-                    Some(format!("console: {:?}", e.params.args))
-                }
-                _ => None,
-            };
-            if let Some(m) = message {
-                sink.lock().unwrap().push(m);
-            }
-        }))
-        .unwrap();
-        tab.navigate_to(url).unwrap().wait_until_navigated().unwrap();
-        (browser, tab, errors)
+    /// The page in headless Chromium, and every error it reports.
+    fn open(
+        chromium: PathBuf,
+        url: &str,
+        profile: &Path,
+    ) -> (
+        headless_chrome::Browser,
+        std::sync::Arc<Tab>,
+        std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+    ) {
+        common::browser::open(chromium, url, profile, Duration::from_secs(60))
     }
 
     fn text(tab: &Tab, selector: &str) -> String {
@@ -517,7 +475,9 @@ mod browser {
 
     #[test]
     fn a_verdict_clicked_and_one_typed_land_in_the_file_blind() {
-        let Some(chromium) = chromium() else { return };
+        let Some(chromium) = common::browser::chromium() else {
+            return;
+        };
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("labels.jsonl");
         let specs = run_specs();
