@@ -29,7 +29,7 @@ use sceneeval::render::{RenderSettings, Renderer, View};
 use sceneeval::report::judge::{ItemFilter, JudgeItem, items};
 use sceneeval::report::label_writer::LabelWriter;
 use sceneeval::report::labels::Label;
-use sceneeval::report::{RecordedScenes, ReportOptions, Run, outlined_top_view};
+use sceneeval::report::{RecordedScenes, Run, outlined_top_view};
 use sceneeval::scene::Scene;
 use serde::{Deserialize, Serialize};
 
@@ -76,15 +76,9 @@ pub struct Args {
     /// The label file (JSON Lines) verdicts are appended to; created when missing.
     #[arg(long, value_name = "LABELS")]
     pub out: PathBuf,
-    /// Asset folder for a model-id prefix, as for `sceneeval evaluate` (`PREFIX=DIR` or
-    /// `PREFIX=LAYOUT:DIR`); default: the folders the run's records name inside RUN or
-    /// --scenes.
-    #[arg(long = "assets", value_name = "PREFIX=[LAYOUT:]DIR")]
-    pub assets: Vec<String>,
-    /// Folder holding the scene files (`<scene>.json`) the run evaluated; default: the file
-    /// each record names, only when it lies inside RUN.
-    #[arg(long, value_name = "DIR")]
-    pub scenes: Option<PathBuf>,
+    /// Where the scenes' geometry is read from (the top views and the views rendered).
+    #[command(flatten)]
+    pub sources: crate::report::SceneSources,
     /// The annotation CSV (or JSON) the run used: each scene's description.
     #[arg(long, value_name = "FILE")]
     pub annotations: Option<PathBuf>,
@@ -415,13 +409,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     let descriptions = descriptions(&run, args.annotations.as_deref())?;
     let writer = LabelWriter::open(&args.out, &args.annotator)?;
-    let scenes = RecordedScenes::new(
-        &run,
-        &ReportOptions {
-            assets: args.assets.clone(),
-            scenes: args.scenes.clone(),
-        },
-    )?;
+    let scenes = RecordedScenes::new(&run, &args.sources.options())?;
     let listener = Listener::bind(args.port)?;
     let url = listener.url();
     let state = Judge {
