@@ -86,11 +86,16 @@ impl Drop for Judge {
 }
 
 fn judge_command(out: &Path, extra: &[&str]) -> Command {
+    judge_command_on(&FIXTURE.run, out, extra)
+}
+
+/// `sceneeval judge RUN` with the fixture's scenes, assets and annotations.
+fn judge_command_on(run: &Path, out: &Path, extra: &[&str]) -> Command {
     let assets = format!("fixture={}", common::fixtures().join("assets").display());
     let mut command = Command::new(assert_cmd::cargo::cargo_bin("sceneeval"));
     command
         .arg("judge")
-        .arg(&FIXTURE.run)
+        .arg(run)
         .args([
             "--annotator",
             "alice",
@@ -110,7 +115,11 @@ fn judge_command(out: &Path, extra: &[&str]) -> Command {
 
 impl Judge {
     fn start(out: &Path, extra: &[&str]) -> Judge {
-        let mut child = judge_command(out, extra)
+        Judge::spawn(judge_command(out, extra))
+    }
+
+    fn spawn(mut command: Command) -> Judge {
+        let mut child = command
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -435,6 +444,58 @@ fn verdicts_are_appended_at_once_and_a_second_session_resumes() {
         .success();
     let csv = String::from_utf8_lossy(&agreement.get_output().stdout).into_owned();
     assert!(csv.contains("alice"), "{csv}");
+}
+
+/// Copies the folder `from` into `to`, recursively.
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
+
+#[test]
+fn the_views_the_run_kept_are_served_and_links_out_of_it_are_not_followed() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    copy_dir(&FIXTURE.run, &run);
+    let judge = Judge::start(&dir.path().join("probe.jsonl"), &[]);
+    let token = judge.token();
+    let items = judge.items(&token);
+    drop(judge);
+    let first = &items["items"][0];
+    let scene = first["scene"].as_str().unwrap();
+    let object = first["objects"][0].as_str().unwrap();
+    // The run's own front view (bytes no renderer makes), and a size view that is a link out
+    // of the run folder.
+    let views = run.join(scene).join("views");
+    std::fs::create_dir_all(&views).unwrap();
+    std::fs::write(
+        views.join(format!("front_{object}.png")),
+        b"the run's own front view",
+    )
+    .unwrap();
+    let outside = dir.path().join("secret.png");
+    std::fs::write(&outside, b"not the run's").unwrap();
+    std::os::unix::fs::symlink(&outside, views.join(format!("size_{object}.png"))).unwrap();
+    let judge = Judge::spawn(judge_command_on(&run, &dir.path().join("labels.jsonl"), &[]));
+    let token = judge.token();
+    let (status, kind, bytes) = judge.get(&token, &format!("/api/view?item=0&object={object}&kind=front"));
+    assert_eq!((status, kind.as_str()), (200, "image/png"));
+    assert_eq!(bytes, b"the run's own front view");
+    // The link is not read: the view is rendered instead (or refused without a renderer).
+    let (status, _, bytes) = judge.get(&token, &format!("/api/view?item=0&object={object}&kind=size"));
+    assert_ne!(bytes, b"not the run's");
+    if common::renderer().is_some() {
+        assert_eq!(status, 200);
+        assert_eq!(&bytes[1..4], b"PNG");
+    }
 }
 
 /// Waits until `check` holds, for at most 60 seconds.
