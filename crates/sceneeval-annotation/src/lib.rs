@@ -109,6 +109,7 @@ pub mod similarity;
 mod stats;
 mod validate;
 pub mod vocab;
+pub mod words;
 
 pub use annotations::{Annotations, JSON_VERSION};
 pub use entry::{

@@ -17,6 +17,7 @@ mod convert;
 mod evaluate;
 mod format;
 mod inspect;
+mod judge;
 mod relate;
 mod render;
 mod report;
@@ -58,6 +59,8 @@ enum Command {
     Compare(compare::Args),
     /// How far judges agree with people on the fidelity specs: agreement and Cohen's/Fleiss' kappa.
     Agreement(agreement::Args),
+    /// Judge a run's fidelity specs by hand in the browser; every verdict goes to a label file.
+    Judge(judge::Args),
     /// Write a browsable static report of a finished run (RUN/report/index.html).
     Report(report::Args),
     /// Render the reference's views of a scene (front, size, surroundings, top) as PNG files.
@@ -85,6 +88,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(args),
         Command::Report(args) => report::run(args),
         Command::Agreement(args) => agreement::run(args),
+        Command::Judge(args) => judge::run(args),
         Command::Vlm(cmd) => vlm::run(cmd),
     };
     match result {

@@ -26,6 +26,22 @@ pub struct Args {
     /// wrote are copied into it.
     #[arg(long, short = 'o', value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Where the scenes' geometry is read from.
+    #[command(flatten)]
+    pub sources: SceneSources,
+    /// The annotation CSV (or JSON) the run used: each scene's difficulty (default: the run's
+    /// summary_scenes.csv).
+    #[arg(long, value_name = "FILE")]
+    pub annotations: Option<PathBuf>,
+    /// The run's name in the report (default: the folder's name).
+    #[arg(long, value_name = "NAME")]
+    pub name: Option<String>,
+}
+
+/// Where a command that draws a run's scenes (`report`, `judge`) reads their files: the
+/// options `--assets` and `--scenes`, as `sceneeval::report::ReportOptions` takes them.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SceneSources {
     /// Asset folder for a model-id prefix, as for `sceneeval evaluate` (`PREFIX=DIR` or
     /// `PREFIX=LAYOUT:DIR`); default: the folders the run's records name, when they lie inside
     /// RUN or --scenes.
@@ -35,13 +51,16 @@ pub struct Args {
     /// default: the file each record names, only when it lies inside RUN.
     #[arg(long, value_name = "DIR")]
     pub scenes: Option<PathBuf>,
-    /// The annotation CSV (or JSON) the run used: each scene's difficulty (default: the run's
-    /// summary_scenes.csv).
-    #[arg(long, value_name = "FILE")]
-    pub annotations: Option<PathBuf>,
-    /// The run's name in the report (default: the folder's name).
-    #[arg(long, value_name = "NAME")]
-    pub name: Option<String>,
+}
+
+impl SceneSources {
+    /// The options of the report crate.
+    pub fn options(&self) -> ReportOptions {
+        ReportOptions {
+            assets: self.assets.clone(),
+            scenes: self.scenes.clone(),
+        }
+    }
 }
 
 /// Runs the subcommand.
@@ -55,11 +74,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         run = run.with_annotations(&a);
     }
     let out = args.out.clone().unwrap_or_else(|| args.run.join(DEFAULT_DIR));
-    let options = ReportOptions {
-        assets: args.assets,
-        scenes: args.scenes,
-    };
-    let written = write_report(&run, &out, &options)?;
+    let written = write_report(&run, &out, &args.sources.options())?;
     tell(&run, &written);
     Ok(ExitCode::SUCCESS)
 }

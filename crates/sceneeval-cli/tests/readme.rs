@@ -217,6 +217,7 @@ fn the_readme_quotes_command_lines_of_every_kind() {
         "settle",
         "relate",
         "annotations",
+        "judge",
         "vlm",
     ] {
         assert!(

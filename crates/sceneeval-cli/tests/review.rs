@@ -7,6 +7,8 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod common;
+
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
@@ -572,78 +574,18 @@ mod hostile {
 }
 
 mod browser {
-    use std::ffi::OsStr;
-    use std::sync::{Arc, Mutex};
-
-    use headless_chrome::protocol::cdp::types::Event;
-    use headless_chrome::{Browser, LaunchOptions};
-    use sceneeval_test_support::system::{BROWSER, available};
-
     use super::*;
-
-    /// The system's chromium (`/usr/bin/chromium` or on the PATH), never a downloaded one.
-    fn chromium() -> Option<PathBuf> {
-        let probe = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
-            .iter()
-            .map(PathBuf::from)
-            .find(|p| p.exists())
-            .ok_or_else(|| "no /usr/bin/chromium".to_owned());
-        available(&BROWSER, probe, |_| true)
-    }
 
     #[test]
     fn an_edit_made_in_the_page_is_saved_to_the_file() {
-        let Some(chromium) = chromium() else { return };
+        let Some(chromium) = common::browser::chromium() else {
+            return;
+        };
         let (dir, file) = setup();
         let review = Review::start(&file);
         let profile = tempfile::tempdir().unwrap();
-        let user_data = format!("--user-data-dir={}", profile.path().display());
-        let browser = Browser::new(
-            LaunchOptions::default_builder()
-                .path(Some(chromium))
-                .headless(true)
-                .sandbox(false)
-                .args(vec![OsStr::new(&user_data), OsStr::new("--no-first-run")])
-                .idle_browser_timeout(Duration::from_secs(60))
-                .build()
-                .unwrap(),
-        )
-        .unwrap();
-        let tab = browser.new_tab().unwrap();
-        tab.set_default_timeout(Duration::from_secs(20));
-        // Every console error, uncaught exception and browser log error of the page.
-        let errors = Arc::new(Mutex::new(Vec::<String>::new()));
-        let sink = Arc::clone(&errors);
-        tab.enable_runtime().unwrap();
-        tab.enable_log().unwrap();
-        tab.add_event_listener(Arc::new(move |event: &Event| {
-            let message = match event {
-                Event::RuntimeExceptionThrown(e) => {
-                    Some(format!("exception: {:?}", e.params.exception_details))
-                }
-                Event::RuntimeConsoleAPICalled(e)
-                    if format!("{:?}", e.params.Type).to_lowercase().contains("error") =>
-                {
-                    Some(format!("console: {:?}", e.params.args))
-                }
-                Event::LogEntryAdded(e)
-                    if format!("{:?}", e.params.entry.level)
-                        .to_lowercase()
-                        .contains("error") =>
-                {
-                    Some(format!("log: {}", e.params.entry.text))
-                }
-                _ => None,
-            };
-            if let Some(m) = message {
-                sink.lock().unwrap().push(m);
-            }
-        }))
-        .unwrap();
-        tab.navigate_to(&review.url())
-            .unwrap()
-            .wait_until_navigated()
-            .unwrap();
+        let (_browser, tab, errors) =
+            common::browser::open(chromium, &review.url(), profile.path(), Duration::from_secs(20));
         // The first pending candidate opens: 5, with its swapped attribute reported.
         tab.wait_for_element("#candidates li.current").unwrap();
         let title = tab

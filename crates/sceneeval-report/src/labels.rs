@@ -15,6 +15,11 @@
 //! (annotator, scene, metric, index) replaces an earlier one, so a changed mind is one appended
 //! line. Every key is required and no other key is allowed: a misspelt key is an error naming
 //! the line.
+//!
+//! A JSON Lines file whose last line has no line end and is not a label is a write cut short
+//! (the program writing it stopped mid-line: a crash, a full disk): that line is left out and
+//! [`LabelFile::torn`] names it; any other line that is not a label is an error. The writer
+//! ([`crate::label_writer::LabelWriter`]) removes such a line before it appends.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -100,6 +105,18 @@ pub struct LabelFile {
     pub labels: Vec<LabelLine>,
     /// Lines replaced by a later line for the same annotator and item.
     pub replaced: usize,
+    /// A last line cut short (no line end, not a label: its writer stopped mid-line), left
+    /// out: its line number and the byte offset where it starts.
+    pub torn: Option<TornLine>,
+}
+
+/// The last line of a JSON Lines label file, cut short by a writer that stopped mid-line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TornLine {
+    /// Its line number (1-based).
+    pub line: u64,
+    /// The byte offset in the file where it starts (the file's length without it).
+    pub offset: u64,
 }
 
 /// What went wrong reading a label file or checking it against a run; every error names the
@@ -229,25 +246,49 @@ impl LabelFile {
         }
     }
 
-    /// Parses JSON Lines; `path` names the file in errors. Blank lines are skipped.
+    /// Parses JSON Lines; `path` names the file in errors. Blank lines are skipped; a last
+    /// line without a line end that is not a label is a torn write, left out
+    /// ([`LabelFile::torn`]).
     ///
     /// # Errors
     /// A [`LabelError`] naming the first line that is not a label.
     pub fn from_jsonl_str(path: &Path, text: &str) -> Result<LabelFile, LabelError> {
         let mut lines = Vec::new();
-        for (k, raw) in text.lines().enumerate() {
+        let mut torn = None;
+        let mut offset = 0u64;
+        for (k, raw) in text.split_inclusive('\n').enumerate() {
             let line = k as u64 + 1;
+            let start = offset;
+            offset += raw.len() as u64;
+            let ended = raw.ends_with('\n');
+            let raw = raw.trim_end_matches('\n').trim_end_matches('\r');
             if raw.trim().is_empty() {
                 continue;
             }
-            let label: Label = serde_json::from_str(raw).map_err(|source| LabelError::Json {
-                path: path.to_owned(),
-                line,
-                source,
-            })?;
+            let label: Label = match serde_json::from_str(raw) {
+                Ok(label) => label,
+                Err(_) if !ended => {
+                    tracing::warn!(
+                        path = %path.display(),
+                        line,
+                        "the last line has no line end and is not a label (a write cut short): left out"
+                    );
+                    torn = Some(TornLine { line, offset: start });
+                    continue;
+                }
+                Err(source) => {
+                    return Err(LabelError::Json {
+                        path: path.to_owned(),
+                        line,
+                        source,
+                    });
+                }
+            };
             lines.push(checked(path, line, label)?);
         }
-        Ok(LabelFile::from_lines(path, lines))
+        let mut file = LabelFile::from_lines(path, lines);
+        file.torn = torn;
+        Ok(file)
     }
 
     /// Parses CSV with the columns `scene,metric,index,spec,satisfied,annotator` (any order;
@@ -351,6 +392,7 @@ impl LabelFile {
             path: path.to_owned(),
             labels,
             replaced,
+            torn: None,
         }
     }
 
@@ -418,7 +460,7 @@ impl LabelFile {
 }
 
 /// Whether the report has the metric's section.
-fn metric_ran(f: &sceneeval_fidelity::FidelityReport, metric: FidelityMetric) -> bool {
+pub(crate) fn metric_ran(f: &sceneeval_fidelity::FidelityReport, metric: FidelityMetric) -> bool {
     match metric {
         FidelityMetric::Cnt => f.cnt.is_some(),
         FidelityMetric::Atr => f.atr.is_some(),
@@ -470,6 +512,34 @@ mod tests {
         // A label written back is the same line.
         let again = jsonl(&file.labels[1].label.to_json_line()).unwrap();
         assert_eq!(again.labels[0].label, file.labels[1].label);
+    }
+
+    #[test]
+    fn a_last_line_cut_short_is_left_out_and_named() {
+        let bob = LINE.replace("alice", "bob");
+        // Bob's line cut after 40 bytes, no line end: a torn write.
+        let text = format!("{LINE}\n{}", &bob[..40]);
+        let file = jsonl(&text).unwrap();
+        assert_eq!(file.labels.len(), 1);
+        assert_eq!(
+            file.torn,
+            Some(TornLine {
+                line: 2,
+                offset: LINE.len() as u64 + 1
+            })
+        );
+        // A complete last line without its line end is a label; a file that ends well has
+        // nothing torn.
+        let whole = jsonl(&format!("{LINE}\n{bob}")).unwrap();
+        assert_eq!((whole.labels.len(), whole.torn), (2, None));
+        // The same cut line with its line end (not the last write) is an error naming it.
+        let err = jsonl(&format!("{}\n{LINE}\n", &bob[..40]))
+            .unwrap_err()
+            .to_string();
+        assert!(err.starts_with("labels.jsonl:1: not a label"), "{err}");
+        // CRLF line ends read as LF.
+        let crlf = jsonl(&format!("{LINE}\r\n{bob}\r\n")).unwrap();
+        assert_eq!((crlf.labels.len(), crlf.torn), (2, None));
     }
 
     #[test]

@@ -60,6 +60,8 @@ pub mod compare;
 mod error;
 pub mod escape;
 mod html;
+pub mod judge;
+pub mod label_writer;
 pub mod labels;
 mod report;
 mod run;
@@ -69,7 +71,9 @@ pub use agreement::{Agreement, AgreementError, AgreementOptions, AgreementRow, S
 pub use assets::recorded_assets;
 pub use compare::{CompareOptions, Comparison, compare};
 pub use error::ReportError;
+pub use html::topview::{OUTLINE, outlined as outlined_top_view};
 pub use report::{
-    DEFAULT_DIR, FILES_DIR, INDEX, NoTopView, ReportOptions, SCENES_DIR, Written, write_report,
+    DEFAULT_DIR, FILES_DIR, INDEX, NoTopView, RecordedScenes, ReportOptions, SCENES_DIR, Written,
+    write_report,
 };
 pub use run::{Run, Unreadable, groups, metrics_in, scene_values, summary_columns};

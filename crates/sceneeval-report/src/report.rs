@@ -111,13 +111,7 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
         .dir
         .canonicalize()
         .map_err(|e| ReportError::file(&run.dir, e))?;
-    let assets = if options.assets.is_empty() {
-        let scenes = options.scenes.as_deref().and_then(|d| d.canonicalize().ok());
-        let within: Vec<&Path> = std::iter::once(root.as_path()).chain(scenes.as_deref()).collect();
-        recorded_assets(&run.records, &within)
-    } else {
-        AssetLibrary::from_specs(&options.assets).map_err(ReportError::Assets)?
-    };
+    let assets = asset_library(run, &root, options)?;
     let inside_run = out.canonicalize().is_ok_and(|o| o.starts_with(&root));
     let metrics = run.metrics();
     let columns: Vec<(&'static str, sceneeval_results::Metric)> = summary_columns()
@@ -177,6 +171,65 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
         pages: pages.len(),
         without_top_view,
     })
+}
+
+/// The asset folders of `options` (`--assets`), or without any the folders the run's
+/// records name inside `root` (the run folder, canonical) or the scene folder.
+fn asset_library(run: &Run, root: &Path, options: &ReportOptions) -> Result<AssetLibrary, ReportError> {
+    Ok(if options.assets.is_empty() {
+        let scenes = options.scenes.as_deref().and_then(|d| d.canonicalize().ok());
+        let within: Vec<&Path> = std::iter::once(root).chain(scenes.as_deref()).collect();
+        recorded_assets(&run.records, &within)
+    } else {
+        AssetLibrary::from_specs(&options.assets).map_err(ReportError::Assets)?
+    })
+}
+
+/// The scenes of a run read as the report reads them for its top views, one at a time (the
+/// judge page, `sceneeval judge`): the scene file from `options.scenes`, or the file a record
+/// names only when it lies inside the run folder, with the assets of `options` (or the
+/// folders the records name inside the run or scene folder).
+#[derive(Debug)]
+pub struct RecordedScenes {
+    root: PathBuf,
+    options: ReportOptions,
+    assets: AssetLibrary,
+}
+
+impl RecordedScenes {
+    /// The scenes of `run` as `options` finds them.
+    ///
+    /// # Errors
+    /// [`ReportError::File`] when the run folder cannot be found, [`ReportError::Assets`] for
+    /// a bad asset folder specification.
+    pub fn new(run: &Run, options: &ReportOptions) -> Result<RecordedScenes, ReportError> {
+        let root = run
+            .dir
+            .canonicalize()
+            .map_err(|e| ReportError::file(&run.dir, e))?;
+        let assets = asset_library(run, &root, options)?;
+        Ok(RecordedScenes {
+            root,
+            options: options.clone(),
+            assets,
+        })
+    }
+
+    /// The asset library the scenes are read with.
+    #[must_use]
+    pub fn assets(&self) -> &AssetLibrary {
+        &self.assets
+    }
+
+    /// The scene of `record`, and remarks on it (the file changed since the run), or why it
+    /// cannot be read.
+    ///
+    /// # Errors
+    /// The [`NoTopView`] reason.
+    pub fn read(&self, record: &SceneRecord) -> Result<(Scene, Vec<String>), NoTopView> {
+        let (scene, remarks) = load(record, &self.root, &self.options, &self.assets);
+        scene.map(|s| (s, remarks))
+    }
 }
 
 /// A scene's images in the run folder, linked or copied into the report.

@@ -208,7 +208,7 @@ pub(crate) fn check_finite(values: &[f64]) -> Result<(), StatsError> {
 
 /// A uniform index below `n` from one 64-bit draw (the high half of the 128-bit product; its
 /// bias is below n / 2^64).
-fn index(rng: &mut Xoshiro256PlusPlus, n: usize) -> usize {
+pub(crate) fn index(rng: &mut Xoshiro256PlusPlus, n: usize) -> usize {
     ((u128::from(rng.next_u64()) * n as u128) >> 64) as usize
 }
 

@@ -11,6 +11,7 @@
 //! | Holm's step-down adjustment | [`holm()`] | statsmodels `multipletests(p, method='holm')[1]` |
 //! | McNemar's exact test | [`McNemar`] | statsmodels `mcnemar(table, exact=True).pvalue` |
 //! | majority vote with ties | [`Majority`] | — |
+//! | seeded sample without replacement | [`sample::sample`] | — (the rule is stated in [`sample`]) |
 //!
 //! **Missing is not a number.** Input a statistic cannot be computed from (NaN, paired samples
 //! of different lengths, uneven rater counts, a level outside (0, 1)) is a [`StatsError`]
@@ -83,6 +84,7 @@ pub mod holm;
 pub mod kappa;
 pub mod mcnemar;
 pub mod paired;
+pub mod sample;
 pub mod special;
 pub mod vote;
 pub mod wilcoxon;

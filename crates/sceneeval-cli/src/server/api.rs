@@ -130,13 +130,6 @@ impl<S> Api<S> {
 
     /// `GET /api/NAME?...` answered with bytes of their own type ([`Raw`]: an image), the
     /// query read as for [`Api::get`].
-    #[cfg_attr(
-        not(test),
-        expect(
-            dead_code,
-            reason = "for the judge page's images (issue 36); no page serves bytes yet"
-        )
-    )]
     pub fn get_raw<Q, F>(mut self, name: &str, handler: F) -> Self
     where
         S: 'static,

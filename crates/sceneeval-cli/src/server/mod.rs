@@ -1,6 +1,6 @@
 //! The local page server: one module for every page the command line serves to the user's
-//! browser on 127.0.0.1 (`sceneeval annotations review`, and the judge page of the human-label
-//! workflow). A page brings its HTML, its static files, its state and its API, a list of typed
+//! browser on 127.0.0.1 (`sceneeval annotations review` and `sceneeval judge`). A page brings
+//! its HTML, its static files, its state and its API, a list of typed
 //! routes ([`Api`]: a handler takes the page's state and a request type deserialized from the
 //! query or the JSON body, and returns a response type serialized as JSON, or bytes of their
 //! own type such as an image, [`Raw`]); this module does the rest, the same way for every page:
@@ -45,12 +45,7 @@ use std::time::Duration;
 
 use anyhow::{Context, anyhow};
 
-#[expect(
-    unused_imports,
-    reason = "the route type of the judge page's images (issue 36); no page serves bytes yet"
-)]
-pub use api::Raw;
-pub use api::{Api, ApiError, NoParams};
+pub use api::{Api, ApiError, NoParams, Raw};
 
 /// The placeholder of the page's HTML that the per-run token replaces.
 pub const TOKEN_SLOT: &str = "{{TOKEN}}";

@@ -3,6 +3,8 @@
 
 #![allow(dead_code, clippy::unwrap_used)]
 
+pub mod browser;
+
 use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
