@@ -173,6 +173,17 @@ fn exact_normal_zero_and_single_differences_by_hand() {
         latex.contains("% Note: A and C: 4 scene(s) not evaluated by both"),
         "{latex}"
     );
+    // The LaTeX row is the Markdown one's cells (without the favoured run), in LaTeX.
+    assert!(
+        latex.contains("\nA & B & OOB $\\downarrow$ & 5 & +0.00 & [+0.00, +0.00] & - & - \\\\\n"),
+        "{latex}"
+    );
+    use crate::compare::paired_text::Style;
+    let (md_cells, tex_cells) = (c.paired_cells(&Style::MARKDOWN), c.paired_cells(&Style::LATEX));
+    assert_eq!(md_cells.len(), tex_cells.len());
+    for (m, t) in md_cells.iter().zip(&tex_cells) {
+        assert_eq!(m[3..], t[3..], "{m:?} {t:?}");
+    }
     let html = c.to_html(std::path::Path::new("."));
     assert!(html.contains("<table id=\"paired\">"), "{html}");
     assert!(
