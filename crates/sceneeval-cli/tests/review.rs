@@ -577,19 +577,9 @@ mod browser {
 
     use headless_chrome::protocol::cdp::types::Event;
     use headless_chrome::{Browser, LaunchOptions};
-    use sceneeval_test_support::system::{BROWSER, available};
+    use sceneeval_test_support::system::chromium;
 
     use super::*;
-
-    /// The system's chromium (`/usr/bin/chromium` or on the PATH), never a downloaded one.
-    fn chromium() -> Option<PathBuf> {
-        let probe = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
-            .iter()
-            .map(PathBuf::from)
-            .find(|p| p.exists())
-            .ok_or_else(|| "no /usr/bin/chromium".to_owned());
-        available(&BROWSER, probe, |_| true)
-    }
 
     #[test]
     fn an_edit_made_in_the_page_is_saved_to_the_file() {
