@@ -285,6 +285,8 @@ fn run_all(work: &mut Work, full: bool) {
                 "scenes28",
                 "--assets",
                 ASSETS,
+                "--annotations",
+                "annotations28.csv",
                 "--out",
                 "reports/full",
             ],
@@ -328,6 +330,7 @@ fn run_all(work: &mut Work, full: bool) {
             runs[1],
             "--format",
             "html",
+            "--paired",
             "--out",
             "compare/compare.html",
         ],
@@ -337,7 +340,16 @@ fn run_all(work: &mut Work, full: bool) {
         work.run(
             &format!("report-{name}"),
             &[
-                "report", run, "--scenes", "scenes", "--assets", ASSETS, "--out", &out,
+                "report",
+                run,
+                "--scenes",
+                "scenes",
+                "--assets",
+                ASSETS,
+                "--annotations",
+                "annotations.csv",
+                "--out",
+                &out,
             ],
         );
     }
