@@ -335,6 +335,11 @@ fn run_all(work: &mut Work, full: bool) {
             "compare/compare.html",
         ],
     );
+    reports_and_scene_tools(work);
+}
+
+/// The reports of two runs (given the annotations the runs used), `settle` and `inspect`.
+fn reports_and_scene_tools(work: &mut Work) {
     for (name, run) in [("geometry", "runs/geometry"), ("list", "runs/list")] {
         let out = format!("reports/{name}");
         work.run(
