@@ -44,7 +44,6 @@ use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneName};
 use sceneeval_stats::bootstrap::{Bootstrap, DEFAULT_RESAMPLES};
 
 pub use paired::{PairComparison, PairedRow, Pairing, SceneDifference, VerdictRow};
-pub(crate) use paired_text::p_text;
 pub use paired_text::{PAIRED_CSV_COLUMNS, PairedRecord};
 pub use rank::{RankBy, competition_ranks};
 pub(crate) use text::{Emphasis, arrow as text_arrow, average, scenes, standing_order};

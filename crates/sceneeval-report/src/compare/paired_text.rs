@@ -120,9 +120,9 @@ impl Comparison {
     }
 
     /// The cells of the McNemar table, one row per pair of runs and fidelity metric, the run
-    /// names escaped by `escape` (Markdown or LaTeX): a, b, metric, specs, a only, b only,
-    /// b - a, p, p (Holm).
-    fn verdict_cells(&self, escape: fn(&str) -> String) -> Vec<[String; 9]> {
+    /// names escaped as `style` does: a, b, metric, specs, a only, b only, b - a, p, p (Holm).
+    pub(crate) fn verdict_cells(&self, style: &Style) -> Vec<[String; 9]> {
+        let escape = style.escape;
         self.pairs
             .iter()
             .flat_map(|pair| pair.verdicts.iter().map(move |v| (pair, v)))
@@ -216,7 +216,7 @@ impl Comparison {
             out.push_str("### Fidelity verdicts (McNemar)\n\n");
             out.push_str("| a | b | metric | specs | a only | b only | b - a | p | p (Holm) |\n");
             out.push_str("|---|---|---|---:|---:|---:|---:|---:|---:|\n");
-            for cells in self.verdict_cells(md) {
+            for cells in self.verdict_cells(&Style::MARKDOWN) {
                 let _ = writeln!(out, "| {} |", cells.join(" | "));
             }
             out.push('\n');
@@ -258,7 +258,7 @@ impl Comparison {
             out.push_str(
                 "a & b & Metric & Specs & $a$ only & $b$ only & $b - a$ & $p$ & $p_{\\mathrm{Holm}}$ \\\\\n\\midrule\n",
             );
-            for cells in self.verdict_cells(tex) {
+            for cells in self.verdict_cells(&Style::LATEX) {
                 let _ = writeln!(out, "{} \\\\", cells.join(" & "));
             }
             out.push_str("\\bottomrule\n\\end{tabular}\n");

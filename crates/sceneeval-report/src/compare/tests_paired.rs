@@ -459,4 +459,13 @@ fn mcnemar_on_the_specs_both_runs_judged() {
         latex.contains("\nA & B & CNT & 7 & 1 & 4 & +42.86 & 0.375 & 0.375 \\\\\n"),
         "{latex}"
     );
+    // The HTML row is the same cells.
+    let html = c.to_html(std::path::Path::new("."));
+    assert!(
+        html.contains(
+            "<tr><td>A</td><td>B</td><td>CNT</td><td class=\"num\">7</td><td class=\"num\">1</td><td class=\"num\">4</td>\
+             <td class=\"num\">+42.86</td><td class=\"num\">0.375</td><td class=\"num\">0.375</td></tr>"
+        ),
+        "{html}"
+    );
 }

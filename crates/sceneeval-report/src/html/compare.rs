@@ -275,24 +275,15 @@ impl Comparison {
             b.push_str(
                 "<h3>Fidelity verdicts (McNemar)</h3><div class=\"wide\"><table id=\"mcnemar\"><thead><tr><th>a</th><th>b</th>\
                  <th>metric</th><th class=\"num\">specs</th><th class=\"num\">a only</th><th class=\"num\">b only</th>\
-                 <th class=\"num\">p</th><th class=\"num\">p (Holm)</th></tr></thead><tbody>",
+                 <th class=\"num\">b - a</th><th class=\"num\">p</th><th class=\"num\">p (Holm)</th></tr></thead><tbody>",
             );
-            for pair in &self.pairs {
-                for v in &pair.verdicts {
-                    let _ = write!(
-                        b,
-                        "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
-                         <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
-                        html(&self.runs[pair.a].name),
-                        html(&self.runs[pair.b].name),
-                        v.metric.columns()[0],
-                        v.n,
-                        v.test.b,
-                        v.test.c,
-                        crate::compare::p_text(v.test.p),
-                        v.p_holm.map_or_else(|| "-".to_owned(), crate::compare::p_text)
-                    );
+            for cells in self.verdict_cells(&Style::HTML) {
+                let [a, bn, metric, rest @ ..] = &cells;
+                let _ = write!(b, "<tr><td>{a}</td><td>{bn}</td><td>{metric}</td>");
+                for c in rest {
+                    let _ = write!(b, "<td class=\"num\">{c}</td>");
                 }
+                b.push_str("</tr>");
             }
             b.push_str("</tbody></table></div>");
         }
