@@ -285,6 +285,8 @@ fn run_all(work: &mut Work, full: bool) {
                 "scenes28",
                 "--assets",
                 ASSETS,
+                "--annotations",
+                "annotations28.csv",
                 "--out",
                 "reports/full",
             ],
@@ -328,16 +330,31 @@ fn run_all(work: &mut Work, full: bool) {
             runs[1],
             "--format",
             "html",
+            "--paired",
             "--out",
             "compare/compare.html",
         ],
     );
+    reports_and_scene_tools(work);
+}
+
+/// The reports of two runs (given the annotations the runs used), `settle` and `inspect`.
+fn reports_and_scene_tools(work: &mut Work) {
     for (name, run) in [("geometry", "runs/geometry"), ("list", "runs/list")] {
         let out = format!("reports/{name}");
         work.run(
             &format!("report-{name}"),
             &[
-                "report", run, "--scenes", "scenes", "--assets", ASSETS, "--out", &out,
+                "report",
+                run,
+                "--scenes",
+                "scenes",
+                "--assets",
+                ASSETS,
+                "--annotations",
+                "annotations.csv",
+                "--out",
+                &out,
             ],
         );
     }

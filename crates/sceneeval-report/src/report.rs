@@ -14,9 +14,9 @@ use crate::assets::recorded_assets;
 use crate::escape;
 use crate::html::overview::overview;
 use crate::html::relative_href;
-use crate::html::scene::{Image, ScenePage, scene_page};
+use crate::html::scene::{Image, SceneLink, ScenePage, scene_page};
 use crate::html::topview::Overlay;
-use crate::run::{Run, summary_columns};
+use crate::run::{Run, scene_of, summary_columns};
 use crate::within::{Inside, inside, is_file_name};
 
 /// The report's folder inside a run folder when none is given (`RUN/report`).
@@ -118,11 +118,21 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
         .into_iter()
         .filter(|(_, m)| metrics.contains(m))
         .collect();
+    // Every scene's page file first: each page links its neighbours in the overview's order.
+    let files: Vec<String> = run
+        .records
+        .iter()
+        .map(|r| format!("{}.html", escape::file_name(scene_of(r))))
+        .collect();
+    let link = |k: usize| SceneLink {
+        scene: scene_of(&run.records[k]).to_owned(),
+        href: escape::url_segment(&files[k]),
+    };
     let mut pages = std::collections::BTreeMap::new();
     let mut without_top_view = Vec::new();
-    for record in &run.records {
-        let name = record.scene.as_str();
-        let file = format!("{}.html", escape::file_name(name));
+    for (k, record) in run.records.iter().enumerate() {
+        let name = scene_of(record);
+        let file = &files[k];
         let (loaded, mut remarks) = load(record, &root, options, &assets);
         let images = Images {
             root: &root,
@@ -154,14 +164,17 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
             overlay,
             remarks,
             columns: &columns,
+            description: run.description(name),
+            previous: k.checked_sub(1).map(link),
+            next: (k + 1 < files.len()).then(|| link(k + 1)),
         });
         if let Err(why) = loaded {
             without_top_view.push((name.to_owned(), why));
         }
-        write_atomic(&pages_dir.join(&file), html.as_bytes())?;
+        write_atomic(&pages_dir.join(file), html.as_bytes())?;
         pages.insert(
             name.to_owned(),
-            format!("{SCENES_DIR}/{}", escape::url_segment(&file)),
+            format!("{SCENES_DIR}/{}", escape::url_segment(file)),
         );
     }
     let index = out.join(INDEX);

@@ -28,6 +28,33 @@ pub struct Run {
     pub unreadable: Vec<Unreadable>,
     /// Scene name to difficulty (`easy`, `medium`, `hard`, ...), for scenes that have one.
     difficulty: BTreeMap<String, String>,
+    /// Scene name to its annotation row's id and description, from the annotations given
+    /// ([`Run::with_annotations`]); `None` when none were given.
+    descriptions: Option<BTreeMap<String, (String, String)>>,
+}
+
+/// What a scene page says about the scene's description ([`Run::description`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Description<'a> {
+    /// The description of the scene's row in the annotations given to the report.
+    Text {
+        /// The row's id.
+        id: &'a str,
+        /// The description.
+        text: &'a str,
+        /// Whether the run's record says the run had an annotation row for the scene
+        /// (`None`: the record has no fingerprint). `Some(false)`: the row shown is one the run
+        /// did not use.
+        run_had_row: Option<bool>,
+    },
+    /// The run's record says the run had no annotation row for the scene.
+    NoRow,
+    /// The report was given no annotations (and the record does not say the run had no row).
+    NotGiven,
+    /// The run had an annotation row, but the annotations given to the report have none for
+    /// the scene.
+    NotInGiven,
 }
 
 /// A record of a run folder that could not be read.
@@ -130,6 +157,7 @@ impl Run {
             records,
             unreadable: Vec::new(),
             difficulty: BTreeMap::new(),
+            descriptions: None,
         }
     }
 
@@ -145,18 +173,46 @@ impl Run {
         self
     }
 
-    /// The run with each scene's difficulty from its row in `annotations`
+    /// The run with each scene's difficulty and description from its row in `annotations`
     /// ([`sceneeval_results::SceneName::annotation_row`], the rule the run itself used).
     pub fn with_annotations(mut self, annotations: &Annotations) -> Self {
-        self.difficulty = self
+        let rows: Vec<(String, &sceneeval_annotation::AnnotationRow)> = self
             .records
             .iter()
-            .filter_map(|r| {
-                let row = r.scene.annotation_row(annotations)?;
-                Some((r.scene.to_string(), row.difficulty.as_str().to_owned()))
-            })
+            .filter_map(|r| Some((scene_of(r).to_owned(), r.scene.annotation_row(annotations)?)))
             .collect();
+        self.difficulty = rows
+            .iter()
+            .map(|(s, row)| (s.clone(), row.difficulty.as_str().to_owned()))
+            .collect();
+        self.descriptions = Some(
+            rows.into_iter()
+                .map(|(s, row)| (s, (row.id.clone(), row.description.clone())))
+                .collect(),
+        );
         self
+    }
+
+    /// What the page of `scene` says about its description: the description of its row in
+    /// the annotations given ([`Run::with_annotations`]), else why there is none. The run
+    /// itself records only a digest of the row it used (`fingerprint.annotation`), so the
+    /// text comes from the annotations given to the report; the digest says whether the run
+    /// had a row at all.
+    pub fn description(&self, scene: &str) -> Description<'_> {
+        let run_had_row = self
+            .record(scene)
+            .and_then(|r| r.fingerprint.as_ref())
+            .map(|f| f.annotation.is_some());
+        match (self.descriptions.as_ref().map(|d| d.get(scene)), run_had_row) {
+            (Some(Some((id, text))), _) => Description::Text {
+                id,
+                text,
+                run_had_row,
+            },
+            (_, Some(false)) => Description::NoRow,
+            (None, _) => Description::NotGiven,
+            (Some(None), _) => Description::NotInGiven,
+        }
     }
 
     /// The difficulty of `scene`, if known.
@@ -198,6 +254,11 @@ impl Run {
             })
             .collect()
     }
+}
+
+/// The scene of a record, as the report's pages and tables name it.
+pub(crate) fn scene_of(record: &SceneRecord) -> &str {
+    record.scene.as_str()
 }
 
 /// Scenes in order: benchmark id, then name.

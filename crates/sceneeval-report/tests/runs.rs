@@ -13,6 +13,7 @@ use std::process::Command;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
+use sceneeval_annotation::Annotations;
 use sceneeval_report::compare::Verdict;
 use sceneeval_report::{
     CompareOptions, NoTopView, ReportOptions, Run, compare, recorded_assets, write_report,
@@ -20,7 +21,7 @@ use sceneeval_report::{
 use sceneeval_results::{Metric, Preset, SceneName, SceneRecord, Stage};
 use sceneeval_run::EvaluationRequest;
 use sceneeval_test_support::fidelity_model::CSV;
-use sceneeval_test_support::system::{BROWSER, available};
+use sceneeval_test_support::system::{BROWSER, available, chromium as system_chromium};
 
 struct Runs {
     root: PathBuf,
@@ -89,7 +90,12 @@ fn runs() -> &'static Runs {
                 assets: vec![fixture_assets()],
                 scenes: Some(root.join(format!("scenes-{name}"))),
             };
-            let written = write_report(&Run::open(dir).unwrap(), &dir.join("report"), &options).unwrap();
+            // method-a's report is given the annotations the run used (descriptions), method-b's not.
+            let mut run = Run::open(dir).unwrap();
+            if name == "method-a" {
+                run = run.with_annotations(&Annotations::from_csv_str(CSV).unwrap());
+            }
+            let written = write_report(&run, &dir.join("report"), &options).unwrap();
             assert!(
                 written.without_top_view.is_empty(),
                 "{:?}",
@@ -205,6 +211,62 @@ fn scene_pages_show_what_is_wrong_where() {
     );
     assert!(s8.contains("mapping: unmapped (none)"), "{s8}");
     assert!(s8.contains("<figcaption>navigability.png</figcaption>"));
+}
+
+/// Each scene page: the description of its annotation row (or why there is none), links to
+/// the previous and next pages in the overview's order, and the views (none kept here: the
+/// fixture runs judge with labels and the lexicon, no VLM renders).
+#[test]
+fn scene_pages_describe_the_scene_and_link_their_neighbours() {
+    let r = runs();
+    let pages = r.a.join("report/scenes");
+    let s8 = read(&pages.join("scene_8.html"));
+    assert!(
+        s8.contains("<blockquote class=\"box\" id=\"description\">A small bedroom.</blockquote>"),
+        "{s8}"
+    );
+    assert!(s8.contains("the run evaluated with a row for this scene"), "{s8}");
+    // Scenes 5 and 7 have no row in the annotations: the run recorded none.
+    let s5 = read(&pages.join("scene_5.html"));
+    assert!(
+        s5.contains(
+            "<p class=\"unknown\" id=\"description\">no description: the run has no annotation row</p>"
+        ),
+        "{s5}"
+    );
+    // method-b's report was given no annotations: it says what to pass.
+    let b8 = read(&r.b.join("report/scenes/scene_8.html"));
+    assert!(
+        b8.contains("no description: the run records only a digest"),
+        "{b8}"
+    );
+    assert!(b8.contains("(--annotations FILE)"), "{b8}");
+    // The overview's order: 2, 5, 7, 8; the first and last pages say so.
+    let order = ["scene_2", "scene_5", "scene_7", "scene_8"];
+    for (k, scene) in order.iter().enumerate() {
+        let page = read(&pages.join(format!("{scene}.html")));
+        match k.checked_sub(1).map(|p| order[p]) {
+            Some(p) => assert!(
+                page.contains(&format!("<a rel=\"prev\" href=\"{p}.html\">&larr; {p}</a>")),
+                "{scene}: {page}"
+            ),
+            None => assert!(
+                page.contains("<span class=\"muted\">first scene</span>"),
+                "{page}"
+            ),
+        }
+        match order.get(k + 1) {
+            Some(n) => {
+                assert!(
+                    page.contains(&format!("<a rel=\"next\" href=\"{n}.html\">{n} &rarr;</a>")),
+                    "{scene}: {page}"
+                );
+                assert!(pages.join(format!("{n}.html")).is_file());
+            }
+            None => assert!(page.contains("<span class=\"muted\">last scene</span>"), "{page}"),
+        }
+        assert!(page.contains("id=\"no-views\""), "{scene}: {page}");
+    }
 }
 
 /// Physics: scene 5's wardrobe and nightstand, which interpenetrate, are pushed apart by the
@@ -619,5 +681,167 @@ fn the_pages_work_in_a_browser_from_disk() {
             std::fs::metadata(&shot).map(|m| m.len() > 1000).unwrap_or(false),
             "{name}: no screenshot"
         );
+    }
+}
+
+/// A headless chromium with a 1400 x 1000 px window.
+fn browser_1400(chromium: PathBuf, profile: &Path) -> headless_chrome::Browser {
+    let user_data = format!("--user-data-dir={}", profile.display());
+    headless_chrome::Browser::new(
+        headless_chrome::LaunchOptions::default_builder()
+            .path(Some(chromium))
+            .headless(true)
+            .sandbox(false)
+            .window_size(Some((1400, 1000)))
+            .args(vec![
+                std::ffi::OsStr::new(&user_data),
+                std::ffi::OsStr::new("--no-first-run"),
+                std::ffi::OsStr::new("--allow-file-access-from-files"),
+            ])
+            .idle_browser_timeout(Duration::from_secs(60))
+            .build()
+            .unwrap(),
+    )
+    .unwrap()
+}
+
+/// Opens `path` in a new tab and returns what `script` (an expression giving a JSON string)
+/// evaluates to, parsed.
+fn measure(browser: &headless_chrome::Browser, path: &Path, script: &str) -> serde_json::Value {
+    let tab = browser.new_tab().unwrap();
+    tab.set_default_timeout(Duration::from_secs(30));
+    let url = format!("file://{}", path.canonicalize().unwrap().display());
+    tab.navigate_to(&url).unwrap().wait_until_navigated().unwrap();
+    let value = tab.evaluate(script, false).unwrap().value.unwrap();
+    serde_json::from_str(value.as_str().unwrap()).unwrap()
+}
+
+/// Per `div.wide` table: whether it is wider than its container, the container's overflow,
+/// and, scrolled to its right end, whether the last heading lies inside the container and the
+/// first one is still in view; the page's own width.
+const WIDE_TABLES: &str = r#"(() => {
+  const tables = [];
+  for (const div of document.querySelectorAll("div.wide")) {
+    const table = div.querySelector("table");
+    if (!table || !table.tHead) { continue; }
+    const heads = table.tHead.rows[0].cells;
+    const box = div.getBoundingClientRect();
+    const scrolls = div.scrollWidth > div.clientWidth + 1;
+    div.scrollLeft = div.scrollWidth;
+    const first = heads[0].getBoundingClientRect();
+    const last = heads[heads.length - 1].getBoundingClientRect();
+    tables.push({
+      id: table.id || table.className,
+      scrolls: scrolls,
+      overflow: getComputedStyle(div).overflowX,
+      last_reachable: last.right <= box.right + 1 && last.left >= box.left - 1,
+      first_in_view: first.left >= box.left - 1 && first.right <= box.right + 1,
+      inside_window: box.right <= window.innerWidth + 1
+    });
+    div.scrollLeft = 0;
+  }
+  return JSON.stringify({ tables: tables, page: document.documentElement.scrollWidth, window: window.innerWidth });
+})()"#;
+
+/// At a 1400 px window no column of a wide table is cut off: the page is no wider than the
+/// window, every table wider than its container scrolls inside it with its last heading
+/// reachable, and its first column (the row's name) stays in view when scrolled.
+#[test]
+fn wide_tables_stay_readable_at_1400_px() {
+    let Some(chromium) = system_chromium() else { return };
+    let r = runs();
+    let profile = tempfile::tempdir().unwrap();
+    let browser = browser_1400(chromium, profile.path());
+    let mut scrolled = 0;
+    for page in [
+        r.a.join("report/index.html"),
+        r.a.join("report/scenes/scene_8.html"),
+    ] {
+        let m = measure(&browser, &page, WIDE_TABLES);
+        assert_eq!(m["window"], 1400, "{m}");
+        assert!(
+            m["page"].as_u64().unwrap() <= 1400,
+            "{}: the page is wider than the window: {m}",
+            page.display()
+        );
+        for t in m["tables"].as_array().unwrap() {
+            assert_eq!(t["inside_window"], true, "{t}");
+            if t["scrolls"] == true {
+                scrolled += 1;
+                assert_eq!(t["overflow"], "auto", "{t}");
+                assert_eq!(t["last_reachable"], true, "{t}");
+                assert_eq!(t["first_in_view"], true, "the first column scrolled away: {t}");
+            }
+        }
+    }
+    // The overview's scene table has every metric column: wider than the page's column.
+    assert!(scrolled > 0, "no table was wide enough to test");
+}
+
+/// A `file://` URL's path, percent-decoded.
+fn file_url_path(url: &str) -> PathBuf {
+    let raw = url.strip_prefix("file://").unwrap_or_else(|| panic!("{url}"));
+    let bytes = raw.as_bytes();
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < bytes.len() {
+        if bytes[k] == b'%' && k + 2 < bytes.len() {
+            out.push(u8::from_str_radix(&raw[k + 1..k + 3], 16).unwrap());
+            k += 3;
+        } else {
+            out.push(bytes[k]);
+            k += 1;
+        }
+    }
+    PathBuf::from(String::from_utf8(out).unwrap())
+}
+
+/// The compare page's per-scene differences of each pair, in the browser: sorted by size,
+/// each value linking to an existing scene page of its run.
+#[test]
+fn the_compare_page_lists_scene_differences_by_size_with_working_links() {
+    let Some(chromium) = system_chromium() else { return };
+    let r = runs();
+    let options = CompareOptions {
+        paired: Some(sceneeval_report::compare::Pairing::All),
+        ..CompareOptions::default()
+    };
+    let c = compare(&[Run::open(&r.a).unwrap(), Run::open(&r.b).unwrap()], &options).unwrap();
+    let page = r.root.join("compare-paired.html");
+    std::fs::write(&page, c.to_html(&r.root)).unwrap();
+    let profile = tempfile::tempdir().unwrap();
+    let browser = browser_1400(chromium, profile.path());
+    let m = measure(
+        &browser,
+        &page,
+        r#"(() => JSON.stringify(Array.prototype.map.call(document.querySelectorAll("table.scene-differences tbody tr"), tr => ({
+            scene: tr.getAttribute("data-scene"),
+            diff: parseFloat(tr.cells[4].getAttribute("data-v")),
+            links: Array.prototype.map.call(tr.querySelectorAll("a"), a => a.href)
+        }))))()"#,
+    );
+    let rows = m.as_array().unwrap();
+    assert!(!rows.is_empty(), "no scene differences: {m}");
+    let sizes: Vec<f64> = rows.iter().map(|r| r["diff"].as_f64().unwrap().abs()).collect();
+    assert!(
+        sizes.windows(2).all(|w| w[0] >= w[1]),
+        "not sorted by size: {sizes:?}"
+    );
+    assert!(sizes.iter().all(|s| *s > 0.0), "{sizes:?}");
+    for row in rows {
+        let links = row["links"].as_array().unwrap();
+        // Both runs have a report: a link to each run's page of the scene.
+        assert_eq!(links.len(), 2, "{row}");
+        let scene = row["scene"].as_str().unwrap();
+        for (link, run) in links.iter().zip([&r.a, &r.b]) {
+            let path = file_url_path(link.as_str().unwrap());
+            assert!(path.is_file(), "{} does not exist", path.display());
+            assert_eq!(
+                path.canonicalize().unwrap(),
+                run.join(format!("report/scenes/{scene}.html"))
+                    .canonicalize()
+                    .unwrap()
+            );
+        }
     }
 }

@@ -55,6 +55,18 @@ pub const BROWSER: Requirement = Requirement {
     require_var: "SCENEEVAL_REQUIRE_BROWSER",
 };
 
+/// The system's chromium (`/usr/bin/chromium` or `/usr/bin/chromium-browser`), never a
+/// downloaded one, when installed; else [`available`] decides (skip, or fail when
+/// `SCENEEVAL_REQUIRE_BROWSER` is set).
+pub fn chromium() -> Option<std::path::PathBuf> {
+    let probe = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
+        .iter()
+        .map(std::path::PathBuf::from)
+        .find(|p| p.exists())
+        .ok_or_else(|| "no /usr/bin/chromium".to_owned());
+    available(&BROWSER, probe, |_| true)
+}
+
 /// What to do with a test that needs a package.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Decision {

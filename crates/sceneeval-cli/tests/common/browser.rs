@@ -8,18 +8,7 @@ use std::time::Duration;
 
 use headless_chrome::protocol::cdp::types::Event;
 use headless_chrome::{Browser, LaunchOptions, Tab};
-use sceneeval_test_support::system::{BROWSER, available};
-
-/// The system's chromium (`/usr/bin/chromium` or `/usr/bin/chromium-browser`), or `None` (the
-/// test is skipped, saying so once) unless `SCENEEVAL_REQUIRE_BROWSER=1` makes that a failure.
-pub fn chromium() -> Option<PathBuf> {
-    let probe = ["/usr/bin/chromium", "/usr/bin/chromium-browser"]
-        .iter()
-        .map(PathBuf::from)
-        .find(|p| p.exists())
-        .ok_or_else(|| "no /usr/bin/chromium".to_owned());
-    available(&BROWSER, probe, |_| true)
-}
+pub use sceneeval_test_support::system::chromium;
 
 /// A headless `chromium` with its profile in `profile`, a tab on `url` (waited for, `timeout`
 /// for every later wait), and every console error, uncaught exception and browser log error of

@@ -28,7 +28,7 @@
 //! on the fidelity verdicts ([`PairComparison`]); every statistic from `sceneeval-stats`.
 
 mod paired;
-mod paired_text;
+pub(crate) mod paired_text;
 mod rank;
 #[cfg(test)]
 mod tests;
@@ -43,8 +43,7 @@ use sceneeval_fidelity::FidelityReport;
 use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneName};
 use sceneeval_stats::bootstrap::{Bootstrap, DEFAULT_RESAMPLES};
 
-pub use paired::{PairComparison, PairedRow, Pairing, VerdictRow};
-pub(crate) use paired_text::p_text;
+pub use paired::{PairComparison, PairedRow, Pairing, SceneDifference, VerdictRow};
 pub use paired_text::{PAIRED_CSV_COLUMNS, PairedRecord};
 pub use rank::{RankBy, competition_ranks};
 pub(crate) use text::{Emphasis, arrow as text_arrow, average, scenes, standing_order};

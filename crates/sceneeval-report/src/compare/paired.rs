@@ -48,6 +48,30 @@ pub struct PairComparison {
     pub verdicts: Vec<VerdictRow>,
     /// Warnings: different plans, presets or annotation rows, scenes only one run has.
     pub notes: Vec<String>,
+    /// The scenes' own differences behind [`PairComparison::rows`] (every scene and column
+    /// with a value in both runs), the largest `|b - a|` first; equal sizes in column order,
+    /// then scene order.
+    pub scenes: Vec<SceneDifference>,
+}
+
+/// One scene's values of one column in two runs: an item of a [`PairedRow`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneDifference {
+    /// The scene.
+    pub scene: String,
+    /// The column.
+    pub column: Column,
+    /// The scene's value in run `a`, in percent (as the per-scene table shows it).
+    pub a: f64,
+    /// Its value in run `b`.
+    pub b: f64,
+}
+
+impl SceneDifference {
+    /// `b - a`, in percentage points, from the full-precision values.
+    pub fn difference(&self) -> f64 {
+        self.b - self.a
+    }
 }
 
 /// The paired statistics of one column for one pair of runs.
@@ -200,23 +224,30 @@ pub(crate) fn compare_pair(
         ));
     }
     let bootstrap = Bootstrap::new(DEFAULT_RESAMPLES, level).unwrap_or_default();
+    let mut scenes: Vec<SceneDifference> = Vec::new();
     let mut rows: Vec<PairedRow> = columns
         .iter()
         .map(|&column| {
             let fidelity = column.metric.fidelity().is_some();
-            let (xs, ys): (Vec<f64>, Vec<f64>) = both
+            let items: Vec<SceneDifference> = both
                 .iter()
                 .filter(|(s, _, _)| !(fidelity && other_rows.contains(s)))
-                .filter_map(|(_, x, y)| {
-                    Some((
-                        scene_values(x).value(column.name)?,
-                        scene_values(y).value(column.name)?,
-                    ))
+                .filter_map(|(s, x, y)| {
+                    Some(SceneDifference {
+                        scene: (*s).to_owned(),
+                        column,
+                        a: scene_values(x).value(column.name)?,
+                        b: scene_values(y).value(column.name)?,
+                    })
                 })
-                .unzip();
+                .collect();
+            let (xs, ys): (Vec<f64>, Vec<f64>) = items.iter().map(|d| (d.a, d.b)).unzip();
+            scenes.extend(items);
             paired_row(column, &xs, &ys, &bootstrap)
         })
         .collect();
+    // Stable: equal sizes keep column order, then scene order.
+    scenes.sort_by(|x, y| y.difference().abs().total_cmp(&x.difference().abs()));
     let adjusted = holm(&rows.iter().map(|r| r.p.ok()).collect::<Vec<_>>()).unwrap_or_default();
     for (row, p) in rows.iter_mut().zip(adjusted) {
         row.p_holm = p;
@@ -232,6 +263,7 @@ pub(crate) fn compare_pair(
         rows,
         verdicts,
         notes,
+        scenes,
     }
 }
 

@@ -4,7 +4,9 @@ use std::fmt::Write as _;
 
 use sceneeval_stats::bootstrap::DEFAULT_RESAMPLES;
 
-use super::{Comparison, PairComparison, PairedRow, text_arrow};
+use sceneeval_results::Better;
+
+use super::{Comparison, PairComparison, text_arrow};
 use crate::ReportError;
 use crate::escape;
 
@@ -43,40 +45,84 @@ pub(crate) fn p_text(p: f64) -> String {
     }
 }
 
-/// One paired row's cells as a table prints them (names already escaped by the caller).
-pub(crate) struct RowText {
-    /// `b - a` with a `*` when significant.
-    pub diff: String,
-    /// `[lo, hi]` or `-`.
-    pub interval: String,
-    /// The p-value or `-`.
-    pub p: String,
-    /// The adjusted p-value or `-`.
-    pub p_holm: String,
+/// How a table writes the paired rows: names escaped, a column's direction, the mark of a
+/// significant difference.
+pub(crate) struct Style {
+    /// Escapes a run's or column's name.
+    pub escape: fn(&str) -> String,
+    /// A column's direction (`↑`, `$\uparrow$`).
+    pub arrow: fn(Better) -> &'static str,
+    /// Appended to a significant difference (`*`, `$^{*}$`).
+    pub mark: &'static str,
 }
 
-impl PairedRow {
-    pub(crate) fn text(&self, alpha: f64) -> RowText {
-        let mark = if self.significant(alpha) { "*" } else { "" };
-        RowText {
-            diff: self
-                .mean_difference
-                .map_or_else(|| "-".to_owned(), |d| format!("{}{mark}", signed(d))),
-            interval: self.interval.map_or_else(
-                || "-".to_owned(),
-                |[lo, hi]| format!("[{}, {}]", signed(lo), signed(hi)),
-            ),
-            p: self.p.map_or_else(|_| "-".to_owned(), p_text),
-            p_holm: self.p_holm.map_or_else(|| "-".to_owned(), p_text),
-        }
-    }
+impl Style {
+    /// Markdown (and plain text): `↑`, `*`.
+    pub(crate) const MARKDOWN: Style = Style {
+        escape: escape::markdown,
+        arrow: text_arrow,
+        mark: "*",
+    };
+    /// HTML: names escaped for HTML, `↑`, `*`.
+    pub(crate) const HTML: Style = Style {
+        escape: escape::html,
+        arrow: text_arrow,
+        mark: "*",
+    };
+    /// LaTeX: `$\uparrow$`, `$^{*}$`.
+    pub(crate) const LATEX: Style = Style {
+        escape: escape::latex,
+        arrow: |b| match b {
+            Better::Higher => "$\\uparrow$",
+            Better::Lower => "$\\downarrow$",
+        },
+        mark: "$^{*}$",
+    };
 }
 
 impl Comparison {
+    /// The cells of the table of paired differences, one row per pair of runs and column, in
+    /// `style`: a, b, column with its direction, n, b - a (marked when significant), interval,
+    /// p, p (Holm), the run a significant difference favours (empty otherwise).
+    pub(crate) fn paired_cells(&self, style: &Style) -> Vec<[String; 9]> {
+        let esc = style.escape;
+        self.pairs
+            .iter()
+            .flat_map(|pair| pair.rows.iter().map(move |row| (pair, row)))
+            .map(|(pair, row)| {
+                let mark = if row.significant(self.alpha) {
+                    style.mark
+                } else {
+                    ""
+                };
+                let better = match (row.significant(self.alpha), row.favours_b()) {
+                    (true, Some(true)) => esc(&self.runs[pair.b].name),
+                    (true, Some(false)) => esc(&self.runs[pair.a].name),
+                    _ => String::new(),
+                };
+                [
+                    esc(&self.runs[pair.a].name),
+                    esc(&self.runs[pair.b].name),
+                    format!("{} {}", esc(row.column.name), (style.arrow)(row.column.better)),
+                    row.n.to_string(),
+                    row.mean_difference
+                        .map_or_else(|| "-".to_owned(), |d| format!("{}{mark}", signed(d))),
+                    row.interval.map_or_else(
+                        || "-".to_owned(),
+                        |[lo, hi]| format!("[{}, {}]", signed(lo), signed(hi)),
+                    ),
+                    row.p.map_or_else(|_| "-".to_owned(), p_text),
+                    row.p_holm.map_or_else(|| "-".to_owned(), p_text),
+                    better,
+                ]
+            })
+            .collect()
+    }
+
     /// The cells of the McNemar table, one row per pair of runs and fidelity metric, the run
-    /// names escaped by `escape` (Markdown or LaTeX): a, b, metric, specs, a only, b only,
-    /// b - a, p, p (Holm).
-    fn verdict_cells(&self, escape: fn(&str) -> String) -> Vec<[String; 9]> {
+    /// names escaped as `style` does: a, b, metric, specs, a only, b only, b - a, p, p (Holm).
+    pub(crate) fn verdict_cells(&self, style: &Style) -> Vec<[String; 9]> {
+        let escape = style.escape;
         self.pairs
             .iter()
             .flat_map(|pair| pair.verdicts.iter().map(move |v| (pair, v)))
@@ -162,30 +208,15 @@ impl Comparison {
         out.push_str("### Paired differences (b - a)\n\n");
         out.push_str("| a | b | column | n | b - a | interval | p | p (Holm) | better |\n");
         out.push_str("|---|---|---|---:|---:|---|---:|---:|---|\n");
-        for pair in &self.pairs {
-            let (a, b) = (md(&self.runs[pair.a].name), md(&self.runs[pair.b].name));
-            for row in &pair.rows {
-                let t = row.text(self.alpha);
-                let better = self.better_name(pair, row);
-                let _ = writeln!(
-                    out,
-                    "| {a} | {b} | {} {} | {} | {} | {} | {} | {} | {better} |",
-                    md(row.column.name),
-                    text_arrow(row.column.better),
-                    row.n,
-                    t.diff,
-                    t.interval,
-                    t.p,
-                    t.p_holm
-                );
-            }
+        for cells in self.paired_cells(&Style::MARKDOWN) {
+            let _ = writeln!(out, "| {} |", cells.join(" | "));
         }
         out.push('\n');
         if self.pairs.iter().any(|p| !p.verdicts.is_empty()) {
             out.push_str("### Fidelity verdicts (McNemar)\n\n");
             out.push_str("| a | b | metric | specs | a only | b only | b - a | p | p (Holm) |\n");
             out.push_str("|---|---|---|---:|---:|---:|---:|---:|---:|\n");
-            for cells in self.verdict_cells(md) {
+            for cells in self.verdict_cells(&Style::MARKDOWN) {
                 let _ = writeln!(out, "| {} |", cells.join(" | "));
             }
             out.push('\n');
@@ -203,15 +234,6 @@ impl Comparison {
         out
     }
 
-    /// The run a significant row favours, or empty.
-    fn better_name(&self, pair: &PairComparison, row: &PairedRow) -> String {
-        match (row.significant(self.alpha), row.favours_b()) {
-            (true, Some(true)) => escape::markdown(&self.runs[pair.b].name),
-            (true, Some(false)) => escape::markdown(&self.runs[pair.a].name),
-            _ => String::new(),
-        }
-    }
-
     /// A booktabs `tabular` of the paired comparisons (empty without pairs), notes as `%`
     /// comments.
     pub(crate) fn paired_latex(&self) -> String {
@@ -224,26 +246,9 @@ impl Comparison {
         out.push_str(
             "a & b & Metric & $n$ & $b - a$ & Interval & $p$ & $p_{\\mathrm{Holm}}$ \\\\\n\\midrule\n",
         );
-        for pair in &self.pairs {
-            for row in &pair.rows {
-                let t = row.text(self.alpha);
-                let diff = t.diff.replace('*', "$^{*}$");
-                let _ = writeln!(
-                    out,
-                    "{} & {} & {} $\\{}arrow$ & {} & {diff} & {} & {} & {} \\\\",
-                    tex(&self.runs[pair.a].name),
-                    tex(&self.runs[pair.b].name),
-                    tex(row.column.name),
-                    match row.column.better {
-                        sceneeval_results::Better::Higher => "up",
-                        sceneeval_results::Better::Lower => "down",
-                    },
-                    row.n,
-                    t.interval,
-                    t.p,
-                    t.p_holm
-                );
-            }
+        for cells in self.paired_cells(&Style::LATEX) {
+            // No column of the favoured run: the mark says which differences are significant.
+            let _ = writeln!(out, "{} \\\\", cells[..8].join(" & "));
         }
         out.push_str("\\bottomrule\n\\end{tabular}\n");
         if self.pairs.iter().any(|p| !p.verdicts.is_empty()) {
@@ -253,7 +258,7 @@ impl Comparison {
             out.push_str(
                 "a & b & Metric & Specs & $a$ only & $b$ only & $b - a$ & $p$ & $p_{\\mathrm{Holm}}$ \\\\\n\\midrule\n",
             );
-            for cells in self.verdict_cells(tex) {
+            for cells in self.verdict_cells(&Style::LATEX) {
                 let _ = writeln!(out, "{} \\\\", cells.join(" & "));
             }
             out.push_str("\\bottomrule\n\\end{tabular}\n");

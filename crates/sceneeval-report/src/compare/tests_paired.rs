@@ -173,6 +173,17 @@ fn exact_normal_zero_and_single_differences_by_hand() {
         latex.contains("% Note: A and C: 4 scene(s) not evaluated by both"),
         "{latex}"
     );
+    // The LaTeX row is the Markdown one's cells (without the favoured run), in LaTeX.
+    assert!(
+        latex.contains("\nA & B & OOB $\\downarrow$ & 5 & +0.00 & [+0.00, +0.00] & - & - \\\\\n"),
+        "{latex}"
+    );
+    use crate::compare::paired_text::Style;
+    let (md_cells, tex_cells) = (c.paired_cells(&Style::MARKDOWN), c.paired_cells(&Style::LATEX));
+    assert_eq!(md_cells.len(), tex_cells.len());
+    for (m, t) in md_cells.iter().zip(&tex_cells) {
+        assert_eq!(m[3..], t[3..], "{m:?} {t:?}");
+    }
     let html = c.to_html(std::path::Path::new("."));
     assert!(html.contains("<table id=\"paired\">"), "{html}");
     assert!(
@@ -447,5 +458,14 @@ fn mcnemar_on_the_specs_both_runs_judged() {
     assert!(
         latex.contains("\nA & B & CNT & 7 & 1 & 4 & +42.86 & 0.375 & 0.375 \\\\\n"),
         "{latex}"
+    );
+    // The HTML row is the same cells.
+    let html = c.to_html(std::path::Path::new("."));
+    assert!(
+        html.contains(
+            "<tr><td>A</td><td>B</td><td>CNT</td><td class=\"num\">7</td><td class=\"num\">1</td><td class=\"num\">4</td>\
+             <td class=\"num\">+42.86</td><td class=\"num\">0.375</td><td class=\"num\">0.375</td></tr>"
+        ),
+        "{html}"
     );
 }

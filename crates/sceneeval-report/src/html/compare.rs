@@ -5,9 +5,25 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::{page, relative_href};
-use crate::compare::{Comparison, Emphasis, average, standing_order, text_arrow};
+use sceneeval_results::Better;
+
+use crate::compare::paired_text::Style;
+use crate::compare::{Comparison, Emphasis, RunHead, SceneDifference, average, standing_order, text_arrow};
 use crate::escape::{self, html};
-use crate::report::{INDEX, SCENES_DIR};
+use crate::report::{DEFAULT_DIR, INDEX, SCENES_DIR};
+
+/// The link from the page in `page_dir` to `scene`'s page in the report of `run` where
+/// `sceneeval report RUN` writes it by default (`RUN/report/scenes/<scene>.html`, relative),
+/// when that file exists; `None` when the run has no report there (a report written elsewhere
+/// with `--out` is not found).
+fn scene_href(run: &RunHead, scene: &str, page_dir: &Path) -> Option<String> {
+    let page = run
+        .dir
+        .join(DEFAULT_DIR)
+        .join(SCENES_DIR)
+        .join(format!("{}.html", escape::file_name(scene)));
+    page.is_file().then(|| relative_href(page_dir, &page)).flatten()
+}
 
 impl Comparison {
     /// The comparison as one self-contained HTML page that will be written into the folder
@@ -18,7 +34,7 @@ impl Comparison {
             "<h1>SceneEval comparison</h1><h2>Runs</h2><table id=\"runs\"><thead><tr><th>run</th><th>folder</th><th>report</th></tr></thead><tbody>",
         );
         for run in &self.runs {
-            let index = run.dir.join(crate::report::DEFAULT_DIR).join(INDEX);
+            let index = run.dir.join(DEFAULT_DIR).join(INDEX);
             let link = match index.is_file().then(|| relative_href(page_dir, &index)).flatten() {
                 Some(href) => format!("<a href=\"{}\">report</a>", html(&href)),
                 None => format!(
@@ -112,6 +128,7 @@ impl Comparison {
         }
         let _ = write!(b, "<p class=\"muted\">{}</p>", html(&self.legend()));
         self.paired_html(&mut b);
+        self.scene_differences_html(&mut b, page_dir);
 
         b.push_str("<h2>Scene by scene</h2>");
         if self.differences.is_empty() {
@@ -136,16 +153,7 @@ impl Comparison {
                     html(&d.spec)
                 );
                 for (run, v) in self.runs.iter().zip(&d.verdicts) {
-                    let scene_page = run
-                        .dir
-                        .join(crate::report::DEFAULT_DIR)
-                        .join(SCENES_DIR)
-                        .join(format!("{}.html", escape::file_name(&d.scene)));
-                    let text = match scene_page
-                        .is_file()
-                        .then(|| relative_href(page_dir, &scene_page))
-                        .flatten()
-                    {
+                    let text = match scene_href(run, &d.scene, page_dir) {
                         Some(href) => format!("<a href=\"{}\">{}</a>", html(&href), v.name()),
                         None => v.name().to_owned(),
                     };
@@ -163,6 +171,86 @@ impl Comparison {
         page("SceneEval comparison", &b)
     }
 
+    /// Per pair of runs, the scenes' own differences `b - a` (`table#scene-differences-K`, K the
+    /// pair's position), the largest first, each value linking to its run's scene page
+    /// ([`scene_href`]); nothing without `--paired`.
+    fn scene_differences_html(&self, b: &mut String, page_dir: &Path) {
+        for (k, pair) in self.pairs.iter().enumerate() {
+            let (ra, rb) = (&self.runs[pair.a], &self.runs[pair.b]);
+            let listed: Vec<&SceneDifference> =
+                pair.scenes.iter().filter(|d| d.difference() != 0.0).collect();
+            let _ = write!(
+                b,
+                "<h3>Differences per scene: {} - {}</h3><p>Each scene's own difference in each column (percentage \
+                 points, b - a; green where b is better, red where a is), the largest first: {} of the {} scene values \
+                 both runs have differ; the equal ones are not listed.</p>",
+                html(&rb.name),
+                html(&ra.name),
+                listed.len(),
+                pair.scenes.len()
+            );
+            if listed.is_empty() {
+                continue;
+            }
+            let _ = write!(
+                b,
+                "<div class=\"wide\"><table class=\"sortable scene-differences\" id=\"scene-differences-{k}\"><thead><tr>\
+                 <th>scene</th><th>column</th><th class=\"num\" data-type=\"num\">{} (a)</th>\
+                 <th class=\"num\" data-type=\"num\">{} (b)</th><th class=\"num\" data-type=\"num\">b - a</th>\
+                 </tr></thead><tbody>",
+                html(&ra.name),
+                html(&rb.name)
+            );
+            let (ha, hb): (Vec<Option<String>>, Vec<Option<String>>) = listed
+                .iter()
+                .map(|d| {
+                    (
+                        scene_href(ra, &d.scene, page_dir),
+                        scene_href(rb, &d.scene, page_dir),
+                    )
+                })
+                .unzip();
+            for ((d, href_a), href_b) in listed.iter().zip(&ha).zip(&hb) {
+                let value = |v: f64, href: &Option<String>| match href {
+                    Some(h) => format!(
+                        "<td class=\"num\" data-v=\"{v}\"><a href=\"{}\">{v:.2}</a></td>",
+                        html(h)
+                    ),
+                    None => format!("<td class=\"num\" data-v=\"{v}\">{v:.2}</td>"),
+                };
+                let diff = d.difference();
+                let _ = write!(
+                    b,
+                    "<tr data-scene=\"{}\"><td>{}</td><td>{} {}</td>{}{}<td class=\"num {}\" data-v=\"{diff}\">{diff:+.2}</td></tr>",
+                    html(&d.scene),
+                    html(&d.scene),
+                    html(d.column.name),
+                    text_arrow(d.column.better),
+                    value(d.a, href_a),
+                    value(d.b, href_b),
+                    if (diff > 0.0) == matches!(d.column.better, Better::Higher) {
+                        "good"
+                    } else {
+                        "bad"
+                    }
+                );
+            }
+            b.push_str("</tbody></table></div>");
+            for (run, hrefs) in [(ra, &ha), (rb, &hb)] {
+                if hrefs.iter().any(Option::is_none) {
+                    let _ = write!(
+                        b,
+                        "<p class=\"muted\">{}'s values are not linked where it has no scene page \
+                         (<code>{}</code>; <code>sceneeval report {}</code> writes them).</p>",
+                        html(&run.name),
+                        html(&run.dir.join(DEFAULT_DIR).join(SCENES_DIR).display().to_string()),
+                        html(&run.dir.display().to_string())
+                    );
+                }
+            }
+        }
+    }
+
     /// The paired comparisons: a table of differences with significance marks, McNemar's
     /// tests, the pairs' notes and the legend (nothing without `--paired`).
     fn paired_html(&self, b: &mut String) {
@@ -174,53 +262,28 @@ impl Comparison {
              <th>column</th><th class=\"num\">n</th><th class=\"num\">b - a</th><th>interval</th><th class=\"num\">p</th>\
              <th class=\"num\">p (Holm)</th><th>better</th></tr></thead><tbody>",
         );
-        for pair in &self.pairs {
-            for row in &pair.rows {
-                let t = row.text(self.alpha);
-                let better = match (row.significant(self.alpha), row.favours_b()) {
-                    (true, Some(true)) => html(&self.runs[pair.b].name),
-                    (true, Some(false)) => html(&self.runs[pair.a].name),
-                    _ => String::new(),
-                };
-                let _ = write!(
-                    b,
-                    "<tr><td>{}</td><td>{}</td><td>{} {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td>\
-                     <td class=\"num\">{}</td><td class=\"num\">{}</td><td>{better}</td></tr>",
-                    html(&self.runs[pair.a].name),
-                    html(&self.runs[pair.b].name),
-                    html(row.column.name),
-                    text_arrow(row.column.better),
-                    row.n,
-                    html(&t.diff),
-                    html(&t.interval),
-                    html(&t.p),
-                    html(&t.p_holm)
-                );
-            }
+        for cells in self.paired_cells(&Style::HTML) {
+            let _ = write!(
+                b,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td>\
+                 <td class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td></tr>",
+                cells[0], cells[1], cells[2], cells[3], cells[4], cells[5], cells[6], cells[7], cells[8]
+            );
         }
         b.push_str("</tbody></table></div>");
         if self.pairs.iter().any(|p| !p.verdicts.is_empty()) {
             b.push_str(
                 "<h3>Fidelity verdicts (McNemar)</h3><div class=\"wide\"><table id=\"mcnemar\"><thead><tr><th>a</th><th>b</th>\
                  <th>metric</th><th class=\"num\">specs</th><th class=\"num\">a only</th><th class=\"num\">b only</th>\
-                 <th class=\"num\">p</th><th class=\"num\">p (Holm)</th></tr></thead><tbody>",
+                 <th class=\"num\">b - a</th><th class=\"num\">p</th><th class=\"num\">p (Holm)</th></tr></thead><tbody>",
             );
-            for pair in &self.pairs {
-                for v in &pair.verdicts {
-                    let _ = write!(
-                        b,
-                        "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
-                         <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
-                        html(&self.runs[pair.a].name),
-                        html(&self.runs[pair.b].name),
-                        v.metric.columns()[0],
-                        v.n,
-                        v.test.b,
-                        v.test.c,
-                        crate::compare::p_text(v.test.p),
-                        v.p_holm.map_or_else(|| "-".to_owned(), crate::compare::p_text)
-                    );
+            for cells in self.verdict_cells(&Style::HTML) {
+                let [a, bn, metric, rest @ ..] = &cells;
+                let _ = write!(b, "<tr><td>{a}</td><td>{bn}</td><td>{metric}</td>");
+                for c in rest {
+                    let _ = write!(b, "<td class=\"num\">{c}</td>");
                 }
+                b.push_str("</tr>");
             }
             b.push_str("</tbody></table></div>");
         }

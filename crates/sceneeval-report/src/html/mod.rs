@@ -2,6 +2,9 @@
 //! fetched from anywhere), the overview and scene pages of a report, the comparison page, and
 //! the SVG drawn into them.
 //!
+//! Wide tables sit in a `div.wide` that scrolls sideways, with the first column (the row's
+//! name) kept in view (`position: sticky`), so no column is cut off at any window width.
+//!
 //! The script sorts tables (`table.sortable`: click a header), filters the scene list
 //! (`select#fails`), highlights an object's footprint from its row, and marks the page: the
 //! root element gets `data-script="ok"` when the script ran to its end, and
@@ -39,7 +42,13 @@ td.num, th.num { text-align: right; }
 table.sortable th { cursor: pointer; user-select: none; }
 table.sortable th[aria-sort="ascending"]::after { content: " \25B2"; font-size: 0.7em; }
 table.sortable th[aria-sort="descending"]::after { content: " \25BC"; font-size: 0.7em; }
-.wide { overflow-x: auto; }
+.wide { overflow-x: auto; max-width: 100%; }
+.wide > table > * > tr > :first-child { position: sticky; left: 0; z-index: 1; background: var(--bg); box-shadow: 1px 0 0 var(--line); }
+.wide > table > thead > tr > :first-child, .wide > table > tbody > tr > th:first-child { background: var(--head); }
+.wide > table > tbody > tr.hi > :first-child { background: #fff6cc; }
+.distributions { display: grid; grid-template-columns: repeat(auto-fill, minmax(520px, 1fr)); gap: 0.6rem 1.2rem; }
+.distributions svg { max-width: 100%; height: auto; }
+.distributions figcaption { font-size: 0.85rem; color: var(--muted); }
 .bad { color: #b3261e; font-weight: 600; }
 .good { color: #1b7a3a; }
 .unknown { color: var(--muted); font-style: italic; }

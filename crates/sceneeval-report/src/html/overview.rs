@@ -6,13 +6,13 @@ use std::fmt::Write as _;
 
 use sceneeval_results::{Better, GroupSummary, Metric, Outcome, Summary};
 
-use super::chart::{GROUP_COLOURS, bars};
+use super::chart::{GROUP_COLOURS, bars, strips};
 use super::scene::problem_keys;
 use super::topview::Problem;
 use super::{legend, num_cell, page};
 use crate::compare::text_arrow;
 use crate::escape::html;
-use crate::run::{Run, scene_values};
+use crate::run::{Run, groups as scene_groups, scene_of, scene_values};
 
 /// Whether a scene's value of a column is not the best possible: below 100 % where higher is
 /// better, above 0 % where lower is better.
@@ -54,6 +54,7 @@ pub(crate) fn overview(
     unreadable(&mut b, run);
     summary_table(&mut b, columns, &groups);
     charts(&mut b, columns, &groups);
+    distributions(&mut b, run, columns);
     scenes_table(&mut b, run, columns, pages);
     page(&format!("SceneEval report: {}", run.name), &b)
 }
@@ -132,6 +133,59 @@ fn charts(b: &mut String, columns: &[(&'static str, Metric)], groups: &[GroupSum
         .map(|(k, g)| (GROUP_COLOURS[k % GROUP_COLOURS.len()], g.group.as_str(), false))
         .collect();
     b.push_str(&legend(&items));
+}
+
+/// Each metric column's values over the scenes, a strip plot per column with a row per group
+/// (`#distributions`), each scene a dot at its own value (percent, as in the scene table);
+/// the scenes without a value (failed, or the metric not computed) are named under the plot,
+/// not drawn.
+fn distributions(b: &mut String, run: &Run, columns: &[(&'static str, Metric)]) {
+    b.push_str(
+        "<h2>Distributions</h2><p class=\"muted\">Each scene's own value (percent, as in the scene table) per \
+         group; equal values are piled up. Hover a dot for its scene.</p><div class=\"distributions\" \
+         id=\"distributions\">",
+    );
+    let names: Vec<&str> = run.records.iter().map(scene_of).collect();
+    let groups = scene_groups(&names, |s| run.difficulty(s));
+    let values: BTreeMap<&str, (bool, GroupSummary)> = run
+        .records
+        .iter()
+        .map(|r| (scene_of(r), (r.report().is_some(), scene_values(r))))
+        .collect();
+    for (c, m) in columns {
+        let value = |s: &str| {
+            values
+                .get(s)
+                .and_then(|(ok, v)| if *ok { v.value(c) } else { None })
+        };
+        let rows: Vec<(&str, Vec<(&str, f64)>)> = groups
+            .iter()
+            .map(|(g, scenes)| {
+                let plotted = scenes.iter().filter_map(|s| Some((*s, value(s)?))).collect();
+                (g.as_str(), plotted)
+            })
+            .collect();
+        let _ = write!(b, "<figure data-column=\"{}\">", html(c));
+        b.push_str(&strips(c, m.better(), &rows));
+        let missing: Vec<String> = names
+            .iter()
+            .filter(|s| value(s).is_none())
+            .map(|s| {
+                let failed = values.get(s).is_some_and(|(ok, _)| !ok);
+                format!("{} ({})", html(s), if failed { "failed" } else { "no value" })
+            })
+            .collect();
+        if !missing.is_empty() {
+            let _ = write!(
+                b,
+                "<figcaption class=\"missing\">Not plotted ({}): {}</figcaption>",
+                missing.len(),
+                missing.join(", ")
+            );
+        }
+        b.push_str("</figure>");
+    }
+    b.push_str("</div>");
 }
 
 /// The scenes with their values, filterable by what they fail and sortable.

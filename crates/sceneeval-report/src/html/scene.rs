@@ -14,7 +14,7 @@ use serde::Serialize;
 use super::topview::{self, Overlay, Problem};
 use super::{legend, num_cell, page};
 use crate::escape::html;
-use crate::run::scene_values;
+use crate::run::{Description, scene_values};
 
 /// An image the run wrote, with its link from the page.
 #[derive(Debug, Clone)]
@@ -22,6 +22,15 @@ pub(crate) struct Image {
     /// The file name.
     pub name: String,
     /// Its URL from the page.
+    pub href: String,
+}
+
+/// A link to another scene's page: the scene's name and the page's URL from this page.
+#[derive(Debug, Clone)]
+pub(crate) struct SceneLink {
+    /// The scene.
+    pub scene: String,
+    /// The URL of its page from this page.
     pub href: String,
 }
 
@@ -45,6 +54,12 @@ pub(crate) struct ScenePage<'a> {
     pub remarks: Vec<String>,
     /// The summary columns the run has.
     pub columns: &'a [(&'static str, Metric)],
+    /// The scene's description, or why there is none.
+    pub description: Description<'a>,
+    /// The pages of the scenes before and after this one in the overview's order.
+    pub previous: Option<SceneLink>,
+    /// See `previous`.
+    pub next: Option<SceneLink>,
 }
 
 /// The page's HTML.
@@ -53,11 +68,12 @@ pub(crate) fn scene_page(p: &ScenePage<'_>) -> String {
     let mut b = String::new();
     let _ = write!(
         b,
-        "<nav class=\"crumbs\"><a href=\"../index.html\">{}</a> / {}</nav><h1>{}</h1>",
+        "<nav class=\"crumbs\"><a href=\"../index.html\">{}</a> / {}</nav>",
         html(p.run),
         html(r.scene.as_str()),
-        html(r.scene.as_str())
     );
+    neighbours(&mut b, p);
+    let _ = write!(b, "<h1>{}</h1>", html(r.scene.as_str()));
     let _ = write!(
         b,
         "<p class=\"meta\">benchmark id {}; difficulty {}; status <span id=\"status\">{}</span></p>",
@@ -65,6 +81,7 @@ pub(crate) fn scene_page(p: &ScenePage<'_>) -> String {
         html(p.difficulty.unwrap_or("-")),
         if r.report().is_some() { "ok" } else { "failed" }
     );
+    description(&mut b, p.description);
     if let Outcome::Failed { stage, error, causes } = &r.outcome {
         let _ = write!(
             b,
@@ -102,7 +119,7 @@ pub(crate) fn scene_page(p: &ScenePage<'_>) -> String {
     } else {
         top_view_only(&mut b, p);
     }
-    images(&mut b, "Views shown to the VLM", "views", &p.views);
+    views(&mut b, &p.views);
     images(&mut b, "Diagnostic images", "diagnostics", &p.diagnostics);
     page(&format!("{} - {}", r.scene, p.run), &b)
 }
@@ -564,6 +581,99 @@ fn mapping(m: &RelationMappingInfo) -> String {
     )
 }
 
+/// The links to the previous and next scene pages (`nav#neighbours`), in the overview's
+/// order; nothing when the run has one scene.
+fn neighbours(b: &mut String, p: &ScenePage<'_>) {
+    if p.previous.is_none() && p.next.is_none() {
+        return;
+    }
+    b.push_str("<nav class=\"crumbs\" id=\"neighbours\">");
+    match &p.previous {
+        Some(l) => {
+            let _ = write!(
+                b,
+                "<a rel=\"prev\" href=\"{}\">&larr; {}</a>",
+                html(&l.href),
+                html(&l.scene)
+            );
+        }
+        None => b.push_str("<span class=\"muted\">first scene</span>"),
+    }
+    b.push_str(" | ");
+    match &p.next {
+        Some(l) => {
+            let _ = write!(
+                b,
+                "<a rel=\"next\" href=\"{}\">{} &rarr;</a>",
+                html(&l.href),
+                html(&l.scene)
+            );
+        }
+        None => b.push_str("<span class=\"muted\">last scene</span>"),
+    }
+    b.push_str("</nav>");
+}
+
+/// The scene's description (`#description`), or why the page has none.
+fn description(b: &mut String, d: Description<'_>) {
+    let none = |b: &mut String, why: &str| {
+        let _ = write!(
+            b,
+            "<p class=\"unknown\" id=\"description\">no description: {}</p>",
+            html(why)
+        );
+    };
+    match d {
+        Description::Text {
+            id,
+            text,
+            run_had_row,
+        } => {
+            let _ = write!(
+                b,
+                "<blockquote class=\"box\" id=\"description\">{}</blockquote><p class=\"muted\">The description of \
+                 annotation row {}{}.</p>",
+                html(text),
+                html(id),
+                match run_had_row {
+                    Some(true) =>
+                        " of the annotations given to the report (the run evaluated with a row for this scene)",
+                    Some(false) => {
+                        " of the annotations given to the report; the run had no annotation row for this scene, so \
+                         its fidelity metrics did not use this description"
+                    }
+                    None =>
+                        " of the annotations given to the report (the record does not say which row the run used)",
+                }
+            );
+        }
+        Description::NoRow => none(b, "the run has no annotation row"),
+        Description::NotGiven => none(
+            b,
+            "the run records only a digest of its annotation row; give the report the annotation file the run \
+             used (--annotations FILE)",
+        ),
+        Description::NotInGiven => none(
+            b,
+            "the run had an annotation row, but the annotations given to the report have none for this scene",
+        ),
+    }
+}
+
+/// The object views the run rendered for the VLM (`<scene>/views/*.png`), or a sentence saying
+/// none were kept.
+fn views(b: &mut String, list: &[Image]) {
+    if list.is_empty() {
+        b.push_str(
+            "<h2>Views shown to the VLM</h2><p class=\"muted\" id=\"no-views\">No views kept: the run wrote no \
+             object views for this scene (a run keeps them in <code>&lt;scene&gt;/views/</code> when its \
+             text-fidelity metrics rendered objects for the VLM).</p>",
+        );
+        return;
+    }
+    images(b, "Views shown to the VLM", "views", list);
+}
+
 fn images(b: &mut String, title: &str, id: &str, list: &[Image]) {
     if list.is_empty() {
         return;
@@ -572,13 +682,36 @@ fn images(b: &mut String, title: &str, id: &str, list: &[Image]) {
     for img in list {
         let _ = write!(
             b,
-            "<figure><a href=\"{href}\"><img src=\"{href}\" alt=\"{name}\" loading=\"lazy\"></a>\
+            "<figure><a href=\"{href}\"><img src=\"{href}\" alt=\"{alt}\" loading=\"lazy\"></a>\
              <figcaption>{name}</figcaption></figure>",
             href = html(&img.href),
+            alt = html(&alt_text(&img.name)),
             name = html(&img.name)
         );
     }
     b.push_str("</div>");
+}
+
+/// The alt text of an image the run wrote, from its file name: the views' names
+/// (`front_<id>.png`, `size_<id>.png`, `surroundings_<id>.png`, `top.png`, as
+/// `sceneeval-render` names them) say what they show; any other name is given as is.
+fn alt_text(file: &str) -> String {
+    let stem = file.strip_suffix(".png").unwrap_or(file);
+    for (prefix, before, after) in [
+        ("front_", "front view of object ", ""),
+        ("size_", "object ", " beside a 170 cm figure"),
+        ("surroundings_", "object ", " with its surroundings"),
+        ("top_", "top view of objects ", ""),
+    ] {
+        if let Some(id) = stem.strip_prefix(prefix) {
+            return format!("{before}{id}{after}");
+        }
+    }
+    match stem {
+        "top" => "top view of the whole scene".to_owned(),
+        "navigability" => "navigability map".to_owned(),
+        _ => file.to_owned(),
+    }
 }
 
 /// `yes`, `no` or `-`.
@@ -606,4 +739,80 @@ pub(crate) fn problem_keys(report: &SceneReport) -> Vec<&'static str> {
         .filter(|p| problems.values().flatten().any(|(q, _)| q == p))
         .map(Problem::key)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alt_texts_say_what_a_view_shows() {
+        assert_eq!(alt_text("front_idx0_bed.png"), "front view of object idx0_bed");
+        assert_eq!(
+            alt_text("size_idx1_chair.png"),
+            "object idx1_chair beside a 170 cm figure"
+        );
+        assert_eq!(
+            alt_text("surroundings_lamp.png"),
+            "object lamp with its surroundings"
+        );
+        assert_eq!(alt_text("top_a+b.c.png"), "top view of objects a+b.c");
+        assert_eq!(alt_text("top.png"), "top view of the whole scene");
+        assert_eq!(alt_text("navigability.png"), "navigability map");
+        assert_eq!(alt_text("other.png"), "other.png");
+    }
+
+    #[test]
+    fn views_are_lazy_images_with_alt_text_or_a_sentence_when_none_were_kept() {
+        let mut b = String::new();
+        views(&mut b, &[]);
+        assert!(b.contains("id=\"no-views\""), "{b}");
+        assert!(!b.contains("<img"), "{b}");
+        let mut b = String::new();
+        views(
+            &mut b,
+            &[Image {
+                name: "front_a&b.png".into(),
+                href: "../../s/views/front_a%26b.png".into(),
+            }],
+        );
+        assert!(
+            b.contains(
+                "<img src=\"../../s/views/front_a%26b.png\" alt=\"front view of object a&amp;b\" loading=\"lazy\">"
+            ),
+            "{b}"
+        );
+        assert!(!b.contains("no-views"), "{b}");
+    }
+
+    #[test]
+    fn descriptions_or_why_there_is_none() {
+        let text = |d| {
+            let mut b = String::new();
+            description(&mut b, d);
+            b
+        };
+        let t = text(Description::Text {
+            id: "7",
+            text: "A <small> bedroom.",
+            run_had_row: Some(true),
+        });
+        assert!(
+            t.contains("<blockquote class=\"box\" id=\"description\">A &lt;small&gt; bedroom.</blockquote>"),
+            "{t}"
+        );
+        assert!(t.contains("annotation row 7 of"), "{t}");
+        let t = text(Description::Text {
+            id: "7",
+            text: "x",
+            run_had_row: Some(false),
+        });
+        assert!(t.contains("the run had no annotation row"), "{t}");
+        assert_eq!(
+            text(Description::NoRow),
+            "<p class=\"unknown\" id=\"description\">no description: the run has no annotation row</p>"
+        );
+        assert!(text(Description::NotGiven).contains("--annotations FILE"));
+        assert!(text(Description::NotInGiven).contains("have none for this scene"));
+    }
 }
