@@ -536,7 +536,7 @@ mod browser {
 
     #[test]
     fn a_verdict_clicked_and_one_typed_land_in_the_file_blind() {
-        let Some(chromium) = common::browser::chromium() else {
+        let Some(chromium) = sceneeval_test_support::system::chromium() else {
             return;
         };
         let dir = tempfile::tempdir().unwrap();

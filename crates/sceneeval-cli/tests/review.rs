@@ -578,7 +578,7 @@ mod browser {
 
     #[test]
     fn an_edit_made_in_the_page_is_saved_to_the_file() {
-        let Some(chromium) = common::browser::chromium() else {
+        let Some(chromium) = sceneeval_test_support::system::chromium() else {
             return;
         };
         let (dir, file) = setup();

@@ -1,5 +1,6 @@
-//! Headless Chromium for the page tests (`review.rs`, `judge.rs`): the system's browser, never
-//! a downloaded one, opened on a page with every error the page reports collected.
+//! Headless Chromium for the page tests (`review.rs`, `judge.rs`): the system's browser (found by
+//! `sceneeval_test_support::system::chromium`, never a downloaded one), opened on a page with
+//! every error the page reports collected.
 
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
@@ -8,7 +9,6 @@ use std::time::Duration;
 
 use headless_chrome::protocol::cdp::types::Event;
 use headless_chrome::{Browser, LaunchOptions, Tab};
-pub use sceneeval_test_support::system::chromium;
 
 /// A headless `chromium` with its profile in `profile`, a tab on `url` (waited for, `timeout`
 /// for every later wait), and every console error, uncaught exception and browser log error of
