@@ -37,18 +37,7 @@ use crate::server::{Api, ApiError, Asset, Limits, Listener, NoParams, Raw, Site,
 
 /// The page; its script and style sheet.
 const PAGE: &str = include_str!("judge/page.html");
-const ASSETS: [Asset; 2] = [
-    Asset {
-        path: "/app.js",
-        content_type: "text/javascript; charset=utf-8",
-        body: include_bytes!("judge/app.js"),
-    },
-    Asset {
-        path: "/app.css",
-        content_type: "text/css; charset=utf-8",
-        body: include_bytes!("judge/app.css"),
-    },
-];
+const ASSETS: [Asset; 2] = Asset::page_files(include_bytes!("judge/app.js"), include_bytes!("judge/app.css"));
 
 /// The seed of `--sample` unless `--seed` is given.
 pub const DEFAULT_SEED: u64 = 0;

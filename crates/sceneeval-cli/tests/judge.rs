@@ -8,13 +8,14 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
+use std::process::Command;
 use std::sync::LazyLock;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
+use common::page::{PageProcess, token_in};
 use serde_json::{Value, json};
 
 /// The run, its scene folder and its annotations, made once for every test of this file.
@@ -71,17 +72,12 @@ fn run_specs() -> Vec<(String, String, usize, String, Option<bool>)> {
 }
 
 /// A running `sceneeval judge RUN --no-open ...`, killed when dropped.
-struct Judge {
-    child: Child,
-    stdout: BufReader<ChildStdout>,
-    first_line: String,
-    port: u16,
-}
+struct Judge(PageProcess);
 
-impl Drop for Judge {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+impl std::ops::Deref for Judge {
+    type Target = PageProcess;
+    fn deref(&self) -> &PageProcess {
+        &self.0
     }
 }
 
@@ -118,34 +114,8 @@ impl Judge {
         Judge::spawn(judge_command(out, extra))
     }
 
-    fn spawn(mut command: Command) -> Judge {
-        let mut child = command
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut stdout = BufReader::new(child.stdout.take().unwrap());
-        let mut first_line = String::new();
-        stdout.read_line(&mut first_line).unwrap();
-        let url = first_line
-            .split_whitespace()
-            .find(|w| w.starts_with("http://127.0.0.1:"))
-            .unwrap_or_else(|| panic!("no URL in {first_line:?}"));
-        let port = url
-            .trim_start_matches("http://127.0.0.1:")
-            .trim_end_matches('/')
-            .parse()
-            .unwrap();
-        Judge {
-            child,
-            stdout,
-            first_line,
-            port,
-        }
-    }
-
-    fn url(&self) -> String {
-        format!("http://127.0.0.1:{}/", self.port)
+    fn spawn(command: Command) -> Judge {
+        Judge(PageProcess::spawn(command))
     }
 
     /// Sends a request and reads the response: status, content type, body bytes.
@@ -177,10 +147,7 @@ impl Judge {
     fn token(&self) -> String {
         let (status, _, page) = self.raw("GET / HTTP/1.1", "");
         assert_eq!(status, 200);
-        let page = String::from_utf8(page).unwrap();
-        let slot = "name=\"sceneeval-token\" content=\"";
-        let start = page.find(slot).unwrap() + slot.len();
-        page[start..start + 32].to_owned()
+        token_in(&String::from_utf8(page).unwrap())
     }
 
     fn get(&self, token: &str, path: &str) -> (u16, String, Vec<u8>) {
@@ -204,19 +171,10 @@ impl Judge {
         serde_json::from_slice(&body).unwrap()
     }
 
-    /// Ctrl-C, then the rest of standard output.
-    fn interrupt(mut self) -> String {
-        let pid = self.child.id().to_string();
-        assert!(
-            Command::new("kill")
-                .args(["-INT", &pid])
-                .status()
-                .unwrap()
-                .success()
-        );
-        let mut rest = String::new();
-        self.stdout.read_to_string(&mut rest).unwrap();
-        assert!(self.child.wait().unwrap().success());
+    /// Ctrl-C, then the rest of standard output (the process ended well).
+    fn interrupt(self) -> String {
+        let (status, rest) = self.0.interrupt();
+        assert!(status.success());
         rest
     }
 }
@@ -499,15 +457,8 @@ fn the_views_the_run_kept_are_served_and_links_out_of_it_are_not_followed() {
 }
 
 /// Waits until `check` holds, for at most 60 seconds.
-fn wait_for(what: &str, mut check: impl FnMut() -> bool) {
-    let start = Instant::now();
-    while !check() {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "timed out waiting for {what}"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
+fn wait_for(what: &str, check: impl FnMut() -> bool) {
+    common::page::wait_for(what, Duration::from_secs(60), check);
 }
 
 mod browser {

@@ -9,12 +9,13 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
+use common::page::{PageProcess, token_in};
 use serde_json::{Value, json};
 
 /// Row 5 has its attribute and category swapped (`eq,1,red,bed`, an error of the validator);
@@ -40,16 +41,18 @@ fn setup() -> (tempfile::TempDir, PathBuf) {
 }
 
 /// A running `sceneeval annotations review FILE --no-open`, killed when dropped.
-struct Review {
-    child: Child,
-    stdout: BufReader<ChildStdout>,
-    port: u16,
+struct Review(PageProcess);
+
+impl std::ops::Deref for Review {
+    type Target = PageProcess;
+    fn deref(&self) -> &PageProcess {
+        &self.0
+    }
 }
 
-impl Drop for Review {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+impl std::ops::DerefMut for Review {
+    fn deref_mut(&mut self) -> &mut PageProcess {
+        &mut self.0
     }
 }
 
@@ -68,34 +71,8 @@ impl Review {
     }
 
     fn spawn(mut command: Command, file: &Path) -> Review {
-        let mut child = command
-            .args(["annotations", "review", "--no-open"])
-            .arg(file)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut stdout = BufReader::new(child.stdout.take().unwrap());
-        let mut line = String::new();
-        stdout.read_line(&mut line).unwrap();
-        let url = line
-            .split_whitespace()
-            .find(|w| w.starts_with("http://127.0.0.1:"))
-            .unwrap_or_else(|| panic!("no URL in {line:?}"));
-        let port = url
-            .trim_start_matches("http://127.0.0.1:")
-            .trim_end_matches('/')
-            .parse()
-            .unwrap();
-        Review { child, stdout, port }
-    }
-
-    fn host(&self) -> String {
-        format!("127.0.0.1:{}", self.port)
-    }
-
-    fn url(&self) -> String {
-        format!("http://127.0.0.1:{}/", self.port)
+        command.args(["annotations", "review", "--no-open"]).arg(file);
+        Review(PageProcess::spawn(command))
     }
 
     /// Sends `head` (request line and headers without the final blank line) with `body`,
@@ -128,9 +105,7 @@ impl Review {
     fn token(&self) -> String {
         let (status, page) = self.raw(&format!("GET / HTTP/1.1\r\nHost: {}", self.host()), "");
         assert_eq!(status, 200, "{page}");
-        let slot = "name=\"sceneeval-token\" content=\"";
-        let start = page.find(slot).unwrap() + slot.len();
-        page[start..start + 32].to_owned()
+        token_in(&page)
     }
 
     fn get(&self, token: &str, path: &str) -> (u16, Value) {
@@ -161,24 +136,9 @@ impl Review {
         )
     }
 
-    /// Sends SIGINT (Ctrl-C) to the server.
-    fn send_interrupt(&self) {
-        let pid = self.child.id().to_string();
-        assert!(
-            Command::new("kill")
-                .args(["-INT", &pid])
-                .status()
-                .unwrap()
-                .success()
-        );
-    }
-
     /// Sends SIGINT (Ctrl-C) and returns the rest of standard output after the process ends.
-    fn interrupt(mut self) -> (std::process::ExitStatus, String) {
-        self.send_interrupt();
-        let mut rest = String::new();
-        self.stdout.read_to_string(&mut rest).unwrap();
-        (self.child.wait().unwrap(), rest)
+    fn interrupt(self) -> (std::process::ExitStatus, String) {
+        self.0.interrupt()
     }
 }
 
@@ -426,15 +386,8 @@ fn a_reviewed_file_keeps_its_mode_and_new_files_get_the_umask_s() {
 }
 
 /// Waits until `check` holds, for at most 20 seconds.
-fn wait_for(what: &str, mut check: impl FnMut() -> bool) {
-    let start = Instant::now();
-    while !check() {
-        assert!(
-            start.elapsed() < Duration::from_secs(20),
-            "timed out waiting for {what}"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
+fn wait_for(what: &str, check: impl FnMut() -> bool) {
+    common::page::wait_for(what, Duration::from_secs(20), check);
 }
 
 /// Clients that misbehave on purpose: none of them stops the server or holds up anyone else.

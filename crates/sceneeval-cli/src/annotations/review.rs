@@ -36,18 +36,8 @@ use crate::server::{Api, ApiError, Asset, Limits, Listener, NoParams, Site, open
 
 /// The page; its script and style sheet.
 const PAGE: &str = include_str!("review/page.html");
-const ASSETS: [Asset; 2] = [
-    Asset {
-        path: "/app.js",
-        content_type: "text/javascript; charset=utf-8",
-        body: include_bytes!("review/app.js"),
-    },
-    Asset {
-        path: "/app.css",
-        content_type: "text/css; charset=utf-8",
-        body: include_bytes!("review/app.css"),
-    },
-];
+const ASSETS: [Asset; 2] =
+    Asset::page_files(include_bytes!("review/app.js"), include_bytes!("review/app.css"));
 
 /// Arguments of `sceneeval annotations review`.
 #[derive(Debug, clap::Args)]

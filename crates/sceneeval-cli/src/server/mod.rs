@@ -76,6 +76,25 @@ pub struct Asset {
     pub body: &'static [u8],
 }
 
+impl Asset {
+    /// A page's script and style sheet, served at `/app.js` and `/app.css` (every page's
+    /// HTML loads them from there).
+    pub const fn page_files(script: &'static [u8], style: &'static [u8]) -> [Asset; 2] {
+        [
+            Asset {
+                path: "/app.js",
+                content_type: "text/javascript; charset=utf-8",
+                body: script,
+            },
+            Asset {
+                path: "/app.css",
+                content_type: "text/css; charset=utf-8",
+                body: style,
+            },
+        ]
+    }
+}
+
 /// What the server holds a client to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {

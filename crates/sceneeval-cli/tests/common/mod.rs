@@ -1,9 +1,10 @@
 //! Helpers shared by the command-line tests: the fixture folder, running `sceneeval evaluate`
 //! and reading a scene's record.
 
-#![allow(dead_code, clippy::unwrap_used)]
+#![allow(dead_code, clippy::unwrap_used, clippy::panic)]
 
 pub mod browser;
+pub mod page;
 
 use std::path::{Path, PathBuf};
 
