@@ -160,6 +160,7 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
             overlay,
             remarks,
             columns: &columns,
+            labels: run.labels(),
         });
         if let Err(why) = loaded {
             without_top_view.push((name.to_owned(), why));

@@ -28,6 +28,9 @@ pub struct Run {
     pub unreadable: Vec<Unreadable>,
     /// Scene name to difficulty (`easy`, `medium`, `hard`, ...), for scenes that have one.
     difficulty: BTreeMap<String, String>,
+    /// The agreement of this run with people's labels, when the report shows them
+    /// ([`Run::with_labels`]).
+    pub(crate) labels: Option<Box<crate::agreement::Agreement>>,
 }
 
 /// A record of a run folder that could not be read.
@@ -130,7 +133,13 @@ impl Run {
             records,
             unreadable: Vec::new(),
             difficulty: BTreeMap::new(),
+            labels: None,
         }
+    }
+
+    /// The agreement of this run with the people's labels ([`Run::with_labels`]), if given.
+    pub fn labels(&self) -> Option<&crate::agreement::Agreement> {
+        self.labels.as_deref()
     }
 
     /// The run under another name.

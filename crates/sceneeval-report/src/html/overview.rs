@@ -54,6 +54,7 @@ pub(crate) fn overview(
     unreadable(&mut b, run);
     summary_table(&mut b, columns, &groups);
     charts(&mut b, columns, &groups);
+    super::labels::overview_section(&mut b, run, pages);
     scenes_table(&mut b, run, columns, pages);
     page(&format!("SceneEval report: {}", run.name), &b)
 }
