@@ -68,7 +68,7 @@ pub enum EnsembleError {
         run: PathBuf,
         /// Why.
         #[source]
-        source: EvalError,
+        source: Box<EvalError>,
     },
     /// Two runs' plans differ in something else than the judge.
     #[error(
@@ -153,8 +153,17 @@ pub enum EnsembleError {
     },
     /// Writing the output failed.
     #[error(transparent)]
-    Write(#[from] RunError),
+    Write(Box<RunError>),
 }
+
+impl From<RunError> for EnsembleError {
+    fn from(e: RunError) -> Self {
+        EnsembleError::Write(Box::new(e))
+    }
+}
+
+/// Per spec of a metric: the majority's verdict, every run's vote; and how many specs tied.
+type Tally = (Vec<Revote>, Vec<Vec<Option<bool>>>, usize);
 
 /// Where an ensemble is written and how its summary groups scenes.
 #[derive(Debug, Clone, Default)]
@@ -322,7 +331,7 @@ fn read_sources(runs: &[PathBuf]) -> Result<Vec<Source>, EnsembleError> {
             EvaluationPlan::from_json_str(&plan.plan.to_string()).map_err(|source| {
                 EnsembleError::BadPlan {
                     run: path.clone(),
-                    source,
+                    source: Box::new(source),
                 }
             })?;
         let mut records = BTreeMap::new();
@@ -521,7 +530,7 @@ fn vote(
     scene: &str,
     metric: FidelityMetric,
     base: &FidelityReport,
-) -> Result<(Vec<Revote>, Vec<Vec<Option<bool>>>, usize), EnsembleError> {
+) -> Result<Tally, EnsembleError> {
     let specs = base.verdicts(metric);
     let mut table: Vec<Vec<Option<bool>>> = vec![Vec::with_capacity(reports.len()); specs.len()];
     for (source, report) in sources.iter().zip(reports) {
@@ -934,7 +943,7 @@ mod tests {
         assert!(matches!(err, EnsembleError::NoPlan { .. }), "{err}");
         // One run, and the output folder being a source.
         assert!(matches!(
-            ensemble(&[a.clone()], &out()),
+            ensemble(std::slice::from_ref(&a), &out()),
             Err(EnsembleError::TooFewRuns { given: 1 })
         ));
         let b2 = run(root.path(), "b2", &p, &v, 0.5);
