@@ -14,6 +14,7 @@ mod agreement;
 mod annotations;
 mod compare;
 mod convert;
+mod ensemble;
 mod evaluate;
 mod format;
 mod inspect;
@@ -55,6 +56,8 @@ enum Command {
     Evaluate(Box<evaluate::Args>),
     /// Merge the per-scene results of output folders (e.g. shards) into the summary tables.
     Summarize(summarize::Args),
+    /// Combine runs made with different judges: each fidelity verdict the majority of the runs'.
+    Ensemble(ensemble::Args),
     /// Compare the runs of several methods: a paper table with ranks (Markdown, CSV, LaTeX, HTML).
     Compare(compare::Args),
     /// How far judges agree with people on the fidelity specs: agreement and Cohen's/Fleiss' kappa.
@@ -86,6 +89,7 @@ fn main() -> ExitCode {
         Command::Settle(args) => settle::run(args),
         Command::Summarize(args) => summarize::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Ensemble(args) => ensemble::run(args),
         Command::Report(args) => report::run(args),
         Command::Agreement(args) => agreement::run(args),
         Command::Judge(args) => judge::run(args),

@@ -36,6 +36,12 @@ pub struct Args {
     /// The run's name in the report (default: the folder's name).
     #[arg(long, value_name = "NAME")]
     pub name: Option<String>,
+    /// Label files of people's verdicts on the run's specs (JSON Lines, or CSV when the name
+    /// ends in .csv; docs/judge.md): the overview page gets the agreement table of `sceneeval
+    /// agreement --reference LABELS RUN` and each scene page marks the specs where the run and
+    /// the people's majority disagree.
+    #[arg(long, value_name = "LABELS", num_args = 1..)]
+    pub labels: Vec<PathBuf>,
 }
 
 /// Where a command that draws a run's scenes (`report`, `judge`) reads their files: the
@@ -73,6 +79,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let a = Annotations::read(path).with_context(|| format!("reading annotations {}", path.display()))?;
         run = run.with_annotations(&a);
     }
+    if !args.labels.is_empty() {
+        run = with_labels(run, &args.labels)?;
+    }
     let out = args.out.clone().unwrap_or_else(|| args.run.join(DEFAULT_DIR));
     let written = write_report(&run, &out, &args.sources.options())?;
     tell(&run, &written);
@@ -98,6 +107,22 @@ pub fn after_evaluate(
     let written = write_report(&run, &out.join(DEFAULT_DIR), &options)?;
     tell(&run, &written);
     Ok(())
+}
+
+/// `run` with its agreement with the label files `paths` (the defaults of `sceneeval
+/// agreement`: 1000 resamples, its seed), its notes said on standard error.
+fn with_labels(run: Run, paths: &[PathBuf]) -> anyhow::Result<Run> {
+    use sceneeval::report::agreement::AgreementOptions;
+    use sceneeval::report::labels::LabelFile;
+    let files = paths
+        .iter()
+        .map(|p| LabelFile::read(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let run = run.with_labels(&files, &AgreementOptions::default())?;
+    for note in run.labels().map(|a| a.notes.as_slice()).unwrap_or_default() {
+        eprintln!("note: {note}");
+    }
+    Ok(run)
 }
 
 /// Reads a run folder (`sceneeval report`, `sceneeval compare`), saying which records could

@@ -337,6 +337,20 @@ impl Evaluator {
         }
     }
 
+    /// What a run folder records of this evaluator (`plan.json`,
+    /// [`sceneeval_results::RunPlan`]): [`Evaluator::result_digest`], the resolved plan as a
+    /// plan file writes it, and the VLM's model name and settings when one is configured.
+    pub fn run_plan(&self) -> sceneeval_results::RunPlan {
+        use sceneeval_vlm::Vlm;
+        // Serialising a plan (plain data) cannot fail.
+        let plan = serde_json::to_value(&self.plan).unwrap_or_default();
+        let vlm = self.vlm.as_ref().map(|v| sceneeval_results::JudgeModel {
+            model: v.model().to_owned(),
+            settings: v.settings().to_owned(),
+        });
+        sceneeval_results::RunPlan::new(self.result_digest(), plan, vlm)
+    }
+
     /// Evaluates one scene under the whole plan: the per-scene pipeline, the one call for
     /// every plan (geometry, stability, text fidelity, with or without a VLM; settling a scene
     /// is [`Evaluator::settle_scene`]).

@@ -86,7 +86,7 @@ pub use params::{
 pub use report::{
     ArchCandidate, AtrSpec, AttributeAssessment, CandidateGroup, CntSpec, FidelityReport, FidelitySummary,
     MappingSource, MappingStatus, MatchingSummary, MetricResult, OarSpec, OorSpec, Participants,
-    PredicateResult, RelationMappingInfo, SpecCount,
+    PredicateResult, RelationMappingInfo, Revote, SpecCount,
 };
 #[cfg(feature = "render")]
 pub use views::RenderedViews;

@@ -64,6 +64,108 @@ impl FidelityReport {
     }
 }
 
+/// A verdict put on a spec from outside the evaluation (an ensemble's majority,
+/// `sceneeval_run::ensemble`): the verdict, and why there is none when `None`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Revote {
+    /// The spec's new verdict.
+    pub satisfied: Option<bool>,
+    /// Why it has none (recorded in the spec's `unanswered`); ignored with a verdict.
+    pub unanswered: Option<String>,
+}
+
+/// The specs of every metric, whose verdict can be replaced ([`FidelityReport::revote`]).
+trait Judged {
+    fn verdict(&self) -> Option<bool>;
+    fn set(&mut self, vote: &Revote);
+}
+
+macro_rules! judged {
+    ($($t:ty),*) => {$(
+        impl Judged for $t {
+            fn verdict(&self) -> Option<bool> {
+                self.satisfied
+            }
+
+            fn set(&mut self, vote: &Revote) {
+                self.satisfied = vote.satisfied;
+                self.unanswered = match vote.satisfied {
+                    Some(_) => None,
+                    None => vote.unanswered.clone(),
+                };
+            }
+        }
+    )*};
+}
+judged!(CntSpec, AtrSpec, OorSpec, OarSpec);
+
+impl FidelityReport {
+    /// Replaces the verdicts of `metric`'s specs, in the order of its `specs`, and recounts
+    /// the metric (satisfied, unanswered, score and message) and the summary exactly as the
+    /// evaluation counts them: a spec without a verdict is unanswered, left out of the score.
+    /// The evidence of each spec (candidate groups, assessments) is left as it was. A metric
+    /// that was not judged (ATR without a VLM) stays so.
+    ///
+    /// # Errors
+    /// The number of specs the metric has (`0` when it did not run) when `votes` has another
+    /// length; nothing is changed then.
+    pub fn revote(&mut self, metric: FidelityMetric, votes: &[Revote]) -> Result<(), usize> {
+        fn apply<T: Judged>(m: Option<&mut MetricResult<T>>, votes: &[Revote]) -> Result<(), usize> {
+            let Some(m) = m else {
+                return if votes.is_empty() { Ok(()) } else { Err(0) };
+            };
+            if m.specs.len() != votes.len() {
+                return Err(m.specs.len());
+            }
+            for (spec, vote) in m.specs.iter_mut().zip(votes) {
+                spec.set(vote);
+            }
+            if m.not_judged.is_none() {
+                let empty = m.message.clone();
+                let specs = std::mem::take(&mut m.specs);
+                *m = MetricResult::new(specs, Judged::verdict, &empty);
+            }
+            Ok(())
+        }
+        match metric {
+            FidelityMetric::Cnt => apply(self.cnt.as_mut(), votes)?,
+            FidelityMetric::Atr => apply(self.atr.as_mut(), votes)?,
+            FidelityMetric::Oor => {
+                apply(self.oor.as_mut(), votes)?;
+                if let Some(oor) = &mut self.oor {
+                    oor.note_absent_objects();
+                }
+            }
+            FidelityMetric::Oar => apply(self.oar.as_mut(), votes)?,
+        }
+        self.rescore();
+        Ok(())
+    }
+
+    /// Sets the summary from each metric's score.
+    pub(crate) fn rescore(&mut self) {
+        self.summary = FidelitySummary {
+            cnt: self.cnt.as_ref().and_then(|r| r.score),
+            atr: self.atr.as_ref().and_then(|r| r.score),
+            oor: self.oor.as_ref().and_then(|r| r.score),
+            oar: self.oar.as_ref().and_then(|r| r.score),
+        };
+    }
+}
+
+impl MetricResult<OorSpec> {
+    /// Says in the message when no spec has all its objects in the scene.
+    pub(crate) fn note_absent_objects(&mut self) {
+        const NOTE: &str = "No object-object relationship specs have all objects present in the scene.";
+        if self.total > 0
+            && self.specs.iter().all(|s| !s.all_objects_present)
+            && !self.message.starts_with(NOTE)
+        {
+            self.message = format!("{NOTE} {}", self.message);
+        }
+    }
+}
+
 /// The satisfied share of specs per metric: satisfied specs over the specs with a verdict;
 /// `null` when the scene has no such specs, none has a verdict, or (ATR) they could not be
 /// judged (no VLM). Specs without a verdict are counted in their [`MetricResult::unanswered`].
@@ -383,4 +485,86 @@ pub struct OarSpec {
     pub unanswered: Option<String>,
     /// The verdict; `null` when undecided (see `unanswered`).
     pub satisfied: Option<bool>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cnt(spec: &str, satisfied: Option<bool>) -> CntSpec {
+        CntSpec {
+            spec: spec.to_owned(),
+            count: SpecCount {
+                quantifier: "eq".into(),
+                quantity: 1,
+            },
+            category: "bed".into(),
+            objects: Vec::new(),
+            count_in_scene: 1,
+            unanswered: None,
+            satisfied,
+        }
+    }
+
+    fn report(specs: Vec<CntSpec>) -> FidelityReport {
+        let mut r = FidelityReport {
+            matching: None,
+            relation_mapping: RelationMapping::Lexicon,
+            cnt: Some(MetricResult::new(specs, |s| s.satisfied, "none")),
+            atr: None,
+            oor: None,
+            oar: None,
+            summary: FidelitySummary::default(),
+            vlm_usage: None,
+            views_rendered: 0,
+            warnings: Vec::new(),
+        };
+        r.rescore();
+        r
+    }
+
+    fn vote(v: Option<bool>) -> Revote {
+        Revote {
+            satisfied: v,
+            unanswered: v.is_none().then(|| "the judges tied".to_owned()),
+        }
+    }
+
+    /// Three specs re-voted to yes, no, tie: 1 satisfied of 2 decided, 1 unanswered, CNT 0.5,
+    /// equal to the report evaluated with those verdicts.
+    #[test]
+    fn revoting_recounts_as_the_evaluation_counts() {
+        let mut r = report(vec![
+            cnt("a", Some(false)),
+            cnt("b", Some(true)),
+            cnt("c", Some(true)),
+        ]);
+        assert_eq!(r.summary.cnt, Some(2.0 / 3.0));
+        r.revote(
+            FidelityMetric::Cnt,
+            &[vote(Some(true)), vote(Some(false)), vote(None)],
+        )
+        .unwrap();
+        let m = r.cnt.as_ref().unwrap();
+        assert_eq!(
+            (m.satisfied, m.total, m.unanswered, m.score),
+            (Some(1), 3, 1, Some(0.5))
+        );
+        assert_eq!(r.summary.cnt, Some(0.5));
+        assert_eq!(m.specs[2].unanswered.as_deref(), Some("the judges tied"));
+        let mut tied = cnt("c", None);
+        tied.unanswered = Some("the judges tied".into());
+        let direct = report(vec![cnt("a", Some(true)), cnt("b", Some(false)), tied]);
+        assert_eq!(r, direct);
+        // Every spec tied: no score, as the evaluation gives without verdicts.
+        r.revote(FidelityMetric::Cnt, &[vote(None), vote(None), vote(None)])
+            .unwrap();
+        assert_eq!(r.summary.cnt, None);
+        // Wrong lengths and metrics that did not run are refused, nothing changed.
+        let before = r.clone();
+        assert_eq!(r.revote(FidelityMetric::Cnt, &[vote(None)]), Err(3));
+        assert_eq!(r.revote(FidelityMetric::Oar, &[vote(None)]), Err(0));
+        assert_eq!(r.revote(FidelityMetric::Oar, &[]), Ok(()));
+        assert_eq!(r, before);
+    }
 }

@@ -167,6 +167,7 @@ pub fn write_report(run: &Run, out: &Path, options: &ReportOptions) -> Result<Wr
             description: run.description(name),
             previous: k.checked_sub(1).map(link),
             next: (k + 1 < files.len()).then(|| link(k + 1)),
+            labels: run.labels(),
         });
         if let Err(why) = loaded {
             without_top_view.push((name.to_owned(), why));

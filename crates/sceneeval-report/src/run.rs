@@ -31,6 +31,9 @@ pub struct Run {
     /// Scene name to its annotation row's id and description, from the annotations given
     /// ([`Run::with_annotations`]); `None` when none were given.
     descriptions: Option<BTreeMap<String, (String, String)>>,
+    /// The agreement of this run with people's labels, when the report shows them
+    /// ([`Run::with_labels`]).
+    pub(crate) labels: Option<Box<crate::agreement::Agreement>>,
 }
 
 /// What a scene page says about the scene's description ([`Run::description`]).
@@ -158,7 +161,13 @@ impl Run {
             unreadable: Vec::new(),
             difficulty: BTreeMap::new(),
             descriptions: None,
+            labels: None,
         }
+    }
+
+    /// The agreement of this run with the people's labels ([`Run::with_labels`]), if given.
+    pub fn labels(&self) -> Option<&crate::agreement::Agreement> {
+        self.labels.as_deref()
     }
 
     /// The run under another name.

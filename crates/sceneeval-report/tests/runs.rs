@@ -845,3 +845,102 @@ fn the_compare_page_lists_scene_differences_by_size_with_working_links() {
         }
     }
 }
+
+/// `sceneeval report RUN --labels LABELS`: two people agree with method-a on every spec but
+/// scene 8's CNT `eq,2,chair`, which the run says is not satisfied and both say is. The
+/// overview shows the table `agreement` computes for the same labels and run (one `ft` item of
+/// the run's, agreement (n - 1) / n); scene 8's page marks that spec, scene 2's marks none; a
+/// report without labels has no such section; in a browser the mark shows.
+#[test]
+fn a_report_with_labels_shows_the_agreement_and_marks_disagreements() {
+    use sceneeval_fidelity::FidelityMetric;
+    use sceneeval_report::agreement::RowKind;
+    use sceneeval_report::labels::LabelFile;
+    use sceneeval_report::{AgreementOptions, Source, agreement};
+
+    let r = runs();
+    let run = Run::open(&r.a).unwrap();
+    let mut text = String::new();
+    for record in &run.records {
+        let Some(f) = record.report().and_then(|x| x.fidelity.as_ref()) else {
+            continue;
+        };
+        for metric in FidelityMetric::ALL {
+            for (index, (spec, v)) in f.verdicts(metric).into_iter().enumerate() {
+                let Some(v) = v else { continue };
+                let v = if record.scene.as_str() == "scene_8" && spec == "eq,2,chair" {
+                    !v
+                } else {
+                    v
+                };
+                for who in ["alice", "bob"] {
+                    text.push_str(&format!(
+                        "{{\"scene\": \"{}\", \"metric\": \"{}\", \"index\": {index}, \"spec\": \"{spec}\", \
+                         \"satisfied\": {v}, \"annotator\": \"{who}\"}}\n",
+                        record.scene.as_str(),
+                        metric.name()
+                    ));
+                }
+            }
+        }
+    }
+    let labels = LabelFile::from_jsonl_str(Path::new("people.jsonl"), &text).unwrap();
+    let options = AgreementOptions::default();
+    let with = run
+        .clone()
+        .with_labels(std::slice::from_ref(&labels), &options)
+        .unwrap();
+    let table = agreement(&[labels], &[Source::Run(run)], &options).unwrap();
+    assert_eq!(with.labels(), Some(&table));
+    let all = table
+        .rows
+        .iter()
+        .find(|row| row.kind == RowKind::Judge && row.metric == "all")
+        .unwrap();
+    assert_eq!((all.tf, all.ft), (Some(0), Some(1)));
+    let out = r.root.join("report-labels");
+    write_report(&with, &out, &r.options("method-a")).unwrap();
+    let index = read(&out.join("index.html"));
+    assert!(index.contains("id=\"agreement\""), "{index}");
+    let pct = format!("<td class=\"num\">{:.1}</td>", all.agreement.unwrap() * 100.0);
+    assert!(index.contains(&pct), "{pct} in {index}");
+    assert!(
+        index.contains("Specs where the run and the people disagree (1)"),
+        "{index}"
+    );
+    assert!(
+        index.contains("<a href=\"scenes/scene_8.html\">scene_8</a>, CNT"),
+        "{index}"
+    );
+    let s8 = read(&out.join("scenes/scene_8.html"));
+    assert!(
+        s8.contains("<tr class=\"disagree\">")
+            && s8.contains("<code>eq,2,chair</code></td><td>not satisfied</td><td>satisfied</td>"),
+        "{s8}"
+    );
+    let s2 = read(&out.join("scenes/scene_2.html"));
+    assert!(
+        s2.contains("No spec of this scene where the run and the people disagree."),
+        "{s2}"
+    );
+    assert!(!read(&r.a.join("report/index.html")).contains("id=\"labels\""));
+
+    let probe = Command::new("chromium")
+        .arg("--version")
+        .output()
+        .map_err(|e| format!("chromium: {e}"));
+    if available(&BROWSER, probe.map(|_| ()), |_| true).is_none() {
+        return;
+    }
+    let profile = tempfile::tempdir().unwrap();
+    let url = format!(
+        "file://{}",
+        out.join("scenes/scene_8.html").canonicalize().unwrap().display()
+    );
+    let (dom, log) = chromium(profile.path(), &url, &["--dump-dom".to_owned()]);
+    assert!(dom.contains("data-script=\"ok\""), "{log}");
+    assert!(
+        dom.contains("<tr class=\"disagree\">"),
+        "the mark is missing from the DOM"
+    );
+}

@@ -11,6 +11,10 @@
 //!   and which way each improves ([`Better`]); [`Preset`]: the named parameter presets.
 //! - [`Summary`]: the paper's tables (overall and by difficulty) and the per-scene table, from
 //!   records; `summary.csv`, `summary.md`, `summary_scenes.csv`.
+//! - [`EnsembleVotes`]: an ensemble's votes per spec and the geometry its runs differ in
+//!   (the `ensemble` section of a scene report).
+//! - [`RunPlan`]: the plan a run folder's results were made with (`plan.json`), with its VLM
+//!   and, for an ensemble, the runs it combines.
 //! - [`SceneTiming`]: a scene's wall times, `timing.json` (never in `eval.json`, which is the
 //!   same from run to run).
 //!
@@ -42,6 +46,7 @@
 //! assert!(summary.to_markdown().contains("Preset: `default`"));
 //! ```
 
+mod ensemble;
 mod error;
 mod fingerprint;
 mod metric;
@@ -49,9 +54,11 @@ mod name;
 mod preset;
 mod record;
 mod report;
+mod run_plan;
 mod summary;
 mod timing;
 
+pub use ensemble::{EnsembleVotes, GeometryDifference};
 pub use error::ResultsError;
 pub use fingerprint::{AssetDigest, FileDigest, Fingerprint, TOOL_VERSION};
 pub use metric::{Better, Metric, UnknownMetric};
@@ -62,6 +69,7 @@ pub use report::{
     IncompleteMetric, ObjectPlacement, PlacementSource, Provenance, SCENE_REPORT_SCHEMA, SceneReport,
     SceneSummary,
 };
+pub use run_plan::{JudgeModel, RUN_PLAN_FILE, RUN_PLAN_SCHEMA, RunPlan, SourceRun};
 pub use summary::{
     ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneRow, Summary,
     UNANNOTATED,

@@ -55,6 +55,10 @@ pub struct SceneReport {
     /// averages, and the next run evaluates the scene again.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub incomplete: Vec<IncompleteMetric>,
+    /// For a report made by an ensemble of runs (`sceneeval ensemble`): the runs, each spec's
+    /// votes, and the geometry metrics the runs differ in. Absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ensemble: Option<crate::EnsembleVotes>,
 }
 
 impl std::ops::Deref for SceneReport {
@@ -195,6 +199,7 @@ impl SceneReport {
             stability: None,
             placement: None,
             incomplete: Vec::new(),
+            ensemble: None,
         }
     }
 
@@ -216,6 +221,14 @@ impl SceneReport {
     pub fn with_incomplete(mut self, mut incomplete: Vec<IncompleteMetric>) -> Self {
         incomplete.sort_by_key(|m| m.metric);
         self.incomplete = incomplete;
+        self
+    }
+
+    /// The report with `fidelity` in place of its text-fidelity section, and its scores in the
+    /// summary (as [`SceneReport::new`] puts them).
+    pub fn with_fidelity(mut self, fidelity: FidelityReport) -> Self {
+        self.summary.fidelity = Some(fidelity.summary);
+        self.fidelity = Some(fidelity);
         self
     }
 

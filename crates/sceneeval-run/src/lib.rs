@@ -16,6 +16,9 @@
 //!   one run at a time ([`OutputLock`]); then the paper's tables
 //!   (`sceneeval_results::Summary`).
 //!
+//! - [`ensemble`]: runs made with different judges on the same scenes combined into one run
+//!   folder, each text-fidelity verdict the majority of the runs' (`sceneeval ensemble`).
+//!
 //! What happens to one scene is `sceneeval_eval::Evaluator::evaluate_scene`. The data flow:
 //! `docs/architecture.md`.
 //!
@@ -25,6 +28,7 @@
 
 mod batch;
 mod dry_run;
+mod ensemble;
 mod error;
 mod files;
 mod fingerprint;
@@ -33,6 +37,7 @@ mod scene_file;
 
 pub use batch::{BatchOptions, BatchOutcome, Reason, RunEvent, SceneStatus, run_batch};
 pub use dry_run::{DryRun, TaskCost};
+pub use ensemble::{EnsembleError, EnsembleOptions, EnsembleOutcome, ensemble};
 pub use error::RunError;
 pub use files::{LOCK_FILE, OutputLock, check_output_dir};
 pub use fingerprint::{Fingerprints, annotation_digest, matching_file_digest};

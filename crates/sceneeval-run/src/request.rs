@@ -441,7 +441,8 @@ impl PreparedRun {
             .install(|| crate::batch::dry_run_batch(&self.scenes, &evaluator, &self.assets, &options, &model))
     }
 
-    /// Evaluates the scenes on the request's worker threads with [`run_batch`] (calling
+    /// Writes the run's plan (`plan.json`, [`sceneeval_results::RunPlan`]), evaluates the
+    /// scenes on the request's worker threads with [`run_batch`] (calling
     /// `on_event` as each scene is done), then writes `summary.csv` and `summary.md` into the
     /// output folder (groups: all scenes, each difficulty of the annotations, unannotated).
     ///
@@ -450,6 +451,8 @@ impl PreparedRun {
     /// written.
     pub fn run(self, on_event: &(dyn Fn(&RunEvent<'_>) + Sync)) -> Result<RunOutcome, RunError> {
         let (out_dir, force, diagnostics) = self.options;
+        // Before the first scene, so that an interrupted run says what it was made with.
+        self.evaluator.run_plan().write(&out_dir)?;
         let options = BatchOptions {
             out_dir: out_dir.clone(),
             force,
@@ -535,6 +538,30 @@ mod tests {
                 Some(RequestField::VlmRenderSize)
             );
         }
+    }
+
+    /// The run folder records the resolved plan (`plan.json`): its digest is the records',
+    /// and it reads back as the plan the run was made with.
+    #[test]
+    fn a_run_records_its_plan() {
+        let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        let out = tempfile::tempdir().unwrap();
+        let mut request = EvaluationRequest::new(fixtures.join("scenes"), out.path());
+        request.assets = vec![format!("fixture={}", fixtures.join("assets").display())];
+        request.plan.plan = Some("oob".into());
+        request.plan.preset = Some(sceneeval_eval::Preset::Reference);
+        request.shard = Some("1/12".parse().unwrap());
+        let prepared = request.prepare().unwrap();
+        let plan = prepared.evaluator().plan().clone();
+        let outcome = prepared.run(&|_| {}).unwrap();
+        let recorded = sceneeval_results::RunPlan::read(out.path()).unwrap().unwrap();
+        assert_eq!(recorded.vlm, None);
+        assert!(recorded.sources.is_empty());
+        let record = &outcome.batch.records[0];
+        assert_eq!(recorded.digest, record.fingerprint.as_ref().unwrap().plan);
+        let back: sceneeval_eval::EvaluationPlan = serde_json::from_value(recorded.plan).unwrap();
+        assert_eq!(back, plan);
+        assert_eq!(back.preset, sceneeval_eval::Preset::Reference);
     }
 
     #[test]

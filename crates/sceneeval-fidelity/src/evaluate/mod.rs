@@ -238,14 +238,8 @@ impl FidelityEvaluator {
         let atr = kept(FidelityMetric::Atr, atr, &mut failures);
         let oor = kept(FidelityMetric::Oor, oor, &mut failures);
         let oar = kept(FidelityMetric::Oar, oar, &mut failures);
-        let summary = FidelitySummary {
-            cnt: cnt.as_ref().and_then(|r| r.score),
-            atr: atr.as_ref().and_then(|r| r.score),
-            oor: oor.as_ref().and_then(|r| r.score),
-            oar: oar.as_ref().and_then(|r| r.score),
-        };
         let matching = matching.ok();
-        let report = FidelityReport {
+        let mut report = FidelityReport {
             matching: matching.as_ref().map(|m| MatchingSummary {
                 source: m.source,
                 message: m.matching.message(scene.objects().len()),
@@ -256,11 +250,12 @@ impl FidelityEvaluator {
             atr,
             oor,
             oar,
-            summary,
+            summary: FidelitySummary::default(),
             vlm_usage: res.session.map(|s| s.usage()),
             views_rendered: res.views.map_or(0, |v| v.made()),
             warnings,
         };
+        report.rescore();
         FidelityOutcome {
             report,
             matching,

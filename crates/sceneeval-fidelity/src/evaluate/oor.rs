@@ -210,12 +210,7 @@ impl FidelityEvaluator {
             |s| s.satisfied,
             "No object-object relationship specs to evaluate.",
         );
-        if result.total > 0 && result.specs.iter().all(|s| !s.all_objects_present) {
-            result.message = format!(
-                "No object-object relationship specs have all objects present in the scene. {}",
-                result.message
-            );
-        }
+        result.note_absent_objects();
         Ok(result)
     }
 

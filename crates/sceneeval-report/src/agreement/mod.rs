@@ -15,7 +15,7 @@
 //! the item out, counted. A kappa that does not exist (no item, one class only) is an empty
 //! cell with its reason, never a number.
 
-mod text;
+pub(crate) mod text;
 
 pub use text::CSV_COLUMNS;
 
@@ -229,6 +229,27 @@ pub struct RunsDiffer {
     pub a_text: String,
     /// The second run's text.
     pub b_text: String,
+}
+
+impl Run {
+    /// The run with its agreement with the annotators of `reference` (their majority per spec),
+    /// shown by its report ([`crate::write_report`]: the table on the overview page, the specs
+    /// where the run and the people disagree marked on each scene page): the table
+    /// [`agreement`] computes for `reference` and this run alone, the numbers `sceneeval
+    /// agreement --reference LABELS RUN` prints with the same options. Give the run its final
+    /// name ([`Run::with_name`]) first: the table names it.
+    ///
+    /// # Errors
+    /// As [`agreement`]: a label that does not fit the run, nothing to compare.
+    pub fn with_labels(
+        mut self,
+        reference: &[LabelFile],
+        options: &AgreementOptions,
+    ) -> Result<Run, AgreementError> {
+        let table = agreement(reference, &[Source::Run(self.clone())], options)?;
+        self.labels = Some(Box::new(table));
+        Ok(self)
+    }
 }
 
 /// One rater: a name, where it comes from, and its verdict on each item it judged.

@@ -30,16 +30,16 @@ pub const CSV_COLUMNS: [&str; 17] = [
 ];
 
 /// The rows of one table line: the rows of one (kind, a, b), one per metric and `all`.
-struct Line<'a> {
-    kind: RowKind,
-    a: &'a str,
-    b: &'a str,
-    cells: Vec<&'a AgreementRow>,
+pub(crate) struct Line<'a> {
+    pub(crate) kind: RowKind,
+    pub(crate) a: &'a str,
+    pub(crate) b: &'a str,
+    pub(crate) cells: Vec<&'a AgreementRow>,
 }
 
 impl Agreement {
     /// The rows grouped by (kind, a, b), in order.
-    fn lines(&self, kinds: &[RowKind]) -> Vec<Line<'_>> {
+    pub(crate) fn lines(&self, kinds: &[RowKind]) -> Vec<Line<'_>> {
         let mut out: Vec<Line<'_>> = Vec::new();
         for row in self.rows.iter().filter(|r| kinds.contains(&r.kind)) {
             match out.last_mut() {
@@ -56,7 +56,7 @@ impl Agreement {
     }
 
     /// The column heads: each metric, then `All`.
-    fn heads(&self) -> Vec<String> {
+    pub(crate) fn heads(&self) -> Vec<String> {
         self.metrics
             .iter()
             .map(|m| m.name().to_uppercase())
@@ -268,7 +268,7 @@ impl Agreement {
     }
 
     /// What the numbers are.
-    fn legend(&self) -> String {
+    pub(crate) fn legend(&self) -> String {
         let interval = match (self.resamples, self.seed, self.level) {
             (Some(r), Some(s), Some(l)) => format!(
                 " [{:.0} % percentile bootstrap interval of kappa, items resampled {r} times, seed {s}]",
@@ -284,7 +284,7 @@ impl Agreement {
     }
 
     /// One line per empty kappa: who, which metric, why.
-    fn undefined_reasons(&self) -> Vec<String> {
+    pub(crate) fn undefined_reasons(&self) -> Vec<String> {
         self.rows
             .iter()
             .filter_map(|r| {
@@ -310,12 +310,12 @@ fn metric_title(metric: &str) -> String {
 }
 
 /// Agreement in percent with one decimal, or empty.
-fn percent(v: Option<f64>) -> String {
+pub(crate) fn percent(v: Option<f64>) -> String {
     v.map(|a| format!("{:.1}", a * 100.0)).unwrap_or_default()
 }
 
 /// Kappa with two decimals and its interval, or empty.
-fn kappa_cell(r: &AgreementRow) -> String {
+pub(crate) fn kappa_cell(r: &AgreementRow) -> String {
     match (r.kappa, r.kappa_low, r.kappa_high) {
         (Some(k), Some(l), Some(h)) => format!("{k:.2} [{l:.2}, {h:.2}]"),
         (Some(k), _, _) => format!("{k:.2}"),
@@ -324,6 +324,6 @@ fn kappa_cell(r: &AgreementRow) -> String {
 }
 
 /// `satisfied` or `not satisfied`.
-fn verdict_word(v: bool) -> &'static str {
+pub(crate) fn verdict_word(v: bool) -> &'static str {
     if v { "satisfied" } else { "not satisfied" }
 }

@@ -13,6 +13,7 @@
 
 pub(crate) mod chart;
 pub(crate) mod compare;
+pub(crate) mod labels;
 pub(crate) mod overview;
 pub(crate) mod scene;
 pub(crate) mod topview;

@@ -55,6 +55,7 @@ pub(crate) fn overview(
     summary_table(&mut b, columns, &groups);
     charts(&mut b, columns, &groups);
     distributions(&mut b, run, columns);
+    super::labels::overview_section(&mut b, run, pages);
     scenes_table(&mut b, run, columns, pages);
     page(&format!("SceneEval report: {}", run.name), &b)
 }

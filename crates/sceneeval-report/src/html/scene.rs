@@ -60,6 +60,8 @@ pub(crate) struct ScenePage<'a> {
     pub previous: Option<SceneLink>,
     /// See `previous`.
     pub next: Option<SceneLink>,
+    /// The run's agreement with people's labels, when the report shows them.
+    pub labels: Option<&'a crate::agreement::Agreement>,
 }
 
 /// The page's HTML.
@@ -116,6 +118,7 @@ pub(crate) fn scene_page(p: &ScenePage<'_>) -> String {
         if let Some(f) = &report.fidelity {
             fidelity(&mut b, f);
         }
+        super::labels::scene_section(&mut b, p.run, p.labels, r);
     } else {
         top_view_only(&mut b, p);
     }
