@@ -16,19 +16,25 @@ use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::{EvalError, EvaluationPlan, Evaluator};
 
-/// VLM requests in flight at once over a whole run, unless the request says otherwise.
-pub const DEFAULT_VLM_CONCURRENCY: usize = 4;
+/// VLM requests in flight at once over a whole run, unless the request says otherwise:
+/// [`sceneeval_vlm::DEFAULT_CONCURRENCY`].
+pub const DEFAULT_VLM_CONCURRENCY: usize = sceneeval_vlm::DEFAULT_CONCURRENCY;
 
 /// Seconds one VLM request (each HTTP attempt) may take before it is abandoned and retried,
-/// unless the request says otherwise.
-pub const DEFAULT_VLM_TIMEOUT_SECONDS: f64 = 60.0;
+/// unless the request says otherwise: [`sceneeval_vlm::DEFAULT_TIMEOUT`] in seconds.
+pub const DEFAULT_VLM_TIMEOUT_SECONDS: f64 = sceneeval_vlm::DEFAULT_TIMEOUT.as_secs_f64();
+
+/// Retries after a failed VLM request in a run (requests do not set it):
+/// [`sceneeval_vlm::DEFAULT_MAX_RETRIES`]. The check before the first scene makes at most
+/// [`sceneeval_vlm::check::CHECK_MAX_RETRIES`].
+pub const DEFAULT_VLM_MAX_RETRIES: u32 = sceneeval_vlm::DEFAULT_MAX_RETRIES;
 
 /// The longest VLM timeout a request may set, seconds (an hour).
 pub const MAX_VLM_TIMEOUT_SECONDS: f64 = 3600.0;
 
 /// The side of the square object views shown to the VLM, pixels, unless the request says
-/// otherwise.
-pub const DEFAULT_RENDER_SIZE: u32 = 512;
+/// otherwise: [`sceneeval_scene::DEFAULT_VIEW_SIZE`], as the renderer's own default.
+pub const DEFAULT_RENDER_SIZE: u32 = sceneeval_scene::DEFAULT_VIEW_SIZE;
 
 /// The sides object views may have, pixels (a smaller view shows the VLM nothing; a larger
 /// one costs more memory than any model takes).
@@ -641,8 +647,8 @@ impl VlmOptions {
     /// rendering the views it is shown. Before the first scene
     /// a batch evaluates, one small request checks the endpoint
     /// ([`crate::SharedVlm::with_endpoint_check`]; the request `sceneeval vlm check` sends,
-    /// uncached, with at most one retry): an unreachable server, a refused key or a model the
-    /// server does not know stops the run with that error. An endpoint that answers but not
+    /// uncached, with at most [`sceneeval_vlm::check::CHECK_MAX_RETRIES`] retries): an
+    /// unreachable server, a refused key or a model the server does not know stops the run with that error. An endpoint that answers but not
     /// usably (no JSON, or the wrong colour) is only warned about.
     ///
     /// # Errors
@@ -813,14 +819,17 @@ fn client_of(
 }
 
 /// Sends the endpoint check (`sceneeval vlm check`'s request) to the endpoint of `config`, at
-/// `url`, with at most one retry; an error when no answer comes (see [`VlmOptions::attach`]).
+/// `url`, with at most [`sceneeval_vlm::check::CHECK_MAX_RETRIES`] retries; an error when no answer comes (see [`VlmOptions::attach`]).
 #[cfg(feature = "openai")]
 fn endpoint_check(config: &sceneeval_vlm_openai::OpenAiConfig, url: &str) -> Result<(), EvalError> {
     use sceneeval_vlm::check::EndpointCheck;
     use sceneeval_vlm::{Outcome, Session};
     use sceneeval_vlm_openai::RuntimeVlm;
     let mut config = config.clone();
-    config.retry.max_retries = config.retry.max_retries.min(1);
+    config.retry.max_retries = config
+        .retry
+        .max_retries
+        .min(sceneeval_vlm::check::CHECK_MAX_RETRIES);
     let model = config.model.clone();
     let client = RuntimeVlm::start(client_of(config)?).map_err(|e| {
         EvalError::request_caused(RequestField::Vlm, "cannot start the VLM client".to_owned(), e)

@@ -78,6 +78,14 @@ mod _sceneeval {
         m.add("OBJECT_OBJECT_RELATIONS", OBJECT_OBJECT_NAMES.to_vec())?;
         m.add("OBJECT_ARCHITECTURE_RELATIONS", OBJECT_ARCH_NAMES.to_vec())?;
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        // The defaults of `vlm=` (the Rust constants, written once; a test checks the
+        // docstrings quote them).
+        m.add(
+            "DEFAULT_VLM_TIMEOUT_SECONDS",
+            sceneeval::DEFAULT_VLM_TIMEOUT_SECONDS,
+        )?;
+        m.add("DEFAULT_VLM_CONCURRENCY", sceneeval::DEFAULT_VLM_CONCURRENCY)?;
+        m.add("DEFAULT_RENDER_SIZE", sceneeval::DEFAULT_RENDER_SIZE)?;
         Ok(())
     }
 }

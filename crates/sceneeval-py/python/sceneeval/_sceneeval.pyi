@@ -14,6 +14,12 @@ from . import stats as stats
 __version__: str
 OBJECT_OBJECT_RELATIONS: List[str]
 OBJECT_ARCHITECTURE_RELATIONS: List[str]
+DEFAULT_VLM_TIMEOUT_SECONDS: float
+"""Seconds one VLM request attempt may take unless ``vlm["timeout"]`` says otherwise."""
+DEFAULT_VLM_CONCURRENCY: int
+"""VLM requests in flight at once over a run unless ``vlm["concurrency"]`` says otherwise."""
+DEFAULT_RENDER_SIZE: int
+"""Side of the object views shown to the VLM, pixels, unless ``vlm["render_size"]`` says otherwise."""
 
 BoxLike = Union[Sequence[float], Mapping[str, Any]]
 """A box: ``(cx, cy, cz, hx, hy, hz, yaw)`` or a dict with the keys of ``sceneeval relate``
