@@ -3,7 +3,7 @@
 //! pipeline, one call for every plan ([`Evaluator::evaluate_scene`]: the geometry metrics,
 //! stability, then CNT, ATR, OOR, OAR against the scene's annotation row), which returns the
 //! scene's report (`sceneeval_results::SceneReport`), built once. Settling a scene under gravity
-//! is [`Evaluator::settle_scene`].
+//! is `Evaluator::settle_scene` (feature `physics`).
 //!
 //! What a front end asks is written in request types, each default once: the plan
 //! ([`PlanRequest`]), the VLM ([`VlmOptions`], the OpenAI-compatible client and the renderer it

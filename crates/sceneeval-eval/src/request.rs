@@ -584,7 +584,7 @@ impl VlmOptions {
         self.concurrency.unwrap_or(DEFAULT_VLM_CONCURRENCY)
     }
 
-    /// Checks every setting without starting anything: [`VlmOptions::config`] (with the
+    /// Checks every setting without starting anything: `VlmOptions::config` (with the
     /// feature `openai`) and [`VlmOptions::render_size`].
     ///
     /// # Errors
