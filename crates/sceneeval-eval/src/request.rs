@@ -76,6 +76,22 @@ pub struct PlanRequest {
     pub relation_mapping: Option<String>,
 }
 
+impl PlanRequest {
+    /// The plan `plan` (what [`PlanRequest::plan`] takes: `geometry`, `full`, a metric list or
+    /// a plan file), nothing of it replaced.
+    ///
+    /// ```
+    /// use sceneeval_eval::PlanRequest;
+    /// assert_eq!(PlanRequest::named("full").plan.as_deref(), Some("full"));
+    /// ```
+    pub fn named(plan: impl Into<String>) -> Self {
+        PlanRequest {
+            plan: Some(plan.into()),
+            ..PlanRequest::default()
+        }
+    }
+}
+
 /// An OpenAI-compatible endpoint and what is sent to it. The key is never part of a request:
 /// it is read from the environment variable `api_key_env` names (default `OPENAI_API_KEY`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -870,20 +886,6 @@ mod tests {
     use super::*;
     use sceneeval_fidelity::FidelityMetric;
 
-    fn plan(text: &str) -> PlanRequest {
-        PlanRequest {
-            plan: Some(text.to_owned()),
-            ..PlanRequest::default()
-        }
-    }
-
-    fn field_of(e: &EvalError) -> Option<RequestField> {
-        match e {
-            EvalError::Request { field, .. } => Some(*field),
-            _ => None,
-        }
-    }
-
     #[test]
     fn the_four_spellings_of_a_plan() {
         let dir = tempfile::tempdir().unwrap();
@@ -893,28 +895,31 @@ mod tests {
         assert_eq!(PlanSpec::parse(Some(path)), PlanSpec::File(file.clone()));
         assert_eq!(PlanSpec::parse(Some("geometry")), PlanSpec::Geometry);
 
-        let geometry = plan("geometry").resolve(false, true).unwrap().plan;
+        let geometry = PlanRequest::named("geometry").resolve(false, true).unwrap().plan;
         assert_eq!(geometry, EvaluationPlan::geometry_only());
-        let full = plan("full").resolve(false, true).unwrap().plan;
+        let full = PlanRequest::named("full").resolve(false, true).unwrap().plan;
         assert_eq!(full.fidelity_metrics(), FidelityMetric::ALL.to_vec());
-        let from_file = plan(path).resolve(false, true).unwrap().plan;
+        let from_file = PlanRequest::named(path).resolve(false, true).unwrap().plan;
         assert_eq!(
             (from_file.preset, from_file.metrics),
             (Preset::Reference, vec![Metric::Support])
         );
         // The preset replaces the file's preset; its explicit values stay.
-        let mut r = plan(path);
+        let mut r = PlanRequest::named(path);
         r.preset = Some(Preset::Default);
         let replaced = r.resolve(false, true).unwrap().plan;
         assert_eq!(
             (replaced.preset, replaced.metrics),
             (Preset::Default, vec![Metric::Support])
         );
-        let list = plan("navigability, cnt").resolve(false, true).unwrap().plan;
+        let list = PlanRequest::named("navigability, cnt")
+            .resolve(false, true)
+            .unwrap()
+            .plan;
         assert_eq!(list.metrics, vec![Metric::Navigability, Metric::Cnt]);
 
-        let err = plan("colision").resolve(false, true).unwrap_err();
-        assert_eq!(field_of(&err), Some(RequestField::Plan));
+        let err = PlanRequest::named("colision").resolve(false, true).unwrap_err();
+        assert_eq!(err.request_field(), Some(RequestField::Plan));
         let text = err.to_string();
         assert!(
             text.starts_with("plan: \"colision\" is not geometry, full, a plan file or a metric list"),
@@ -923,18 +928,22 @@ mod tests {
         assert!(text.contains("did you mean \"collision\""), "{text}");
         // A path that names no file says so instead of reading it as metrics.
         let missing = dir.path().join("nope.json");
-        let err = plan(missing.to_str().unwrap()).resolve(false, true).unwrap_err();
+        let err = PlanRequest::named(missing.to_str().unwrap())
+            .resolve(false, true)
+            .unwrap_err();
         assert!(err.to_string().contains("does not exist"), "{err}");
         let yaml = dir.path().join("plan.yaml");
         std::fs::write(&yaml, "metrics: [collision]\n").unwrap();
-        let err = plan(yaml.to_str().unwrap()).resolve(false, true).unwrap_err();
+        let err = PlanRequest::named(yaml.to_str().unwrap())
+            .resolve(false, true)
+            .unwrap_err();
         let text = sceneeval_files::ErrorChain::new(&err).to_string();
         assert!(text.contains("YAML plan files are not read"), "{text}");
     }
 
     #[test]
     fn metrics_and_time_budget_override_the_plan() {
-        let mut r = plan("geometry");
+        let mut r = PlanRequest::named("geometry");
         r.metrics = Some(vec![Metric::Collision]);
         r.time_budget_seconds = Some(0.0);
         let p = r.resolve(false, false).unwrap().plan;
@@ -948,12 +957,12 @@ mod tests {
         for bad in [f64::NAN, -1.0, f64::INFINITY] {
             r.time_budget_seconds = Some(bad);
             assert_eq!(
-                field_of(&r.resolve(false, false).unwrap_err()),
+                r.resolve(false, false).unwrap_err().request_field(),
                 Some(RequestField::TimeBudget)
             );
         }
         // Text-fidelity metrics through `metrics`, as through the plan.
-        let mut r = plan("geometry");
+        let mut r = PlanRequest::named("geometry");
         r.metrics = Some(vec![Metric::Cnt]);
         let p = r.resolve(false, true).unwrap().plan;
         assert_eq!(p.fidelity_metrics(), vec![FidelityMetric::Cnt]);
@@ -962,28 +971,32 @@ mod tests {
 
     #[test]
     fn fidelity_needs_annotations_and_falls_back_without_a_vlm() {
-        let err = plan("full").resolve(false, false).unwrap_err();
-        assert_eq!(field_of(&err), Some(RequestField::Annotations));
+        let err = PlanRequest::named("full").resolve(false, false).unwrap_err();
+        assert_eq!(err.request_field(), Some(RequestField::Annotations));
         assert!(err.to_string().contains("cnt, atr, oor, oar"), "{err}");
         // Geometry plans need no annotations.
-        assert!(plan("collision").resolve(false, false).is_ok());
+        assert!(PlanRequest::named("collision").resolve(false, false).is_ok());
 
         // The default preset already matches by labels and maps by the lexicon: nothing is
         // replaced, but the run is still told that it has no VLM.
-        let fallback = plan("full").resolve(false, true).unwrap().fallback.unwrap();
+        let fallback = PlanRequest::named("full")
+            .resolve(false, true)
+            .unwrap()
+            .fallback
+            .unwrap();
         assert!(fallback.replaced.is_empty());
         assert_eq!(
             fallback.to_string(),
             "fidelity runs with labels matching and the lexicon relation mapping; ATR is not judged."
         );
-        let mut r = plan("full");
+        let mut r = PlanRequest::named("full");
         r.matching = Some("runs/matching".into());
         assert_eq!(
             r.resolve(false, true).unwrap().fallback.unwrap().to_string(),
             "fidelity runs with matching from runs/matching and the lexicon relation mapping; ATR is not judged."
         );
         // The reference preset asks the VLM for both: both are replaced.
-        let mut r = plan("full");
+        let mut r = PlanRequest::named("full");
         r.preset = Some(Preset::Reference);
         let chosen = r.resolve(false, true).unwrap();
         assert_eq!(chosen.plan.fidelity.matching, MatchingMethod::Labels);
@@ -993,14 +1006,14 @@ mod tests {
             vec!["matching by labels", "relations mapped by the lexicon"]
         );
         // With a VLM, the VLM is the default for both, and nothing falls back.
-        let chosen = plan("full").resolve(true, true).unwrap();
+        let chosen = PlanRequest::named("full").resolve(true, true).unwrap();
         assert_eq!(chosen.plan.fidelity.matching, MatchingMethod::Vlm);
         assert_eq!(chosen.plan.fidelity.relation_mapping, RelationMapping::Vlm);
         assert!(chosen.fallback.is_none());
-        let mut r = plan("full");
+        let mut r = PlanRequest::named("full");
         r.relation_mapping = Some("dictionary".into());
         let err = r.resolve(false, true).unwrap_err();
-        assert_eq!(field_of(&err), Some(RequestField::RelationMapping));
+        assert_eq!(err.request_field(), Some(RequestField::RelationMapping));
         assert_eq!(
             err.to_string(),
             "relation_mapping: \"dictionary\": expected vlm or lexicon"

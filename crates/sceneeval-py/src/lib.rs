@@ -17,8 +17,8 @@
 //! - `Scene.from_boxes(boxes, room, *, rooms, ...)`, `load_scene(path, assets={prefix:
 //!   folder})`, `Scene.objects` / `rooms` / `info()` / `boxes()` / `set_pose()` /
 //!   `set_boxes()` / `plausibility()` / `relation()`.
-//! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, ...,
-//!   vlm=None)`: the keyword arguments mapped onto the facade's
+//! - `evaluate(scenes, *, assets, out, annotations=None, plan=None, preset=None, ...,
+//!   vlm=None)`: the keyword arguments (the request's field names) mapped onto the facade's
 //!   [`sceneeval::EvaluationRequest`] ([`run`]), as `sceneeval evaluate` maps its flags: the
 //!   same plans, run and files; `vlm` (a dict of [`sceneeval::VlmOptions`]' fields, the
 //!   `--vlm-*` settings) asks an OpenAI-compatible endpoint. `evaluation_request(...)` gives
