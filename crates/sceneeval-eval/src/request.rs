@@ -668,7 +668,7 @@ impl VlmOptions {
     /// usably (no JSON, or the wrong colour) is only warned about.
     ///
     /// # Errors
-    /// [`EvalError::Request`]: a bad setting (see [`VlmOptions::config`]), a client, runtime or
+    /// [`EvalError::Request`]: a bad setting (see `VlmOptions::config`), a client, runtime or
     /// renderer that cannot start, or a build without the features `openai` and `render`.
     pub fn attach(&self, evaluator: Evaluator, cache: Option<&Path>) -> Result<Evaluator, EvalError> {
         #[cfg(all(feature = "openai", feature = "render"))]
