@@ -49,8 +49,9 @@ pub struct Args {
     /// words still go to the VLM when one is configured).
     #[arg(long, value_name = "vlm|lexicon")]
     pub relation_mapping: Option<String>,
-    /// Side of the square object views shown to the VLM, pixels (default 512; 16 to 4096).
-    #[arg(long, value_name = "PX", requires = "vlm_base_url")]
+    /// Side of the square object views shown to the VLM, pixels (default
+    /// `sceneeval::DEFAULT_RENDER_SIZE`, within `sceneeval::RENDER_SIZE_RANGE`).
+    #[arg(long, value_name = "PX", requires = "vlm_base_url", help = crate::vlm::render_size_help())]
     pub render_size: Option<u32>,
     /// Evaluate only shard K of N (1-based): the scenes whose position in ID order is K-1
     /// modulo N. Merge the shards' folders with `sceneeval summarize`.

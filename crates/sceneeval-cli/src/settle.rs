@@ -52,8 +52,9 @@ pub struct Args {
     /// (it is shown each object's views; answers kept only in `--vlm-cache` when given).
     #[command(flatten)]
     pub vlm: crate::vlm::VlmArgs,
-    /// Side of the square object views shown to the VLM, pixels (default 512; 16 to 4096).
-    #[arg(long, value_name = "PX", requires = "vlm_base_url")]
+    /// Side of the square object views shown to the VLM, pixels (default
+    /// `sceneeval::DEFAULT_RENDER_SIZE`, within `sceneeval::RENDER_SIZE_RANGE`).
+    #[arg(long, value_name = "PX", requires = "vlm_base_url", help = crate::vlm::render_size_help())]
     pub render_size: Option<u32>,
     /// Refuse a scene file with keys the sceneState format does not have (a misspelt key is
     /// read as absent) instead of warning about each.

@@ -10,9 +10,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use sceneeval::VlmOptions;
+use sceneeval::vlm::check::CHECK_MAX_RETRIES;
 use sceneeval::vlm::check::{EndpointCheck, TEST_IMAGE_COLOUR};
 use sceneeval::vlm::{Outcome, Session};
+use sceneeval::{
+    DEFAULT_RENDER_SIZE, DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_MAX_RETRIES, DEFAULT_VLM_TIMEOUT_SECONDS,
+    MAX_VLM_TIMEOUT_SECONDS, RENDER_SIZE_RANGE, VlmOptions,
+};
 
 use crate::evaluate::OptionError;
 use sceneeval::vlm_openai::{OpenAiVlm, RuntimeVlm};
@@ -41,15 +45,20 @@ pub struct CheckArgs {
     /// What is sent with every request (the same options as `evaluate`'s).
     #[command(flatten)]
     pub sampling: SamplingArgs,
-    /// Seconds to wait for the answer (per attempt; default 60, as `evaluate`'s).
-    #[arg(long = "vlm-timeout", alias = "timeout", value_name = "SECS")]
+    /// Seconds to wait for the answer, per attempt (default: `sceneeval::DEFAULT_VLM_TIMEOUT_SECONDS`,
+    /// as `evaluate`'s).
+    #[arg(long = "vlm-timeout", alias = "timeout", value_name = "SECS", help = timeout_help("Seconds to wait for the answer, per attempt", "as `evaluate`'s"))]
     pub timeout: Option<f64>,
-    /// Retries after a failed attempt (429, 5xx, timeouts, connection errors).
+    /// Retries after a failed attempt (429, 5xx, timeouts, connection errors); default
+    /// `CHECK_MAX_RETRIES`, as the check `evaluate` makes before its first scene.
     #[arg(
         long = "vlm-retries",
         alias = "retries",
-        default_value_t = 2,
-        value_name = "N"
+        default_value_t = CHECK_MAX_RETRIES,
+        value_name = "N",
+        help = format!(
+            "Retries after a failed attempt (429, 5xx, timeouts, connection errors), as the check `evaluate` makes before its first scene; a run's requests retry up to {DEFAULT_VLM_MAX_RETRIES} times."
+        )
     )]
     pub retries: u32,
 }
@@ -73,14 +82,19 @@ pub struct VlmArgs {
     /// What is sent with every VLM request.
     #[command(flatten)]
     pub vlm_sampling: SamplingArgs,
-    /// VLM requests in flight at once over the whole run (default 4), whatever the number of
-    /// threads: scenes waiting for the VLM leave the CPU to others. Halved when the server
-    /// answers 429 (too many requests), grown back after successes.
-    #[arg(long, value_name = "N", requires = "vlm_base_url")]
+    /// VLM requests in flight at once over the whole run (default
+    /// `sceneeval::DEFAULT_VLM_CONCURRENCY`), whatever the number of threads.
+    #[arg(long, value_name = "N", requires = "vlm_base_url", help = format!(
+        "VLM requests in flight at once over the whole run (default {DEFAULT_VLM_CONCURRENCY}), whatever the number of threads: scenes waiting for the VLM leave the CPU to others. Halved when the server answers 429 (too many requests), grown back after successes."
+    ))]
     pub vlm_concurrency: Option<usize>,
-    /// Seconds one VLM request (each attempt) may take (default 60); in `evaluate` the scene's
-    /// time budget (--time-budget) bounds the whole wait for the VLM, retries included.
-    #[arg(long, value_name = "SECS", requires = "vlm_base_url")]
+    /// Seconds one VLM request (each attempt) may take (default:
+    /// `sceneeval::DEFAULT_VLM_TIMEOUT_SECONDS`); in `evaluate` the scene's time budget bounds
+    /// the whole wait for the VLM, retries included.
+    #[arg(long, value_name = "SECS", requires = "vlm_base_url", help = timeout_help(
+        "Seconds one VLM request (each attempt) may take",
+        "in `evaluate` the scene's time budget (--time-budget) bounds the whole wait for the VLM, retries included",
+    ))]
     pub vlm_timeout: Option<f64>,
     /// Cap on VLM requests per minute (default none): requests are spaced 60 s / N apart.
     #[arg(long, value_name = "N", requires = "vlm_base_url")]
@@ -147,6 +161,22 @@ pub struct SamplingArgs {
         value_name = "max_tokens|max_completion_tokens"
     )]
     pub token_limit_field: Option<String>,
+}
+
+/// The help of a VLM timeout option: `what`, its default ([`DEFAULT_VLM_TIMEOUT_SECONDS`],
+/// written once) and `then`.
+fn timeout_help(what: &str, then: &str) -> String {
+    format!("{what} (default {DEFAULT_VLM_TIMEOUT_SECONDS}, at most {MAX_VLM_TIMEOUT_SECONDS}); {then}.")
+}
+
+/// The help of a `--render-size` option of the VLM's object views: its default
+/// ([`DEFAULT_RENDER_SIZE`], written once) and range.
+pub fn render_size_help() -> String {
+    format!(
+        "Side of the square object views shown to the VLM, pixels (default {DEFAULT_RENDER_SIZE}; {} to {}).",
+        RENDER_SIZE_RANGE.start(),
+        RENDER_SIZE_RANGE.end()
+    )
 }
 
 /// A setting given on the command line: a value, or `none` for "send none".
@@ -280,5 +310,85 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::FAILURE)
         }
         None => bail!("the endpoint check asked no question"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::*;
+
+    /// The argument `id` of the subcommand at `path`.
+    fn arg(path: &[&str], id: &str) -> clap::Arg {
+        let mut command = crate::Cli::command();
+        for name in path {
+            command = command
+                .find_subcommand(name)
+                .unwrap_or_else(|| panic!("no subcommand {name}"))
+                .clone();
+        }
+        command
+            .get_arguments()
+            .find(|a| a.get_id() == id)
+            .unwrap_or_else(|| panic!("{path:?} has no argument {id}"))
+            .clone()
+    }
+
+    fn help(path: &[&str], id: &str) -> String {
+        arg(path, id)
+            .get_help()
+            .map(ToString::to_string)
+            .unwrap_or_default()
+    }
+
+    fn default(path: &[&str], id: &str) -> Vec<String> {
+        arg(path, id)
+            .get_default_values()
+            .iter()
+            .map(|v| v.to_string_lossy().into_owned())
+            .collect()
+    }
+
+    #[test]
+    fn the_documented_defaults_are_the_constants() {
+        let timeout = format!("(default {DEFAULT_VLM_TIMEOUT_SECONDS}, at most {MAX_VLM_TIMEOUT_SECONDS})");
+        let size = format!("(default {DEFAULT_RENDER_SIZE}; 16 to 4096)");
+        for command in [
+            &["evaluate"][..],
+            &["settle"],
+            &["annotations", "annotate"],
+            &["annotations", "generate"],
+        ] {
+            assert!(help(command, "vlm_timeout").contains(&timeout), "{command:?}");
+            assert!(
+                help(command, "vlm_concurrency").contains(&format!("(default {DEFAULT_VLM_CONCURRENCY})")),
+                "{command:?}"
+            );
+        }
+        for command in ["evaluate", "settle"] {
+            assert!(help(&[command], "render_size").contains(&size), "{command}");
+        }
+        assert!(help(&["vlm", "check"], "timeout").contains(&timeout));
+        assert_eq!(
+            default(&["vlm", "check"], "retries"),
+            [CHECK_MAX_RETRIES.to_string()]
+        );
+        assert!(
+            help(&["vlm", "check"], "retries").contains(&format!("up to {DEFAULT_VLM_MAX_RETRIES} times"))
+        );
+        assert_eq!(
+            default(&["render"], "render_size"),
+            [DEFAULT_RENDER_SIZE.to_string()]
+        );
+        // One value each: the client's defaults are the evaluator's.
+        let client = sceneeval::vlm_openai::OpenAiConfig::new("http://127.0.0.1:1/v1", "m");
+        assert_eq!(client.timeout.as_secs_f64(), DEFAULT_VLM_TIMEOUT_SECONDS);
+        assert_eq!(client.retry.max_retries, DEFAULT_VLM_MAX_RETRIES);
+        assert_eq!(client.max_concurrent_requests, DEFAULT_VLM_CONCURRENCY);
+        assert_eq!(
+            sceneeval::render::RenderSettings::DEFAULT_SIZE,
+            DEFAULT_RENDER_SIZE
+        );
     }
 }

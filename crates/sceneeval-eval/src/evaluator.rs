@@ -353,7 +353,7 @@ impl Evaluator {
 
     /// Evaluates one scene under the whole plan: the per-scene pipeline, the one call for
     /// every plan (geometry, stability, text fidelity, with or without a VLM; settling a scene
-    /// is [`Evaluator::settle_scene`]).
+    /// is `Evaluator::settle_scene`, feature `physics`).
     ///
     /// 1. With a VLM, and a scene that needs it (text-fidelity metrics with a row, or support
     ///    or accessibility with the default sources), a [`Session`] for the scene and its

@@ -3,7 +3,7 @@
 //! pipeline, one call for every plan ([`Evaluator::evaluate_scene`]: the geometry metrics,
 //! stability, then CNT, ATR, OOR, OAR against the scene's annotation row), which returns the
 //! scene's report (`sceneeval_results::SceneReport`), built once. Settling a scene under gravity
-//! is [`Evaluator::settle_scene`].
+//! is `Evaluator::settle_scene` (feature `physics`).
 //!
 //! What a front end asks is written in request types, each default once: the plan
 //! ([`PlanRequest`]), the VLM ([`VlmOptions`], the OpenAI-compatible client and the renderer it
@@ -57,8 +57,9 @@ pub use evaluator::{Evaluator, SceneEvaluation, SceneInputs};
 pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan};
 pub use request::{
     ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR,
-    DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS, MAX_VLM_TIMEOUT_SECONDS, NoVlmFallback,
-    PlanRequest, PlanSpec, PreparedSettle, RENDER_SIZE_RANGE, RequestField, SettleRequest, VlmOptions,
+    DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_MAX_RETRIES, DEFAULT_VLM_TIMEOUT_SECONDS, MAX_VLM_TIMEOUT_SECONDS,
+    NoVlmFallback, PlanRequest, PlanSpec, PreparedSettle, RENDER_SIZE_RANGE, RequestField, SettleRequest,
+    VlmOptions,
 };
 /// The metrics and presets a plan names (defined with the results they produce).
 pub use sceneeval_results::{Metric, Preset};

@@ -16,19 +16,25 @@ use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::{EvalError, EvaluationPlan, Evaluator};
 
-/// VLM requests in flight at once over a whole run, unless the request says otherwise.
-pub const DEFAULT_VLM_CONCURRENCY: usize = 4;
+/// VLM requests in flight at once over a whole run, unless the request says otherwise:
+/// [`sceneeval_vlm::DEFAULT_CONCURRENCY`].
+pub const DEFAULT_VLM_CONCURRENCY: usize = sceneeval_vlm::DEFAULT_CONCURRENCY;
 
 /// Seconds one VLM request (each HTTP attempt) may take before it is abandoned and retried,
-/// unless the request says otherwise.
-pub const DEFAULT_VLM_TIMEOUT_SECONDS: f64 = 60.0;
+/// unless the request says otherwise: [`sceneeval_vlm::DEFAULT_TIMEOUT`] in seconds.
+pub const DEFAULT_VLM_TIMEOUT_SECONDS: f64 = sceneeval_vlm::DEFAULT_TIMEOUT.as_secs_f64();
+
+/// Retries after a failed VLM request in a run (requests do not set it):
+/// [`sceneeval_vlm::DEFAULT_MAX_RETRIES`]. The check before the first scene makes at most
+/// [`sceneeval_vlm::check::CHECK_MAX_RETRIES`].
+pub const DEFAULT_VLM_MAX_RETRIES: u32 = sceneeval_vlm::DEFAULT_MAX_RETRIES;
 
 /// The longest VLM timeout a request may set, seconds (an hour).
 pub const MAX_VLM_TIMEOUT_SECONDS: f64 = 3600.0;
 
 /// The side of the square object views shown to the VLM, pixels, unless the request says
-/// otherwise.
-pub const DEFAULT_RENDER_SIZE: u32 = 512;
+/// otherwise: [`sceneeval_scene::DEFAULT_VIEW_SIZE`], as the renderer's own default.
+pub const DEFAULT_RENDER_SIZE: u32 = sceneeval_scene::DEFAULT_VIEW_SIZE;
 
 /// The sides object views may have, pixels (a smaller view shows the VLM nothing; a larger
 /// one costs more memory than any model takes).
@@ -68,6 +74,22 @@ pub struct PlanRequest {
     /// metrics).
     #[serde(default)]
     pub relation_mapping: Option<String>,
+}
+
+impl PlanRequest {
+    /// The plan `plan` (what [`PlanRequest::plan`] takes: `geometry`, `full`, a metric list or
+    /// a plan file), nothing of it replaced.
+    ///
+    /// ```
+    /// use sceneeval_eval::PlanRequest;
+    /// assert_eq!(PlanRequest::named("full").plan.as_deref(), Some("full"));
+    /// ```
+    pub fn named(plan: impl Into<String>) -> Self {
+        PlanRequest {
+            plan: Some(plan.into()),
+            ..PlanRequest::default()
+        }
+    }
 }
 
 /// An OpenAI-compatible endpoint and what is sent to it. The key is never part of a request:
@@ -578,7 +600,7 @@ impl VlmOptions {
         self.concurrency.unwrap_or(DEFAULT_VLM_CONCURRENCY)
     }
 
-    /// Checks every setting without starting anything: [`VlmOptions::config`] (with the
+    /// Checks every setting without starting anything: `VlmOptions::config` (with the
     /// feature `openai`) and [`VlmOptions::render_size`].
     ///
     /// # Errors
@@ -641,12 +663,12 @@ impl VlmOptions {
     /// rendering the views it is shown. Before the first scene
     /// a batch evaluates, one small request checks the endpoint
     /// ([`crate::SharedVlm::with_endpoint_check`]; the request `sceneeval vlm check` sends,
-    /// uncached, with at most one retry): an unreachable server, a refused key or a model the
-    /// server does not know stops the run with that error. An endpoint that answers but not
+    /// uncached, with at most [`sceneeval_vlm::check::CHECK_MAX_RETRIES`] retries): an
+    /// unreachable server, a refused key or a model the server does not know stops the run with that error. An endpoint that answers but not
     /// usably (no JSON, or the wrong colour) is only warned about.
     ///
     /// # Errors
-    /// [`EvalError::Request`]: a bad setting (see [`VlmOptions::config`]), a client, runtime or
+    /// [`EvalError::Request`]: a bad setting (see `VlmOptions::config`), a client, runtime or
     /// renderer that cannot start, or a build without the features `openai` and `render`.
     pub fn attach(&self, evaluator: Evaluator, cache: Option<&Path>) -> Result<Evaluator, EvalError> {
         #[cfg(all(feature = "openai", feature = "render"))]
@@ -813,14 +835,17 @@ fn client_of(
 }
 
 /// Sends the endpoint check (`sceneeval vlm check`'s request) to the endpoint of `config`, at
-/// `url`, with at most one retry; an error when no answer comes (see [`VlmOptions::attach`]).
+/// `url`, with at most [`sceneeval_vlm::check::CHECK_MAX_RETRIES`] retries; an error when no answer comes (see [`VlmOptions::attach`]).
 #[cfg(feature = "openai")]
 fn endpoint_check(config: &sceneeval_vlm_openai::OpenAiConfig, url: &str) -> Result<(), EvalError> {
     use sceneeval_vlm::check::EndpointCheck;
     use sceneeval_vlm::{Outcome, Session};
     use sceneeval_vlm_openai::RuntimeVlm;
     let mut config = config.clone();
-    config.retry.max_retries = config.retry.max_retries.min(1);
+    config.retry.max_retries = config
+        .retry
+        .max_retries
+        .min(sceneeval_vlm::check::CHECK_MAX_RETRIES);
     let model = config.model.clone();
     let client = RuntimeVlm::start(client_of(config)?).map_err(|e| {
         EvalError::request_caused(RequestField::Vlm, "cannot start the VLM client".to_owned(), e)
@@ -861,20 +886,6 @@ mod tests {
     use super::*;
     use sceneeval_fidelity::FidelityMetric;
 
-    fn plan(text: &str) -> PlanRequest {
-        PlanRequest {
-            plan: Some(text.to_owned()),
-            ..PlanRequest::default()
-        }
-    }
-
-    fn field_of(e: &EvalError) -> Option<RequestField> {
-        match e {
-            EvalError::Request { field, .. } => Some(*field),
-            _ => None,
-        }
-    }
-
     #[test]
     fn the_four_spellings_of_a_plan() {
         let dir = tempfile::tempdir().unwrap();
@@ -884,28 +895,31 @@ mod tests {
         assert_eq!(PlanSpec::parse(Some(path)), PlanSpec::File(file.clone()));
         assert_eq!(PlanSpec::parse(Some("geometry")), PlanSpec::Geometry);
 
-        let geometry = plan("geometry").resolve(false, true).unwrap().plan;
+        let geometry = PlanRequest::named("geometry").resolve(false, true).unwrap().plan;
         assert_eq!(geometry, EvaluationPlan::geometry_only());
-        let full = plan("full").resolve(false, true).unwrap().plan;
+        let full = PlanRequest::named("full").resolve(false, true).unwrap().plan;
         assert_eq!(full.fidelity_metrics(), FidelityMetric::ALL.to_vec());
-        let from_file = plan(path).resolve(false, true).unwrap().plan;
+        let from_file = PlanRequest::named(path).resolve(false, true).unwrap().plan;
         assert_eq!(
             (from_file.preset, from_file.metrics),
             (Preset::Reference, vec![Metric::Support])
         );
         // The preset replaces the file's preset; its explicit values stay.
-        let mut r = plan(path);
+        let mut r = PlanRequest::named(path);
         r.preset = Some(Preset::Default);
         let replaced = r.resolve(false, true).unwrap().plan;
         assert_eq!(
             (replaced.preset, replaced.metrics),
             (Preset::Default, vec![Metric::Support])
         );
-        let list = plan("navigability, cnt").resolve(false, true).unwrap().plan;
+        let list = PlanRequest::named("navigability, cnt")
+            .resolve(false, true)
+            .unwrap()
+            .plan;
         assert_eq!(list.metrics, vec![Metric::Navigability, Metric::Cnt]);
 
-        let err = plan("colision").resolve(false, true).unwrap_err();
-        assert_eq!(field_of(&err), Some(RequestField::Plan));
+        let err = PlanRequest::named("colision").resolve(false, true).unwrap_err();
+        assert_eq!(err.request_field(), Some(RequestField::Plan));
         let text = err.to_string();
         assert!(
             text.starts_with("plan: \"colision\" is not geometry, full, a plan file or a metric list"),
@@ -914,18 +928,22 @@ mod tests {
         assert!(text.contains("did you mean \"collision\""), "{text}");
         // A path that names no file says so instead of reading it as metrics.
         let missing = dir.path().join("nope.json");
-        let err = plan(missing.to_str().unwrap()).resolve(false, true).unwrap_err();
+        let err = PlanRequest::named(missing.to_str().unwrap())
+            .resolve(false, true)
+            .unwrap_err();
         assert!(err.to_string().contains("does not exist"), "{err}");
         let yaml = dir.path().join("plan.yaml");
         std::fs::write(&yaml, "metrics: [collision]\n").unwrap();
-        let err = plan(yaml.to_str().unwrap()).resolve(false, true).unwrap_err();
+        let err = PlanRequest::named(yaml.to_str().unwrap())
+            .resolve(false, true)
+            .unwrap_err();
         let text = sceneeval_files::ErrorChain::new(&err).to_string();
         assert!(text.contains("YAML plan files are not read"), "{text}");
     }
 
     #[test]
     fn metrics_and_time_budget_override_the_plan() {
-        let mut r = plan("geometry");
+        let mut r = PlanRequest::named("geometry");
         r.metrics = Some(vec![Metric::Collision]);
         r.time_budget_seconds = Some(0.0);
         let p = r.resolve(false, false).unwrap().plan;
@@ -939,12 +957,12 @@ mod tests {
         for bad in [f64::NAN, -1.0, f64::INFINITY] {
             r.time_budget_seconds = Some(bad);
             assert_eq!(
-                field_of(&r.resolve(false, false).unwrap_err()),
+                r.resolve(false, false).unwrap_err().request_field(),
                 Some(RequestField::TimeBudget)
             );
         }
         // Text-fidelity metrics through `metrics`, as through the plan.
-        let mut r = plan("geometry");
+        let mut r = PlanRequest::named("geometry");
         r.metrics = Some(vec![Metric::Cnt]);
         let p = r.resolve(false, true).unwrap().plan;
         assert_eq!(p.fidelity_metrics(), vec![FidelityMetric::Cnt]);
@@ -953,28 +971,32 @@ mod tests {
 
     #[test]
     fn fidelity_needs_annotations_and_falls_back_without_a_vlm() {
-        let err = plan("full").resolve(false, false).unwrap_err();
-        assert_eq!(field_of(&err), Some(RequestField::Annotations));
+        let err = PlanRequest::named("full").resolve(false, false).unwrap_err();
+        assert_eq!(err.request_field(), Some(RequestField::Annotations));
         assert!(err.to_string().contains("cnt, atr, oor, oar"), "{err}");
         // Geometry plans need no annotations.
-        assert!(plan("collision").resolve(false, false).is_ok());
+        assert!(PlanRequest::named("collision").resolve(false, false).is_ok());
 
         // The default preset already matches by labels and maps by the lexicon: nothing is
         // replaced, but the run is still told that it has no VLM.
-        let fallback = plan("full").resolve(false, true).unwrap().fallback.unwrap();
+        let fallback = PlanRequest::named("full")
+            .resolve(false, true)
+            .unwrap()
+            .fallback
+            .unwrap();
         assert!(fallback.replaced.is_empty());
         assert_eq!(
             fallback.to_string(),
             "fidelity runs with labels matching and the lexicon relation mapping; ATR is not judged."
         );
-        let mut r = plan("full");
+        let mut r = PlanRequest::named("full");
         r.matching = Some("runs/matching".into());
         assert_eq!(
             r.resolve(false, true).unwrap().fallback.unwrap().to_string(),
             "fidelity runs with matching from runs/matching and the lexicon relation mapping; ATR is not judged."
         );
         // The reference preset asks the VLM for both: both are replaced.
-        let mut r = plan("full");
+        let mut r = PlanRequest::named("full");
         r.preset = Some(Preset::Reference);
         let chosen = r.resolve(false, true).unwrap();
         assert_eq!(chosen.plan.fidelity.matching, MatchingMethod::Labels);
@@ -984,14 +1006,14 @@ mod tests {
             vec!["matching by labels", "relations mapped by the lexicon"]
         );
         // With a VLM, the VLM is the default for both, and nothing falls back.
-        let chosen = plan("full").resolve(true, true).unwrap();
+        let chosen = PlanRequest::named("full").resolve(true, true).unwrap();
         assert_eq!(chosen.plan.fidelity.matching, MatchingMethod::Vlm);
         assert_eq!(chosen.plan.fidelity.relation_mapping, RelationMapping::Vlm);
         assert!(chosen.fallback.is_none());
-        let mut r = plan("full");
+        let mut r = PlanRequest::named("full");
         r.relation_mapping = Some("dictionary".into());
         let err = r.resolve(false, true).unwrap_err();
-        assert_eq!(field_of(&err), Some(RequestField::RelationMapping));
+        assert_eq!(err.request_field(), Some(RequestField::RelationMapping));
         assert_eq!(
             err.to_string(),
             "relation_mapping: \"dictionary\": expected vlm or lexicon"

@@ -17,8 +17,8 @@
 //! - `Scene.from_boxes(boxes, room, *, rooms, ...)`, `load_scene(path, assets={prefix:
 //!   folder})`, `Scene.objects` / `rooms` / `info()` / `boxes()` / `set_pose()` /
 //!   `set_boxes()` / `plausibility()` / `relation()`.
-//! - `evaluate(scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, ...,
-//!   vlm=None)`: the keyword arguments mapped onto the facade's
+//! - `evaluate(scenes, *, assets, out, annotations=None, plan=None, preset=None, ...,
+//!   vlm=None)`: the keyword arguments (the request's field names) mapped onto the facade's
 //!   [`sceneeval::EvaluationRequest`] ([`run`]), as `sceneeval evaluate` maps its flags: the
 //!   same plans, run and files; `vlm` (a dict of [`sceneeval::VlmOptions`]' fields, the
 //!   `--vlm-*` settings) asks an OpenAI-compatible endpoint. `evaluation_request(...)` gives
@@ -78,6 +78,14 @@ mod _sceneeval {
         m.add("OBJECT_OBJECT_RELATIONS", OBJECT_OBJECT_NAMES.to_vec())?;
         m.add("OBJECT_ARCHITECTURE_RELATIONS", OBJECT_ARCH_NAMES.to_vec())?;
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        // The defaults of `vlm=` (the Rust constants, written once; a test checks the
+        // docstrings quote them).
+        m.add(
+            "DEFAULT_VLM_TIMEOUT_SECONDS",
+            sceneeval::DEFAULT_VLM_TIMEOUT_SECONDS,
+        )?;
+        m.add("DEFAULT_VLM_CONCURRENCY", sceneeval::DEFAULT_VLM_CONCURRENCY)?;
+        m.add("DEFAULT_RENDER_SIZE", sceneeval::DEFAULT_RENDER_SIZE)?;
         Ok(())
     }
 }

@@ -1,11 +1,12 @@
 //! `sceneeval.evaluate` and `sceneeval.evaluation_request`: the keyword arguments mapped onto
 //! the facade's [`EvaluationRequest`], as `sceneeval evaluate` maps its flags, then run by it.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use pyo3::exceptions::PyUserWarning;
+use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyUserWarning};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sceneeval::{
@@ -16,36 +17,87 @@ use serde::Serialize;
 use crate::convert::{to_json, to_python};
 use crate::errors::{SceneEvalError, chain, detached, value_error};
 
-/// The keyword of `sceneeval.evaluate` that sets `field`.
-pub fn keyword(field: RequestField) -> &'static str {
-    match field {
-        RequestField::Scenes => "scenes_dir",
-        RequestField::Assets => "assets",
-        RequestField::Out => "out",
-        RequestField::Annotations => "annotations",
-        RequestField::Plan => "plan",
-        RequestField::Preset => "preset",
-        RequestField::Metrics => "metrics",
-        RequestField::TimeBudget => "time_budget",
-        RequestField::Matching => "matching",
-        RequestField::RelationMapping => "relation_mapping",
-        RequestField::Threads => "threads",
-        RequestField::VlmBaseUrl => "vlm[\"base_url\"]",
-        RequestField::VlmModel => "vlm[\"model\"]",
-        RequestField::VlmApiKeyEnv => "vlm[\"api_key_env\"]",
-        RequestField::VlmCache => "vlm[\"cache\"]",
-        RequestField::VlmConcurrency => "vlm[\"concurrency\"]",
-        RequestField::VlmRenderSize => "vlm[\"render_size\"]",
-        RequestField::VlmDetail => "vlm[\"detail\"]",
-        RequestField::VlmTemperature => "vlm[\"temperature\"]",
-        RequestField::VlmSeed => "vlm[\"seed\"]",
-        RequestField::VlmMaxTokens => "vlm[\"max_tokens\"]",
-        RequestField::VlmTokenLimitField => "vlm[\"token_limit_field\"]",
-        RequestField::VlmTimeout => "vlm[\"timeout\"]",
-        RequestField::VlmRpm => "vlm[\"rpm\"]",
-        RequestField::VlmTpm => "vlm[\"tpm\"]",
-        _ => "vlm",
+/// The keyword of `sceneeval.evaluate` that sets `field`: the request's own name for it
+/// ([`RequestField::path`], the one table), `vlm["key"]` for a key of the `vlm=` dict.
+pub fn keyword(field: RequestField) -> Cow<'static, str> {
+    let path = field.path();
+    match path.strip_prefix("vlm.") {
+        Some(key) => Cow::Owned(format!("vlm[\"{key}\"]")),
+        None => Cow::Borrowed(path),
     }
+}
+
+/// The keyword arguments of earlier versions of `evaluate` and `evaluation_request`, with the
+/// field whose request name ([`keyword`]) replaced each. They still work, with a
+/// `DeprecationWarning` naming the new keyword.
+pub const RENAMED: [(&str, RequestField); 2] = [
+    ("scenes_dir", RequestField::Scenes),
+    ("time_budget", RequestField::TimeBudget),
+];
+
+/// The values of the renamed keywords in `kwargs` (the `**kwargs` of `function`), each with a
+/// `DeprecationWarning` naming its new keyword.
+///
+/// # Errors
+/// `TypeError` for a keyword that is neither a parameter nor a renamed one, as Python raises
+/// it for any function.
+fn renamed<'py>(
+    py: Python<'py>,
+    function: &str,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Vec<(RequestField, Bound<'py, PyAny>)>> {
+    let Some(kwargs) = kwargs else {
+        return Ok(Vec::new());
+    };
+    let mut values = Vec::new();
+    for (key, value) in kwargs.iter() {
+        let key: String = key.extract()?;
+        let Some(&(_, field)) = RENAMED.iter().find(|(old, _)| *old == key) else {
+            return Err(PyTypeError::new_err(format!(
+                "{function}() got an unexpected keyword argument '{key}'"
+            )));
+        };
+        let category = py.get_type::<PyDeprecationWarning>();
+        let message = std::ffi::CString::new(format!(
+            "{key}= is deprecated: pass {}= (the request's name, as `sceneeval evaluate --print-request` shows it)",
+            keyword(field)
+        ))
+        .map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(py, &category, &message, 1)?;
+        values.push((field, value));
+    }
+    Ok(values)
+}
+
+/// `given` (the argument under its request name) or the value of its old name in `old`; a
+/// `TypeError` when both are given.
+fn given_or_renamed<'py, T: FromPyObjectOwned<'py>>(
+    function: &str,
+    field: RequestField,
+    given: Option<T>,
+    old: &[(RequestField, Bound<'py, PyAny>)],
+) -> PyResult<Option<T>> {
+    let Some((_, value)) = old.iter().find(|(f, _)| *f == field) else {
+        return Ok(given);
+    };
+    if given.is_some() {
+        let (name, _) = RENAMED
+            .iter()
+            .find(|(_, f)| *f == field)
+            .copied()
+            .unwrap_or(("", field));
+        return Err(PyTypeError::new_err(format!(
+            "{function}() got {}= and its old name {name}=: give {0}= only",
+            keyword(field)
+        )));
+    }
+    if value.is_none() {
+        return Ok(None);
+    }
+    value.extract::<T>().map(Some).map_err(|e| {
+        let e: PyErr = e.into();
+        PyTypeError::new_err(format!("{}: {e}", keyword(field)))
+    })
 }
 
 /// A facade error as a Python exception: a request error names the keyword (`plan: ...`) and
@@ -165,11 +217,13 @@ pub(crate) fn vlm_options(vlm: &Bound<'_, PyDict>) -> PyResult<VlmOptions> {
     Ok(options)
 }
 
-/// The request `sceneeval.evaluate` makes of its arguments (see there).
+/// The request `function` (`evaluate` or `evaluation_request`) makes of its arguments (see
+/// `evaluate`), the renamed keywords in `old` included.
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 fn request(
     py: Python<'_>,
-    scenes_dir: PathBuf,
+    function: &str,
+    scenes: Option<PathBuf>,
     assets: Option<BTreeMap<String, PathBuf>>,
     out: PathBuf,
     annotations: Option<PathBuf>,
@@ -178,12 +232,18 @@ fn request(
     metrics: Option<Vec<String>>,
     matching: Option<PathBuf>,
     relation_mapping: Option<&str>,
-    time_budget: Option<f64>,
+    time_budget_seconds: Option<f64>,
     vlm: Option<&Bound<'_, PyDict>>,
     force: bool,
     threads: Option<usize>,
     strict: bool,
+    old: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<EvaluationRequest> {
+    let old = renamed(py, function, old)?;
+    let scenes = given_or_renamed(function, RequestField::Scenes, scenes, &old)?
+        .ok_or_else(|| PyTypeError::new_err(format!("{function}() missing 1 required argument: 'scenes'")))?;
+    let time_budget_seconds =
+        given_or_renamed(function, RequestField::TimeBudget, time_budget_seconds, &old)?;
     let matching = matching
         .map(|m| {
             m.into_os_string()
@@ -193,7 +253,7 @@ fn request(
         .transpose()?;
     let (plan, preset) = plan_and_preset(py, plan, preset)?;
     Ok(EvaluationRequest {
-        scenes: scenes_dir,
+        scenes,
         assets: asset_specs(assets),
         out,
         annotations,
@@ -201,7 +261,7 @@ fn request(
             plan,
             preset,
             metrics: metrics_of(metrics)?,
-            time_budget_seconds: time_budget,
+            time_budget_seconds,
             matching,
             relation_mapping: relation_mapping.map(str::to_owned),
         },
@@ -218,11 +278,11 @@ fn request(
 /// `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
 /// dry_run is accepted as evaluate() takes it; it is not part of the request.
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, strict=false, dry_run=false))]
+#[pyo3(signature = (scenes=None, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget_seconds=None, vlm=None, force=false, threads=None, strict=false, dry_run=false, **renamed))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluation_request<'py>(
     py: Python<'py>,
-    scenes_dir: PathBuf,
+    scenes: Option<PathBuf>,
     assets: Option<BTreeMap<String, PathBuf>>,
     out: PathBuf,
     annotations: Option<PathBuf>,
@@ -231,17 +291,19 @@ pub fn evaluation_request<'py>(
     metrics: Option<Vec<String>>,
     matching: Option<PathBuf>,
     relation_mapping: Option<&str>,
-    time_budget: Option<f64>,
+    time_budget_seconds: Option<f64>,
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
     strict: bool,
     dry_run: bool,
+    renamed: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let _ = dry_run;
     let request = request(
         py,
-        scenes_dir,
+        "evaluation_request",
+        scenes,
         assets,
         out,
         annotations,
@@ -250,11 +312,12 @@ pub fn evaluation_request<'py>(
         metrics,
         matching,
         relation_mapping,
-        time_budget,
+        time_budget_seconds,
         vlm.as_ref(),
         force,
         threads,
         strict,
+        renamed.as_ref(),
     )?;
     to_python(py, &request)
 }
@@ -306,7 +369,7 @@ struct Incomplete {
     causes: Vec<String>,
 }
 
-/// Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
+/// Evaluates every `scene_<ID>.json` of the folder scenes as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
 ///
 /// assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON): the rows
 /// the text-fidelity metrics check, and rows per difficulty in the summary. plan: exactly what
@@ -319,7 +382,7 @@ struct Incomplete {
 /// metrics: run only these metrics (names or summary columns, e.g. "collision", "OOB", "cnt"),
 /// as --metrics. matching: "vlm", "labels" or a matching file or folder in
 /// the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
-/// as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget:
+/// as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget_seconds:
 /// seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
 /// vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
 /// dict with base_url and model (required), api_key_env (the variable holding the key, which
@@ -328,7 +391,7 @@ struct Incomplete {
 /// and grown back), render_size (512, the object views shown), detail ("low"), temperature (0;
 /// None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens,
 /// token_limit_field ("max_tokens" or "max_completion_tokens"), timeout (60: seconds per
-/// request attempt; time_budget bounds a scene's whole wait for the VLM), rpm and tpm (caps on
+/// request attempt; time_budget_seconds bounds a scene's whole wait for the VLM), rpm and tpm (caps on
 /// requests and estimated tokens per minute; none by default). The dict is checked whatever the
 /// plan; VLM settings a plan without text-fidelity metrics does not use are reported with a
 /// UserWarning. Before the first scene evaluated, one small request checks the endpoint: an
@@ -355,13 +418,15 @@ struct Incomplete {
 /// recorded, not raised.
 /// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
 /// ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
-/// with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
+/// with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`). The keywords are the
+/// request's names (`sceneeval evaluate --print-request`); scenes_dir and time_budget, their
+/// names in earlier versions, still work with a DeprecationWarning.
 #[pyfunction]
-#[pyo3(signature = (scenes_dir, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget=None, vlm=None, force=false, threads=None, strict=false, dry_run=false))]
+#[pyo3(signature = (scenes=None, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget_seconds=None, vlm=None, force=false, threads=None, strict=false, dry_run=false, **renamed))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluate<'py>(
     py: Python<'py>,
-    scenes_dir: PathBuf,
+    scenes: Option<PathBuf>,
     assets: Option<BTreeMap<String, PathBuf>>,
     out: PathBuf,
     annotations: Option<PathBuf>,
@@ -370,16 +435,18 @@ pub fn evaluate<'py>(
     metrics: Option<Vec<String>>,
     matching: Option<PathBuf>,
     relation_mapping: Option<&str>,
-    time_budget: Option<f64>,
+    time_budget_seconds: Option<f64>,
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
     strict: bool,
     dry_run: bool,
+    renamed: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = request(
         py,
-        scenes_dir,
+        "evaluate",
+        scenes,
         assets,
         out,
         annotations,
@@ -388,11 +455,12 @@ pub fn evaluate<'py>(
         metrics,
         matching,
         relation_mapping,
-        time_budget,
+        time_budget_seconds,
         vlm.as_ref(),
         force,
         threads,
         strict,
+        renamed.as_ref(),
     )?;
     let prepared = detached(py, || request.prepare().map_err(|e| run_error(&e)))?;
     for warning in prepared.warnings() {

@@ -75,3 +75,11 @@ def test_importing_turns_off_mesas_device_select_layer_unless_set():
     env["NODEVICE_SELECT"] = "0"
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "0"
+
+
+def test_the_documented_vlm_defaults_are_the_rust_constants():
+    # The defaults are written once, in Rust; the docstring quotes them and must not drift.
+    doc = words(inspect.getdoc(sceneeval.evaluate))
+    assert f"timeout ({sceneeval.DEFAULT_VLM_TIMEOUT_SECONDS:g}:" in doc
+    assert f"concurrency ({sceneeval.DEFAULT_VLM_CONCURRENCY}:" in doc
+    assert f"render_size ({sceneeval.DEFAULT_RENDER_SIZE}," in doc

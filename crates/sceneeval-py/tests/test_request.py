@@ -1,6 +1,7 @@
 """The two front ends build the same evaluation request from the same options:
 `sceneeval evaluate --print-request` and `sceneeval.evaluation_request(...)`."""
 
+import inspect
 import json
 import subprocess
 
@@ -16,7 +17,7 @@ CASES = [
      {"plan": "full", "annotations": "a.csv", "preset": "reference"}),
     (["--plan", "collision,oob", "--metrics", "collision,COL_ob,cnt", "--time-budget", "30",
       "--matching", "labels", "--relation-mapping", "lexicon", "--force", "--threads", "2", "--strict"],
-     {"plan": "collision,oob", "metrics": ["collision", "COL_ob", "cnt"], "time_budget": 30,
+     {"plan": "collision,oob", "metrics": ["collision", "COL_ob", "cnt"], "time_budget_seconds": 30,
       "matching": "labels", "relation_mapping": "lexicon", "force": True, "threads": 2, "strict": True}),
     (["--plan", "full", "--annotations", "a.csv", "--vlm-base-url", "http://127.0.0.1:9/v1",
       "--vlm-model", "m", "--vlm-api-key-env", "MY_KEY", "--vlm-concurrency", "16", "--render-size", "256",
@@ -55,3 +56,29 @@ def test_request_errors_name_the_keyword(tmp_path):
     with pytest.raises(ValueError, match=r'^plan: "colision" is not geometry, full, a plan file or a metric list: '
                                          r'.*did you mean "collision"'):
         sceneeval.evaluate(tmp_path, assets={}, out=tmp_path / "o", plan="colision")
+
+
+def test_the_keywords_are_the_request_names():
+    # One table: every keyword of evaluate() is a field of the request it makes, by that name.
+    request = sceneeval.evaluation_request("scenes", out="out", assets={})
+    fields = (set(request) - {"plan", "shard", "diagnostics"}) | set(request["plan"])
+    for function in (sceneeval.evaluate, sceneeval.evaluation_request):
+        params = inspect.signature(function).parameters
+        keywords = {n for n, p in params.items() if p.kind is not inspect.Parameter.VAR_KEYWORD} - {"dry_run"}
+        assert keywords == fields, function.__name__
+
+
+def test_the_old_keyword_names_warn_and_still_work():
+    new = sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget_seconds=30)
+    with pytest.warns(DeprecationWarning, match=r"^scenes_dir= is deprecated: pass scenes= "):
+        old = sceneeval.evaluation_request(scenes_dir="scenes", out="out", assets={}, time_budget_seconds=30)
+    assert old == new
+    with pytest.warns(DeprecationWarning, match=r"^time_budget= is deprecated: pass time_budget_seconds= "):
+        old = sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget=30)
+    assert old == new
+    with pytest.warns(DeprecationWarning), pytest.raises(TypeError, match=r"time_budget_seconds= and its old name time_budget="):
+        sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget=3, time_budget_seconds=3)
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'time_budgets'"):
+        sceneeval.evaluation_request("scenes", out="out", assets={}, time_budgets=3)
+    with pytest.raises(TypeError, match=r"missing 1 required argument: 'scenes'"):
+        sceneeval.evaluation_request(out="out", assets={})

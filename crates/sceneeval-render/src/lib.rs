@@ -115,8 +115,9 @@ pub struct RenderSettings {
 }
 
 impl RenderSettings {
-    /// The default image side (the reference's 512 pixels).
-    pub const DEFAULT_SIZE: u32 = 512;
+    /// The default image side: [`sceneeval_scene::DEFAULT_VIEW_SIZE`] (the reference's 512
+    /// pixels).
+    pub const DEFAULT_SIZE: u32 = sceneeval_scene::DEFAULT_VIEW_SIZE;
     /// The default samples per pixel (4x multisampling).
     pub const DEFAULT_SAMPLES: u32 = 4;
     /// The default wall cut of top views: 1.2 m, the height at which floor plans cut walls.

@@ -88,4 +88,9 @@ impl RunError {
             _ => None,
         }
     }
+
+    /// The request field at fault, if this is a request error ([`RunError::as_request`]).
+    pub fn request_field(&self) -> Option<RequestField> {
+        self.as_request().and_then(EvalError::request_field)
+    }
 }

@@ -482,21 +482,10 @@ mod tests {
     use super::*;
     use sceneeval_eval::DEFAULT_RENDER_SIZE;
 
-    fn plan(text: &str) -> PlanRequest {
-        PlanRequest {
-            plan: Some(text.to_owned()),
-            ..PlanRequest::default()
-        }
-    }
-
-    fn field_of(e: &RunError) -> Option<RequestField> {
-        e.as_request().and_then(EvalError::request_field)
-    }
-
     #[test]
     fn requests_round_trip_through_json_and_refuse_unknown_fields() {
         let mut request = EvaluationRequest::new("scenes", "out");
-        request.plan = plan("full");
+        request.plan = PlanRequest::named("full");
         request.shard = Some("2/3".parse().unwrap());
         request.vlm = Some(VlmOptions {
             base_url: "http://127.0.0.1:1/v1".into(),
@@ -569,13 +558,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let empty = EvaluationRequest::new(dir.path(), dir.path().join("out"));
         let err = empty.prepare().unwrap_err();
-        assert_eq!(field_of(&err), Some(RequestField::Scenes));
+        assert_eq!(err.request_field(), Some(RequestField::Scenes));
         assert!(err.to_string().contains("no scene_<ID>.json files"), "{err}");
         std::fs::write(dir.path().join("scene_1.json"), "{}").unwrap();
         let mut request = EvaluationRequest::new(dir.path(), dir.path().join("out"));
         request.threads = Some(0);
         assert_eq!(
-            field_of(&request.prepare().unwrap_err()),
+            request.prepare().unwrap_err().request_field(),
             Some(RequestField::Threads)
         );
         request.threads = Some(1);

@@ -92,3 +92,11 @@ pub use hints::{SupportType, UnknownSupportType};
 pub use ids::{Category, ObjectId, RoomId};
 pub use object::SceneObject;
 pub use scene::{Scene, SceneBuilder};
+
+/// The side of a square rendered view of a scene, pixels, unless the caller says otherwise:
+/// the reference's 512 (its object views shown to the VLM, OpenAI's low-detail image size).
+/// Written once here, the lowest crate both the renderer (`sceneeval-render`'s
+/// `RenderSettings::DEFAULT_SIZE`, `sceneeval render --render-size`) and the evaluator (the
+/// VLM's object views, `--vlm-render-size`, Python's `vlm["render_size"]`) depend on; the
+/// renderer is optional in the evaluator.
+pub const DEFAULT_VIEW_SIZE: u32 = 512;

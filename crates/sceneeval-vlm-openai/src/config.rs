@@ -163,7 +163,7 @@ impl std::str::FromStr for TokenLimitField {
 /// in seconds): then exactly that, or an error when it exceeds `max_retry_after`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RetryPolicy {
-    /// Retries after the first attempt (default 5).
+    /// Retries after the first attempt (default [`sceneeval_vlm::DEFAULT_MAX_RETRIES`], 5).
     pub max_retries: u32,
     /// The first backoff (default 1 s).
     pub initial_backoff: Duration,
@@ -178,7 +178,7 @@ pub struct RetryPolicy {
 impl Default for RetryPolicy {
     fn default() -> Self {
         RetryPolicy {
-            max_retries: 5,
+            max_retries: sceneeval_vlm::DEFAULT_MAX_RETRIES,
             initial_backoff: Duration::from_secs(1),
             max_backoff: Duration::from_secs(60),
             max_retry_after: Duration::from_secs(120),
@@ -219,10 +219,10 @@ impl RetryPolicy {
 /// | `temperature` | 0 | the reference sent none (API default 1.0); 0 makes answers as repeatable as the server allows; `None` sends none (OpenAI's reasoning models accept only their default) |
 /// | `max_tokens` | none | the server's limit; a reply cut off there is reported as truncated |
 /// | `token_limit_field` | `max_tokens` | the field `max_tokens` is sent in ([`TokenLimitField`]) |
-/// | `timeout` | 120 s | per attempt, including reading the reply |
+/// | `timeout` | 60 s ([`sceneeval_vlm::DEFAULT_TIMEOUT`]) | per attempt, including reading the reply |
 /// | `connect_timeout` | 10 s | |
 /// | `retry` | [`RetryPolicy::default`] | |
-/// | `max_concurrent_requests` | 4 | requests in flight at once, over all tasks using this client; halved on 429, grown back by one per window of successes |
+/// | `max_concurrent_requests` | 4 ([`sceneeval_vlm::DEFAULT_CONCURRENCY`]) | requests in flight at once, over all tasks using this client; halved on 429, grown back by one per window of successes |
 /// | `requests_per_minute` | none | attempts start at least 60 s / rpm apart |
 /// | `tokens_per_minute` | none | an attempt of n estimated tokens ([`crate::OpenAiVlm::estimate_tokens`]) holds the next back by n x 60 s / tpm |
 #[derive(Debug, Clone)]
@@ -270,10 +270,10 @@ impl OpenAiConfig {
             temperature: Some(0.0),
             max_tokens: None,
             token_limit_field: TokenLimitField::MaxTokens,
-            timeout: Duration::from_secs(120),
+            timeout: sceneeval_vlm::DEFAULT_TIMEOUT,
             connect_timeout: Duration::from_secs(10),
             retry: RetryPolicy::default(),
-            max_concurrent_requests: 4,
+            max_concurrent_requests: sceneeval_vlm::DEFAULT_CONCURRENCY,
             requests_per_minute: None,
             tokens_per_minute: None,
         }

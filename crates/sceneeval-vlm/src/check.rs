@@ -12,6 +12,12 @@ use crate::image::encode_rgb_png;
 use crate::names::name_list;
 use crate::task::{Single, Task, Validation};
 
+/// Retries after a failed attempt of the endpoint check, `sceneeval vlm check`'s default and
+/// the check a run makes before its first scene: one, so that a dead endpoint is reported in
+/// seconds rather than after a run's [`DEFAULT_MAX_RETRIES`](crate::DEFAULT_MAX_RETRIES)
+/// backoffs.
+pub const CHECK_MAX_RETRIES: u32 = 1;
+
 /// The colours the check offers.
 pub const COLOURS: [&str; 6] = ["red", "green", "blue", "yellow", "black", "white"];
 

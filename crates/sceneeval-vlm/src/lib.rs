@@ -78,3 +78,18 @@ pub use task::{Answers, Outcome, Single, Task, Unanswered, UnansweredKind, Valid
 pub use task_kind::TaskKind;
 pub use usage::{Meter, TokenUsage, Usage};
 pub use vlm::Vlm;
+
+/// How long one request to a model (each HTTP attempt, reading the reply included) may take
+/// before it is abandoned and retried, unless the caller says otherwise: 60 s, written once
+/// for the HTTP client's default, `sceneeval evaluate --vlm-timeout`, `vlm check` and Python's
+/// `vlm["timeout"]`.
+pub const DEFAULT_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// Requests to one model in flight at once, over every task using it, unless the caller says
+/// otherwise: the HTTP client's default and every run's.
+pub const DEFAULT_CONCURRENCY: usize = 4;
+
+/// Retries after a failed attempt of a request (a 429, 5xx, timeout or connection error),
+/// unless the caller says otherwise: the HTTP client's default and every run's. The endpoint
+/// check retries less ([`check::CHECK_MAX_RETRIES`]).
+pub const DEFAULT_MAX_RETRIES: u32 = 5;

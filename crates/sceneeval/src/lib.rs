@@ -99,9 +99,10 @@ pub use sceneeval_vlm_openai as vlm_openai;
 pub use sceneeval_eval::Settled;
 pub use sceneeval_eval::{
     BudgetSpent, ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_TIME_BUDGET_SECONDS,
-    DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_TIMEOUT_SECONDS, EvalError, EvaluationPlan,
-    Evaluator, MAX_VLM_TIMEOUT_SECONDS, NoVlmFallback, PlanRequest, PlanSpec, PreparedSettle,
-    RENDER_SIZE_RANGE, RequestField, SceneEvaluation, SceneInputs, SettleRequest, SharedVlm, VlmOptions,
+    DEFAULT_VLM_CACHE_DIR, DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_MAX_RETRIES, DEFAULT_VLM_TIMEOUT_SECONDS,
+    EvalError, EvaluationPlan, Evaluator, MAX_VLM_TIMEOUT_SECONDS, NoVlmFallback, PlanRequest, PlanSpec,
+    PreparedSettle, RENDER_SIZE_RANGE, RequestField, SceneEvaluation, SceneInputs, SettleRequest, SharedVlm,
+    VlmOptions,
 };
 pub use sceneeval_files::{ErrorChain, causes};
 pub use sceneeval_plausibility::MetricTiming;

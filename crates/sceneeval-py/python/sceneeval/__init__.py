@@ -17,6 +17,9 @@ import sys as _sys
 _os.environ.setdefault("NODEVICE_SELECT", "1")
 
 from ._sceneeval import (  # noqa: E402
+    DEFAULT_RENDER_SIZE,
+    DEFAULT_VLM_CONCURRENCY,
+    DEFAULT_VLM_TIMEOUT_SECONDS,
     OBJECT_ARCHITECTURE_RELATIONS,
     OBJECT_OBJECT_RELATIONS,
     Scene,
@@ -40,6 +43,9 @@ stats.__name__ = __name__ + ".stats"
 _sys.modules[stats.__name__] = stats
 
 __all__ = [
+    "DEFAULT_RENDER_SIZE",
+    "DEFAULT_VLM_CONCURRENCY",
+    "DEFAULT_VLM_TIMEOUT_SECONDS",
     "OBJECT_ARCHITECTURE_RELATIONS",
     "OBJECT_OBJECT_RELATIONS",
     "Scene",

@@ -14,6 +14,12 @@ from . import stats as stats
 __version__: str
 OBJECT_OBJECT_RELATIONS: List[str]
 OBJECT_ARCHITECTURE_RELATIONS: List[str]
+DEFAULT_VLM_TIMEOUT_SECONDS: float
+"""Seconds one VLM request attempt may take unless ``vlm["timeout"]`` says otherwise."""
+DEFAULT_VLM_CONCURRENCY: int
+"""VLM requests in flight at once over a run unless ``vlm["concurrency"]`` says otherwise."""
+DEFAULT_RENDER_SIZE: int
+"""Side of the object views shown to the VLM, pixels, unless ``vlm["render_size"]`` says otherwise."""
 
 BoxLike = Union[Sequence[float], Mapping[str, Any]]
 """A box: ``(cx, cy, cz, hx, hy, hz, yaw)`` or a dict with the keys of ``sceneeval relate``
@@ -330,7 +336,7 @@ def compare(
     """
 
 def evaluate(
-    scenes_dir: PathLike,
+    scenes: PathLike,
     *,
     assets: Optional[Mapping[str, PathLike]],
     out: PathLike,
@@ -340,14 +346,14 @@ def evaluate(
     metrics: Optional[Sequence[str]] = None,
     matching: Optional[PathLike] = None,
     relation_mapping: Optional[str] = None,
-    time_budget: Optional[float] = None,
+    time_budget_seconds: Optional[float] = None,
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
     strict: bool = False,
     dry_run: bool = False,
 ) -> Dict[str, Any]:
-    """Evaluates every `scene_<ID>.json` of scenes_dir as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
+    """Evaluates every `scene_<ID>.json` of the folder scenes as `sceneeval evaluate` does, writing the same files into out: `<scene>/eval.json` and `<scene>/timing.json` as each scene finishes, then summary.csv and summary.md.
 
     assets: as for load_scene. annotations: a SceneEval-500 annotation CSV (or JSON): the rows
     the text-fidelity metrics check, and rows per difficulty in the summary. plan: exactly what
@@ -360,7 +366,7 @@ def evaluate(
     metrics: run only these metrics (names or summary columns, e.g. "collision", "OOB", "cnt"),
     as --metrics. matching: "vlm", "labels" or a matching file or folder in
     the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
-    as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget:
+    as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget_seconds:
     seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
     vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
     dict with base_url and model (required), api_key_env (the variable holding the key, which
@@ -369,7 +375,7 @@ def evaluate(
     and grown back), render_size (512, the object views shown), detail ("low"), temperature (0;
     None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens,
     token_limit_field ("max_tokens" or "max_completion_tokens"), timeout (60: seconds per
-    request attempt; time_budget bounds a scene's whole wait for the VLM), rpm and tpm (caps on
+    request attempt; time_budget_seconds bounds a scene's whole wait for the VLM), rpm and tpm (caps on
     requests and estimated tokens per minute; none by default). The dict is checked whatever the
     plan; VLM settings a plan without text-fidelity metrics does not use are reported with a
     UserWarning. Before the first scene evaluated, one small request checks the endpoint: an
@@ -396,11 +402,13 @@ def evaluate(
     recorded, not raised.
     Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
     ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
-    with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`).
+    with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`). The keywords are the
+    request's names (`sceneeval evaluate --print-request`); scenes_dir and time_budget, their
+    names in earlier versions, still work with a DeprecationWarning.
     """
 
 def evaluation_request(
-    scenes_dir: PathLike,
+    scenes: PathLike,
     *,
     assets: Optional[Mapping[str, PathLike]],
     out: PathLike,
@@ -410,7 +418,7 @@ def evaluation_request(
     metrics: Optional[Sequence[str]] = None,
     matching: Optional[PathLike] = None,
     relation_mapping: Optional[str] = None,
-    time_budget: Optional[float] = None,
+    time_budget_seconds: Optional[float] = None,
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
