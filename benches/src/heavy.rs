@@ -208,7 +208,7 @@ pub fn refurnished(scene: &Scene) -> Result<(Scene, usize), SceneError> {
         }
         objects.push(n);
     }
-    let scene = Scene::new(scene.id().map(str::to_owned), objects, scene.rooms().to_vec())?;
+    let scene = Scene::new(scene.name().map(str::to_owned), objects, scene.rooms().to_vec())?;
     Ok((scene, replaced))
 }
 

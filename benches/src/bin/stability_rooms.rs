@@ -137,7 +137,7 @@ fn run() -> Result<(), String> {
                 let t = Instant::now();
                 let r = stability
                     .evaluate(scene, &support, &cache, &sceneeval_scene::Deadline::none())
-                    .map_err(|e| format!("{}: {e}", scene.id().unwrap_or("?")))?;
+                    .map_err(|e| format!("{}: {e}", scene.name().unwrap_or("?")))?;
                 let unstable: Vec<&str> = r
                     .objects
                     .iter()
@@ -148,7 +148,7 @@ fn run() -> Result<(), String> {
                 println!(
                     "{pass:10} {:13} {:9}: {:3} objects, {:3} free, {:2} unstable, {:4} pieces, {:.3} s simulated in {:5} steps, {:.3} s  {:?}",
                     weld.name(),
-                    scene.id().unwrap_or("?"),
+                    scene.name().unwrap_or("?"),
                     r.objects.len(),
                     r.num_free,
                     r.num_unstable,

@@ -281,7 +281,7 @@ fn written_run(
         let record = match values {
             Some((sup, oob)) => {
                 let geometry = PlausibilityReport {
-                    scene_id: Some(scene.clone()),
+                    scene: Some(scene.clone()),
                     object_ids: vec![],
                     metrics: vec![P::Support, P::Accessibility, P::OutOfBounds],
                     summary: PlausibilitySummary {

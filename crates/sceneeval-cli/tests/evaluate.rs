@@ -42,9 +42,9 @@ fn broken_scenes_are_recorded_and_the_run_goes_on() {
 
     let ok = record(out.path(), "scene_5");
     assert_eq!(ok["status"], "ok");
-    assert_eq!(ok["schema"], "sceneeval.eval/2");
+    assert_eq!(ok["schema"], "sceneeval.eval/3");
     assert_eq!(ok["scene_id"], "5");
-    assert_eq!(ok["report"]["schema"], "sceneeval.scene-report/1");
+    assert_eq!(ok["report"]["schema"], "sceneeval.scene-report/2");
     // Fixture scene 5 is the colliding pair.
     assert_eq!(ok["report"]["summary"]["col_sc"], true);
 

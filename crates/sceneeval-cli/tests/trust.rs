@@ -121,7 +121,7 @@ fn results_are_reused_only_while_everything_they_depend_on_is_unchanged() {
     let path = out.join("scene_0/eval.json");
     let old = std::fs::read_to_string(&path)
         .unwrap()
-        .replace("sceneeval.eval/2", "sceneeval.eval/1");
+        .replace("sceneeval.eval/3", "sceneeval.eval/1");
     std::fs::write(&path, old).unwrap();
     evaluate(&scenes, &assets, &out, &["--preset", "reference"])
         .success()

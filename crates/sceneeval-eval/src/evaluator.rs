@@ -42,7 +42,7 @@ use crate::{EvalError, EvaluationPlan, SharedVlm};
 /// use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 ///
 /// let scene = Scene::builder()
-///     .id("scene_0")
+///     .name("scene_0")
 ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 4.0)))
 ///     .add_box("a", Category::new("table"), Vector3::new(0.5, 0.5, 0.4), pose_from_yaw(Point3::new(1.0, 1.0, 0.4), 0.0))
 ///     .add_box("b", Category::new("table"), Vector3::new(0.5, 0.5, 0.4), pose_from_yaw(Point3::new(1.5, 1.0, 0.4), 0.0))
@@ -82,7 +82,7 @@ struct StabilityRun {
 /// see [`Evaluator::evaluate_scene`]).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct SceneInputs<'a> {
-    /// The scene's name in the report (default: the scene's own id, [`Scene::id`]); it also
+    /// The scene's name in the report (default: the scene's own name, [`Scene::name`]); it also
     /// finds the scene's file when objects are matched from a folder of matching files.
     pub name: Option<&'a str>,
     /// The scene's annotation row, which the text-fidelity metrics check. Without one, a plan's
@@ -399,7 +399,7 @@ impl Evaluator {
         scene: &Scene,
         inputs: &SceneInputs<'_>,
     ) -> Result<SceneEvaluation, EvalError> {
-        let name = inputs.name.or(scene.id());
+        let name = inputs.name.or(scene.name());
         let none = Deadline::none();
         let deadline = inputs.deadline.unwrap_or(&none);
         let row = inputs.row.filter(|_| self.plan.has_fidelity());
@@ -862,7 +862,7 @@ mod tests {
 
     fn scene() -> Scene {
         Scene::builder()
-            .id("scene_7")
+            .name("scene_7")
             .room_builder(
                 RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 4.0)).door(
                     0,
@@ -1115,7 +1115,7 @@ mod tests {
         assert_eq!(r.summary.geometry.col_sc, Some(false));
         // The chair stands entirely outside the 4 x 4 m room: 1 of 2 objects out of bounds.
         assert_eq!(r.summary.geometry.oob, Some(0.5));
-        assert_eq!(r.scene_id.as_deref(), Some("scene_7"));
+        assert_eq!(r.scene.as_deref(), Some("scene_7"));
         let ids: Vec<&str> = r.object_ids.iter().map(|i| i.as_str()).collect();
         assert_eq!(ids, vec!["bed", "stray"]);
     }
@@ -1147,7 +1147,7 @@ mod tests {
         }
         assert_eq!(full.summary.geometry.num_doors, Some(1));
         let json = serde_json::to_string(&full).unwrap();
-        assert!(json.starts_with(&format!(r#"{{"schema":"{SCENE_REPORT_SCHEMA}","scene_id":"scene_7","object_ids":["bed","stray"],"metrics":["#)), "{json}");
+        assert!(json.starts_with(&format!(r#"{{"schema":"{SCENE_REPORT_SCHEMA}","scene":"scene_7","object_ids":["bed","stray"],"metrics":["#)), "{json}");
         let back: SceneReport = serde_json::from_str(&json).unwrap();
         assert_eq!(back, full);
     }
@@ -1166,7 +1166,7 @@ mod tests {
         .with_category(Category::new("shelf"))
         .with_support_type(SupportType::Wall);
         Scene::builder()
-            .id("scene_3")
+            .name("scene_3")
             .room_builder(RoomBuilder::rectangle(
                 "r0",
                 Point2::new(0.0, 0.0),
@@ -1286,7 +1286,7 @@ mod tests {
             sceneeval_files::ErrorChain::from_parts(m.error.as_str(), &m.causes).to_string()
         };
         let roomless = Scene::builder()
-            .id("scene_9")
+            .name("scene_9")
             .add_box(
                 "desk",
                 Category::new("desk"),

@@ -28,7 +28,7 @@
 //! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //!
 //! let scene = Scene::builder()
-//!     .id("scene_0")
+//!     .name("scene_0")
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 //!         .door(0, [1.0, 1.9], [0.0, 2.1]))
 //!     // A 1.6 x 2.0 x 0.5 m bed (half extents 0.8, 1.0, 0.25).

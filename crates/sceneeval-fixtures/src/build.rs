@@ -44,7 +44,7 @@ where
         scene: name.clone(),
         source,
     };
-    let mut builder = Scene::builder().id(name.clone());
+    let mut builder = Scene::builder().name(name.clone());
     for room in &spec.rooms {
         builder = builder.room(room.clone().build().map_err(scene_err)?);
     }

@@ -78,7 +78,7 @@ fn every_scene_loads_with_the_fixture_assets() {
             .any(|s| s.objects().len() >= 100 && s.rooms().len() >= 2)
     );
     for (e, scene) in scenes() {
-        assert_eq!(scene.id(), Some(format!("scene_{}", e.id).as_str()));
+        assert_eq!(scene.name(), Some(format!("scene_{}", e.id).as_str()));
         let ids: Vec<&str> = scene.objects().iter().map(|o| o.id().as_str()).collect();
         let expected_ids: Vec<&str> = e.objects.iter().map(|o| o.id.as_str()).collect();
         assert_eq!(ids, expected_ids, "scene {}", e.id);

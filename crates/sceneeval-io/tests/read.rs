@@ -50,7 +50,7 @@ const STYLE: &str = r#"{
 #[test]
 fn sstk_style_file_is_read() {
     let scene = read(STYLE, &ReadOptions::default());
-    assert_eq!(scene.id(), Some("scene_4"));
+    assert_eq!(scene.name(), Some("scene_4"));
     assert_eq!(scene.rooms().len(), 2);
     let main = &scene.rooms()[0];
     assert_eq!(main.id().as_str(), "0");

@@ -40,7 +40,7 @@ fn rich_scene(library: &AssetLibrary) -> Scene {
         Point2::new(4.0, 4.0),
     ];
     Scene::builder()
-        .id("scene_7")
+        .name("scene_7")
         .room_builder(
             RoomBuilder::rectangle("bedroom", Point2::new(0.0, 0.0), Point2::new(4.0, 4.0))
                 .kind("bedroom")
@@ -168,7 +168,7 @@ fn write_read_write_is_byte_identical_and_lossless() {
     assert_eq!(first, second, "write -> read -> write changed the file");
 
     // The first read is lossless up to the pose quaternion's last bits.
-    assert_eq!(b.id(), Some("scene_7"));
+    assert_eq!(b.name(), Some("scene_7"));
     assert_eq!(a.rooms(), b.rooms(), "architecture must survive exactly");
     assert_objects_match(&a, &b);
     // Reading the second file gives exactly the same scene.

@@ -94,7 +94,7 @@ impl Stability {
         }
         if scene.rooms().is_empty() {
             return Err(PhysicsError::NoFloor {
-                scene: scene.id().unwrap_or("<unnamed>").to_owned(),
+                scene: scene.name().unwrap_or("<unnamed>").to_owned(),
             });
         }
         let bodies = decompose_objects(scene, &self.params, cache, check)?;

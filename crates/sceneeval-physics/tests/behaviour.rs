@@ -261,7 +261,7 @@ fn bad_input_is_a_clear_error() {
     );
 
     let no_rooms = Scene::builder()
-        .id("bare")
+        .name("bare")
         .object(cuboid("box", [0.2; 3], [0.0, 0.0, 0.2]))
         .build()
         .unwrap();

@@ -309,7 +309,7 @@ pub(crate) fn collision_with(
     let num_undecided = contacts.iter().filter(|c| c.undecided).count();
     if num_undecided > 0 {
         tracing::warn!(
-            scene = ?scene.id(),
+            scene = ?scene.name(),
             num_undecided,
             "collision: pairs undecided within the depth sample budget"
         );

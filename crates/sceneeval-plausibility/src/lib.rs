@@ -362,8 +362,11 @@ impl PlausibilitySummary {
 /// (`sceneeval_results::SceneReport`; see [`PlausibilityReport::with_summary`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlausibilityReport<S = PlausibilitySummary> {
-    /// The scene's name, if it has one.
-    pub scene_id: Option<String>,
+    /// The scene's name (its file stem, `scene_12`), if it has one. Written `scene`; read also
+    /// from `scene_id`, its key before `sceneeval.scene-report/2` (the benchmark id, `12`, is
+    /// the record's `scene_id`).
+    #[serde(alias = "scene_id")]
+    pub scene: Option<String>,
     /// The object ids, in scene order.
     pub object_ids: Vec<ObjectId>,
     /// The metrics that ran, in the order of [`Metric::ALL`].
@@ -388,7 +391,7 @@ impl<S> PlausibilityReport<S> {
     /// The same report with the summary `summary` makes of this one's.
     pub fn with_summary<T>(self, summary: impl FnOnce(S) -> T) -> PlausibilityReport<T> {
         PlausibilityReport {
-            scene_id: self.scene_id,
+            scene: self.scene,
             object_ids: self.object_ids,
             metrics: self.metrics,
             summary: summary(self.summary),
@@ -407,7 +410,7 @@ impl PlausibilityReport {
     /// [`Metric::ALL`], each without a result yet, and a summary of nothing.
     pub fn empty(scene: &Scene, metrics: &[Metric]) -> Self {
         PlausibilityReport {
-            scene_id: scene.id().map(str::to_owned),
+            scene: scene.name().map(str::to_owned),
             object_ids: scene.objects().iter().map(|o| o.id().clone()).collect(),
             metrics: Metric::ALL.into_iter().filter(|m| metrics.contains(m)).collect(),
             summary: PlausibilitySummary::default(),
@@ -544,7 +547,7 @@ fn run_metrics(
                 seconds: start.elapsed().as_secs_f64(),
             }),
             Err(e) => {
-                tracing::debug!(scene = ?scene.id(), %metric, error = %e, "metric not computed");
+                tracing::debug!(scene = ?scene.name(), %metric, error = %e, "metric not computed");
                 if !failed(metric, e) {
                     break;
                 }
@@ -552,7 +555,7 @@ fn run_metrics(
         }
     }
     report.summary = PlausibilitySummary::of(&report);
-    tracing::debug!(scene = ?scene.id(), summary = ?report.summary, "plausibility");
+    tracing::debug!(scene = ?scene.name(), summary = ?report.summary, "plausibility");
     Ok(report)
 }
 

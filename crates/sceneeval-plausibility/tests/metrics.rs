@@ -668,7 +668,7 @@ fn accessibility_of_a_bed_in_a_corner() {
 #[test]
 fn evaluate_runs_everything_and_serialises() {
     let s = scene()
-        .id("demo")
+        .name("demo")
         .add_box(
             "bed",
             Category::new("bed"),
@@ -703,7 +703,7 @@ fn evaluate_runs_everything_and_serialises() {
         .unwrap();
     let r = evaluate(&s, &PlausibilityParams::default(), &Sources::default()).unwrap();
     check_invariants(&r);
-    assert_eq!(r.scene_id.as_deref(), Some("demo"));
+    assert_eq!(r.scene.as_deref(), Some("demo"));
     assert_eq!(r.summary.doors_blocked, Some(1));
     let support = r.support.as_ref().unwrap();
     assert_eq!(support.objects[4].type_source, None);

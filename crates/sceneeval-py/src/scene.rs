@@ -267,6 +267,13 @@ fn finite_pose(center: &[f64; 3], yaw: f64, what: &str) -> PyResult<()> {
     Ok(())
 }
 
+/// A `DeprecationWarning` with `message`, pointing at the caller's line.
+fn deprecated(py: Python<'_>, message: &str) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
+    let message = std::ffi::CString::new(message).map_err(|e| value_error(e.to_string()))?;
+    PyErr::warn(py, &category, &message, 1)
+}
+
 #[pymethods]
 impl PyScene {
     /// A scene of box objects in one room or several.
@@ -278,19 +285,34 @@ impl PyScene {
     /// "room_0", "room_1", ...); a room dict may also carry its id (the key id), used by
     /// Scene.relation's floors= and in the plausibility report. categories: one per object
     /// (used by the support and accessibility tables); ids: one per object (default `box_0`,
-    /// `box_1`, ...); id: the scene's name.
+    /// `box_1`, ...); name: the scene's name (id=, its old spelling, warns).
     ///
     /// Raises ValueError for a bad array, a bad room or a bad box.
     #[staticmethod]
-    #[pyo3(signature = (boxes, room=None, *, rooms=None, categories=None, ids=None, id=None))]
+    #[pyo3(signature = (boxes, room=None, *, rooms=None, categories=None, ids=None, name=None, id=None))]
+    #[allow(clippy::too_many_arguments)] // The keyword arguments of `Scene.from_boxes`.
     fn from_boxes(
+        py: Python<'_>,
         boxes: &Bound<'_, PyAny>,
         room: Option<&Bound<'_, PyAny>>,
         rooms: Option<&Bound<'_, PyAny>>,
         categories: Option<Vec<String>>,
         ids: Option<Vec<String>>,
+        name: Option<String>,
         id: Option<String>,
     ) -> PyResult<Self> {
+        if id.is_some() {
+            if name.is_some() {
+                return Err(value_error(
+                    "give the scene's name once, as name= (id= is its old spelling)",
+                ));
+            }
+            deprecated(
+                py,
+                "Scene.from_boxes(id=...) is deprecated: pass name= (scene_id means the benchmark id)",
+            )?;
+        }
+        let name = name.or(id);
         let box_rows = rows::<BOX_COLUMNS>(boxes, "boxes")?;
         let n = box_rows.len();
         for (what, list) in [("categories", &categories), ("ids", &ids)] {
@@ -306,8 +328,8 @@ impl PyScene {
         // Checks every number (NaN, negative half extents) with the messages of `relate`.
         obbs_from_rows(&box_rows, "boxes").map_err(|e| relation_error(&e))?;
         let mut builder = Scene::builder();
-        if let Some(id) = id {
-            builder = builder.id(id);
+        if let Some(name) = name {
+            builder = builder.name(name);
         }
         match (room, rooms) {
             (Some(_), Some(_)) => {
@@ -344,10 +366,21 @@ impl PyScene {
         Ok(PyScene::new(scene))
     }
 
-    /// The scene's name, if it has one.
+    /// The scene's name (for a file, its stem: `scene_12`), if it has one.
     #[getter]
-    fn id(&self) -> Option<String> {
-        self.with_scene(|scene| scene.id().map(str::to_owned))
+    fn name(&self) -> Option<String> {
+        self.with_scene(|scene| scene.name().map(str::to_owned))
+    }
+
+    /// The scene's name: Scene.name, with a DeprecationWarning (scene_id means the benchmark
+    /// id, `12`; the name is the file stem).
+    #[getter]
+    fn id(&self, py: Python<'_>) -> PyResult<Option<String>> {
+        deprecated(
+            py,
+            "Scene.id is deprecated: use Scene.name (scene_id means the benchmark id)",
+        )?;
+        Ok(self.name())
     }
 
     /// Every object as a dict: id, index, model_id, category, description, is_box, center, size
@@ -478,10 +511,10 @@ impl PyScene {
     fn __repr__(&self) -> String {
         self.with_scene(|scene| {
             format!(
-                "Scene(id={}, objects={}, rooms={})",
+                "Scene(name={}, objects={}, rooms={})",
                 scene
-                    .id()
-                    .map_or_else(|| "None".to_owned(), |id| format!("{id:?}")),
+                    .name()
+                    .map_or_else(|| "None".to_owned(), |name| format!("{name:?}")),
                 scene.objects().len(),
                 scene.rooms().len()
             )

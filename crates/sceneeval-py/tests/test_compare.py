@@ -48,7 +48,7 @@ def write_run(root, name, values, failed=()):
             record["causes"] = []
         else:
             report = record["report"]
-            report["scene_id"] = f"scene_{k}"
+            report["scene"] = f"scene_{k}"
             report["metrics"] = ["support", "navigability", "out_of_bounds"]
             report["summary"].update(sup=v["sup"], nav=v["nav"], oob=v["oob"])
             for section in ("collision", "support", "navigability", "accessibility", "out_of_bounds",

@@ -22,9 +22,16 @@ def two_tables(dx):
 
 
 def test_a_scene_from_boxes_inspects_as_plain_values():
-    scene = sceneeval.Scene.from_boxes(two_tables(2.0), ROOM, categories=["table", "desk"], ids=["t", "d"], id="scene_7")
-    assert len(scene) == 2 and scene.id == "scene_7"
-    assert repr(scene) == 'Scene(id="scene_7", objects=2, rooms=1)'
+    scene = sceneeval.Scene.from_boxes(two_tables(2.0), ROOM, categories=["table", "desk"], ids=["t", "d"], name="scene_7")
+    assert len(scene) == 2 and scene.name == "scene_7"
+    assert repr(scene) == 'Scene(name="scene_7", objects=2, rooms=1)'
+    # The old spellings of the name warn and still work.
+    with pytest.warns(DeprecationWarning, match=r"^Scene.id is deprecated: use Scene.name"):
+        assert scene.id == "scene_7"
+    with pytest.warns(DeprecationWarning, match=r"from_boxes\(id=...\) is deprecated: pass name="):
+        assert sceneeval.Scene.from_boxes(two_tables(2.0), ROOM, id="scene_8").name == "scene_8"
+    with pytest.raises(ValueError, match="give the scene's name once"):
+        sceneeval.Scene.from_boxes(two_tables(2.0), ROOM, id="a", name="b")
     t = scene.objects[0]
     assert (t["id"], t["category"], t["is_box"], t["index"]) == ("t", "table", True, 0)
     assert t["center"] == [1.0, 2.0, 0.4] and t["size"] == [1.0, 1.0, 0.8] and t["yaw"] == 0.0
@@ -41,7 +48,7 @@ def test_a_scene_from_boxes_inspects_as_plain_values():
 def test_plausibility_reports_collisions_with_per_object_evidence():
     apart = sceneeval.Scene.from_boxes(two_tables(2.0), ROOM, categories=["table", "table"])
     report = apart.plausibility()
-    assert report["schema"] == "sceneeval.scene-report/1"
+    assert report["schema"] == "sceneeval.scene-report/2"
     assert report["summary"]["col_ob"] == 0.0 and report["summary"]["col_sc"] is False
     assert report["summary"]["oob"] == 0.0
     # 0.5 m overlap: both tables collide, COL_ob = 2/2.
@@ -88,7 +95,7 @@ def test_bad_scene_input_raises_value_error():
 
 def test_a_fixture_scene_loads_with_its_assets():
     scene = sceneeval.load_scene(FIXTURES / "scenes" / "scene_1.json", {"fixture": FIXTURES / "assets"})
-    assert scene.id == "scene_1"
+    assert scene.name == "scene_1"
     expected = json.loads((FIXTURES / "expected.json").read_text())
     mine = next(s for s in expected["scenes"] if s["file"].endswith("scene_1.json"))
     assert [o["id"] for o in scene.objects] == [o["id"] for o in mine["objects"]]
@@ -124,7 +131,7 @@ def test_several_rooms_with_their_ids():
     scene = sceneeval.Scene.from_boxes(boxes, rooms=rooms)
     assert [r["id"] for r in scene.rooms] == ["bedroom", "room_1"]
     assert [r["floor_area"] for r in scene.rooms] == [pytest.approx(20.0), pytest.approx(15.0)]
-    assert repr(scene) == "Scene(id=None, objects=2, rooms=2)"
+    assert repr(scene) == "Scene(name=None, objects=2, rooms=2)"
     # Each table is in some room; in the other room alone it is not.
     assert scene.relation("inside_room", "box_1") == 1.0
     assert scene.relation("inside_room", "box_1", floors=["bedroom"]) == 0.0

@@ -34,7 +34,7 @@
 //! // One scene, evaluated twice: once with the bed inside the room, once half outside.
 //! let record = |x: f64| {
 //!     let scene = Scene::builder()
-//!         .id("scene_0")
+//!         .name("scene_0")
 //!         .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0)))
 //!         .add_box("bed", Category::new("bed"), Vector3::new(0.8, 1.0, 0.25),
 //!                  pose_from_yaw(Point3::new(x, 2.5, 0.25), 0.0))

@@ -28,7 +28,7 @@
 //! use sceneeval_plausibility::{Metric, PlausibilityReport, PlausibilitySummary};
 //!
 //! let geometry = PlausibilityReport {
-//!     scene_id: None,
+//!     scene: None,
 //!     object_ids: Vec::new(),
 //!     metrics: vec![Metric::OutOfBounds],
 //!     summary: PlausibilitySummary { oob: Some(0.25), ..PlausibilitySummary::default() },
@@ -64,7 +64,9 @@ pub use fingerprint::{AssetDigest, FileDigest, Fingerprint, TOOL_VERSION};
 pub use metric::{Better, Metric, UnknownMetric};
 pub use name::SceneName;
 pub use preset::{Preset, UnknownPreset};
-pub use record::{Outcome, RECORD_FILE, RECORD_SCHEMA, SceneRecord, Stage, TIMING_FILE};
+pub use record::{
+    Outcome, READABLE_RECORD_SCHEMAS, RECORD_FILE, RECORD_SCHEMA, SceneRecord, Stage, TIMING_FILE,
+};
 pub use report::{
     IncompleteMetric, ObjectPlacement, PlacementSource, Provenance, SCENE_REPORT_SCHEMA, SceneReport,
     SceneSummary,

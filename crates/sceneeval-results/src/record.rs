@@ -13,8 +13,15 @@ pub const RECORD_FILE: &str = "eval.json";
 pub const TIMING_FILE: &str = "timing.json";
 
 /// The schema name and version of a scene's `eval.json`. Version 2 added the fingerprint;
-/// records of version 1 are evaluated again.
-pub const RECORD_SCHEMA: &str = "sceneeval.eval/2";
+/// records of version 1 are evaluated again. Version 3 writes the scene report's name of the
+/// scene as `scene` (`sceneeval.scene-report/2`; `scene_id` is the benchmark id everywhere).
+pub const RECORD_SCHEMA: &str = "sceneeval.eval/3";
+
+/// The record schemas [`SceneRecord::read`] reads: [`RECORD_SCHEMA`] and version 2, whose
+/// report names the scene under the key `scene_id` (read as `scene`). A run evaluates the
+/// scenes of a version-2 record again (its fingerprint names the old schema); `report`,
+/// `compare` and `summarize` read it as it is.
+pub const READABLE_RECORD_SCHEMAS: [&str; 2] = ["sceneeval.eval/2", RECORD_SCHEMA];
 
 /// The content of one scene's `eval.json`: either its report or why it could not be evaluated.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -126,7 +133,7 @@ impl SceneRecord {
         }
     }
 
-    /// Reads a record, checking its schema.
+    /// Reads a record, checking its schema (one of [`READABLE_RECORD_SCHEMAS`]).
     pub fn read(path: &Path) -> Result<Self, ResultsError> {
         let text = std::fs::read_to_string(path).map_err(|source| ResultsError::File {
             path: path.to_owned(),
@@ -136,10 +143,14 @@ impl SceneRecord {
             path: path.to_owned(),
             message: e.to_string(),
         })?;
-        if record.schema != RECORD_SCHEMA {
+        if !READABLE_RECORD_SCHEMAS.contains(&record.schema.as_str()) {
             return Err(ResultsError::BadRecord {
                 path: path.to_owned(),
-                message: format!("schema {:?}, expected {RECORD_SCHEMA:?}", record.schema),
+                message: format!(
+                    "schema {:?}, expected one of {}",
+                    record.schema,
+                    READABLE_RECORD_SCHEMAS.map(|s| format!("{s:?}")).join(", ")
+                ),
             });
         }
         Ok(record)
@@ -190,5 +201,45 @@ mod tests {
             SceneRecord::read(&path),
             Err(ResultsError::BadRecord { .. })
         ));
+    }
+
+    /// An `eval.json` of schema `sceneeval.eval/2`, as version 0.1.0 wrote it (the report's
+    /// `scene_id` held the file stem), reads with the stem as the report's `scene` and the
+    /// benchmark id as the record's `scene_id`; written again, it has the new keys.
+    #[test]
+    fn a_record_of_schema_2_reads_with_the_stem_as_scene() {
+        let old = r#"{
+  "schema": "sceneeval.eval/2",
+  "scene": "scene_007",
+  "scene_id": "007",
+  "fingerprint": null,
+  "status": "ok",
+  "report": {
+    "schema": "sceneeval.scene-report/1",
+    "scene_id": "scene_007",
+    "object_ids": ["bed"],
+    "metrics": ["out_of_bounds"],
+    "summary": {"col_ob": null, "col_sc": null, "sup": null, "nav": null, "all_rooms_reachable": null, "acc": null, "oob": 0.0, "num_doors": null, "doors_blocked": null, "num_windows": null, "windows_blocked": null},
+    "collision": null, "support": null, "navigability": null, "accessibility": null, "out_of_bounds": null, "opening_clearance": null
+  }
+}
+"#;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("eval.json");
+        std::fs::write(&path, old).unwrap();
+        let record = SceneRecord::read(&path).unwrap();
+        assert_eq!(record.schema, "sceneeval.eval/2");
+        assert_eq!(
+            (record.scene.as_str(), record.scene.id()),
+            ("scene_007", Some("007"))
+        );
+        let Some(report) = record.report() else {
+            panic!("expected a report")
+        };
+        assert_eq!(report.scene.as_deref(), Some("scene_007"));
+        assert_eq!(report.summary.geometry.oob, Some(0.0));
+        let written = serde_json::to_value(report).unwrap();
+        assert_eq!(written["scene"], "scene_007");
+        assert!(written.get("scene_id").is_none(), "{written}");
     }
 }

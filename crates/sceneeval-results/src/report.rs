@@ -13,7 +13,9 @@ use sceneeval_scene::{ObjectId, SupportType};
 use crate::Metric;
 
 /// The schema name and version written into every per-scene report.
-pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/1";
+/// Version 2 names the scene (its file stem) `scene`, where version 1 wrote `scene_id`; both
+/// are read.
+pub const SCENE_REPORT_SCHEMA: &str = "sceneeval.scene-report/2";
 
 /// Everything measured on one scene: the `report` of its `eval.json`.
 ///
@@ -32,8 +34,9 @@ pub struct SceneReport {
     /// Always [`SCENE_REPORT_SCHEMA`].
     pub schema: String,
     /// The geometry metrics' report, with the scene-level summary of every metric: the
-    /// scene's name (its file stem, `scene_12`; the key `scene_id` is the format's first name
-    /// for it: the record's `scene_id` is the benchmark id, `12`), the object ids, the geometry
+    /// scene's name (its file stem, `scene_12`, the key `scene`; version 1 of the schema wrote
+    /// it as `scene_id`, which is read too: the record's `scene_id` is the benchmark id, `12`),
+    /// the object ids, the geometry
     /// metrics that ran (in the order of [`sceneeval_plausibility::Metric::ALL`]; the text-fidelity
     /// metrics that ran have their sections in [`SceneReport::fidelity`]), the summary and each
     /// geometry metric's section.
@@ -191,7 +194,7 @@ impl SceneReport {
             fidelity: scores,
             stab: None,
         });
-        geometry.scene_id = scene;
+        geometry.scene = scene;
         SceneReport {
             schema: SCENE_REPORT_SCHEMA.to_owned(),
             geometry,
@@ -275,7 +278,7 @@ mod tests {
 
     fn geometry() -> PlausibilityReport {
         PlausibilityReport {
-            scene_id: Some("ignored".into()),
+            scene: Some("ignored".into()),
             object_ids: vec![ObjectId::new("bed")],
             metrics: vec![sceneeval_plausibility::Metric::OutOfBounds],
             summary: PlausibilitySummary {
@@ -297,7 +300,7 @@ mod tests {
         let json = serde_json::to_string(&report).unwrap();
         assert_eq!(
             json,
-            r#"{"schema":"sceneeval.scene-report/1","scene_id":"scene_3","object_ids":["bed"],"metrics":["out_of_bounds"],"summary":{"col_ob":null,"col_sc":null,"sup":null,"nav":null,"all_rooms_reachable":null,"acc":null,"oob":0.0,"num_doors":null,"doors_blocked":null,"num_windows":null,"windows_blocked":null},"collision":null,"support":null,"navigability":null,"accessibility":null,"out_of_bounds":null,"opening_clearance":null}"#
+            r#"{"schema":"sceneeval.scene-report/2","scene":"scene_3","object_ids":["bed"],"metrics":["out_of_bounds"],"summary":{"col_ob":null,"col_sc":null,"sup":null,"nav":null,"all_rooms_reachable":null,"acc":null,"oob":0.0,"num_doors":null,"doors_blocked":null,"num_windows":null,"windows_blocked":null},"collision":null,"support":null,"navigability":null,"accessibility":null,"out_of_bounds":null,"opening_clearance":null}"#
         );
         let back: SceneReport = serde_json::from_str(&json).unwrap();
         assert_eq!(back, report);

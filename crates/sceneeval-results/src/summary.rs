@@ -576,7 +576,7 @@ mod tests {
 
     fn record(name: &str, summary: SceneSummary) -> SceneRecord {
         let geometry = PlausibilityReport {
-            scene_id: Some(name.into()),
+            scene: Some(name.into()),
             object_ids: vec![],
             metrics: plausibility::Metric::ALL.to_vec(),
             summary,

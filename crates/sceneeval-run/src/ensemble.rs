@@ -733,7 +733,7 @@ mod tests {
             warnings: Vec::new(),
         };
         let geometry = PlausibilityReport {
-            scene_id: None,
+            scene: None,
             object_ids: Vec::new(),
             metrics: vec![sceneeval_plausibility::Metric::Support],
             summary: PlausibilitySummary {

@@ -11,7 +11,7 @@
 //! use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //!
 //! let scene = Scene::builder()
-//!     .id("scene_0")
+//!     .name("scene_0")
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 //!         .door(0, [1.0, 1.9], [0.0, 2.1]))
 //!     .add_box("bed", Category::new("bed"), Vector3::new(0.8, 1.0, 0.25),
@@ -146,7 +146,7 @@ impl<'a> SceneInfo<'a> {
     /// The objects and rooms of `scene`.
     pub fn new(scene: &'a Scene) -> Self {
         SceneInfo {
-            scene: scene.id(),
+            scene: scene.name(),
             objects: scene.objects().iter().map(ObjectInfo::new).collect(),
             rooms: scene.rooms().iter().map(RoomInfo::new).collect(),
         }

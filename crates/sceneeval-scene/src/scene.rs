@@ -11,7 +11,7 @@ use crate::{Category, ObjectId, Opening, Room, RoomBuilder, SceneError, SceneObj
 /// order they were given in, which is the order every per-object result reports them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
-    id: Option<String>,
+    name: Option<String>,
     objects: Vec<SceneObject>,
     rooms: Vec<Room>,
     lookup: HashMap<ObjectId, usize>,
@@ -23,7 +23,11 @@ impl Scene {
     /// # Errors
     /// [`SceneError::DuplicateObjectId`], [`SceneError::DuplicateRoomId`] or
     /// [`SceneError::DuplicateWallId`].
-    pub fn new(id: Option<String>, objects: Vec<SceneObject>, rooms: Vec<Room>) -> Result<Self, SceneError> {
+    pub fn new(
+        name: Option<String>,
+        objects: Vec<SceneObject>,
+        rooms: Vec<Room>,
+    ) -> Result<Self, SceneError> {
         let mut lookup = HashMap::with_capacity(objects.len());
         for (i, o) in objects.iter().enumerate() {
             if lookup.insert(o.id().clone(), i).is_some() {
@@ -51,7 +55,7 @@ impl Scene {
             }
         }
         Ok(Scene {
-            id,
+            name,
             objects,
             rooms,
             lookup,
@@ -63,10 +67,21 @@ impl Scene {
         SceneBuilder::default()
     }
 
-    /// The scene's name (for files read from disk, the file stem, e.g. `scene_12`).
+    /// The scene's name (for files read from disk, the file stem, e.g. `scene_12`; the
+    /// benchmark id, `12`, is derived from it by `sceneeval_results::SceneName`).
+    #[inline]
+    pub fn name(&self) -> Option<&str> {
+        self.name.as_deref()
+    }
+
+    /// The scene's name: [`Scene::name`], its name now (`scene_id` means the benchmark id
+    /// everywhere else).
+    #[deprecated(
+        note = "renamed `Scene::name`: `scene_id` means the benchmark id (`12`), the name is the file stem (`scene_12`)"
+    )]
     #[inline]
     pub fn id(&self) -> Option<&str> {
-        self.id.as_deref()
+        self.name()
     }
 
     /// The objects, in order.
@@ -182,7 +197,7 @@ impl Scene {
 /// use sceneeval_geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 ///
 /// let scene = Scene::builder()
-///     .id("bedroom")
+///     .name("bedroom")
 ///     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 ///         .door(0, [1.0, 1.9], [0.0, 2.1]))
 ///     // Half extents: a 1.6 x 2.0 x 0.6 m bed and a 0.5 x 0.4 x 0.6 m nightstand.
@@ -197,7 +212,7 @@ impl Scene {
 /// ```
 #[derive(Debug, Default)]
 pub struct SceneBuilder {
-    id: Option<String>,
+    name: Option<String>,
     objects: Vec<SceneObject>,
     rooms: Vec<Room>,
     error: Option<SceneError>,
@@ -205,9 +220,17 @@ pub struct SceneBuilder {
 
 impl SceneBuilder {
     /// Sets the scene's name.
-    pub fn id(mut self, id: impl Into<String>) -> Self {
-        self.id = Some(id.into());
+    pub fn name(mut self, name: impl Into<String>) -> Self {
+        self.name = Some(name.into());
         self
+    }
+
+    /// Sets the scene's name: [`SceneBuilder::name`], its name now.
+    #[deprecated(
+        note = "renamed `SceneBuilder::name`: `scene_id` means the benchmark id, the name is the file stem"
+    )]
+    pub fn id(self, name: impl Into<String>) -> Self {
+        self.name(name)
     }
 
     /// Adds an object.
@@ -268,7 +291,7 @@ impl SceneBuilder {
         if let Some(e) = self.error {
             return Err(e);
         }
-        Scene::new(self.id, self.objects, self.rooms)
+        Scene::new(self.name, self.objects, self.rooms)
     }
 }
 

@@ -66,7 +66,7 @@ pub fn scene(n: usize, meshes: &BenchMeshes) -> Scene {
         .wall_height(WALL_HEIGHT)
         .door(0, [0.4, 1.3], [0.0, 2.1])
         .window(1, [1.0, 2.2], [0.9, 2.0]);
-    let mut b = Scene::builder().id(format!("bench_{n}")).room_builder(room);
+    let mut b = Scene::builder().name(format!("bench_{n}")).room_builder(room);
     let mut rng = Lcg(0x5eed ^ n as u64);
     let (mut cell, mut paintings) = (0usize, 0usize);
     let mut last_table: Option<(f64, f64)> = None;
@@ -151,7 +151,7 @@ pub fn fixture_scene() -> Scene {
     let p = Point3::new;
     let s = Vector3::new;
     Scene::builder()
-        .id("fixture_size")
+        .name("fixture_size")
         .room_builder(crate::bedroom("bedroom").window(2, [1.0, 2.5], [0.9, 2.0]))
         .add_box(
             "bed",
@@ -289,7 +289,7 @@ pub fn scaling_scene(n: usize, set: &AssetSet) -> Scene {
         .door(0, [0.4, 1.3], [0.0, 2.1])
         .window(1, [1.0, 2.2], [0.9, 2.0]);
     let mut b = Scene::builder()
-        .id(format!("{}_{n}", set.kind))
+        .name(format!("{}_{n}", set.kind))
         .room_builder(room);
     let mut rng = Lcg(0x5eed ^ n as u64);
     let (mut cell, mut paintings) = (0usize, 0usize);

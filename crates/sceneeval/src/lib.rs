@@ -47,7 +47,7 @@
 //! use sceneeval::geom::{conventions::pose_from_yaw, Point2, Point3, Vector3};
 //!
 //! let scene = Scene::builder()
-//!     .id("scene_0")
+//!     .name("scene_0")
 //!     .room_builder(RoomBuilder::rectangle("r0", Point2::new(0.0, 0.0), Point2::new(4.0, 5.0))
 //!         .door(0, [1.0, 1.9], [0.0, 2.1]))
 //!     // A 1.6 x 2.0 x 0.5 m bed (half extents 0.8, 1.0, 0.25).
@@ -108,10 +108,10 @@ pub use sceneeval_files::{ErrorChain, causes};
 pub use sceneeval_plausibility::MetricTiming;
 pub use sceneeval_results::{
     ALL_SCENES, AssetDigest, Better, FileDigest, Fingerprint, GroupSummary, IncompleteMetric, LEGEND, Metric,
-    ObjectPlacement, Outcome, PlacementSource, Preset, Provenance, RECORD_FILE, RECORD_SCHEMA, ResultsError,
-    SCENE_REPORT_SCHEMA, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneName, SceneRecord, SceneReport,
-    SceneRow, SceneSummary, SceneTiming, Stage, Summary, TIMING_FILE, TIMING_SCHEMA, TOOL_VERSION,
-    UNANNOTATED, UnknownMetric, UnknownPreset,
+    ObjectPlacement, Outcome, PlacementSource, Preset, Provenance, READABLE_RECORD_SCHEMAS, RECORD_FILE,
+    RECORD_SCHEMA, ResultsError, SCENE_REPORT_SCHEMA, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneName,
+    SceneRecord, SceneReport, SceneRow, SceneSummary, SceneTiming, Stage, Summary, TIMING_FILE,
+    TIMING_SCHEMA, TOOL_VERSION, UNANNOTATED, UnknownMetric, UnknownPreset,
 };
 pub use sceneeval_run::{
     BatchOptions, BatchOutcome, DryRun, EvaluationRequest, Fingerprints, LOCK_FILE, OutputLock, PreparedRun,

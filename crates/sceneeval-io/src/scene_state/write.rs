@@ -102,7 +102,7 @@ pub fn scene_state_to_string(scene: &Scene) -> Result<String, IoError> {
     ]);
     if let Some(v) = doc.find_non_finite() {
         return Err(IoError::Unwritable {
-            object: scene.id().unwrap_or("scene").to_owned(),
+            object: scene.name().unwrap_or("scene").to_owned(),
             reason: format!("the scene holds a non-finite number ({v})"),
         });
     }

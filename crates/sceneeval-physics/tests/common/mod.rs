@@ -25,7 +25,7 @@ pub fn tilted_cuboid(id: &str, h: [f64; 3], c: [f64; 3], angle: f64) -> SceneObj
 
 /// The bedroom with these objects.
 pub fn room(objects: Vec<SceneObject>) -> Scene {
-    let mut b = Scene::builder().id("test").room_builder(bedroom("r"));
+    let mut b = Scene::builder().name("test").room_builder(bedroom("r"));
     for o in objects {
         b = b.object(o);
     }

@@ -160,6 +160,7 @@ class Scene:
         rooms: Optional[Sequence[RoomLike]] = None,
         categories: Optional[Sequence[str]] = None,
         ids: Optional[Sequence[str]] = None,
+        name: Optional[str] = None,
         id: Optional[str] = None,
     ) -> "Scene":
         """A scene of box objects in one room or several.
@@ -171,13 +172,17 @@ class Scene:
         "room_0", "room_1", ...); a room dict may also carry its id (the key id), used by
         Scene.relation's floors= and in the plausibility report. categories: one per object
         (used by the support and accessibility tables); ids: one per object (default `box_0`,
-        `box_1`, ...); id: the scene's name.
+        `box_1`, ...); name: the scene's name (id=, its old spelling, warns).
 
         Raises ValueError for a bad array, a bad room or a bad box.
         """
     @property
+    def name(self) -> Optional[str]:
+        """The scene's name (for a file, its stem: `scene_12`), if it has one."""
+    @property
     def id(self) -> Optional[str]:
-        """The scene's name, if it has one."""
+        """The scene's name: Scene.name, with a DeprecationWarning (scene_id means the benchmark
+        id, `12`; the name is the file stem)."""
     @property
     def objects(self) -> List[Dict[str, Any]]:
         """Every object as a dict: id, index, model_id, category, description, is_box, center, size (full width, depth, height), yaw, front (world direction of its front), asset_front (the front its file declared, or None), scale, support_type, functional_sides."""

@@ -14,7 +14,7 @@ type P = plausibility::Metric;
 /// A record of `name` that ran `metrics` and found `summary`, with a fingerprint of `plan`.
 pub(super) fn record(name: &str, metrics: &[P], summary: PlausibilitySummary, plan: &str) -> SceneRecord {
     let geometry = PlausibilityReport {
-        scene_id: Some(name.into()),
+        scene: Some(name.into()),
         object_ids: vec![],
         metrics: metrics.to_vec(),
         summary,

@@ -391,7 +391,7 @@ fn cnt_record(name: &str, verdicts: &[Option<bool>]) -> SceneRecord {
     }))
     .unwrap();
     let geometry = PlausibilityReport {
-        scene_id: Some(name.into()),
+        scene: Some(name.into()),
         object_ids: vec![],
         metrics: vec![P::Support],
         summary: PlausibilitySummary {
