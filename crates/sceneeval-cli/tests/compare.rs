@@ -280,22 +280,15 @@ fn written_run(
         let scene = format!("scene_{k}");
         let record = match values {
             Some((sup, oob)) => {
-                let geometry = PlausibilityReport {
-                    scene: Some(scene.clone()),
-                    object_ids: vec![],
-                    metrics: vec![P::Support, P::Accessibility, P::OutOfBounds],
-                    summary: PlausibilitySummary {
+                let geometry = PlausibilityReport::of_summary(
+                    Some(scene.clone()),
+                    vec![P::Support, P::Accessibility, P::OutOfBounds],
+                    PlausibilitySummary {
                         sup: Some(*sup),
                         oob: Some(*oob),
                         ..PlausibilitySummary::default()
                     },
-                    collision: None,
-                    support: None,
-                    navigability: None,
-                    accessibility: None,
-                    out_of_bounds: None,
-                    opening_clearance: None,
-                };
+                );
                 SceneRecord::ok(
                     SceneName::new(&scene),
                     SceneReport::new(Some(scene.clone()), geometry, None),

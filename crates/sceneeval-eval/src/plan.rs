@@ -71,7 +71,8 @@ pub struct EvaluationPlan {
     /// its scene, not the run.
     pub limits: Limits,
     /// Wall-time budget per scene in seconds (loading and metrics together); a scene over it
-    /// is recorded as failed and the run goes on. `null` for no budget. Default 600.
+    /// is recorded as failed and the run goes on. `None` for no budget, written `0` in a plan
+    /// file as on the command line and in Python (`null` is read too, in JSON). Default 600.
     pub time_budget_seconds: Option<f64>,
     /// Parameters of the stability metric (`params.stability.weld`,
     /// `params.stability.duration_s`, ...): the same under both presets. Read and checked in every build; a plan that runs the metric
@@ -415,7 +416,7 @@ impl EvaluationPlan {
         {
             return Err(plan_error(
                 Some("time_budget_seconds"),
-                format!("{b} must be a positive number of seconds (or null for no budget)"),
+                format!("{b} must be a positive number of seconds (or 0 for no budget)"),
             ));
         }
         let h = self.read.simple_wall_height;
@@ -543,7 +544,9 @@ impl From<PlanFields> for EvaluationPlan {
             relations: f.relations,
             read: f.read,
             limits: f.limits,
-            time_budget_seconds: f.time_budget_seconds,
+            // `0` is "no budget", as `--time-budget 0` and Python's `time_budget_seconds=0` say
+            // it (TOML has no `null`).
+            time_budget_seconds: f.time_budget_seconds.filter(|b| *b != 0.0),
             stability: f.stability,
         }
     }
@@ -907,7 +910,11 @@ mod tests {
                 "params.navigability.resolution",
                 "positive",
             ),
-            (r#"{"time_budget_seconds": 0}"#, "time_budget_seconds", "positive"),
+            (
+                r#"{"time_budget_seconds": -1}"#,
+                "time_budget_seconds",
+                "positive",
+            ),
             (
                 r#"{"limits": {"max_triangles": 0}}"#,
                 "limits.max_triangles",
@@ -932,6 +939,23 @@ mod tests {
         let e = EvaluationPlan::from_json_str("{\n  \"metrics\": [\n}").unwrap_err();
         assert!(e.to_string().contains("line 3"), "{e}");
         assert!(EvaluationPlan::from_json_str("[1]").is_err());
+    }
+
+    /// "No budget" is `0` in a plan file (JSON or TOML, which has no `null`) as on the command
+    /// line and in Python; JSON's `null` is read too; both are the same plan.
+    #[test]
+    fn no_budget_is_zero_in_every_plan_file() {
+        let json = EvaluationPlan::from_json_str(r#"{"time_budget_seconds": 0}"#).unwrap();
+        let toml = EvaluationPlan::from_toml_str("time_budget_seconds = 0").unwrap();
+        let null = EvaluationPlan::from_json_str(r#"{"time_budget_seconds": null}"#).unwrap();
+        for plan in [&json, &toml, &null] {
+            assert_eq!(plan.time_budget_seconds, None);
+            assert!(plan.deadline().budget().is_none());
+        }
+        assert_eq!(json, toml);
+        assert_eq!(json, null);
+        let budget = EvaluationPlan::from_toml_str("time_budget_seconds = 30").unwrap();
+        assert_eq!(budget.time_budget_seconds, Some(30.0));
     }
 
     #[test]

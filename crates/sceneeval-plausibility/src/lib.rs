@@ -405,6 +405,33 @@ impl<S> PlausibilityReport<S> {
     }
 }
 
+impl<S> PlausibilityReport<S> {
+    /// A report of scene-level numbers only: `summary` of the metrics `metrics` on the scene
+    /// named `scene`, without object ids or per-metric sections (what a summary or a
+    /// comparison reads of a report; the one way tests build one by hand).
+    ///
+    /// ```
+    /// use sceneeval_plausibility::{Metric, PlausibilityReport, PlausibilitySummary};
+    /// let summary = PlausibilitySummary { sup: Some(1.0), ..PlausibilitySummary::default() };
+    /// let report = PlausibilityReport::of_summary(Some("scene_1".into()), vec![Metric::Support], summary);
+    /// assert!(report.support.is_none() && report.object_ids.is_empty());
+    /// ```
+    pub fn of_summary(scene: Option<String>, metrics: Vec<Metric>, summary: S) -> Self {
+        PlausibilityReport {
+            scene,
+            object_ids: Vec::new(),
+            metrics,
+            summary,
+            collision: None,
+            support: None,
+            navigability: None,
+            accessibility: None,
+            out_of_bounds: None,
+            opening_clearance: None,
+        }
+    }
+}
+
 impl PlausibilityReport {
     /// The report of `scene` before any metric ran: the metrics of `metrics` in the order of
     /// [`Metric::ALL`], each without a result yet, and a summary of nothing.

@@ -27,18 +27,11 @@
 //! use sceneeval_results::{Preset, SceneName, SceneRecord, SceneReport, Summary};
 //! use sceneeval_plausibility::{Metric, PlausibilityReport, PlausibilitySummary};
 //!
-//! let geometry = PlausibilityReport {
-//!     scene: None,
-//!     object_ids: Vec::new(),
-//!     metrics: vec![Metric::OutOfBounds],
-//!     summary: PlausibilitySummary { oob: Some(0.25), ..PlausibilitySummary::default() },
-//!     collision: None,
-//!     support: None,
-//!     navigability: None,
-//!     accessibility: None,
-//!     out_of_bounds: None,
-//!     opening_clearance: None,
-//! };
+//! let geometry = PlausibilityReport::of_summary(
+//!     None,
+//!     vec![Metric::OutOfBounds],
+//!     PlausibilitySummary { oob: Some(0.25), ..PlausibilitySummary::default() },
+//! );
 //! let report = SceneReport::new(Some("scene_7".into()), geometry, None);
 //! let record = SceneRecord::ok(SceneName::new("scene_7"), report);
 //! let summary = Summary::from_records([&record], None).with_plan(Preset::Default, "0123456789abcdef");

@@ -575,18 +575,8 @@ mod tests {
     type SceneSummary = PlausibilitySummary;
 
     fn record(name: &str, summary: SceneSummary) -> SceneRecord {
-        let geometry = PlausibilityReport {
-            scene: Some(name.into()),
-            object_ids: vec![],
-            metrics: plausibility::Metric::ALL.to_vec(),
-            summary,
-            collision: None,
-            support: None,
-            navigability: None,
-            accessibility: None,
-            out_of_bounds: None,
-            opening_clearance: None,
-        };
+        let geometry =
+            PlausibilityReport::of_summary(Some(name.into()), plausibility::Metric::ALL.to_vec(), summary);
         SceneRecord::ok(
             SceneName::new(name),
             SceneReport::new(Some(name.into()), geometry, None),

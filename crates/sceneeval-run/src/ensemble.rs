@@ -732,21 +732,14 @@ mod tests {
             views_rendered: 0,
             warnings: Vec::new(),
         };
-        let geometry = PlausibilityReport {
-            scene: None,
-            object_ids: Vec::new(),
-            metrics: vec![sceneeval_plausibility::Metric::Support],
-            summary: PlausibilitySummary {
+        let geometry = PlausibilityReport::of_summary(
+            None,
+            vec![sceneeval_plausibility::Metric::Support],
+            PlausibilitySummary {
                 sup: Some(sup),
                 ..PlausibilitySummary::default()
             },
-            collision: None,
-            support: None,
-            navigability: None,
-            accessibility: None,
-            out_of_bounds: None,
-            opening_clearance: None,
-        };
+        );
         let report = SceneReport::new(Some(scene.into()), geometry, Some(fidelity));
         SceneRecord::ok(SceneName::new(scene), report).with_fingerprint(Fingerprint {
             tool: TOOL_VERSION.into(),

@@ -13,18 +13,7 @@ type P = plausibility::Metric;
 
 /// A record of `name` that ran `metrics` and found `summary`, with a fingerprint of `plan`.
 pub(super) fn record(name: &str, metrics: &[P], summary: PlausibilitySummary, plan: &str) -> SceneRecord {
-    let geometry = PlausibilityReport {
-        scene: Some(name.into()),
-        object_ids: vec![],
-        metrics: metrics.to_vec(),
-        summary,
-        collision: None,
-        support: None,
-        navigability: None,
-        accessibility: None,
-        out_of_bounds: None,
-        opening_clearance: None,
-    };
+    let geometry = PlausibilityReport::of_summary(Some(name.into()), metrics.to_vec(), summary);
     SceneRecord::ok(
         SceneName::new(name),
         SceneReport::new(Some(name.into()), geometry, None),

@@ -390,21 +390,14 @@ fn cnt_record(name: &str, verdicts: &[Option<bool>]) -> SceneRecord {
         "summary": {"cnt": share, "atr": null, "oor": null, "oar": null}
     }))
     .unwrap();
-    let geometry = PlausibilityReport {
-        scene: Some(name.into()),
-        object_ids: vec![],
-        metrics: vec![P::Support],
-        summary: PlausibilitySummary {
+    let geometry = PlausibilityReport::of_summary(
+        Some(name.into()),
+        vec![P::Support],
+        PlausibilitySummary {
             sup: Some(1.0),
             ..PlausibilitySummary::default()
         },
-        collision: None,
-        support: None,
-        navigability: None,
-        accessibility: None,
-        out_of_bounds: None,
-        opening_clearance: None,
-    };
+    );
     let mut f = fingerprint("p");
     f.annotation = Some("row-digest".to_owned());
     SceneRecord::ok(
