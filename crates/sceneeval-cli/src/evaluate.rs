@@ -3,6 +3,7 @@
 //! `<out>/summary.md`. The flags are mapped onto one [`EvaluationRequest`] (each default is
 //! the facade's), which the facade checks and runs.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -133,35 +134,20 @@ impl Args {
     }
 }
 
-/// The option of `sceneeval evaluate` that sets `field`.
-pub fn option_name(field: RequestField) -> &'static str {
+/// The option of `sceneeval evaluate` that sets `field`: the request's name for it
+/// ([`RequestField::path`], the one table) as an option (`vlm.max_tokens` is
+/// `--vlm-max-tokens`), but for the four the command line names otherwise.
+pub fn option_name(field: RequestField) -> Cow<'static, str> {
     match field {
-        RequestField::Scenes => "SCENES",
-        RequestField::Assets => "--assets",
-        RequestField::Out => "--out",
-        RequestField::Annotations => "--annotations",
-        RequestField::Plan => "--plan",
-        RequestField::Preset => "--preset",
-        RequestField::Metrics => "--metrics",
-        RequestField::TimeBudget => "--time-budget",
-        RequestField::Matching => "--matching",
-        RequestField::RelationMapping => "--relation-mapping",
-        RequestField::Threads => "--threads",
-        RequestField::VlmBaseUrl => "--vlm-base-url",
-        RequestField::VlmModel => "--vlm-model",
-        RequestField::VlmApiKeyEnv => "--vlm-api-key-env",
-        RequestField::VlmCache => "--vlm-cache",
-        RequestField::VlmConcurrency => "--vlm-concurrency",
-        RequestField::VlmRenderSize => "--render-size",
-        RequestField::VlmDetail => "--vlm-detail",
-        RequestField::VlmTemperature => "--vlm-temperature",
-        RequestField::VlmSeed => "--vlm-seed",
-        RequestField::VlmMaxTokens => "--vlm-max-tokens",
-        RequestField::VlmTokenLimitField => "--vlm-token-limit-field",
-        RequestField::VlmTimeout => "--vlm-timeout",
-        RequestField::VlmRpm => "--vlm-rpm",
-        RequestField::VlmTpm => "--vlm-tpm",
-        _ => "--vlm-base-url",
+        // The positional argument.
+        RequestField::Scenes => "SCENES".into(),
+        // The unit is in the option's help.
+        RequestField::TimeBudget => "--time-budget".into(),
+        // The size of every render of the command, not only the VLM's.
+        RequestField::VlmRenderSize => "--render-size".into(),
+        // The VLM options as a whole: the one that makes a run use a VLM.
+        RequestField::Vlm => "--vlm-base-url".into(),
+        other => format!("--{}", other.path().replace(['.', '_'], "-")).into(),
     }
 }
 
@@ -172,7 +158,7 @@ pub struct OptionError {
     /// The facade's error (a run's request error is kept as the evaluator's error it wraps).
     pub error: Box<dyn std::error::Error + Send + Sync + 'static>,
     /// The option of the command that sets a request field.
-    pub name: fn(RequestField) -> &'static str,
+    pub name: fn(RequestField) -> Cow<'static, str>,
 }
 
 impl OptionError {
@@ -182,7 +168,7 @@ impl OptionError {
     }
 
     /// `error` with the options `name` gives for the request's fields.
-    pub fn new(error: impl Into<sceneeval::RunError>, name: fn(RequestField) -> &'static str) -> Self {
+    pub fn new(error: impl Into<sceneeval::RunError>, name: fn(RequestField) -> Cow<'static, str>) -> Self {
         let error: Box<dyn std::error::Error + Send + Sync> = match error.into() {
             sceneeval::RunError::Eval(e) => Box::new(e),
             other => Box::new(other),
@@ -502,5 +488,62 @@ fn print_dry_run(dry: &sceneeval::DryRun) {
     );
     for (scene, why) in &dry.failed {
         println!("note: {scene} would fail: {why}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::*;
+
+    /// Every request field names an option `sceneeval evaluate` has (or its positional
+    /// argument), and the generated names are the command line's spelling.
+    #[test]
+    fn every_request_field_names_an_option_of_evaluate() {
+        let command = crate::Cli::command();
+        let evaluate = command.find_subcommand("evaluate").unwrap();
+        let longs: Vec<String> = evaluate
+            .get_arguments()
+            .filter_map(|a| a.get_long().map(|l| format!("--{l}")))
+            .collect();
+        let fields = [
+            RequestField::Assets,
+            RequestField::Out,
+            RequestField::Annotations,
+            RequestField::Plan,
+            RequestField::Preset,
+            RequestField::Metrics,
+            RequestField::TimeBudget,
+            RequestField::Matching,
+            RequestField::RelationMapping,
+            RequestField::Threads,
+            RequestField::Vlm,
+            RequestField::VlmBaseUrl,
+            RequestField::VlmModel,
+            RequestField::VlmApiKeyEnv,
+            RequestField::VlmCache,
+            RequestField::VlmConcurrency,
+            RequestField::VlmRenderSize,
+            RequestField::VlmDetail,
+            RequestField::VlmTemperature,
+            RequestField::VlmSeed,
+            RequestField::VlmMaxTokens,
+            RequestField::VlmTokenLimitField,
+            RequestField::VlmTimeout,
+            RequestField::VlmRpm,
+            RequestField::VlmTpm,
+        ];
+        for field in fields {
+            let name = option_name(field);
+            assert!(
+                longs.contains(&name.to_string()),
+                "{field:?}: {name} is no option of evaluate"
+            );
+        }
+        assert_eq!(option_name(RequestField::Scenes), "SCENES");
+        assert_eq!(option_name(RequestField::VlmMaxTokens), "--vlm-max-tokens");
+        assert_eq!(option_name(RequestField::RelationMapping), "--relation-mapping");
+        assert_eq!(option_name(RequestField::VlmApiKeyEnv), "--vlm-api-key-env");
     }
 }
