@@ -33,7 +33,7 @@ use sceneeval::report::{RecordedScenes, Run, outlined_top_view};
 use sceneeval::scene::Scene;
 use serde::{Deserialize, Serialize};
 
-use crate::server::{Api, ApiError, Asset, Limits, Listener, NoParams, Raw, Site, open_in_browser};
+use crate::server::{Api, ApiError, Asset, Listener, NoParams, Raw};
 
 /// The page; its script and style sheet.
 const PAGE: &str = include_str!("judge/page.html");
@@ -420,16 +420,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         args.annotator,
         args.out.display()
     ))?;
-    if !args.no_open {
-        open_in_browser(&url);
-    }
-    let site = Site {
-        html: PAGE,
-        assets: ASSETS.to_vec(),
-        api: api(),
-        limits: Limits::default(),
-    };
-    let state = listener.serve(site, state)?;
+    let state = listener.serve_page(PAGE, &ASSETS, api(), state, args.no_open)?;
     crate::print_stdout(&format!(
         "stopped: {} of {} specs judged by {}; {} verdicts written to {} this session\n",
         state.judged(),

@@ -56,27 +56,12 @@ fn stderr(a: &assert_cmd::assert::Assert) -> String {
     String::from_utf8_lossy(&a.get_output().stderr).into_owned()
 }
 
-/// The run of model `model` into `<root>/<model>`.
+/// The run of model `model` into `<root>/<model>` (the full plan's options of the other CLI
+/// tests, objects matched by their labels).
 fn evaluate(root: &Path, scenes: &Path, csv: &Path, url: &str, model: &str) -> PathBuf {
     let out = root.join(model);
-    let args = [
-        "--annotations",
-        csv.to_str().unwrap(),
-        "--plan",
-        "full",
-        "--vlm-base-url",
-        url,
-        "--vlm-model",
-        model,
-        "--matching",
-        "labels",
-        "--relation-mapping",
-        "lexicon",
-        "--render-size",
-        "64",
-        "--threads",
-        "1",
-    ];
+    let args = common::full_plan_args_of_model(csv, url, model, &["--matching", "labels"]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     common::evaluate(scenes, &common::fixtures().join("assets"), &out, &args).success();
     out
 }

@@ -32,7 +32,7 @@ use sceneeval::vlm::tasks::AnnotatedDescription;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::server::{Api, ApiError, Asset, Limits, Listener, NoParams, Site, open_in_browser};
+use crate::server::{Api, ApiError, Asset, Listener, NoParams};
 
 /// The page; its script and style sheet.
 const PAGE: &str = include_str!("review/page.html");
@@ -193,16 +193,7 @@ pub fn review(args: ReviewArgs) -> anyhow::Result<ExitCode> {
         store.candidates().len(),
         store.accepted_file().display()
     ))?;
-    if !args.no_open {
-        open_in_browser(&url);
-    }
-    let site = Site {
-        html: PAGE,
-        assets: ASSETS.to_vec(),
-        api: api(),
-        limits: Limits::default(),
-    };
-    let store = listener.serve(site, store)?;
+    let store = listener.serve_page(PAGE, &ASSETS, api(), store, args.no_open)?;
     let states = store.candidates().iter().fold([0usize; 3], |mut n, c| {
         n[c.state as usize] += 1;
         n

@@ -183,6 +183,32 @@ impl Listener {
         format!("http://127.0.0.1:{}/", self.addr.port())
     }
 
+    /// A page's whole session: opens the page in the user's browser unless `no_open`, then
+    /// serves the page `html` with its `assets` and `api` under the default [`Limits`] until
+    /// Ctrl-C, and returns the state.
+    ///
+    /// # Errors
+    /// As [`Listener::serve`].
+    pub fn serve_page<S: Send + 'static>(
+        self,
+        html: &'static str,
+        assets: &[Asset],
+        api: Api<S>,
+        state: S,
+        no_open: bool,
+    ) -> anyhow::Result<S> {
+        if !no_open {
+            open_in_browser(&self.url());
+        }
+        let site = Site {
+            html,
+            assets: assets.to_vec(),
+            api,
+            limits: Limits::default(),
+        };
+        self.serve(site, state)
+    }
+
     /// Serves `site` with `state` until Ctrl-C, then returns the state.
     ///
     /// # Errors

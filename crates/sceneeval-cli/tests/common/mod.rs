@@ -63,6 +63,11 @@ pub fn scenes_2_and_8(csv: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
 /// The options of the full plan with the rows `csv` and the VLM `test-model` at `url` (views of
 /// 64 px, relations by the lexicon, one thread), then `extra`.
 pub fn full_plan_args(csv: &Path, url: &str, extra: &[&str]) -> Vec<String> {
+    full_plan_args_of_model(csv, url, "test-model", extra)
+}
+
+/// As [`full_plan_args`], with the VLM model `model`.
+pub fn full_plan_args_of_model(csv: &Path, url: &str, model: &str, extra: &[&str]) -> Vec<String> {
     let args = [
         "--annotations",
         csv.to_str().unwrap(),
@@ -71,7 +76,7 @@ pub fn full_plan_args(csv: &Path, url: &str, extra: &[&str]) -> Vec<String> {
         "--vlm-base-url",
         url,
         "--vlm-model",
-        "test-model",
+        model,
         "--relation-mapping",
         "lexicon",
         "--render-size",
