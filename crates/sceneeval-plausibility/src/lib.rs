@@ -437,16 +437,12 @@ impl PlausibilityReport {
     /// [`Metric::ALL`], each without a result yet, and a summary of nothing.
     pub fn empty(scene: &Scene, metrics: &[Metric]) -> Self {
         PlausibilityReport {
-            scene: scene.name().map(str::to_owned),
             object_ids: scene.objects().iter().map(|o| o.id().clone()).collect(),
-            metrics: Metric::ALL.into_iter().filter(|m| metrics.contains(m)).collect(),
-            summary: PlausibilitySummary::default(),
-            collision: None,
-            support: None,
-            navigability: None,
-            accessibility: None,
-            out_of_bounds: None,
-            opening_clearance: None,
+            ..PlausibilityReport::of_summary(
+                scene.name().map(str::to_owned),
+                Metric::ALL.into_iter().filter(|m| metrics.contains(m)).collect(),
+                PlausibilitySummary::default(),
+            )
         }
     }
 }

@@ -278,19 +278,15 @@ mod tests {
 
     fn geometry() -> PlausibilityReport {
         PlausibilityReport {
-            scene: Some("ignored".into()),
             object_ids: vec![ObjectId::new("bed")],
-            metrics: vec![sceneeval_plausibility::Metric::OutOfBounds],
-            summary: PlausibilitySummary {
-                oob: Some(0.0),
-                ..PlausibilitySummary::default()
-            },
-            collision: None,
-            support: None,
-            navigability: None,
-            accessibility: None,
-            out_of_bounds: None,
-            opening_clearance: None,
+            ..PlausibilityReport::of_summary(
+                Some("ignored".into()),
+                vec![sceneeval_plausibility::Metric::OutOfBounds],
+                PlausibilitySummary {
+                    oob: Some(0.0),
+                    ..PlausibilitySummary::default()
+                },
+            )
         }
     }
 
