@@ -55,3 +55,25 @@ ROOM = {
         {"kind": "window", "wall": 1, "along": [2.0, 4.0], "height": [0.9, 2.0]},
     ],
 }
+
+
+def scipy_wilcoxon(d):
+    """SciPy's Wilcoxon signed-rank test under our rule: differences rounded to 1e-9, zeros
+    dropped, the exact distribution when at most 50 non-zero differences remain with untied
+    |d|, else the normal approximation with tie and continuity correction. Returns SciPy's
+    result, whether it was exact, the number of non-zero differences and of zeros (SciPy is
+    imported here, so that only the tests that compare with it need it)."""
+    import warnings
+
+    import scipy.stats
+
+    rounded = np.round(np.asarray(d, dtype=float), 9)
+    nonzero = rounded[rounded != 0]
+    exact = len(nonzero) <= 50 and len(np.unique(np.abs(nonzero))) == len(nonzero)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = scipy.stats.wilcoxon(
+            rounded, zero_method="wilcox", correction=True, alternative="two-sided",
+            method="exact" if exact else "asymptotic",
+        )
+    return res, exact, len(nonzero), len(rounded) - len(nonzero)

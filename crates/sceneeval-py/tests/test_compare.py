@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import scipy.stats
 from statsmodels.stats.multitest import multipletests
 
 import sceneeval
+from conftest import scipy_wilcoxon
 
 TEMPLATE = (
     Path(__file__).resolve().parents[2]
@@ -60,18 +60,11 @@ def write_run(root, name, values, failed=()):
 
 
 def scipy_wilcoxon_p(d):
-    """SciPy's p-value under the rule above, or None."""
-    rounded = np.round(np.asarray(d, dtype=float), 9)
-    nonzero = rounded[rounded != 0]
-    if len(nonzero) < 2:
+    """SciPy's p-value under the rule above and whether it was exact, or None with fewer than
+    two non-zero differences."""
+    if np.count_nonzero(np.round(np.asarray(d, dtype=float), 9)) < 2:
         return None
-    exact = len(nonzero) <= 50 and len(np.unique(np.abs(nonzero))) == len(nonzero)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        res = scipy.stats.wilcoxon(
-            rounded, zero_method="wilcox", correction=True, alternative="two-sided",
-            method="exact" if exact else "asymptotic",
-        )
+    res, exact, _, _ = scipy_wilcoxon(d)
     return res.pvalue, exact
 
 

@@ -11,7 +11,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import scipy.stats
 from sklearn.metrics import cohen_kappa_score
 from statsmodels.stats.contingency_tables import mcnemar as sm_mcnemar
 from statsmodels.stats.inter_rater import fleiss_kappa as sm_fleiss_kappa
@@ -19,6 +18,7 @@ from statsmodels.stats.multitest import multipletests
 
 import sceneeval
 import sceneeval.stats
+from conftest import scipy_wilcoxon
 from sceneeval import stats
 
 STUB = Path(sceneeval.__file__).with_name("stats.pyi")
@@ -242,20 +242,6 @@ def test_fleiss_kappa_edge_cases():
 
 
 # Wilcoxon ------------------------------------------------------------------------------------
-
-
-def scipy_wilcoxon(d):
-    """SciPy's test under our rule: rounded to 1e-9, zeros dropped, exact at most 50 untied."""
-    rounded = np.round(np.asarray(d, dtype=float), 9)
-    nonzero = rounded[rounded != 0]
-    exact = len(nonzero) <= 50 and len(np.unique(np.abs(nonzero))) == len(nonzero)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        res = scipy.stats.wilcoxon(
-            rounded, zero_method="wilcox", correction=True, alternative="two-sided",
-            method="exact" if exact else "asymptotic",
-        )
-    return res, exact, len(nonzero), len(rounded) - len(nonzero)
 
 
 def random_differences(rng, case):
