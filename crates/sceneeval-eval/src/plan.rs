@@ -534,6 +534,12 @@ struct PlanFields {
     stability: StabilityParams,
 }
 
+/// The budget `seconds` gives: `0` is no budget, in a plan file, in a request (`--time-budget 0`,
+/// Python's `time_budget_seconds=0`) alike.
+pub(crate) fn time_budget(seconds: f64) -> Option<f64> {
+    (seconds != 0.0).then_some(seconds)
+}
+
 impl From<PlanFields> for EvaluationPlan {
     fn from(f: PlanFields) -> Self {
         EvaluationPlan {
@@ -544,9 +550,8 @@ impl From<PlanFields> for EvaluationPlan {
             relations: f.relations,
             read: f.read,
             limits: f.limits,
-            // `0` is "no budget", as `--time-budget 0` and Python's `time_budget_seconds=0` say
-            // it (TOML has no `null`).
-            time_budget_seconds: f.time_budget_seconds.filter(|b| *b != 0.0),
+            // TOML has no `null`: a plan file says "no budget" with `0`.
+            time_budget_seconds: f.time_budget_seconds.and_then(time_budget),
             stability: f.stability,
         }
     }

@@ -462,7 +462,7 @@ impl PlanRequest {
                     format!("{b} is not a number of seconds (0 for no budget)"),
                 ));
             }
-            plan.time_budget_seconds = (b != 0.0).then_some(b);
+            plan.time_budget_seconds = crate::plan::time_budget(b);
         }
         Ok(plan)
     }
