@@ -370,6 +370,7 @@ fn without_judge(plan: &EvaluationPlan, like: &EvaluationPlan) -> EvaluationPlan
     p.preset = like.preset;
     p.limits = like.limits;
     p.time_budget_seconds = like.time_budget_seconds;
+    p.read.strict = like.read.strict;
     p.fidelity.matching = like.fidelity.matching.clone();
     p.fidelity.size_aware_matching = like.fidelity.size_aware_matching;
     p.fidelity.relation_mapping = like.fidelity.relation_mapping;
@@ -403,10 +404,17 @@ fn first_difference(a: &Value, b: &Value, path: &str) -> Option<(String, String,
 /// The runs' plans, scenes, annotation rows and spec texts agree (see [`ensemble`]).
 fn check_same(sources: &[Source]) -> Result<(), EnsembleError> {
     let first = &sources[0];
-    let base = serde_json::to_value(without_judge(&first.parsed, &first.parsed)).unwrap_or_default();
+    let base = without_judge(&first.parsed, &first.parsed);
     for other in &sources[1..] {
-        let theirs = serde_json::to_value(without_judge(&other.parsed, &first.parsed)).unwrap_or_default();
-        if let Some((field, first_value, value)) = first_difference(&base, &theirs, "") {
+        let theirs = without_judge(&other.parsed, &first.parsed);
+        // The plans are compared as plans; their JSON only names the field that differs (or,
+        // should a plan not serialize, the plan as a whole is named).
+        if theirs != base {
+            let json = |p: &EvaluationPlan| serde_json::to_value(p).ok();
+            let (field, first_value, value) = json(&base)
+                .zip(json(&theirs))
+                .and_then(|(a, b)| first_difference(&a, &b, ""))
+                .unwrap_or_else(|| ("plan".to_owned(), format!("{base:?}"), format!("{theirs:?}")));
             return Err(EnsembleError::PlansDiffer {
                 first: first.path.clone(),
                 run: other.path.clone(),
