@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 use sceneeval::annotation::Annotations;
 use sceneeval::report::compare::{FailedScenes, Pairing, RankBy};
-use sceneeval::report::{CompareOptions, Run, compare};
+use sceneeval::report::{CompareOptions, ReportError, Run, compare};
 
 /// Arguments of `sceneeval compare`.
 #[derive(Debug, clap::Args)]
@@ -160,7 +160,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 Failed::Worst => FailedScenes::Worst,
             },
         },
-    )?;
+    )
+    .map_err(|error| {
+        // The library's error says what is wrong; the option that set it is the CLI's to name.
+        let option = match error {
+            ReportError::Alpha(_) => Some("--alpha"),
+            ReportError::ConfidenceLevel(_) => Some("--ci"),
+            _ => None,
+        };
+        // Neither error has a cause: one line, as the other commands' `--option: what` errors.
+        match option {
+            Some(option) => anyhow::anyhow!("{option}: {error}"),
+            None => error.into(),
+        }
+    })?;
     // The folder the page will be in: links to the runs' reports are relative to it.
     let page_dir = args
         .out

@@ -190,7 +190,7 @@ fn usage_errors_say_what_is_wrong() {
         .assert()
         .failure()
         .stderr(predicate::str::contains(
-            "confidence level 1.5 is not between 0 and 1",
+            "--ci: confidence level 1.5 is not between 0 and 1",
         ));
     // A scene whose file moved: the page says why there is no top view; the report is written.
     let moved = dir.path().join("moved");
@@ -488,7 +488,7 @@ fn paired_rows_tests_and_warnings() {
         .assert()
         .failure()
         .stderr(predicate::str::contains(
-            "significance level (--alpha) 0 is not between 0 and 1",
+            "--alpha: significance level 0 is not between 0 and 1",
         ));
 }
 

@@ -51,7 +51,7 @@ pub enum ReportError {
     #[error("confidence level {0} is not between 0 and 1 (exclusive), e.g. 0.95")]
     ConfidenceLevel(f64),
     /// A significance level outside (0, 1).
-    #[error("significance level (--alpha) {0} is not between 0 and 1 (exclusive), e.g. 0.05")]
+    #[error("significance level {0} is not between 0 and 1 (exclusive), e.g. 0.05")]
     Alpha(f64),
     /// Nothing to compare.
     #[error("no run to compare")]
