@@ -16,7 +16,7 @@ pub enum EvalError {
     Plan {
         /// The plan file, if it came from one.
         path: Option<PathBuf>,
-        /// The path of the field at fault (`params.collision.contact_tolerance`), if one.
+        /// The path of the field at fault (`params.collision.contact_tolerance_m`), if one.
         field: Option<String>,
         /// What is wrong.
         message: String,

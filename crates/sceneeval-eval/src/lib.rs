@@ -54,7 +54,7 @@ pub use error::EvalError;
 #[cfg(feature = "physics")]
 pub use evaluator::Settled;
 pub use evaluator::{Evaluator, SceneEvaluation, SceneInputs};
-pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan};
+pub use plan::{DEFAULT_TIME_BUDGET_SECONDS, EvaluationPlan, RENAMED_KEYS, read_renamed_keys};
 pub use request::{
     ChosenPlan, DEFAULT_PHYSICS_CACHE_DIR, DEFAULT_RENDER_SIZE, DEFAULT_VLM_CACHE_DIR,
     DEFAULT_VLM_CONCURRENCY, DEFAULT_VLM_MAX_RETRIES, DEFAULT_VLM_TIMEOUT_SECONDS, MAX_VLM_TIMEOUT_SECONDS,

@@ -23,7 +23,7 @@ pub const DEFAULT_TIME_BUDGET_SECONDS: f64 = 600.0;
 /// Read from JSON with [`EvaluationPlan::from_json_str`] or [`EvaluationPlan::read`]: the
 /// `preset` (default `default`) gives every parameter, then the file's values replace the
 /// preset's one by one. Unknown fields at any depth are errors, and so are impossible values
-/// ([`EvaluationPlan::validate`]), each named by its path (`params.collision.contact_tolerance`):
+/// ([`EvaluationPlan::validate`]), each named by its path (`params.collision.contact_tolerance_m`):
 ///
 /// ```
 /// use sceneeval_eval::{EvaluationPlan, Metric, Preset};
@@ -31,11 +31,11 @@ pub const DEFAULT_TIME_BUDGET_SECONDS: f64 = 600.0;
 /// let plan = EvaluationPlan::from_json_str(r#"{
 ///     "preset": "reference",
 ///     "metrics": ["collision", "navigability"],
-///     "params": { "collision": { "contact_tolerance": 0.01 } }
+///     "params": { "collision": { "contact_tolerance_m": 0.01 } }
 /// }"#).unwrap();
 /// assert_eq!(plan.preset, Preset::Reference);
 /// assert_eq!(plan.metrics, vec![Metric::Collision, Metric::Navigability]);
-/// assert_eq!(plan.params.collision.contact_tolerance, 0.01);
+/// assert_eq!(plan.params.collision.contact_tolerance_m, 0.01);
 /// // The preset's other values stay.
 /// assert!(!plan.params.collision.exclude_floor_coverings);
 ///
@@ -73,7 +73,7 @@ pub struct EvaluationPlan {
     /// Wall-time budget per scene in seconds (loading and metrics together); a scene over it
     /// is recorded as failed and the run goes on. `None` for no budget, written `0` in a plan
     /// file as on the command line and in Python (`null` is read too, in JSON). Default 600.
-    pub time_budget_seconds: Option<f64>,
+    pub time_budget_s: Option<f64>,
     /// Parameters of the stability metric (`params.stability.weld`,
     /// `params.stability.duration_s`, ...): the same under both presets. Read and checked in every build; a plan that runs the metric
     /// needs the feature `physics`.
@@ -98,7 +98,7 @@ impl EvaluationPlan {
             relations: RelationParams::default(),
             read: ReadOptions::default(),
             limits: Limits::default(),
-            time_budget_seconds: Some(DEFAULT_TIME_BUDGET_SECONDS),
+            time_budget_s: Some(DEFAULT_TIME_BUDGET_SECONDS),
             stability: StabilityParams::default(),
         }
     }
@@ -106,7 +106,7 @@ impl EvaluationPlan {
     /// Every geometry-only metric with every reference-parity switch on: floor coverings
     /// (rugs, carpets, mats) are tested for collisions like any object
     /// (`params.collision.exclude_floor_coverings = false`), no object is walked over by
-    /// navigability, accessibility or opening clearance (`walkable_height = 0`), obstacles on
+    /// navigability, accessibility or opening clearance (`walkable_height_m = 0`), obstacles on
     /// the floor plan are the projected bounding boxes rather than the meshes' convex hulls
     /// (`footprint = bounding_box` for navigability and accessibility), and the
     /// spatial predicates use [`RelationParams::reference`]. Scene reading already follows
@@ -116,9 +116,9 @@ impl EvaluationPlan {
         let mut plan = EvaluationPlan::geometry_only();
         plan.preset = Preset::Reference;
         plan.params.collision.exclude_floor_coverings = false;
-        plan.params.navigability.walkable_height = 0.0;
-        plan.params.accessibility.walkable_height = 0.0;
-        plan.params.opening_clearance.walkable_height = 0.0;
+        plan.params.navigability.walkable_height_m = 0.0;
+        plan.params.accessibility.walkable_height_m = 0.0;
+        plan.params.opening_clearance.walkable_height_m = 0.0;
         plan.params.navigability.footprint = Footprint::BoundingBox;
         plan.params.accessibility.footprint = Footprint::BoundingBox;
         plan.relations = RelationParams::reference();
@@ -234,10 +234,10 @@ impl EvaluationPlan {
     /// let plan = EvaluationPlan::from_toml_str(
     ///     "metrics = [\"collision\", \"navigability\"]\n\
     ///      [params.navigability]\n\
-    ///      robot_width = 0.3\n",
+    ///      robot_width_m = 0.3\n",
     /// ).unwrap();
     /// assert_eq!(plan.ordered_metrics(), vec![Metric::Collision, Metric::Navigability]);
-    /// assert_eq!(plan.params.navigability.robot_width, 0.3);
+    /// assert_eq!(plan.params.navigability.robot_width_m, 0.3);
     /// ```
     ///
     /// # Errors
@@ -263,7 +263,9 @@ impl EvaluationPlan {
         let Value::Object(given) = value else {
             return Err(plan_error(None, "a plan must be a JSON object".into()));
         };
-        let given = sections_under_params(given)?;
+        let mut given = sections_under_params(given)?;
+        read_renamed_keys(&mut given)?;
+        matching_as_choice(&mut given);
         if given.contains_key("fidelity_metrics") {
             return Err(plan_error(
                 Some("fidelity_metrics"),
@@ -363,7 +365,7 @@ impl EvaluationPlan {
     /// parameters, positive limits, a positive finite time budget and wall height.
     ///
     /// # Errors
-    /// [`EvalError::Plan`] naming the field, e.g. `params.collision.contact_tolerance`.
+    /// [`EvalError::Plan`] naming the field, e.g. `params.collision.contact_tolerance_m`.
     pub fn validate(&self) -> Result<(), EvalError> {
         if self.metrics.is_empty() {
             return Err(plan_error(Some("metrics"), "the plan lists no metric".into()));
@@ -411,37 +413,37 @@ impl EvaluationPlan {
         self.limits
             .validate()
             .map_err(|m| plan_error(Some(&format!("limits.{}", m.split(' ').next().unwrap_or(""))), m))?;
-        if let Some(b) = self.time_budget_seconds
+        if let Some(b) = self.time_budget_s
             && !(b.is_finite() && b > 0.0)
         {
             return Err(plan_error(
-                Some("time_budget_seconds"),
+                Some("time_budget_s"),
                 format!("{b} must be a positive number of seconds (or 0 for no budget)"),
             ));
         }
-        let h = self.read.simple_wall_height;
+        let h = self.read.simple_wall_height_m;
         if !(h.is_finite() && h > 0.0) {
             return Err(plan_error(
-                Some("read.simple_wall_height"),
+                Some("read.simple_wall_height_m"),
                 format!("{h} must be a positive number of metres"),
             ));
         }
         Ok(())
     }
 
-    /// A [`Deadline`] of [`EvaluationPlan::time_budget_seconds`] from now ([`Deadline::none`]
+    /// A [`Deadline`] of [`EvaluationPlan::time_budget_s`] from now ([`Deadline::none`]
     /// without a budget, or with one too large for a `Duration`).
     ///
     /// ```
     /// use sceneeval_eval::EvaluationPlan;
     /// let mut plan = EvaluationPlan::geometry_only();
     /// assert_eq!(plan.deadline().budget().map(|b| b.as_secs()), Some(600));
-    /// plan.time_budget_seconds = None;
+    /// plan.time_budget_s = None;
     /// assert!(plan.deadline().budget().is_none());
     /// ```
     pub fn deadline(&self) -> Deadline {
         match self
-            .time_budget_seconds
+            .time_budget_s
             .and_then(|b| std::time::Duration::try_from_secs_f64(b).ok())
         {
             Some(b) => Deadline::after(b),
@@ -529,7 +531,7 @@ struct PlanFields {
     relations: RelationParams,
     read: ReadOptions,
     limits: Limits,
-    time_budget_seconds: Option<f64>,
+    time_budget_s: Option<f64>,
     #[serde(default)]
     stability: StabilityParams,
 }
@@ -551,7 +553,7 @@ impl From<PlanFields> for EvaluationPlan {
             read: f.read,
             limits: f.limits,
             // TOML has no `null`: a plan file says "no budget" with `0`.
-            time_budget_seconds: f.time_budget_seconds.and_then(time_budget),
+            time_budget_s: f.time_budget_s.and_then(time_budget),
             stability: f.stability,
         }
     }
@@ -575,7 +577,7 @@ impl Serialize for EvaluationPlan {
             params: Params<'a>,
             read: &'a ReadOptions,
             limits: &'a Limits,
-            time_budget_seconds: Option<f64>,
+            time_budget_s: Option<f64>,
         }
         File {
             preset: self.preset,
@@ -588,7 +590,7 @@ impl Serialize for EvaluationPlan {
             },
             read: &self.read,
             limits: &self.limits,
-            time_budget_seconds: self.time_budget_seconds,
+            time_budget_s: self.time_budget_s,
         }
         .serialize(serializer)
     }
@@ -633,6 +635,153 @@ fn sections_under_params(mut given: Map<String, Value>) -> Result<Map<String, Va
     Ok(given)
 }
 
+/// Every plan key renamed since plans were first written, as `(old path, new path)`: the
+/// unit-suffix rule (docs/conventions.md, "Units in names") gave lengths `_m`, densities
+/// `_per_m2` or `_kg_m3`, the time budget `_s`. A `*` segment stands for any key (the
+/// relations' twelve distance bands). A row renames its last key in place: its parent path is
+/// the new path's. Paths are those of the plan file: the parameter sections under `params`.
+///
+/// A plan using an old key is read as if it used the new one, with a warning naming the new
+/// path ([`read_renamed_keys`]); both in one object is an error naming both.
+#[rustfmt::skip]
+pub const RENAMED_KEYS: &[(&str, &str)] = &[
+    ("time_budget_seconds", "time_budget_s"),
+    ("read.simple_wall_height", "read.simple_wall_height_m"),
+    ("params.collision.contact_tolerance", "params.collision.contact_tolerance_m"),
+    ("params.collision.depth_sample_spacing", "params.collision.depth_sample_spacing_m"),
+    ("params.support.lift", "params.support.lift_m"),
+    ("params.support.contact_distance", "params.support.contact_distance_m"),
+    ("params.support.extreme_band", "params.support.extreme_band_m"),
+    ("params.support.samples_per_square_metre", "params.support.samples_per_m2"),
+    ("params.navigability.resolution.metres_per_pixel", "params.navigability.resolution.m_per_pixel"),
+    ("params.navigability.margin", "params.navigability.margin_m"),
+    ("params.navigability.robot_width", "params.navigability.robot_width_m"),
+    ("params.navigability.height_cutoff", "params.navigability.height_cutoff_m"),
+    ("params.navigability.walkable_height", "params.navigability.walkable_height_m"),
+    ("params.navigability.door_max_sill", "params.navigability.door_max_sill_m"),
+    ("params.navigability.door_strip_depth", "params.navigability.door_strip_depth_m"),
+    ("params.accessibility.strip_offset", "params.accessibility.strip_offset_m"),
+    ("params.accessibility.strip_width", "params.accessibility.strip_width_m"),
+    ("params.accessibility.height_cutoff", "params.accessibility.height_cutoff_m"),
+    ("params.accessibility.walkable_height", "params.accessibility.walkable_height_m"),
+    ("params.out_of_bounds.below_floor_tolerance", "params.out_of_bounds.below_floor_tolerance_m"),
+    ("params.out_of_bounds.boundary_tolerance", "params.out_of_bounds.boundary_tolerance_m"),
+    ("params.opening_clearance.door_depth", "params.opening_clearance.door_depth_m"),
+    ("params.opening_clearance.window_depth", "params.opening_clearance.window_depth_m"),
+    ("params.opening_clearance.probe_offset", "params.opening_clearance.probe_offset_m"),
+    ("params.opening_clearance.pixels_per_metre", "params.opening_clearance.pixels_per_m"),
+    ("params.opening_clearance.touch_tolerance", "params.opening_clearance.touch_tolerance_m"),
+    ("params.opening_clearance.walkable_height", "params.opening_clearance.walkable_height_m"),
+    ("params.stability.mass.density", "params.stability.mass.density_kg_m3"),
+    ("params.stability.mass.per_object", "params.stability.mass.per_object_kg"),
+    ("params.relations.tolerance", "params.relations.tolerance_m"),
+    ("params.relations.min_half_extent", "params.relations.min_half_extent_m"),
+    ("params.relations.middle_of_sigma", "params.relations.middle_of_sigma_m"),
+    ("params.relations.middle_of_room_base_sigma", "params.relations.middle_of_room_base_sigma_m"),
+    ("params.relations.*.min", "params.relations.*.min_m"),
+    ("params.relations.*.max", "params.relations.*.max_m"),
+    ("params.relations.*.sigma", "params.relations.*.sigma_m"),
+];
+
+/// Reads the old keys of [`RENAMED_KEYS`] in `plan` (a plan file as JSON, its parameter
+/// sections under `params`) as their new ones, each with a warning (`tracing`) naming the new
+/// path; returns the `(old path, new path)` of every key renamed. Plan files are read through
+/// it; so are parameters given elsewhere in a plan's shape (Python's `relation_params`, under
+/// `params.relations`).
+///
+/// ```
+/// use sceneeval_eval::read_renamed_keys;
+/// let mut plan = serde_json::json!({"params": {"relations": {"near": {"sigma": 0.3}}}});
+/// let renamed = read_renamed_keys(plan.as_object_mut().unwrap()).unwrap();
+/// assert_eq!(renamed, [("params.relations.near.sigma".to_owned(), "params.relations.near.sigma_m".to_owned())]);
+/// assert_eq!(plan["params"]["relations"]["near"]["sigma_m"], 0.3);
+/// ```
+///
+/// # Errors
+/// [`EvalError::Plan`] for an old key given beside its new one, naming both paths.
+pub fn read_renamed_keys(plan: &mut Map<String, Value>) -> Result<Vec<(String, String)>, EvalError> {
+    let mut renamed = Vec::new();
+    for (old, new) in RENAMED_KEYS {
+        let (parent, old_key) = old.rsplit_once('.').unwrap_or(("", old));
+        let new_key = new.rsplit('.').next().unwrap_or(new);
+        let segments: Vec<&str> = parent.split('.').filter(|s| !s.is_empty()).collect();
+        rename_under(plan, &segments, "", (old_key, new_key), &mut renamed)?;
+    }
+    Ok(renamed)
+}
+
+/// Renames `old_key` to `new_key` in every object of `object` at `segments` (`*` any key),
+/// `at` the path of `object`.
+fn rename_under(
+    object: &mut Map<String, Value>,
+    segments: &[&str],
+    at: &str,
+    (old_key, new_key): (&str, &str),
+    renamed: &mut Vec<(String, String)>,
+) -> Result<(), EvalError> {
+    let join = |key: &str| {
+        if at.is_empty() {
+            key.to_owned()
+        } else {
+            format!("{at}.{key}")
+        }
+    };
+    let Some((first, rest)) = segments.split_first() else {
+        let Some(value) = object.remove(old_key) else {
+            return Ok(());
+        };
+        let (old, new) = (join(old_key), join(new_key));
+        if object.contains_key(new_key) {
+            return Err(plan_error(
+                Some(&old),
+                format!("given twice: as `{old}` and as `{new}` (its name now); remove `{old}`"),
+            ));
+        }
+        tracing::warn!("plan: `{old}` is read as `{new}`: rename it");
+        object.insert(new_key.to_owned(), value);
+        renamed.push((old, new));
+        return Ok(());
+    };
+    for (key, child) in object.iter_mut() {
+        if (*first == "*" || first == key)
+            && let Value::Object(child) = child
+        {
+            rename_under(child, rest, &join(key), (old_key, new_key), renamed)?;
+        }
+    }
+    Ok(())
+}
+
+/// Reads `params.fidelity.matching` written as plans did before every choice was externally
+/// tagged (`{"method": "labels"}`, `{"method": "file", "path": "m.json"}`) as the choice it
+/// names (`"labels"`, `{"file": "m.json"}`), with a warning giving the new spelling. Anything
+/// else is left for serde to read or refuse.
+fn matching_as_choice(given: &mut Map<String, Value>) {
+    let Some(Value::Object(params)) = given.get_mut("params") else {
+        return;
+    };
+    let Some(Value::Object(fidelity)) = params.get_mut("fidelity") else {
+        return;
+    };
+    let Some(Value::Object(old)) = fidelity.get("matching") else {
+        return;
+    };
+    let new = match (
+        old.get("method").and_then(Value::as_str),
+        old.get("path"),
+        old.len(),
+    ) {
+        (Some(method @ ("labels" | "vlm")), None, 1) => Value::String(method.to_owned()),
+        (Some("file"), Some(path @ Value::String(_)), 2) => {
+            Value::Object(Map::from_iter([("file".to_owned(), path.clone())]))
+        }
+        _ => return,
+    };
+    let old = Value::Object(old.clone());
+    tracing::warn!("plan: `params.fidelity.matching` {old} is read as {new}: write it so");
+    fidelity.insert("matching".to_owned(), new);
+}
+
 /// A merged plan (parameter sections under `params`) with those sections at the top level, as
 /// [`PlanFields`] reads them.
 fn sections_at_top(mut merged: Value) -> Value {
@@ -665,7 +814,7 @@ fn params_path(path: &str) -> String {
 
 /// Replaces values of `base` by those of `over`, recursing into an object of `over` whose
 /// keys all exist in `base`'s object (a struct given in part); any other object replaces the
-/// base's whole (an enum switching variant, `{"pixels": 256}` to `{"metres_per_pixel": 0.02}`).
+/// base's whole (an enum switching variant, `{"pixels": 256}` to `{"m_per_pixel": 0.02}`).
 fn merge(base: &mut Value, over: &Value) {
     match (base, over) {
         (Value::Object(b), Value::Object(o)) => {
@@ -813,18 +962,18 @@ mod tests {
         let new = EvaluationPlan::from_json_str(
             r#"{"metrics": ["collision", "oor"],
                 "params": {"stability": {"duration_s": 2.5}, "fidelity": {"size_aware_matching": true},
-                           "relations": {"threshold": 0.4}, "collision": {"contact_tolerance": 0.01}}}"#,
+                           "relations": {"threshold": 0.4}, "collision": {"contact_tolerance_m": 0.01}}}"#,
         )
         .unwrap();
         assert_eq!(new.stability.duration_s, 2.5);
         assert!(new.fidelity.size_aware_matching);
         assert_eq!(new.relations.threshold, 0.4);
-        assert_eq!(new.params.collision.contact_tolerance, 0.01);
+        assert_eq!(new.params.collision.contact_tolerance_m, 0.01);
         // The same plan written as before: the sections at the top level (a warning is logged).
         let old = EvaluationPlan::from_json_str(
             r#"{"metrics": ["collision", "oor"], "stability": {"duration_s": 2.5},
                 "fidelity": {"size_aware_matching": true}, "relations": {"threshold": 0.4},
-                "params": {"collision": {"contact_tolerance": 0.01}}}"#,
+                "params": {"collision": {"contact_tolerance_m": 0.01}}}"#,
         )
         .unwrap();
         assert_eq!(old, new);
@@ -834,7 +983,7 @@ mod tests {
         assert!(value.get("stability").is_none() && value.get("fidelity").is_none());
         assert_eq!(value["params"]["stability"]["duration_s"], 2.5);
         assert_eq!(value["params"]["relations"]["threshold"], 0.4);
-        assert_eq!(value["params"]["collision"]["contact_tolerance"], 0.01);
+        assert_eq!(value["params"]["collision"]["contact_tolerance_m"], 0.01);
         let back: EvaluationPlan = serde_json::from_value(value).unwrap();
         assert_eq!(back, new);
         // Both places at once is an error; errors name the new place.
@@ -891,13 +1040,13 @@ mod tests {
     fn wrong_types_and_impossible_values_are_named() {
         for (text, path, words) in [
             (
-                r#"{"params": {"collision": {"contact_tolerance": "x"}}}"#,
-                "params.collision.contact_tolerance",
+                r#"{"params": {"collision": {"contact_tolerance_m": "x"}}}"#,
+                "params.collision.contact_tolerance_m",
                 "invalid type",
             ),
             (
-                r#"{"params": {"collision": {"contact_tolerance": -0.1}}}"#,
-                "params.collision.contact_tolerance",
+                r#"{"params": {"collision": {"contact_tolerance_m": -0.1}}}"#,
+                "params.collision.contact_tolerance_m",
                 "non-negative",
             ),
             (
@@ -915,11 +1064,7 @@ mod tests {
                 "params.navigability.resolution",
                 "positive",
             ),
-            (
-                r#"{"time_budget_seconds": -1}"#,
-                "time_budget_seconds",
-                "positive",
-            ),
+            (r#"{"time_budget_s": -1}"#, "time_budget_s", "positive"),
             (
                 r#"{"limits": {"max_triangles": 0}}"#,
                 "limits.max_triangles",
@@ -932,8 +1077,8 @@ mod tests {
             ),
             (r#"{"preset": "paper"}"#, "preset", "unknown preset"),
             (
-                r#"{"read": {"simple_wall_height": -3}}"#,
-                "read.simple_wall_height",
+                r#"{"read": {"simple_wall_height_m": -3}}"#,
+                "read.simple_wall_height_m",
                 "positive",
             ),
         ] {
@@ -950,24 +1095,24 @@ mod tests {
     /// line and in Python; JSON's `null` is read too; both are the same plan.
     #[test]
     fn no_budget_is_zero_in_every_plan_file() {
-        let json = EvaluationPlan::from_json_str(r#"{"time_budget_seconds": 0}"#).unwrap();
-        let toml = EvaluationPlan::from_toml_str("time_budget_seconds = 0").unwrap();
-        let null = EvaluationPlan::from_json_str(r#"{"time_budget_seconds": null}"#).unwrap();
+        let json = EvaluationPlan::from_json_str(r#"{"time_budget_s": 0}"#).unwrap();
+        let toml = EvaluationPlan::from_toml_str("time_budget_s = 0").unwrap();
+        let null = EvaluationPlan::from_json_str(r#"{"time_budget_s": null}"#).unwrap();
         for plan in [&json, &toml, &null] {
-            assert_eq!(plan.time_budget_seconds, None);
+            assert_eq!(plan.time_budget_s, None);
             assert!(plan.deadline().budget().is_none());
         }
         assert_eq!(json, toml);
         assert_eq!(json, null);
-        let budget = EvaluationPlan::from_toml_str("time_budget_seconds = 30").unwrap();
-        assert_eq!(budget.time_budget_seconds, Some(30.0));
+        let budget = EvaluationPlan::from_toml_str("time_budget_s = 30").unwrap();
+        assert_eq!(budget.time_budget_s, Some(30.0));
     }
 
     #[test]
     fn stability_parameters_are_read_checked_and_digested() {
         use sceneeval_physics::{MassModel, WeldMode};
         let plan = EvaluationPlan::from_json_str(
-            r#"{"metrics": ["STAB"], "stability": {"weld": "combined", "mass": {"per_object": 1.0}}}"#,
+            r#"{"metrics": ["STAB"], "stability": {"weld": "combined", "mass": {"per_object_kg": 1.0}}}"#,
         )
         .unwrap();
         assert_eq!(plan.ordered_metrics(), vec![Metric::Stability]);
@@ -975,7 +1120,7 @@ mod tests {
         assert_eq!(plan.stability.mass, MassModel::PerObject(1.0));
         assert_eq!(plan.stability.duration_s, 5.0, "the rest stays the default");
         let toml = EvaluationPlan::from_toml_str(
-            "metrics = [\"stability\"]\n[stability]\nweld = \"combined\"\n[stability.mass]\nper_object = 1.0\n",
+            "metrics = [\"stability\"]\n[stability]\nweld = \"combined\"\n[stability.mass]\nper_object_kg = 1.0\n",
         )
         .unwrap();
         assert_eq!(toml, plan);
@@ -1006,8 +1151,8 @@ mod tests {
                 "[8, 128]",
             ),
             (
-                r#"{"stability": {"mass": {"density": -1}}}"#,
-                "params.stability.mass.density",
+                r#"{"stability": {"mass": {"density_kg_m3": -1}}}"#,
+                "params.stability.mass.density_kg_m3",
                 "must lie in",
             ),
         ] {
@@ -1054,11 +1199,11 @@ mod tests {
         // The result digest ignores the preset's name, limits and budget, not parameters.
         let mut a = EvaluationPlan::geometry_only();
         let d = a.result_digest();
-        a.time_budget_seconds = None;
+        a.time_budget_s = None;
         a.limits.max_triangles = 7;
         a.preset = Preset::Reference;
         assert_eq!(a.result_digest(), d);
-        a.params.support.lift = 0.004;
+        a.params.support.lift_m = 0.004;
         assert_ne!(a.result_digest(), d);
         let m = EvaluationPlan::from_json_str(
             r#"{"params": {"navigability": {"resolution": {"metres_per_pixel": 0.02}}}}"#,
@@ -1069,11 +1214,167 @@ mod tests {
             sceneeval_plausibility::Resolution::MetresPerPixel(0.02)
         );
         assert_eq!(
-            m.params.navigability.robot_width, 0.2,
+            m.params.navigability.robot_width_m, 0.2,
             "the rest of the struct stays"
         );
         let mut b = EvaluationPlan::geometry_only();
         b.metrics.reverse();
         assert_eq!(b.result_digest(), d, "metrics are a set");
+    }
+
+    /// The value at `path` (dot-separated) of `value`, when there is one.
+    fn at<'v>(value: &'v Value, path: &str) -> Option<&'v Value> {
+        path.split('.').try_fold(value, |v, key| v.get(key))
+    }
+
+    /// `value` with `leaf` set at `path` (objects made on the way).
+    fn with(mut value: Value, path: &str, leaf: Value) -> Value {
+        let mut slot = &mut value;
+        for key in path.split('.') {
+            if !slot.is_object() {
+                *slot = Value::Object(Map::new());
+            }
+            slot = slot.as_object_mut().unwrap().entry(key).or_insert(Value::Null);
+        }
+        *slot = leaf;
+        value
+    }
+
+    /// Every row of [`RENAMED_KEYS`] (`*` made each distance band): a plan giving the old key
+    /// reads equal to the plan giving the new one, which differs from the default (so the value
+    /// was read, not dropped), in JSON and in TOML; giving both is an error naming both paths.
+    #[test]
+    fn every_renamed_key_reads_as_its_new_name_and_both_is_an_error() {
+        let default = EvaluationPlan::geometry_only();
+        let written = serde_json::to_value(&default).unwrap();
+        let bands: Vec<&String> = written["params"]["relations"]
+            .as_object()
+            .unwrap()
+            .iter()
+            .filter(|(_, v)| v.is_object())
+            .map(|(k, _)| k)
+            .collect();
+        assert_eq!(bands.len(), 12, "{bands:?}");
+        let mut rows = Vec::new();
+        for (old, new) in RENAMED_KEYS {
+            assert_eq!(
+                old.rsplit_once('.').map(|p| p.0),
+                new.rsplit_once('.').map(|p| p.0),
+                "{old} -> {new} renames its last key in place"
+            );
+            if old.contains('*') {
+                rows.extend(bands.iter().map(|b| (old.replace('*', b), new.replace('*', b))));
+            } else {
+                rows.push((old.to_string(), new.to_string()));
+            }
+        }
+        assert_eq!(rows.len(), RENAMED_KEYS.len() - 3 + 3 * 12);
+        for (old, new) in &rows {
+            assert!(at(&written, old).is_none(), "{old} is no longer written");
+            // A value other than the default: half again the default's, or one of the variant
+            // the default does not use.
+            let value = match at(&written, new).map(|v| (v.is_null(), v.as_f64())) {
+                Some((_, Some(v))) if v != 0.0 => v * 1.5,
+                // A band's lower end, below every band's upper end.
+                Some((_, Some(_))) => 0.001,
+                // The unbounded upper end of `far`, `arch_far`.
+                Some((true, None)) => 10.0,
+                None if new.ends_with("m_per_pixel") => 0.05,
+                None if new.ends_with("per_object_kg") => 2.0,
+                _ => panic!("{new}: not a number of the default plan"),
+            };
+            let plan = |path: &str| with(serde_json::json!({}), path, Value::from(value));
+            let (by_old, by_new) = (plan(old), plan(new));
+            let read = |v: &Value| EvaluationPlan::from_json_str(&v.to_string());
+            let (a, b) = (read(&by_old).unwrap(), read(&by_new).unwrap());
+            assert_eq!(a, b, "{old} -> {new}");
+            assert_ne!(b, default, "{new} = {value} was read");
+            let toml = EvaluationPlan::from_toml_str(&format!("{old} = {value:?}\n")).unwrap();
+            assert_eq!(toml, b, "{old} in TOML");
+            let both = with(by_old.clone(), new, Value::from(value));
+            match read(&both) {
+                Err(EvalError::Plan { field, message, .. }) => {
+                    assert_eq!(field.as_deref(), Some(old.as_str()));
+                    assert!(
+                        message.contains(&format!("`{old}`")) && message.contains(&format!("`{new}`")),
+                        "{message}"
+                    );
+                }
+                other => panic!("{old} and {new} both given: {other:?}"),
+            }
+        }
+        // The old top-level sections (their own warning) with old keys inside.
+        let old = EvaluationPlan::from_json_str(
+            r#"{"relations": {"near": {"min": 0.4}, "tolerance": 1e-5}, "time_budget_seconds": 30,
+                "stability": {"mass": {"density": 500}}}"#,
+        )
+        .unwrap();
+        let new = EvaluationPlan::from_json_str(
+            r#"{"params": {"relations": {"near": {"min_m": 0.4}, "tolerance_m": 1e-5},
+                           "stability": {"mass": {"density_kg_m3": 500}}}, "time_budget_s": 30}"#,
+        )
+        .unwrap();
+        assert_eq!(old, new);
+        assert_eq!(new.relations.near.min_m, 0.4);
+        assert_eq!(new.relations.near.max_m, 1.5, "the band's other ends stay");
+        assert_eq!(new.relations.tolerance_m, 1e-5);
+        assert_eq!(new.time_budget_s, Some(30.0));
+        assert_eq!(new.stability.mass, sceneeval_physics::MassModel::Density(500.0));
+    }
+
+    /// `matching` is externally tagged as every choice of a plan; the internally tagged form of
+    /// earlier plans (`{"method": ...}`) reads the same.
+    #[test]
+    fn matching_is_externally_tagged_and_the_method_form_still_reads() {
+        use sceneeval_fidelity::MatchingMethod;
+        let read = |m: &str| {
+            EvaluationPlan::from_json_str(&format!(r#"{{"params": {{"fidelity": {{"matching": {m}}}}}}}"#))
+                .map(|p| p.fidelity.matching)
+        };
+        let file = MatchingMethod::File("runs/a".into());
+        for (new, old, method) in [
+            (r#""labels""#, r#"{"method": "labels"}"#, MatchingMethod::Labels),
+            (r#""vlm""#, r#"{"method": "vlm"}"#, MatchingMethod::Vlm),
+            (
+                r#"{"file": "runs/a"}"#,
+                r#"{"method": "file", "path": "runs/a"}"#,
+                file.clone(),
+            ),
+        ] {
+            assert_eq!(read(new).unwrap(), method, "{new}");
+            assert_eq!(read(old).unwrap(), method, "{old}");
+        }
+        // Written externally tagged.
+        let mut plan = EvaluationPlan::full(Preset::Default);
+        plan.fidelity.matching = file.clone();
+        let value = serde_json::to_value(&plan).unwrap();
+        assert_eq!(
+            value["params"]["fidelity"]["matching"],
+            serde_json::json!({"file": "runs/a"})
+        );
+        assert_eq!(serde_json::from_value::<EvaluationPlan>(value).unwrap(), plan);
+        // TOML, old and new.
+        let toml = EvaluationPlan::from_toml_str("[params.fidelity.matching]\nfile = \"runs/a\"\n").unwrap();
+        assert_eq!(toml.fidelity.matching, file);
+        let toml =
+            EvaluationPlan::from_toml_str("[fidelity.matching]\nmethod = \"file\"\npath = \"runs/a\"\n")
+                .unwrap();
+        assert_eq!(toml.fidelity.matching, file);
+        // Neither form: named by serde.
+        for bad in [
+            r#"{"method": "file"}"#,
+            r#"{"method": "labels", "path": "x"}"#,
+            r#""files""#,
+            r#"{"file": 3}"#,
+        ] {
+            match EvaluationPlan::from_json_str(&format!(
+                r#"{{"params": {{"fidelity": {{"matching": {bad}}}}}}}"#
+            )) {
+                Err(EvalError::Plan { field, .. }) => {
+                    assert!(field.unwrap().starts_with("params.fidelity.matching"), "{bad}")
+                }
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
     }
 }

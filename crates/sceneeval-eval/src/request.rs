@@ -349,9 +349,7 @@ pub struct NoVlmFallback {
 impl fmt::Display for NoVlmFallback {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.matching {
-            MatchingMethod::File { path } => {
-                write!(f, "fidelity runs with matching from {}", path.display())?
-            }
+            MatchingMethod::File(path) => write!(f, "fidelity runs with matching from {}", path.display())?,
             other => write!(f, "fidelity runs with {other} matching")?,
         }
         write!(f, " and the {} relation mapping", self.relation_mapping)?;
@@ -399,11 +397,7 @@ impl PlanRequest {
             None => {}
             Some("vlm") => plan.fidelity.matching = MatchingMethod::Vlm,
             Some("labels") => plan.fidelity.matching = MatchingMethod::Labels,
-            Some(path) => {
-                plan.fidelity.matching = MatchingMethod::File {
-                    path: PathBuf::from(path),
-                }
-            }
+            Some(path) => plan.fidelity.matching = MatchingMethod::File(PathBuf::from(path)),
         }
         match self.relation_mapping.as_deref().map(str::trim) {
             None if vlm => plan.fidelity.relation_mapping = RelationMapping::Vlm,
@@ -462,7 +456,7 @@ impl PlanRequest {
                     format!("{b} is not a number of seconds (0 for no budget)"),
                 ));
             }
-            plan.time_budget_seconds = crate::plan::time_budget(b);
+            plan.time_budget_s = crate::plan::time_budget(b);
         }
         Ok(plan)
     }
@@ -948,12 +942,9 @@ mod tests {
         r.time_budget_seconds = Some(0.0);
         let p = r.resolve(false, false).unwrap().plan;
         assert_eq!(p.metrics, vec![Metric::Collision]);
-        assert_eq!(p.time_budget_seconds, None);
+        assert_eq!(p.time_budget_s, None);
         r.time_budget_seconds = Some(30.0);
-        assert_eq!(
-            r.resolve(false, false).unwrap().plan.time_budget_seconds,
-            Some(30.0)
-        );
+        assert_eq!(r.resolve(false, false).unwrap().plan.time_budget_s, Some(30.0));
         for bad in [f64::NAN, -1.0, f64::INFINITY] {
             r.time_budget_seconds = Some(bad);
             assert_eq!(

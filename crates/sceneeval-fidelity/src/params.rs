@@ -62,8 +62,19 @@ impl FromStr for FidelityMetric {
 }
 
 /// Where the matching of scene objects to annotated categories comes from.
+///
+/// Written as every choice of a plan is (serde's external tagging): the name of a choice
+/// without data (`"labels"`, `"vlm"`), an object of one key, the choice's name, for a choice
+/// with data (`{"file": "m.json"}`).
+///
+/// ```
+/// use sceneeval_fidelity::MatchingMethod;
+/// let m: MatchingMethod = serde_json::from_str(r#"{"file": "m.json"}"#).unwrap();
+/// assert_eq!(m, MatchingMethod::File("m.json".into()));
+/// assert_eq!(serde_json::to_string(&MatchingMethod::Vlm).unwrap(), r#""vlm""#);
+/// ```
 #[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", tag = "method")]
+#[serde(rename_all = "snake_case")]
 pub enum MatchingMethod {
     /// The object's stated category (scene file or asset metadata) against the annotated
     /// categories, after normalisation and the synonym table ([`crate::labels`]); no VLM.
@@ -73,11 +84,9 @@ pub enum MatchingMethod {
     Vlm,
     /// A matching file in the reference's `obj_matching_result.json` shape: a file used for
     /// every scene, or a folder holding `<scene>/matching.json` or
-    /// `<scene>/obj_matching_result.json` (an earlier output folder of either tool).
-    File {
-        /// The file or folder.
-        path: PathBuf,
-    },
+    /// `<scene>/obj_matching_result.json` (an earlier output folder of either tool): the file
+    /// or folder.
+    File(PathBuf),
 }
 
 impl fmt::Display for MatchingMethod {
@@ -85,7 +94,7 @@ impl fmt::Display for MatchingMethod {
         match self {
             MatchingMethod::Labels => f.write_str("labels"),
             MatchingMethod::Vlm => f.write_str("vlm"),
-            MatchingMethod::File { path } => write!(f, "file {}", path.display()),
+            MatchingMethod::File(path) => write!(f, "file {}", path.display()),
         }
     }
 }
@@ -217,17 +226,11 @@ mod tests {
         assert!(r.unmapped_is_satisfied && !r.presence_gate_respects_quantifier);
         assert_eq!(r.matching, MatchingMethod::Vlm);
         let json = serde_json::to_value(&r).unwrap();
-        assert_eq!(json["matching"]["method"], "vlm");
+        assert_eq!(json["matching"], "vlm");
         let back: FidelityParams = serde_json::from_value(json).unwrap();
         assert_eq!(back, r);
-        let file: FidelityParams =
-            serde_json::from_str(r#"{"matching": {"method": "file", "path": "m.json"}}"#).unwrap();
-        assert_eq!(
-            file.matching,
-            MatchingMethod::File {
-                path: "m.json".into()
-            }
-        );
+        let file: FidelityParams = serde_json::from_str(r#"{"matching": {"file": "m.json"}}"#).unwrap();
+        assert_eq!(file.matching, MatchingMethod::File("m.json".into()));
         assert!(
             FidelityParams {
                 max_candidate_groups: 0,

@@ -557,9 +557,7 @@ fn matching_from_a_reference_file() {
     .unwrap();
     let ev = FidelityEvaluator::new(
         FidelityParams {
-            matching: MatchingMethod::File {
-                path: dir.path().to_owned(),
-            },
+            matching: MatchingMethod::File(dir.path().to_owned()),
             ..params()
         },
         RelationParams::default(),

@@ -147,7 +147,7 @@ fn always_simple_ignores_the_file_arch() {
         STYLE,
         &ReadOptions {
             architecture: ArchitectureMode::AlwaysSimple,
-            simple_wall_height: 2.5,
+            simple_wall_height_m: 2.5,
             ..ReadOptions::default()
         },
     );

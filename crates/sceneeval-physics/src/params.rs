@@ -85,10 +85,13 @@ impl std::str::FromStr for WeldMode {
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MassModel {
     /// A uniform density in kg/m³ over the object's convex pieces (default, 1000): a wardrobe
-    /// outweighs the vase on it, and the centre of mass and inertia follow the shape.
+    /// outweighs the vase on it, and the centre of mass and inertia follow the shape. Written
+    /// `{"density_kg_m3": 1000}` in a plan.
+    #[serde(rename = "density_kg_m3")]
     Density(Real),
     /// Every object weighs this many kilograms, spread uniformly over its convex pieces (the
-    /// SceneSmith fork gives every object 1 kg).
+    /// SceneSmith fork gives every object 1 kg). Written `{"per_object_kg": 1}` in a plan.
+    #[serde(rename = "per_object_kg")]
     PerObject(Real),
 }
 
@@ -215,8 +218,8 @@ impl StabilityParams {
         range("penetration_depth_m", self.penetration_depth_m, 0.0, true, 1.0)?;
         range("friction", self.friction, 0.0, true, 10.0)?;
         match self.mass {
-            MassModel::Density(d) => range("mass.density", d, 0.0, false, 1e5)?,
-            MassModel::PerObject(m) => range("mass.per_object", m, 0.0, false, 1e6)?,
+            MassModel::Density(d) => range("mass.density_kg_m3", d, 0.0, false, 1e5)?,
+            MassModel::PerObject(m) => range("mass.per_object_kg", m, 0.0, false, 1e6)?,
         }
         range("sleep_speed_m_s", self.sleep_speed_m_s, 0.0, true, 1.0)?;
         range("sleep_time_s", self.sleep_time_s, 0.0, false, 60.0)?;
@@ -284,7 +287,7 @@ mod tests {
         assert_eq!(p.steps(), 5000);
         let json = serde_json::to_string(&p).unwrap();
         assert!(json.contains(r#""weld":"architectural""#), "{json}");
-        assert!(json.contains(r#""mass":{"density":1000.0}"#), "{json}");
+        assert!(json.contains(r#""mass":{"density_kg_m3":1000.0}"#), "{json}");
         let back: StabilityParams = serde_json::from_str(&json).unwrap();
         assert_eq!(back, p);
     }
@@ -301,8 +304,8 @@ mod tests {
             ("rotation_limit_rad", |p| p.rotation_limit_rad = 4.0),
             ("penetration_depth_m", |p| p.penetration_depth_m = f64::INFINITY),
             ("friction", |p| p.friction = -1.0),
-            ("mass.density", |p| p.mass = MassModel::Density(0.0)),
-            ("mass.per_object", |p| p.mass = MassModel::PerObject(-1.0)),
+            ("mass.density_kg_m3", |p| p.mass = MassModel::Density(0.0)),
+            ("mass.per_object_kg", |p| p.mass = MassModel::PerObject(-1.0)),
             ("decomposition.resolution", |p| p.decomposition.resolution = 512),
             ("decomposition.max_pieces", |p| p.decomposition.max_pieces = 0),
         ];
@@ -319,7 +322,7 @@ mod tests {
     #[test]
     fn mass_models_and_modes_parse_by_name() {
         let p: StabilityParams =
-            serde_json::from_str(r#"{"weld": "none", "mass": {"per_object": 1.0}}"#).unwrap();
+            serde_json::from_str(r#"{"weld": "none", "mass": {"per_object_kg": 1.0}}"#).unwrap();
         assert_eq!(p.weld, WeldMode::None);
         assert_eq!(p.mass, MassModel::PerObject(1.0));
         assert!(serde_json::from_str::<StabilityParams>(r#"{"mass": {"grams": 1}}"#).is_err());

@@ -22,17 +22,17 @@ use crate::{Deadline, PlausibilityError};
 pub struct AccessibilityParams {
     /// Gap between a side of the object's box and its access strip, metres (reference
     /// `access_area_offset`, 0.05). Range: finite, `>= 0`.
-    pub strip_offset: Real,
+    pub strip_offset_m: Real,
     /// Width of the access strip away from the side, metres (reference `access_area_width`,
     /// 0.2). Range: finite, `> 0`.
-    pub strip_width: Real,
+    pub strip_width_m: Real,
     /// Objects with any part lower than this above their floor block strips, metres (reference
     /// `obj_height_threshold`, 2.0, applied there to the OBB centre). Range: finite, `>= 0`.
-    pub height_cutoff: Real,
+    pub height_cutoff_m: Real,
     /// Objects whose top is at most this above their floor (rugs) do not block, metres.
     /// Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object block (0).
     /// Range: finite, `>= 0`.
-    pub walkable_height: Real,
+    pub walkable_height_m: Real,
     /// The blocking footprints: convex hulls of the projected meshes (default) or, as the
     /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
     pub footprint: Footprint,
@@ -41,10 +41,10 @@ pub struct AccessibilityParams {
 impl Default for AccessibilityParams {
     fn default() -> Self {
         AccessibilityParams {
-            strip_offset: 0.05,
-            strip_width: 0.2,
-            height_cutoff: 2.0,
-            walkable_height: DEFAULT_WALKABLE_HEIGHT,
+            strip_offset_m: 0.05,
+            strip_width_m: 0.2,
+            height_cutoff_m: 2.0,
+            walkable_height_m: DEFAULT_WALKABLE_HEIGHT,
             footprint: Footprint::ConvexHull,
         }
     }
@@ -53,10 +53,10 @@ impl Default for AccessibilityParams {
 impl AccessibilityParams {
     fn validate(&self) -> Result<(), PlausibilityError> {
         let m = "accessibility";
-        check_non_negative(m, "strip_offset", self.strip_offset, false)?;
-        check_non_negative(m, "strip_width", self.strip_width, true)?;
-        check_non_negative(m, "height_cutoff", self.height_cutoff, false)?;
-        check_non_negative(m, "walkable_height", self.walkable_height, false)
+        check_non_negative(m, "strip_offset_m", self.strip_offset_m, false)?;
+        check_non_negative(m, "strip_width_m", self.strip_width_m, true)?;
+        check_non_negative(m, "height_cutoff_m", self.height_cutoff_m, false)?;
+        check_non_negative(m, "walkable_height_m", self.walkable_height_m, false)
     }
 }
 
@@ -171,7 +171,7 @@ impl Counters {
 ///
 /// For each functional side (front, back, left, right; others are ignored) the access strip
 /// is the rectangle beside that face of the object's box: from [`AccessibilityParams::
-/// strip_offset`] to `strip_offset + strip_width` away from the face, as long as the face, in
+/// strip_offset_m`] to `strip_offset_m + strip_width_m` away from the face, as long as the face, in
 /// the object's frame at its centre height, projected on the floor plan (reference notes 7.4).
 /// Its free part is computed exactly by polygon clipping: the strip intersected with the
 /// floors, minus the footprints of the other objects that obstruct (as for navigability: some
@@ -265,7 +265,7 @@ fn accessibility_counted(
 ) -> Result<AccessibilityReport, PlausibilityError> {
     let members: Vec<usize> = (0..infos.len())
         .filter(|&i| {
-            infos[i].obstructs(params.height_cutoff, params.walkable_height)
+            infos[i].obstructs(params.height_cutoff_m, params.walkable_height_m)
                 && infos[i].footprint_of(params.footprint).0.len() >= 3
         })
         .collect();
@@ -356,7 +356,7 @@ fn side_access(
     work: &Counters,
     deadline: &Deadline,
 ) -> Result<SideAccess, PlausibilityError> {
-    let strip = access_strip(o, side, params.strip_offset, params.strip_width);
+    let strip = access_strip(o, side, params.strip_offset_m, params.strip_width_m);
     let strip_area = area(&strip);
     let sb = bounds(&strip);
     let mut parts: Vec<Vec<Point2>> = blockers

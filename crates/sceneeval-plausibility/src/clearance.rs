@@ -22,35 +22,35 @@ pub struct OpeningClearanceParams {
     /// Check windows (reference `window_check`, true).
     pub check_windows: bool,
     /// Clearance depth of a door equals its width (reference `door_use_width_as_extrude`,
-    /// true); otherwise [`OpeningClearanceParams::door_depth`].
+    /// true); otherwise [`OpeningClearanceParams::door_depth_m`].
     pub door_depth_from_width: bool,
     /// Clearance depth of a door in metres when not taken from its width (reference
     /// `door_extrude_distance`, 1.0). Range: finite, `>= 0`.
-    pub door_depth: Real,
+    pub door_depth_m: Real,
     /// Clearance depth of a window in metres (reference `window_front_extrude_distance`, 0.5).
     /// Range: finite, `>= 0`.
-    pub window_depth: Real,
+    pub window_depth_m: Real,
     /// Also check the far side of an opening when a floor lies there (a door between two
-    /// rooms), probed [`OpeningClearanceParams::probe_offset`] beyond the wall's outer face
+    /// rooms), probed [`OpeningClearanceParams::probe_offset_m`] beyond the wall's outer face
     /// (reference `*_room_side_only`: every side over a floor is checked). Default true.
     pub far_side_when_over_floor: bool,
     /// Distance of the floor probe beyond the wall, metres (reference
     /// `within_room_point_offset`, 0.1). Range: finite, `>= 0`.
-    pub probe_offset: Real,
+    pub probe_offset_m: Real,
     /// Resolution of the occlusion map over the opening, pixels per metre (reference
     /// `map_pixel_per_meter`, 100). Range: `> 0` and at most
     /// [`OpeningClearanceParams::MAX_PIXELS_PER_METRE`] (1 mm pixels); an opening whose map
     /// would exceed the raster budget (16,777,216 pixels: a 4 x 4 m opening at 1 mm) fails its
     /// scene with [`PlausibilityError::RasterTooLarge`] before the map is allocated.
-    pub pixels_per_metre: Real,
+    pub pixels_per_m: Real,
     /// The clearance box is shrunk by this on every face before testing, metres (default
     /// 0.001), so that an object standing flush beside the opening or against the wall does
     /// not count as blocking. Range: finite, `>= 0`.
-    pub touch_tolerance: Real,
+    pub touch_tolerance_m: Real,
     /// Objects whose top is at most this above their floor (rugs, doormats) do not block,
     /// metres. Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object
     /// block (0). Range: finite, `>= 0`.
-    pub walkable_height: Real,
+    pub walkable_height_m: Real,
 }
 
 impl Default for OpeningClearanceParams {
@@ -59,36 +59,36 @@ impl Default for OpeningClearanceParams {
             check_doors: true,
             check_windows: true,
             door_depth_from_width: true,
-            door_depth: 1.0,
-            window_depth: 0.5,
+            door_depth_m: 1.0,
+            window_depth_m: 0.5,
             far_side_when_over_floor: true,
-            probe_offset: 0.1,
-            pixels_per_metre: 100.0,
-            touch_tolerance: 0.001,
-            walkable_height: DEFAULT_WALKABLE_HEIGHT,
+            probe_offset_m: 0.1,
+            pixels_per_m: 100.0,
+            touch_tolerance_m: 0.001,
+            walkable_height_m: DEFAULT_WALKABLE_HEIGHT,
         }
     }
 }
 
 impl OpeningClearanceParams {
-    /// The largest `pixels_per_metre`: 1000, millimetre pixels (the reference uses 100).
+    /// The largest `pixels_per_m`: 1000, millimetre pixels (the reference uses 100).
     pub const MAX_PIXELS_PER_METRE: Real = 1000.0;
 
     pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         let m = "opening_clearance";
-        check_non_negative(m, "door_depth", self.door_depth, false)?;
-        check_non_negative(m, "window_depth", self.window_depth, false)?;
-        check_non_negative(m, "probe_offset", self.probe_offset, false)?;
-        check_non_negative(m, "pixels_per_metre", self.pixels_per_metre, true)?;
+        check_non_negative(m, "door_depth_m", self.door_depth_m, false)?;
+        check_non_negative(m, "window_depth_m", self.window_depth_m, false)?;
+        check_non_negative(m, "probe_offset_m", self.probe_offset_m, false)?;
+        check_non_negative(m, "pixels_per_m", self.pixels_per_m, true)?;
         check_range(
             m,
-            "pixels_per_metre",
-            self.pixels_per_metre,
+            "pixels_per_m",
+            self.pixels_per_m,
             [0.0, Self::MAX_PIXELS_PER_METRE],
             "must be at most 1000 (millimetre pixels)",
         )?;
-        check_non_negative(m, "touch_tolerance", self.touch_tolerance, false)?;
-        check_non_negative(m, "walkable_height", self.walkable_height, false)
+        check_non_negative(m, "touch_tolerance_m", self.touch_tolerance_m, false)?;
+        check_non_negative(m, "walkable_height_m", self.walkable_height_m, false)
     }
 }
 
@@ -168,9 +168,9 @@ pub struct OpeningClearanceReport {
 /// the clearance box spans the opening's width and height band and extends from the far face
 /// of the hole through the wall to the clearance depth beyond the wall's face (doors: their
 /// width; windows: 0.5 m; reference notes 7.6). Each object's triangles are clipped exactly
-/// against the box (shrunk by [`OpeningClearanceParams::touch_tolerance`]); an object with any
+/// against the box (shrunk by [`OpeningClearanceParams::touch_tolerance_m`]); an object with any
 /// clipped area blocks. The clipped parts are projected along the wall normal onto a raster of
-/// the opening ([`OpeningClearanceParams::pixels_per_metre`], sampled at pixel centres, pixels
+/// the opening ([`OpeningClearanceParams::pixels_per_m`], sampled at pixel centres, pixels
 /// tiling the opening exactly) for the occluded fractions per object and in union. The
 /// reference keeps whole triangles that reach the box's depth even outside the opening's
 /// rectangle; we clip them.
@@ -221,7 +221,7 @@ fn opening_clearance_counted(
                 .into_iter()
                 .flatten()
                 .map(|side| {
-                    let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance);
+                    let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance_m);
                     side_clearance(scene, &candidates, &frame, side, depth, params, deadline)
                 })
                 .collect::<Result<_, _>>()?;
@@ -263,13 +263,13 @@ pub(crate) fn checked_sides(
 ) -> (Real, [Option<OpeningSide>; 2]) {
     let depth = match o.kind {
         OpeningKind::Door if params.door_depth_from_width => o.width(),
-        OpeningKind::Door => params.door_depth,
-        OpeningKind::Window => params.window_depth,
+        OpeningKind::Door => params.door_depth_m,
+        OpeningKind::Window => params.window_depth_m,
     };
     let mut far = None;
     if params.far_side_when_over_floor {
         let mid = wall.start() + wall.direction() * (0.5 * (o.along[0] + o.along[1]));
-        let probe = mid - wall.inward_normal() * (wall.thickness() + params.probe_offset);
+        let probe = mid - wall.inward_normal() * (wall.thickness() + params.probe_offset_m);
         if over_floor(&probe) {
             far = Some(OpeningSide::Far);
         }
@@ -471,7 +471,7 @@ pub(crate) struct Candidates {
 impl Candidates {
     pub(crate) fn new(scene: &Scene, infos: &[ObjectInfo], params: &OpeningClearanceParams) -> Self {
         let members: Vec<usize> = (0..scene.objects().len())
-            .filter(|&k| infos[k].max_z - infos[k].floor_z > params.walkable_height)
+            .filter(|&k| infos[k].max_z - infos[k].floor_z > params.walkable_height_m)
             .collect();
         let boxes: Vec<Aabb> = members
             .iter()
@@ -525,7 +525,7 @@ fn side_clearance(
     params: &OpeningClearanceParams,
     deadline: &Deadline,
 ) -> Result<SideClearance, PlausibilityError> {
-    let map = OcclusionMap::new(frame, params.pixels_per_metre)?;
+    let map = OcclusionMap::new(frame, params.pixels_per_m)?;
     let total = (map.nu * map.nw) as Real;
     let mut union = vec![false; map.nu * map.nw];
     let mut blocking = Vec::new();

@@ -24,7 +24,7 @@ pub struct CollisionParams {
     /// touching, not colliding. Default 0.005, the reference's intent
     /// (`CollisionMetric.move_direction_amount`: it forgives a pair that separates after a
     /// 5 mm push). Range: finite, `>= 0`.
-    pub contact_tolerance: Real,
+    pub contact_tolerance_m: Real,
     /// Leave floor coverings (rugs, carpets, mats) out of the metric: not tested, not counted.
     /// Default `true`: a bed standing on a 1 cm rug is not a collision (the fork of the
     /// reference sets it too). The original reference tests rugs like any object (`false`, the
@@ -36,7 +36,7 @@ pub struct CollisionParams {
     /// Finest spacing in metres of the surface points at which the penetration depth is
     /// evaluated. Default 0.0025 (half the contact tolerance). Range: finite, `> 0` (the
     /// search is bounded by `depth_sample_budget`, whatever the spacing).
-    pub depth_sample_spacing: Real,
+    pub depth_sample_spacing_m: Real,
     /// Most point queries (closest point plus inside test) per pair and direction; a pair whose
     /// search runs out before it can rule a collision out is reported `undecided` (and not
     /// colliding). Default 8192: a deep penetration is proven by its first few queries and
@@ -55,10 +55,10 @@ pub struct CollisionParams {
 impl Default for CollisionParams {
     fn default() -> Self {
         CollisionParams {
-            contact_tolerance: 0.005,
+            contact_tolerance_m: 0.005,
             exclude_floor_coverings: true,
             floor_covering_words: default_floor_covering_words(),
-            depth_sample_spacing: 0.0025,
+            depth_sample_spacing_m: 0.0025,
             depth_sample_budget: 8192,
             depth_search: DepthSearch::Verdict,
         }
@@ -71,11 +71,16 @@ impl CollisionParams {
     pub const MAX_DEPTH_SAMPLE_BUDGET: usize = 1 << 20;
 
     pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
-        check_non_negative("collision", "contact_tolerance", self.contact_tolerance, false)?;
         check_non_negative(
             "collision",
-            "depth_sample_spacing",
-            self.depth_sample_spacing,
+            "contact_tolerance_m",
+            self.contact_tolerance_m,
+            false,
+        )?;
+        check_non_negative(
+            "collision",
+            "depth_sample_spacing_m",
+            self.depth_sample_spacing_m,
             true,
         )?;
         check_range(
@@ -89,8 +94,8 @@ impl CollisionParams {
 
     fn query(&self) -> PenetrationQuery {
         PenetrationQuery {
-            tolerance: self.contact_tolerance,
-            spacing: self.depth_sample_spacing,
+            tolerance: self.contact_tolerance_m,
+            spacing: self.depth_sample_spacing_m,
             budget: self.depth_sample_budget,
             depth: self.depth_search,
         }
@@ -127,7 +132,7 @@ pub struct PairContact {
     /// [`DepthSearch::All`]).
     pub depth: Real,
     /// Spacing in metres of the surface points examined; a resting contact's deepest surface
-    /// point lies at most `contact_tolerance + depth_spacing` deep.
+    /// point lies at most `contact_tolerance_m + depth_spacing` deep.
     pub depth_spacing: Real,
     /// Whether the pair counts as a collision: nested, or a depth bound above the contact
     /// tolerance.
@@ -198,7 +203,7 @@ pub struct CollisionWork {
 /// shortest translation that separates the two objects): points of one surface lying inside
 /// the other object at some distance from its surface, and balls inside both objects (which
 /// catches copies placed on top of each other, whose surfaces coincide). A pair collides when
-/// such a bound exceeds [`CollisionParams::contact_tolerance`], so a pair reported colliding
+/// such a bound exceeds [`CollisionParams::contact_tolerance_m`], so a pair reported colliding
 /// really penetrates deeper than the tolerance; a pair whose surfaces meet without such a
 /// bound is a resting contact (its surface points lie at most the tolerance plus
 /// [`PairContact::depth_spacing`] deep). Two boxes overlapping face to face by `d` have depth

@@ -109,7 +109,7 @@ pub fn write_diagnostics(
     let p = &params.accessibility;
     for info in infos
         .iter()
-        .filter(|i| i.obstructs(p.height_cutoff, p.walkable_height))
+        .filter(|i| i.obstructs(p.height_cutoff_m, p.walkable_height_m))
     {
         deadline.check(STAGE)?;
         grid.for_convex_within(&info.footprint, 0.0, |k| occupied[k] = true);
@@ -152,9 +152,9 @@ pub fn write_diagnostics(
                 opening,
                 side.side,
                 side.depth,
-                params.opening_clearance.touch_tolerance,
+                params.opening_clearance.touch_tolerance_m,
             );
-            let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_metre)?;
+            let occ = OcclusionMap::new(&frame, params.opening_clearance.pixels_per_m)?;
             let mut mask = vec![false; occ.nu * occ.nw];
             for (_, parts) in intruding_parts(scene, &candidates, &frame) {
                 for part in &parts {

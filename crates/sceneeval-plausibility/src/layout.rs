@@ -62,7 +62,7 @@ pub struct LayoutChecks {
     doors: Vec<Obb>,
     clearance: OpeningClearanceParams,
     /// Penetration depth beyond which two box objects collide.
-    contact_tolerance: Real,
+    contact_tolerance_m: Real,
 }
 
 /// Buffers a [`LayoutChecks`] check clips polygons in; keep one across calls. One made by
@@ -90,7 +90,7 @@ impl LayoutChecks {
             floors: rooms.iter().map(|r| (r.floor().clone(), r.floor_z())).collect(),
             doors: door_boxes(rooms, &clearance),
             clearance,
-            contact_tolerance: CollisionParams::default().contact_tolerance,
+            contact_tolerance_m: CollisionParams::default().contact_tolerance_m,
         })
     }
 
@@ -100,7 +100,7 @@ impl LayoutChecks {
     /// [`PlausibilityError::InvalidParameter`] for parameters the metric rejects.
     pub fn with_collision(mut self, params: &CollisionParams) -> Result<Self, PlausibilityError> {
         params.validate()?;
-        self.contact_tolerance = params.contact_tolerance;
+        self.contact_tolerance_m = params.contact_tolerance_m;
         Ok(self)
     }
 
@@ -167,7 +167,7 @@ impl LayoutChecks {
     /// assert!((d_stand.center.x - 1.0).abs() < 1e-12);
     /// ```
     pub fn contact(&self, a: &SceneObject, b: &SceneObject) -> Contact {
-        contact(a, b, self.contact_tolerance)
+        contact(a, b, self.contact_tolerance_m)
     }
 
     /// Whether `object` blocks a door: it rises above the walkable height over the floor under
@@ -187,7 +187,7 @@ impl LayoutChecks {
             .iter()
             .find(|(outline, _)| outline.contains_point(&centre))
             .map_or(lowest, |f| f.1);
-        if aabb.max.z - floor_z <= self.clearance.walkable_height {
+        if aabb.max.z - floor_z <= self.clearance.walkable_height_m {
             return false;
         }
         self.doors.iter().any(|door| enters(object, door))
@@ -204,7 +204,7 @@ fn door_boxes(rooms: &[Room], params: &OpeningClearanceParams) -> Vec<Obb> {
             for o in wall.openings().iter().filter(|o| o.kind == OpeningKind::Door) {
                 let (depth, sides) = checked_sides(wall, o, params, over_floor);
                 for side in sides.into_iter().flatten() {
-                    let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance);
+                    let frame = OpeningFrame::new(wall, o, side, depth, params.touch_tolerance_m);
                     out.extend(frame.shrunk_obb());
                 }
             }

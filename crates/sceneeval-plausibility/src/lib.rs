@@ -46,13 +46,13 @@
 //! # Deliberate deviations, and the parameters that restore the reference
 //! - Floor coverings can be left out of collision (`exclude_floor_coverings` with
 //!   `floor_covering_words` in [`CollisionParams`], default off as in the original reference)
-//!   and walked over by the 2-D metrics (`walkable_height` in [`NavigabilityParams`],
+//!   and walked over by the 2-D metrics (`walkable_height_m` in [`NavigabilityParams`],
 //!   [`AccessibilityParams`] and [`OpeningClearanceParams`], default 0 as in the reference).
 //! - Footprints on the floor plan are convex hulls of the projected meshes, not the bounding
 //!   rectangles the reference draws (an oval bath leaves a corridor open beside its corners):
 //!   `footprint` ([`Footprint::BoundingBox`] for the reference) in [`NavigabilityParams`] and
 //!   [`AccessibilityParams`].
-//! - Collision forgives contacts within `contact_tolerance` by proven penetration depth
+//! - Collision forgives contacts within `contact_tolerance_m` by proven penetration depth
 //!   rather than by the reference's 5 mm push, and counts nested objects.
 //!
 //! # Cost

@@ -24,24 +24,24 @@ pub struct NavigabilityParams {
     pub resolution: Resolution,
     /// Margin in metres around the floors' extent (reference `scale_margin`, 0.2). Range:
     /// finite, `>= 0`.
-    pub margin: Real,
+    pub margin_m: Real,
     /// Width of the robot in metres (reference `robot_width`, 0.2): free space is every point
     /// at least half of it away from any obstacle and from the edge of the floor. Range:
     /// finite, `>= 0`.
-    pub robot_width: Real,
+    pub robot_width_m: Real,
     /// Objects with any part lower than this above their floor obstruct, in metres (reference
     /// `obj_height_threshold`, 2.0, applied there to the OBB centre). Range: finite, `>= 0`.
-    pub height_cutoff: Real,
+    pub height_cutoff_m: Real,
     /// Objects whose top is at most this above their floor are walked over (rugs), in metres.
     /// Default [`DEFAULT_WALKABLE_HEIGHT`] (5 cm); the reference lets every object obstruct
     /// (0). Range: finite, `>= 0`.
-    pub walkable_height: Real,
+    pub walkable_height_m: Real,
     /// A door whose bottom is at most this above its wall's base is passable, in metres
     /// (default 0.05). Windows never are. Range: finite, `>= 0`.
-    pub door_max_sill: Real,
+    pub door_max_sill_m: Real,
     /// Depth in metres of the strip in front of a door, on its room's side, from which a room
     /// counts as reachable (default 0.5). Range: finite, `> 0`.
-    pub door_strip_depth: Real,
+    pub door_strip_depth_m: Real,
     /// Obstacle footprints: convex hulls of the projected meshes (default) or, as the
     /// reference, the projected bounding boxes ([`Footprint::BoundingBox`]).
     pub footprint: Footprint,
@@ -51,12 +51,12 @@ impl Default for NavigabilityParams {
     fn default() -> Self {
         NavigabilityParams {
             resolution: Resolution::Pixels(256),
-            margin: 0.2,
-            robot_width: 0.2,
-            height_cutoff: 2.0,
-            walkable_height: DEFAULT_WALKABLE_HEIGHT,
-            door_max_sill: 0.05,
-            door_strip_depth: 0.5,
+            margin_m: 0.2,
+            robot_width_m: 0.2,
+            height_cutoff_m: 2.0,
+            walkable_height_m: DEFAULT_WALKABLE_HEIGHT,
+            door_max_sill_m: 0.05,
+            door_strip_depth_m: 0.5,
             footprint: Footprint::ConvexHull,
         }
     }
@@ -65,12 +65,12 @@ impl Default for NavigabilityParams {
 impl NavigabilityParams {
     fn validate(&self) -> Result<(), PlausibilityError> {
         let m = STAGE;
-        check_non_negative(m, "margin", self.margin, false)?;
-        check_non_negative(m, "robot_width", self.robot_width, false)?;
-        check_non_negative(m, "height_cutoff", self.height_cutoff, false)?;
-        check_non_negative(m, "walkable_height", self.walkable_height, false)?;
-        check_non_negative(m, "door_max_sill", self.door_max_sill, false)?;
-        check_non_negative(m, "door_strip_depth", self.door_strip_depth, true)?;
+        check_non_negative(m, "margin_m", self.margin_m, false)?;
+        check_non_negative(m, "robot_width_m", self.robot_width_m, false)?;
+        check_non_negative(m, "height_cutoff_m", self.height_cutoff_m, false)?;
+        check_non_negative(m, "walkable_height_m", self.walkable_height_m, false)?;
+        check_non_negative(m, "door_max_sill_m", self.door_max_sill_m, false)?;
+        check_non_negative(m, "door_strip_depth_m", self.door_strip_depth_m, true)?;
         match self.resolution {
             Resolution::Pixels(0) => Err(PlausibilityError::InvalidParameter {
                 metric: m,
@@ -82,7 +82,7 @@ impl NavigabilityParams {
             Resolution::MetresPerPixel(p) => {
                 check_non_negative(m, "resolution", p, true)?;
                 // The margins alone span `2 margin / p` pixels, whatever the floors.
-                let side = (2.0 * self.margin / p).ceil() as usize;
+                let side = (2.0 * self.margin_m / p).ceil() as usize;
                 check_raster(m, side, side, Storage::Runs)
             }
         }
@@ -169,19 +169,19 @@ pub fn occupancy_map(scene: &Scene, params: &NavigabilityParams) -> Result<Occup
 ///
 /// The floor plan is rasterised over the union of the floors ([`NavigabilityParams::
 /// resolution`]); every pixel is sampled at its centre. A pixel is **free** when its centre is
-/// on a floor and at least `r = robot_width / 2` from every obstacle, in exact Euclidean
+/// on a floor and at least `r = robot_width_m / 2` from every obstacle, in exact Euclidean
 /// distance (the reference approximates this with square-kernel erosion and thick outlines).
 /// Obstacles are: the edges of the floors that border no other floor; the walls (their
 /// footprint, from the inner face outward by their thickness) except where a passable door
 /// cuts through them, through any wall lying on the door's wall line, so that rooms connect
 /// through doors (the reference draws no walls, quirk Q16); and the footprints (convex hull of
 /// the mesh projected on the floor) of objects with any part lower than
-/// [`NavigabilityParams::height_cutoff`] above their floor (the reference tests the OBB centre,
+/// [`NavigabilityParams::height_cutoff_m`] above their floor (the reference tests the OBB centre,
 /// which ignores a pendant lamp reaching down to head height) and a top above
-/// [`NavigabilityParams::walkable_height`].
+/// [`NavigabilityParams::walkable_height_m`].
 ///
 /// NAV is the size of the largest 8-connected free region over all free pixels. Per room,
-/// a room is reachable when the strip of depth [`NavigabilityParams::door_strip_depth`] in
+/// a room is reachable when the strip of depth [`NavigabilityParams::door_strip_depth_m`] in
 /// front of one of its passable doors, on the room's side, holds a free pixel.
 ///
 /// # Errors
@@ -261,13 +261,13 @@ pub(crate) fn build_map(
         .map(|f| f.bounds())
         .reduce(|a, b| (a.0.inf(&b.0), a.1.sup(&b.1)))
         .unwrap_or((Point2::origin(), Point2::new(1.0, 1.0)));
-    let grid = Grid::covering(STAGE, min, max, params.margin, params.resolution)?;
-    let r = 0.5 * params.robot_width;
+    let grid = Grid::covering(STAGE, min, max, params.margin_m, params.resolution)?;
+    let r = 0.5 * params.robot_width_m;
     let mut blockers: Vec<Blocker<'_>> = Vec::new();
     for (a, b) in exposed_boundary(&floors) {
         blockers.push(Blocker::Segment(a, b));
     }
-    let doors = passable_doors(scene, params.door_max_sill);
+    let doors = passable_doors(scene, params.door_max_sill_m);
     for (_, wall) in scene.walls() {
         for piece in wall_pieces(wall, &doors) {
             if piece.len() == 2 {
@@ -279,7 +279,7 @@ pub(crate) fn build_map(
     }
     let flags: Vec<bool> = infos
         .iter()
-        .map(|i| i.obstructs(params.height_cutoff, params.walkable_height))
+        .map(|i| i.obstructs(params.height_cutoff_m, params.walkable_height_m))
         .collect();
     for (info, _) in infos.iter().zip(&flags).filter(|(_, f)| **f) {
         blockers.push(Blocker::Footprint(info.footprint_of(params.footprint).0));
@@ -470,13 +470,13 @@ fn room_reachability(
             let mut strip_free = false;
             for wall in room.walls() {
                 for o in wall.openings() {
-                    if o.kind != OpeningKind::Door || o.height[0] > params.door_max_sill {
+                    if o.kind != OpeningKind::Door || o.height[0] > params.door_max_sill_m {
                         continue;
                     }
                     num_doors += 1;
                     let (s, d, n) = (wall.start(), wall.direction(), wall.inward_normal());
                     let (p, q) = (s + d * o.along[0], s + d * o.along[1]);
-                    let depth = n * params.door_strip_depth;
+                    let depth = n * params.door_strip_depth_m;
                     let strip = ccw(vec![p, q, q + depth, p + depth]);
                     let (lo, hi) = y_range(&strip);
                     if let Some((j0, j1)) = grid.rows(lo, hi, 0.0) {

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::plane::{bounds, convex_hull_fast};
 
-/// Default `walkable_height` of navigability, accessibility and opening clearance, metres:
+/// Default `walkable_height_m` of navigability, accessibility and opening clearance, metres:
 /// objects whose top is at most this above their floor (rugs, carpets, doormats) are walked
 /// over rather than obstacles. The same 5 cm a door sill may have and still be passable; the
 /// reference (and the `reference` preset) uses 0, so a rug blocks.

@@ -21,21 +21,21 @@ pub struct OutOfBoundsParams {
     /// Surface lower than this below a floor still counts as over it, metres (default 0.005,
     /// the collision contact tolerance; the reference's floor slab is 1 mm thick). Range:
     /// finite, `>= 0`.
-    pub below_floor_tolerance: Real,
+    pub below_floor_tolerance_m: Real,
     /// Surface at most this far outside the outline of the floors, horizontally, still counts as
     /// over them, metres (default 0.001). Without it an object standing flush against a wall
     /// loses its whole back face: float32 asset coordinates and rotations put that face a few
     /// 1e-8 m beyond the floor's edge. Edges between two floors never move. Not in the
     /// reference, whose random rays decide such faces by chance. Range: finite, `>= 0`.
-    pub boundary_tolerance: Real,
+    pub boundary_tolerance_m: Real,
 }
 
 impl Default for OutOfBoundsParams {
     fn default() -> Self {
         OutOfBoundsParams {
             threshold: 0.99,
-            below_floor_tolerance: 0.005,
-            boundary_tolerance: 0.001,
+            below_floor_tolerance_m: 0.005,
+            boundary_tolerance_m: 0.001,
         }
     }
 }
@@ -44,14 +44,14 @@ impl OutOfBoundsParams {
     pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
         check_non_negative(
             "out_of_bounds",
-            "below_floor_tolerance",
-            self.below_floor_tolerance,
+            "below_floor_tolerance_m",
+            self.below_floor_tolerance_m,
             false,
         )?;
         check_non_negative(
             "out_of_bounds",
-            "boundary_tolerance",
-            self.boundary_tolerance,
+            "boundary_tolerance_m",
+            self.boundary_tolerance_m,
             false,
         )?;
         check_range(
@@ -95,8 +95,8 @@ pub struct OutOfBoundsReport {
 /// The reference casts rays straight down from random surface samples and counts those that
 /// hit a floor; we compute that ratio's expectation exactly. Each triangle of the world mesh
 /// is clipped against the vertical prism over each convex piece of the union of floors and
-/// against the half-space above that floor (less [`OutOfBoundsParams::below_floor_tolerance`]),
-/// the prism's outer walls moved out by [`OutOfBoundsParams::boundary_tolerance`];
+/// against the half-space above that floor (less [`OutOfBoundsParams::below_floor_tolerance_m`]),
+/// the prism's outer walls moved out by [`OutOfBoundsParams::boundary_tolerance_m`];
 /// the clipped areas (in 3-D, so vertical faces count by how much of them stands over a floor)
 /// summed over the mesh, divided by its surface area, give the in-bounds ratio. Floors that
 /// overlap in plan are counted once (the earlier room's floor height applies where they
@@ -134,7 +134,7 @@ fn out_of_bounds_counted(
     params.validate()?;
     // The floor pieces near an object come from an index over their boxes (grown by the
     // boundary tolerance), so large, finely triangulated floors cost `log` per object.
-    let margin = params.boundary_tolerance;
+    let margin = params.boundary_tolerance_m;
     let index = BoxIndex::new(
         &pieces
             .iter()
@@ -208,7 +208,7 @@ pub(crate) fn area_over_floor<'p>(
     params: &OutOfBoundsParams,
     scratch: &mut ClipScratch,
 ) -> Real {
-    let (tol, margin) = (params.below_floor_tolerance, params.boundary_tolerance);
+    let (tol, margin) = (params.below_floor_tolerance_m, params.boundary_tolerance_m);
     let aabb = o.world_aabb();
     let ob = (
         Point2::new(aabb.min.x, aabb.min.y),
@@ -333,7 +333,7 @@ mod tests {
             .unwrap();
         assert_eq!(ratio(&scene, &OutOfBoundsParams::default()), 1.0);
         let strict = OutOfBoundsParams {
-            boundary_tolerance: 0.0,
+            boundary_tolerance_m: 0.0,
             ..OutOfBoundsParams::default()
         };
         // The back face (1 of 6 square metres) and slivers of 1e-8 m on four faces are out.
@@ -380,7 +380,7 @@ mod tests {
             .build()
             .unwrap();
         let wide = OutOfBoundsParams {
-            boundary_tolerance: 0.1,
+            boundary_tolerance_m: 0.1,
             ..OutOfBoundsParams::default()
         };
         let report = out_of_bounds(&straddling, &wide).unwrap();

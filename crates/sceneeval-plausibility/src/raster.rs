@@ -20,6 +20,9 @@ pub enum Resolution {
     /// like the reference (`image_resolution: 256`); pixel size then depends on the room size.
     Pixels(u32),
     /// Square pixels of this size in metres, so that large and small rooms are treated alike.
+    /// Written `{"m_per_pixel": 0.02}` in a plan (the inverse of opening clearance's
+    /// `pixels_per_m`).
+    #[serde(rename = "m_per_pixel")]
     MetresPerPixel(Real),
 }
 

@@ -19,22 +19,22 @@ use crate::{Deadline, PlausibilityError};
 pub struct SupportParams {
     /// Rays start this far behind the object's surface, against the support direction, in
     /// metres (reference `epsilon`, 0.005). Range: finite, `>= 0`.
-    pub lift: Real,
+    pub lift_m: Real,
     /// A hit counts as a contact when it is at most this far from the ray's start, in metres
     /// (reference `support_distance_threshold`, 0.01). With the lift, a supporting surface from
     /// 5 mm inside to 5 mm beyond the object's extreme is accepted. Range: finite, `> 0`.
-    pub contact_distance: Real,
+    pub contact_distance_m: Real,
     /// Vertices within this distance of the object's extreme along the support direction are
     /// ray origins, in metres (reference: numpy `isclose` with `atol` 0.01). Range: finite,
     /// `>= 0`.
-    pub extreme_band: Real,
+    pub extreme_band_m: Real,
     /// Faces among the extreme ones whose normal has `|n . g|` above this also get ray origins
     /// on a lattice (reference `normal_facing_threshold`, 0.9). Range: `[0, 1]`.
     pub normal_facing_threshold: Real,
     /// Lattice density on those faces, points per square metre (reference
     /// `num_samples_per_square_meter`, 256; the reference samples at random, we use sub-triangle
     /// centroids). Range: finite, `>= 0` (the points are bounded by `max_face_samples`).
-    pub samples_per_square_metre: Real,
+    pub samples_per_m2: Real,
     /// Most lattice points per object; the density is lowered to stay within it (reference
     /// `max_total_num_samples`, 1e5, per object here). Default 4096. Range: 0 (extreme
     /// vertices only) to [`SupportParams::MAX_FACE_SAMPLES`].
@@ -44,11 +44,11 @@ pub struct SupportParams {
 impl Default for SupportParams {
     fn default() -> Self {
         SupportParams {
-            lift: 0.005,
-            contact_distance: 0.01,
-            extreme_band: 0.01,
+            lift_m: 0.005,
+            contact_distance_m: 0.01,
+            extreme_band_m: 0.01,
             normal_facing_threshold: 0.9,
-            samples_per_square_metre: 256.0,
+            samples_per_m2: 256.0,
             max_face_samples: 4096,
         }
     }
@@ -59,9 +59,9 @@ impl SupportParams {
     pub const MAX_FACE_SAMPLES: usize = 1 << 20;
 
     pub(crate) fn validate(&self) -> Result<(), PlausibilityError> {
-        check_non_negative("support", "lift", self.lift, false)?;
-        check_non_negative("support", "contact_distance", self.contact_distance, true)?;
-        check_non_negative("support", "extreme_band", self.extreme_band, false)?;
+        check_non_negative("support", "lift_m", self.lift_m, false)?;
+        check_non_negative("support", "contact_distance_m", self.contact_distance_m, true)?;
+        check_non_negative("support", "extreme_band_m", self.extreme_band_m, false)?;
         check_range(
             "support",
             "normal_facing_threshold",
@@ -69,12 +69,7 @@ impl SupportParams {
             [0.0, 1.0],
             "must lie in [0, 1]",
         )?;
-        check_non_negative(
-            "support",
-            "samples_per_square_metre",
-            self.samples_per_square_metre,
-            false,
-        )?;
+        check_non_negative("support", "samples_per_m2", self.samples_per_m2, false)?;
         check_range(
             "support",
             "max_face_samples",
@@ -153,12 +148,12 @@ struct Target<'a> {
 ///
 /// Per object, the support direction `g` follows its type: `ground` and `object` `-z`,
 /// `ceiling` `+z`, `wall` the object's back (`R * (0, 1, 0)`, the negated front). Rays are cast
-/// along `g` from the vertices within [`SupportParams::extreme_band`] of the object's extreme
+/// along `g` from the vertices within [`SupportParams::extreme_band_m`] of the object's extreme
 /// along `g` (measured along `g` itself, so rotated wall objects work, unlike the reference's
 /// dominant-axis test, quirk Q11) and from a fixed lattice on the extreme faces facing along
-/// `g`, each started [`SupportParams::lift`] behind the surface. They are tested against every
+/// `g`, each started [`SupportParams::lift_m`] behind the surface. They are tested against every
 /// other object and every floor, wall and ceiling whose box can be reached; a hit within
-/// [`SupportParams::contact_distance`] is a contact.
+/// [`SupportParams::contact_distance_m`] is a contact.
 ///
 /// `wall` and `ceiling` objects are supported by any contact. `ground` and `object` objects
 /// are supported when their centre of mass (the area-weighted surface centroid, as the
@@ -295,8 +290,8 @@ fn check_object(
     let world: Vec<Point3> = o.mesh().vertices().iter().map(|v| o.pose() * v).collect();
     let centre_of_mass = surface_centroid(o.mesh(), &world);
     let origins = ray_origins(o, &world, &g, params);
-    let starts: Vec<Point3> = origins.iter().map(|p| p - g * params.lift).collect();
-    let reach = params.contact_distance;
+    let starts: Vec<Point3> = origins.iter().map(|p| p - g * params.lift_m).collect();
+    let reach = params.contact_distance_m;
     let corridor = Aabb::from_points(starts.iter()).map(|b| {
         b.including(&(b.min + g * reach))
             .including(&(b.max + g * reach))
@@ -348,7 +343,7 @@ fn check_object(
         num_ray_origins: origins.len(),
         num_contacts: contacts.len(),
         supporters,
-        min_gap: min_toi.map(|t| t - params.lift),
+        min_gap: min_toi.map(|t| t - params.lift_m),
         contact_hull_area: hull_area,
         centre_of_mass,
         supported,
@@ -391,7 +386,7 @@ fn ray_origins(o: &SceneObject, world: &[Point3], g: &Vector3, params: &SupportP
     let extreme = along.iter().copied().fold(Real::NEG_INFINITY, Real::max);
     let in_band: Vec<bool> = along
         .iter()
-        .map(|&a| a >= extreme - params.extreme_band)
+        .map(|&a| a >= extreme - params.extreme_band_m)
         .collect();
     let mut seen: HashSet<[u64; 3]> = HashSet::new();
     let mut origins: Vec<Point3> = Vec::new();
@@ -439,7 +434,7 @@ fn ray_origins(o: &SceneObject, world: &[Point3], g: &Vector3, params: &SupportP
         }
         count
     };
-    let mut density = params.samples_per_square_metre;
+    let mut density = params.samples_per_m2;
     let full = lattice_at(density, None);
     if full > params.max_face_samples {
         density *= params.max_face_samples as Real / full as Real;

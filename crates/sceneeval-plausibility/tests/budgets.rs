@@ -188,12 +188,12 @@ fn parameters_are_checked_before_any_metric_runs() {
     assert!(r.is_err() && timings.is_empty());
 
     let mut params = PlausibilityParams::default();
-    params.collision.contact_tolerance = -0.1;
+    params.collision.contact_tolerance_m = -0.1;
     assert!(matches!(
         params.validate(),
         Err(PlausibilityError::InvalidParameter {
             metric: "collision",
-            name: "contact_tolerance",
+            name: "contact_tolerance_m",
             ..
         })
     ));
@@ -272,44 +272,44 @@ fn every_numeric_parameter_is_checked_against_its_range() {
     // The values of issue 29 (1e5 ran for minutes, 1e6 aborted on a 1.8 TB allocation, 2^31
     // panicked with "capacity overflow") and one value beyond each documented range.
     let cases: &[Mutation] = &[
-        ("opening_clearance", "pixels_per_metre", |p| {
-            p.opening_clearance.pixels_per_metre = 1e5
+        ("opening_clearance", "pixels_per_m", |p| {
+            p.opening_clearance.pixels_per_m = 1e5
         }),
-        ("opening_clearance", "pixels_per_metre", |p| {
-            p.opening_clearance.pixels_per_metre = 1e6
+        ("opening_clearance", "pixels_per_m", |p| {
+            p.opening_clearance.pixels_per_m = 1e6
         }),
-        ("opening_clearance", "pixels_per_metre", |p| {
-            p.opening_clearance.pixels_per_metre = 2f64.powi(31)
+        ("opening_clearance", "pixels_per_m", |p| {
+            p.opening_clearance.pixels_per_m = 2f64.powi(31)
         }),
-        ("opening_clearance", "pixels_per_metre", |p| {
-            p.opening_clearance.pixels_per_metre = 1000.5
+        ("opening_clearance", "pixels_per_m", |p| {
+            p.opening_clearance.pixels_per_m = 1000.5
         }),
-        ("opening_clearance", "pixels_per_metre", |p| {
-            p.opening_clearance.pixels_per_metre = 0.0
+        ("opening_clearance", "pixels_per_m", |p| {
+            p.opening_clearance.pixels_per_m = 0.0
         }),
-        ("opening_clearance", "pixels_per_metre", |p| {
-            p.opening_clearance.pixels_per_metre = f64::NAN
+        ("opening_clearance", "pixels_per_m", |p| {
+            p.opening_clearance.pixels_per_m = f64::NAN
         }),
-        ("opening_clearance", "door_depth", |p| {
-            p.opening_clearance.door_depth = f64::INFINITY
+        ("opening_clearance", "door_depth_m", |p| {
+            p.opening_clearance.door_depth_m = f64::INFINITY
         }),
-        ("opening_clearance", "window_depth", |p| {
-            p.opening_clearance.window_depth = -1.0
+        ("opening_clearance", "window_depth_m", |p| {
+            p.opening_clearance.window_depth_m = -1.0
         }),
-        ("opening_clearance", "probe_offset", |p| {
-            p.opening_clearance.probe_offset = f64::NAN
+        ("opening_clearance", "probe_offset_m", |p| {
+            p.opening_clearance.probe_offset_m = f64::NAN
         }),
-        ("opening_clearance", "touch_tolerance", |p| {
-            p.opening_clearance.touch_tolerance = -1e-3
+        ("opening_clearance", "touch_tolerance_m", |p| {
+            p.opening_clearance.touch_tolerance_m = -1e-3
         }),
-        ("opening_clearance", "walkable_height", |p| {
-            p.opening_clearance.walkable_height = -0.1
+        ("opening_clearance", "walkable_height_m", |p| {
+            p.opening_clearance.walkable_height_m = -0.1
         }),
-        ("collision", "contact_tolerance", |p| {
-            p.collision.contact_tolerance = f64::NAN
+        ("collision", "contact_tolerance_m", |p| {
+            p.collision.contact_tolerance_m = f64::NAN
         }),
-        ("collision", "depth_sample_spacing", |p| {
-            p.collision.depth_sample_spacing = 0.0
+        ("collision", "depth_sample_spacing_m", |p| {
+            p.collision.depth_sample_spacing_m = 0.0
         }),
         ("collision", "depth_sample_budget", |p| {
             p.collision.depth_sample_budget = 0
@@ -320,18 +320,18 @@ fn every_numeric_parameter_is_checked_against_its_range() {
         ("collision", "depth_sample_budget", |p| {
             p.collision.depth_sample_budget = usize::MAX
         }),
-        ("support", "lift", |p| p.support.lift = -1.0),
-        ("support", "contact_distance", |p| {
-            p.support.contact_distance = 0.0
+        ("support", "lift_m", |p| p.support.lift_m = -1.0),
+        ("support", "contact_distance_m", |p| {
+            p.support.contact_distance_m = 0.0
         }),
-        ("support", "extreme_band", |p| {
-            p.support.extreme_band = f64::INFINITY
+        ("support", "extreme_band_m", |p| {
+            p.support.extreme_band_m = f64::INFINITY
         }),
         ("support", "normal_facing_threshold", |p| {
             p.support.normal_facing_threshold = 1.5
         }),
-        ("support", "samples_per_square_metre", |p| {
-            p.support.samples_per_square_metre = f64::NAN
+        ("support", "samples_per_m2", |p| {
+            p.support.samples_per_m2 = f64::NAN
         }),
         ("support", "max_face_samples", |p| {
             p.support.max_face_samples = SupportParams::MAX_FACE_SAMPLES + 1
@@ -339,21 +339,21 @@ fn every_numeric_parameter_is_checked_against_its_range() {
         ("support", "max_face_samples", |p| {
             p.support.max_face_samples = usize::MAX
         }),
-        ("navigability", "margin", |p| p.navigability.margin = -0.1),
-        ("navigability", "robot_width", |p| {
-            p.navigability.robot_width = f64::INFINITY
+        ("navigability", "margin_m", |p| p.navigability.margin_m = -0.1),
+        ("navigability", "robot_width_m", |p| {
+            p.navigability.robot_width_m = f64::INFINITY
         }),
-        ("navigability", "height_cutoff", |p| {
-            p.navigability.height_cutoff = f64::NAN
+        ("navigability", "height_cutoff_m", |p| {
+            p.navigability.height_cutoff_m = f64::NAN
         }),
-        ("navigability", "walkable_height", |p| {
-            p.navigability.walkable_height = -1.0
+        ("navigability", "walkable_height_m", |p| {
+            p.navigability.walkable_height_m = -1.0
         }),
-        ("navigability", "door_max_sill", |p| {
-            p.navigability.door_max_sill = -1.0
+        ("navigability", "door_max_sill_m", |p| {
+            p.navigability.door_max_sill_m = -1.0
         }),
-        ("navigability", "door_strip_depth", |p| {
-            p.navigability.door_strip_depth = 0.0
+        ("navigability", "door_strip_depth_m", |p| {
+            p.navigability.door_strip_depth_m = 0.0
         }),
         ("navigability", "resolution", |p| {
             p.navigability.resolution = Resolution::Pixels(0)
@@ -361,24 +361,24 @@ fn every_numeric_parameter_is_checked_against_its_range() {
         ("navigability", "resolution", |p| {
             p.navigability.resolution = Resolution::MetresPerPixel(-0.01)
         }),
-        ("accessibility", "strip_offset", |p| {
-            p.accessibility.strip_offset = -0.1
+        ("accessibility", "strip_offset_m", |p| {
+            p.accessibility.strip_offset_m = -0.1
         }),
-        ("accessibility", "strip_width", |p| {
-            p.accessibility.strip_width = 0.0
+        ("accessibility", "strip_width_m", |p| {
+            p.accessibility.strip_width_m = 0.0
         }),
-        ("accessibility", "height_cutoff", |p| {
-            p.accessibility.height_cutoff = f64::NAN
+        ("accessibility", "height_cutoff_m", |p| {
+            p.accessibility.height_cutoff_m = f64::NAN
         }),
-        ("accessibility", "walkable_height", |p| {
-            p.accessibility.walkable_height = -0.1
+        ("accessibility", "walkable_height_m", |p| {
+            p.accessibility.walkable_height_m = -0.1
         }),
         ("out_of_bounds", "threshold", |p| p.out_of_bounds.threshold = 1.01),
-        ("out_of_bounds", "below_floor_tolerance", |p| {
-            p.out_of_bounds.below_floor_tolerance = -1.0
+        ("out_of_bounds", "below_floor_tolerance_m", |p| {
+            p.out_of_bounds.below_floor_tolerance_m = -1.0
         }),
-        ("out_of_bounds", "boundary_tolerance", |p| {
-            p.out_of_bounds.boundary_tolerance = f64::NAN
+        ("out_of_bounds", "boundary_tolerance_m", |p| {
+            p.out_of_bounds.boundary_tolerance_m = f64::NAN
         }),
     ];
     for (metric, name, mutate) in cases {
@@ -395,7 +395,7 @@ fn every_numeric_parameter_is_checked_against_its_range() {
     }
     // The ends of the ranges are accepted.
     let mut params = PlausibilityParams::default();
-    params.opening_clearance.pixels_per_metre = OpeningClearanceParams::MAX_PIXELS_PER_METRE;
+    params.opening_clearance.pixels_per_m = OpeningClearanceParams::MAX_PIXELS_PER_METRE;
     params.collision.depth_sample_budget = CollisionParams::MAX_DEPTH_SAMPLE_BUDGET;
     params.support.max_face_samples = SupportParams::MAX_FACE_SAMPLES;
     params.support.normal_facing_threshold = 1.0;
@@ -406,7 +406,7 @@ fn every_numeric_parameter_is_checked_against_its_range() {
     assert!(params.validate().is_ok());
     // Margins that alone span more than 65,536 pixels are refused without a scene:
     // 2 x 40 m / 1 mm = 80,000 pixels.
-    params.navigability.margin = 40.0;
+    params.navigability.margin_m = 40.0;
     params.navigability.resolution = Resolution::MetresPerPixel(1e-3);
     assert!(matches!(
         params.validate(),
@@ -444,7 +444,7 @@ fn an_occlusion_map_over_the_raster_budget_fails_its_scene_before_it_is_allocate
     // 25 million pixels, over the dense raster budget of 2^24 = 16,777,216.
     let s = glass_wall();
     let mut params = PlausibilityParams::default();
-    params.opening_clearance.pixels_per_metre = 1000.0;
+    params.opening_clearance.pixels_per_m = 1000.0;
     params.validate().unwrap();
     let err = opening_clearance(&s, &params.opening_clearance).unwrap_err();
     assert!(

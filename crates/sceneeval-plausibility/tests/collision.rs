@@ -388,14 +388,14 @@ proptest! {
         let params = CollisionParams::default();
         let r = collision(&s, &params).unwrap();
         let exact = sat_depth(&ha, &pa, &hb, &pb);
-        let tol = params.contact_tolerance;
+        let tol = params.contact_tolerance_m;
         if let Some(c) = r.contacts.first() {
             prop_assert!(c.depth <= exact + 1e-9, "depth {} above the exact {exact}: {c:?}", c.depth);
         }
         if exact <= tol {
             prop_assert!(!r.col_sc, "exact {exact}: {:?}", r.contacts);
         }
-        if exact > std::f64::consts::SQRT_2 * (tol + params.depth_sample_spacing) {
+        if exact > std::f64::consts::SQRT_2 * (tol + params.depth_sample_spacing_m) {
             prop_assert!(r.col_sc, "exact {exact}: {:?}", r.contacts);
         }
     }
@@ -614,7 +614,7 @@ proptest! {
             x.vertices().iter().any(|v| {
                 let w = px * v;
                 let local = py.inverse_transform_point(&w);
-                y.winding_number(&local) > 0.5 && brute_distance(y, py, &w) > params.contact_tolerance + 1e-9
+                y.winding_number(&local) > 0.5 && brute_distance(y, py, &w) > params.contact_tolerance_m + 1e-9
             })
         };
         if deep_vertex(&a, &pa, &b, &pb) || deep_vertex(&b, &pb, &a, &pa) {

@@ -150,7 +150,7 @@ fn floor_coverings_obstruct_unless_walked_over() {
         .unwrap();
     let walked = NavigabilityParams {
         resolution: Resolution::MetresPerPixel(0.05),
-        walkable_height: 0.02,
+        walkable_height_m: 0.02,
         ..NavigabilityParams::default()
     };
     let r = navigability(&s, &walked).unwrap();
@@ -160,7 +160,7 @@ fn floor_coverings_obstruct_unless_walked_over() {
         ["rug", "mat"]
     );
     let reference = NavigabilityParams {
-        walkable_height: 0.0,
+        walkable_height_m: 0.0,
         ..walked
     };
     // The rug then cuts the room in two (the reference draws it).
@@ -173,7 +173,7 @@ fn floor_coverings_obstruct_unless_walked_over() {
         1
     );
     let reference = OpeningClearanceParams {
-        walkable_height: 0.0,
+        walkable_height_m: 0.0,
         ..OpeningClearanceParams::default()
     };
     assert_eq!(opening_clearance(&s, &reference).unwrap().doors_blocked, 1);
@@ -184,7 +184,7 @@ fn floor_coverings_obstruct_unless_walked_over() {
         0
     );
     let walked = OpeningClearanceParams {
-        walkable_height: 0.02,
+        walkable_height_m: 0.02,
         ..OpeningClearanceParams::default()
     };
     assert_eq!(opening_clearance(&s, &walked).unwrap().doors_blocked, 0);
@@ -211,7 +211,7 @@ fn floor_coverings_obstruct_unless_walked_over() {
         .build()
         .unwrap();
     let reference = AccessibilityParams {
-        walkable_height: 0.0,
+        walkable_height_m: 0.0,
         ..AccessibilityParams::default()
     };
     let a = accessibility(&s, &reference, &Stated).unwrap();
@@ -224,7 +224,7 @@ fn floor_coverings_obstruct_unless_walked_over() {
         Some(1.0)
     );
     let walked = AccessibilityParams {
-        walkable_height: 0.02,
+        walkable_height_m: 0.02,
         ..AccessibilityParams::default()
     };
     assert_eq!(

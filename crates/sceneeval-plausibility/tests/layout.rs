@@ -141,7 +141,7 @@ fn contacts_agree_with_the_collision_metric() {
                 let depth = c.depth.unwrap();
                 // The metric certifies a lower bound on the same depth; away from the
                 // tolerance by more than its sample spacing the verdicts agree.
-                if (depth - params.contact_tolerance).abs() > 2.0 * params.depth_sample_spacing {
+                if (depth - params.contact_tolerance_m).abs() > 2.0 * params.depth_sample_spacing_m {
                     assert_eq!(
                         c.colliding,
                         metric.is_some_and(|m| m.colliding),

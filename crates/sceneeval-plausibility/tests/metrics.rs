@@ -139,7 +139,7 @@ fn resting_three_millimetres_deep_is_contact_not_collision() {
     assert!(!r.contacts[0].colliding);
     // With a 2 mm tolerance the same pair collides.
     let strict = CollisionParams {
-        contact_tolerance: 0.002,
+        contact_tolerance_m: 0.002,
         ..CollisionParams::default()
     };
     assert!(collision(&s, &strict).unwrap().col_sc);
@@ -380,7 +380,7 @@ fn out_of_bounds_half_outside() {
         .build()
         .unwrap();
     let exact = OutOfBoundsParams {
-        boundary_tolerance: 0.0,
+        boundary_tolerance_m: 0.0,
         ..OutOfBoundsParams::default()
     };
     let r = out_of_bounds(&s, &exact).unwrap();
@@ -433,7 +433,7 @@ fn out_of_bounds_on_a_concave_floor() {
         .build()
         .unwrap();
     let exact = OutOfBoundsParams {
-        boundary_tolerance: 0.0,
+        boundary_tolerance_m: 0.0,
         ..OutOfBoundsParams::default()
     };
     let r = out_of_bounds(&s, &exact).unwrap();
@@ -719,23 +719,23 @@ fn evaluate_runs_everything_and_serialises() {
     let params: PlausibilityParams = serde_json::from_str(&params_json).unwrap();
     assert_eq!(params, PlausibilityParams::default());
     let partial: PlausibilityParams =
-        serde_json::from_str(r#"{"navigability": {"resolution": {"metres_per_pixel": 0.02}}}"#).unwrap();
+        serde_json::from_str(r#"{"navigability": {"resolution": {"m_per_pixel": 0.02}}}"#).unwrap();
     assert_eq!(partial.navigability.resolution, Resolution::MetresPerPixel(0.02));
-    assert_eq!(partial.navigability.robot_width, 0.2);
+    assert_eq!(partial.navigability.robot_width_m, 0.2);
 }
 
 #[test]
 fn bad_parameters_are_rejected() {
     let s = scene().build().unwrap();
     let p = CollisionParams {
-        contact_tolerance: -1.0,
+        contact_tolerance_m: -1.0,
         ..CollisionParams::default()
     };
     assert!(matches!(
         collision(&s, &p),
         Err(PlausibilityError::InvalidParameter {
             metric: "collision",
-            name: "contact_tolerance",
+            name: "contact_tolerance_m",
             ..
         })
     ));

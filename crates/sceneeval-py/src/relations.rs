@@ -216,8 +216,10 @@ impl RoomArg {
 
 /// The predicates' parameters: the defaults (or the reference's with `reference`), then each
 /// keyword argument by its field name in `RelationParams` (`side_of_margin=0.3`,
-/// `near=(0.4, 1.2, 0.2)` or `near={"min": 0.4, "max": 1.2, "sigma": 0.2}`,
-/// `on_top_plane="centre_plane"`), validated.
+/// `near=(0.4, 1.2, 0.2)` or `near={"min_m": 0.4, "max_m": 1.2, "sigma_m": 0.2}`,
+/// `on_top_plane="centre_plane"`), validated. A name a plan file used before the unit-suffix
+/// rule (`middle_of_sigma`, `near={"min": ...}`) is read as its new one, as in a plan file
+/// (`sceneeval::eval::RENAMED_KEYS`), with a `DeprecationWarning` naming the new one.
 pub fn relation_params(reference: bool, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<RelationParams> {
     let base = if reference {
         RelationParams::reference()
@@ -231,7 +233,7 @@ pub fn relation_params(reference: bool, overrides: Option<&Bound<'_, PyDict>>) -
     if let (serde_json::Value::Object(fields), serde_json::Value::Object(given)) =
         (&mut value, to_json(overrides.as_any(), "parameter")?)
     {
-        for (name, v) in given {
+        for (name, v) in renamed_read(overrides.py(), given)? {
             if !fields.contains_key(&name) {
                 return Err(value_error(format!(
                     "unknown parameter {name:?}: see sceneeval.relation_params() for the names"
@@ -244,6 +246,45 @@ pub fn relation_params(reference: bool, overrides: Option<&Bound<'_, PyDict>>) -
         serde_json::from_value(value).map_err(|e| value_error(format!("parameters: {e}")))?;
     params.validate().map_err(|e| relation_error(&e))?;
     Ok(params)
+}
+
+/// `given` (keyword arguments of [`relation_params`]) with the names of plans written before
+/// the unit-suffix rule read as the new ones, each with a `DeprecationWarning`.
+fn renamed_read(
+    py: Python<'_>,
+    given: serde_json::Map<String, serde_json::Value>,
+) -> PyResult<serde_json::Map<String, serde_json::Value>> {
+    const AT: &str = "params.relations.";
+    let mut plan = serde_json::Map::new();
+    plan.insert(
+        "params".into(),
+        serde_json::json!({"relations": serde_json::Value::Object(given)}),
+    );
+    let renamed = sceneeval::eval::read_renamed_keys(&mut plan).map_err(|e| {
+        value_error(match e {
+            sceneeval::eval::EvalError::Plan { message, .. } => message.replace(AT, ""),
+            other => other.to_string(),
+        })
+    })?;
+    for (old, new) in renamed {
+        let (old, new) = (old.trim_start_matches(AT), new.trim_start_matches(AT));
+        let message =
+            std::ffi::CString::new(format!("{old} is deprecated: write {new} (the unit-suffix rule)"))
+                .map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
+            &message,
+            1,
+        )?;
+    }
+    match plan.remove("params") {
+        Some(serde_json::Value::Object(mut params)) => match params.remove("relations") {
+            Some(serde_json::Value::Object(given)) => Ok(given),
+            _ => Ok(serde_json::Map::new()),
+        },
+        _ => Ok(serde_json::Map::new()),
+    }
 }
 
 /// The score in [0, 1] of one spatial relation (it holds when the score is above 0.5).
@@ -264,7 +305,7 @@ pub fn relation_params(reference: bool, overrides: Option<&Bound<'_, PyDict>>) -
 ///
 /// reference=True selects every reference-parity switch (RelationParams::reference);
 /// any other keyword sets one parameter by its name in relation_params(), e.g.
-/// side_of_margin=0.3 or near=(0.4, 1.2, 0.2) (min, max, sigma).
+/// side_of_margin=0.3 or near=(0.4, 1.2, 0.2) (min_m, max_m, sigma_m).
 ///
 /// Raises ValueError for an unknown name, a missing or extra operand or argument, a NaN or
 /// infinite number, or a bad parameter, with the message `sceneeval relate` gives.

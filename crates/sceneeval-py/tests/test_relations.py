@@ -102,11 +102,28 @@ def test_hand_computed_scores():
     assert sceneeval.relation("near", a, b) == 1.0
     # With the band moved to [0, 1] m (sigma 0.25): 0.25 m beyond it, exp(-0.25^2 / (2 * 0.25^2)).
     assert sceneeval.relation("near", a, b, near=(0.0, 1.0, 0.25)) == pytest.approx(np.exp(-0.5), abs=1e-15)
-    assert sceneeval.relation("near", a, b, near={"min": 0.0, "max": 1.0, "sigma": 0.25}) == pytest.approx(
+    assert sceneeval.relation("near", a, b, near={"min_m": 0.0, "max_m": 1.0, "sigma_m": 0.25}) == pytest.approx(
         np.exp(-0.5), abs=1e-15
     )
     assert sceneeval.relation_params(reference=True)["on_top_plane"] == "centre_plane"
-    assert sceneeval.relation_params()["far"]["max"] is None  # unbounded
+    assert sceneeval.relation_params()["far"]["max_m"] is None  # unbounded
+
+
+def test_names_before_the_unit_suffix_rule_read_with_a_deprecation_warning():
+    # A plan file's old names (sceneeval_eval::RENAMED_KEYS) read as the new ones, as in a plan.
+    a, b = (0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0), (2.25, 0.0, 0.5, 0.5, 0.5, 0.5, 0.0)
+    with pytest.warns(DeprecationWarning) as warned:
+        old = sceneeval.relation("near", a, b, near={"min": 0.0, "max": 1.0, "sigma": 0.25})
+    assert [str(w.message) for w in warned] == [
+        f"near.{n} is deprecated: write near.{n}_m (the unit-suffix rule)" for n in ("min", "max", "sigma")
+    ]
+    assert old == pytest.approx(np.exp(-0.5), abs=1e-15)
+    with pytest.warns(DeprecationWarning, match=r"^middle_of_sigma is deprecated: write middle_of_sigma_m"):
+        params = sceneeval.relation_params(middle_of_sigma=0.5)
+    assert params["middle_of_sigma_m"] == 0.5 and "middle_of_sigma" not in params
+    # Both names at once: an error naming both.
+    with pytest.raises(ValueError, match=r"`middle_of_sigma` and as `middle_of_sigma_m`"):
+        sceneeval.relation_params(middle_of_sigma=0.5, middle_of_sigma_m=0.5)
 
 
 def test_batch_equals_one_by_one(rng):
@@ -196,7 +213,7 @@ def test_non_finite_numbers_name_the_row_and_field(bad, column, field):
         (lambda: sceneeval.relation("near", {"center": [0, 0, 0]}, BOX[1]), r"target: missing field `half_size`"),
         (lambda: sceneeval.relation("inside_room", BOX[0], room={"floor": [[0, 0], [1, 0]]}), r"^room: "),
         (lambda: sceneeval.relation("near", BOX[0], BOX[1], bogus=1.0), r'unknown parameter "bogus"'),
-        (lambda: sceneeval.relation("near", BOX[0], BOX[1], middle_of_sigma=-1.0), r"middle_of_sigma"),
+        (lambda: sceneeval.relation("near", BOX[0], BOX[1], middle_of_sigma_m=-1.0), r"middle_of_sigma_m"),
         (lambda: sceneeval.relation_batch("surround", BOX, BOX), r"targets must be a numpy float64 array of shape \(N, K, 7\) for surround"),
         (lambda: sceneeval.relation_batch("surround", BOX[None], BOX, room=ROOM), r"give anchors, not room"),
         (lambda: sceneeval.relation_batch("on_wall", BOX), r"needs room"),

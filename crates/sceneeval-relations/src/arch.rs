@@ -98,9 +98,9 @@ impl<'a> Probe<'a> {
 /// The highest score `band` can give to a distance between `lo` and `hi`.
 #[inline]
 fn band_upper(band: &DistanceBand, (lo, hi): (Real, Real)) -> Real {
-    if hi < band.min {
+    if hi < band.min_m {
         band.score(hi)
-    } else if lo > band.max {
+    } else if lo > band.max_m {
         band.score(lo)
     } else {
         1.0
@@ -255,7 +255,7 @@ pub fn far(target: &ObjectGeom<'_>, room: &Room, element: ArchElement, params: &
 ///
 /// The reference casts a ray down from each random sample of the box and counts those that
 /// hit the floor. Here the box is clipped, exactly, by the three vertical planes of each floor
-/// triangle and the floor plane (moved down by [`RelationParams::tolerance`]); the triangles
+/// triangle and the floor plane (moved down by [`RelationParams::tolerance_m`]); the triangles
 /// partition the floor, so the volumes add up. Exact for any rotation of the box.
 ///
 /// ```
@@ -296,7 +296,7 @@ pub(crate) fn over_floor<T: std::ops::AddAssign + Default>(
     // Shortcut for a convex floor: a box whose eight corners are over the floor and above it
     // lies wholly in the floor's prism.
     let lowest = obb.center.z - (0..3).map(|j| obb.rotation[(2, j)].abs() * h[j]).sum::<Real>();
-    if lowest >= room.floor_z() - params.tolerance {
+    if lowest >= room.floor_z() - params.tolerance_m {
         let corners_over_floor = (0..8).all(|k| {
             let l = Vector3::from_fn(|j, _| if k & (1 << j) == 0 { -h[j] } else { h[j] });
             let p = obb.to_world(&l);
@@ -308,7 +308,10 @@ pub(crate) fn over_floor<T: std::ops::AddAssign + Default>(
     }
     let r_t = obb.rotation.inverse();
     let local = |n: Vector3, offset: Real| HalfSpace::new(r_t * n, offset - n.dot(&obb.center.coords));
-    let floor = local(Vector3::new(0.0, 0.0, -1.0), -(room.floor_z() - params.tolerance));
+    let floor = local(
+        Vector3::new(0.0, 0.0, -1.0),
+        -(room.floor_z() - params.tolerance_m),
+    );
     let mut inside = T::default();
     for tri in room.floor_triangles() {
         let (lo, hi) = (tri[0].inf(&tri[1]).inf(&tri[2]), tri[0].sup(&tri[1]).sup(&tri[2]));
@@ -352,7 +355,7 @@ pub fn middle_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationPar
     let e = target.obb.extents();
     let o = e.x.max(e.y);
     let ratio = if r > 0.0 { (1.0 - o / r).max(0.0) } else { 0.0 };
-    let sigma = params.middle_of_room_base_sigma
+    let sigma = params.middle_of_room_base_sigma_m
         * (params.middle_of_room_size_weight * o + params.middle_of_room_ratio_weight * ratio);
     let d2 = dx * dx + dy * dy;
     if sigma <= 0.0 {
@@ -377,7 +380,7 @@ pub(crate) fn in_front_region(wall: &Wall, params: &RelationParams) -> (Point3, 
     // The wall frame's local -y points into the room, so "in front" is y <= 0.
     let region = FrameBox {
         lo: [-hx, Real::NEG_INFINITY, -hz],
-        hi: [hx, params.tolerance, hz],
+        hi: [hx, params.tolerance_m, hz],
     };
     (origin, region)
 }

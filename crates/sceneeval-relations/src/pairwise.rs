@@ -53,7 +53,7 @@ impl FrameBoxJacobian {
 /// The target's half extents with the flat-box floor applied.
 #[inline]
 pub(crate) fn effective_half(obb: &Obb, params: &RelationParams) -> Vector3 {
-    obb.half_extents.map(|h| h.max(params.min_half_extent))
+    obb.half_extents.map(|h| h.max(params.min_half_extent_m))
 }
 
 /// The fraction of `a`'s box volume inside `region`, given in the frame with rotation
@@ -171,7 +171,7 @@ pub(crate) fn inside_box(b: &Obb, tol: Real) -> (FrameBox, FrameBoxJacobian) {
 /// `inside_of`: the fraction of the target's box inside the anchor's box.
 ///
 /// Exact: the target's box is clipped by the anchor's six face planes (moved outward by
-/// [`RelationParams::tolerance`], as the reference's containment test). The reference
+/// [`RelationParams::tolerance_m`], as the reference's containment test). The reference
 /// estimates the same fraction from random samples.
 ///
 /// ```
@@ -185,7 +185,7 @@ pub(crate) fn inside_box(b: &Obb, tol: Real) -> (FrameBox, FrameBoxJacobian) {
 /// assert!((s - 0.75).abs() < 1e-5);
 /// ```
 pub fn inside_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
-    let (region, _) = inside_box(anchor.obb, params.tolerance);
+    let (region, _) = inside_box(anchor.obb, params.tolerance_m);
     fraction_in_frame_box(
         target.obb,
         &anchor.obb.rotation,
@@ -241,7 +241,7 @@ pub(crate) fn side_region_box(
 pub(crate) fn side_half_box(b: &Obb, side: Side, params: &RelationParams) -> (FrameBox, FrameBoxJacobian) {
     let (k, sign) = side.axis_and_sign();
     let h = b.half_extents;
-    let tol = params.tolerance;
+    let tol = params.tolerance_m;
     let mut region = FrameBox::ALL;
     let mut jac = FrameBoxJacobian::ZERO;
     for j in 0..3 {
@@ -311,7 +311,7 @@ pub fn side_of(
     side: Side,
     params: &RelationParams,
 ) -> Real {
-    let (region, _) = side_region_box(anchor.obb, side, false, params.side_of_margin, params.tolerance);
+    let (region, _) = side_region_box(anchor.obb, side, false, params.side_of_margin, params.tolerance_m);
     fraction_in_frame_box(
         target.obb,
         &anchor.obb.rotation,
@@ -358,7 +358,7 @@ pub fn long_short_side_of(
     // The target in the anchor's frame, once for both sides.
     let target_box = BoxInFrame::new(target.obb, &anchor.obb.rotation, &anchor.obb.center, params);
     let score = |side: Side| {
-        let (region, _) = side_region_box(anchor.obb, side, true, params.region_margin, params.tolerance);
+        let (region, _) = side_region_box(anchor.obb, side, true, params.region_margin, params.tolerance_m);
         target_box.fraction_in(&region)
     };
     score(axis_side.0).max(score(axis_side.1))
@@ -387,7 +387,7 @@ pub fn on_top(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Relatio
         Side::Top,
         from_centre,
         params.region_margin,
-        params.tolerance,
+        params.tolerance_m,
     );
     fraction_in_frame_box(
         target.obb,
@@ -399,12 +399,12 @@ pub fn on_top(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Relatio
 }
 
 /// `middle_of`: a Gaussian of the plan-view (x, y) distance between the two boxes' centres,
-/// `exp(-d^2 / (2 sigma^2))` with [`RelationParams::middle_of_sigma`] (0.25 m; holds for
+/// `exp(-d^2 / (2 sigma^2))` with [`RelationParams::middle_of_sigma_m`] (0.25 m; holds for
 /// `d < 0.294` m).
 pub fn middle_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> Real {
     let d = target.obb.center - anchor.obb.center;
     let d2 = d.x * d.x + d.y * d.y;
-    let s = params.middle_of_sigma;
+    let s = params.middle_of_sigma_m;
     (-d2 / (2.0 * s * s)).exp()
 }
 
@@ -429,7 +429,7 @@ fn band(
     if target.mesh.is_some() || anchor.mesh.is_some() {
         let (x, y) = distance_views(target, anchor, params);
         let (lo, hi) = distance_bounds(&x, &y);
-        if lo >= band.min && hi <= band.max {
+        if lo >= band.min_m && hi <= band.max_m {
             return 1.0;
         }
     }
@@ -445,7 +445,7 @@ pub(crate) fn distance_views<'a>(
     match params.distance_from {
         DistanceFrom::Geometry => (*target, *anchor),
         DistanceFrom::SmallerBox => {
-            let m = params.min_half_extent;
+            let m = params.min_half_extent_m;
             let vol = |o: &Obb| o.half_extents.map(|h| h.max(m)).product();
             if vol(target.obb) < vol(anchor.obb) {
                 (target.as_box(), *anchor)

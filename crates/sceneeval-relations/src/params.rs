@@ -4,8 +4,8 @@ use sceneeval_geom::Real;
 
 use crate::RelationError;
 
-/// A distance range with a Gaussian fall-off outside it: the score is 1 for
-/// `min <= d <= max` and `exp(-delta^2 / (2 sigma^2))` otherwise, where `delta` is the distance
+/// A distance range with a Gaussian fall-off outside it, in metres: the score is 1 for
+/// `min_m <= d <= max_m` and `exp(-delta^2 / (2 sigma_m^2))` otherwise, where `delta` is the distance
 /// from `d` to the nearer end of the range.
 ///
 /// Closed or open ends make no difference: at `d == min` the Gaussian is `exp(0) = 1`, so the
@@ -16,20 +16,24 @@ use crate::RelationError;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct DistanceBand {
-    /// Lower end of the range (metres). Range: finite, at most `max`.
-    pub min: Real,
+    /// Lower end of the range (metres). Range: finite, at most `max_m`.
+    pub min_m: Real,
     /// Upper end of the range (metres; `f64::INFINITY` for "and beyond", written as `null`
-    /// in JSON). Range: at least `min`, not NaN.
+    /// in JSON). Range: at least `min_m`, not NaN.
     #[cfg_attr(feature = "serde", serde(with = "infinite_as_null"))]
-    pub max: Real,
+    pub max_m: Real,
     /// Standard deviation of the fall-off outside the range (metres). Range: finite, `> 0`.
-    pub sigma: Real,
+    pub sigma_m: Real,
 }
 
 impl DistanceBand {
     /// A band from its range and fall-off (metres).
-    pub const fn new(min: Real, max: Real, sigma: Real) -> Self {
-        DistanceBand { min, max, sigma }
+    pub const fn new(min_m: Real, max_m: Real, sigma_m: Real) -> Self {
+        DistanceBand {
+            min_m,
+            max_m,
+            sigma_m,
+        }
     }
 
     /// The score of a distance `d` (metres) in `[0, 1]`.
@@ -43,29 +47,29 @@ impl DistanceBand {
     /// ```
     #[inline]
     pub fn score(&self, d: Real) -> Real {
-        let delta = if d < self.min {
-            self.min - d
-        } else if d > self.max {
-            d - self.max
+        let delta = if d < self.min_m {
+            self.min_m - d
+        } else if d > self.max_m {
+            d - self.max_m
         } else {
             return 1.0;
         };
-        (-(delta * delta) / (2.0 * self.sigma * self.sigma)).exp()
+        (-(delta * delta) / (2.0 * self.sigma_m * self.sigma_m)).exp()
     }
 
     fn check(&self, name: &'static str) -> Result<(), RelationError> {
-        if !(self.sigma.is_finite() && self.sigma > 0.0) {
+        if !(self.sigma_m.is_finite() && self.sigma_m > 0.0) {
             return Err(RelationError::BadParameter {
                 name,
-                value: self.sigma,
-                reason: "sigma must be positive and finite",
+                value: self.sigma_m,
+                reason: "sigma_m must be positive and finite",
             });
         }
-        if !(self.min.is_finite() && self.min <= self.max) || self.max.is_nan() {
+        if !(self.min_m.is_finite() && self.min_m <= self.max_m) || self.max_m.is_nan() {
             return Err(RelationError::BadParameter {
                 name,
-                value: self.min,
-                reason: "min must be finite and not above max",
+                value: self.min_m,
+                reason: "min_m must be finite and not above max_m",
             });
         }
         Ok(())
@@ -199,11 +203,11 @@ pub struct RelationParams {
     pub threshold: Real,
     /// Tolerance of the box-membership tests (metres, `1e-6`): box faces are moved outward by
     /// this much, as the reference's `contains` and face tests do. Range: finite, `>= 0`.
-    pub tolerance: Real,
+    pub tolerance_m: Real,
     /// Smallest half extent a box is given for volume fractions (metres, `5e-7`): flat boxes
     /// (a rug of height 0) get this thickness, as the reference clamps full sizes to `1e-6`.
     /// Range: finite, `>= 0`.
-    pub min_half_extent: Real,
+    pub min_half_extent_m: Real,
     /// `side_of`: how much the anchor's face is enlarged sideways (0.25 = 25 % of each lateral
     /// half extent; the region is unbounded away from the face, as in the reference). Range:
     /// finite, `>= 0`.
@@ -222,7 +226,7 @@ pub struct RelationParams {
     pub face_to_heights: FaceToHeights,
     /// `middle_of`: standard deviation of the plan-view centre distance (metres, 0.25; holds
     /// below 0.294 m). Range: finite, `> 0`.
-    pub middle_of_sigma: Real,
+    pub middle_of_sigma_m: Real,
     /// `surround`: weight of the distance term (0.5). Range: finite, `>= 0`.
     pub surround_distance_weight: Real,
     /// `surround`: weight of the angle term (0.5). Range: finite, `>= 0`.
@@ -250,7 +254,7 @@ pub struct RelationParams {
     /// What distances are measured from.
     pub distance_from: DistanceFrom,
     /// `middle_of_room`: base standard deviation (metres, 1.0). Range: finite, `> 0`.
-    pub middle_of_room_base_sigma: Real,
+    pub middle_of_room_base_sigma_m: Real,
     /// `middle_of_room`: weight of the object's longer plan side in the standard deviation
     /// (0.5, the paper's `o/2`). Range: finite, `>= 0`.
     pub middle_of_room_size_weight: Real,
@@ -280,14 +284,14 @@ impl Default for RelationParams {
     fn default() -> Self {
         RelationParams {
             threshold: 0.5,
-            tolerance: 1e-6,
-            min_half_extent: 5e-7,
+            tolerance_m: 1e-6,
+            min_half_extent_m: 5e-7,
             side_of_margin: 0.25,
             region_margin: 1e-9,
             face_to_max_deviation_deg: 30.0,
             face_to_mesh_rays: 8,
             face_to_heights: FaceToHeights::Any,
-            middle_of_sigma: 0.25,
+            middle_of_sigma_m: 0.25,
             surround_distance_weight: 0.5,
             surround_angle_weight: 0.5,
             surround_variant: SurroundVariant::Paper,
@@ -301,7 +305,7 @@ impl Default for RelationParams {
             arch_across_from: DistanceBand::new(1.5, 4.0, 0.25),
             arch_far: DistanceBand::new(4.0, Real::INFINITY, 0.25),
             distance_from: DistanceFrom::Geometry,
-            middle_of_room_base_sigma: 1.0,
+            middle_of_room_base_sigma_m: 1.0,
             middle_of_room_size_weight: 0.5,
             middle_of_room_ratio_weight: 1.0,
             room_centre: RoomCentre::AreaCentroid,
@@ -367,8 +371,8 @@ impl RelationParams {
             band.check(name)?;
         }
         let non_negative = [
-            ("tolerance", self.tolerance),
-            ("min_half_extent", self.min_half_extent),
+            ("tolerance_m", self.tolerance_m),
+            ("min_half_extent_m", self.min_half_extent_m),
             ("side_of_margin", self.side_of_margin),
             ("region_margin", self.region_margin),
             ("surround_distance_weight", self.surround_distance_weight),
@@ -387,8 +391,8 @@ impl RelationParams {
         }
         let positive = [
             ("face_to_max_deviation_deg", self.face_to_max_deviation_deg),
-            ("middle_of_sigma", self.middle_of_sigma),
-            ("middle_of_room_base_sigma", self.middle_of_room_base_sigma),
+            ("middle_of_sigma_m", self.middle_of_sigma_m),
+            ("middle_of_room_base_sigma_m", self.middle_of_room_base_sigma_m),
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
@@ -461,7 +465,7 @@ mod tests {
         assert!(RelationParams::default().validate().is_ok());
         assert!(RelationParams::reference().validate().is_ok());
         let mut p = RelationParams::default();
-        p.near.sigma = 0.0;
+        p.near.sigma_m = 0.0;
         assert!(matches!(
             p.validate(),
             Err(RelationError::BadParameter { name: "near", .. })
@@ -493,8 +497,8 @@ mod tests {
             ("threshold", |p| p.threshold = 1.5),
             ("threshold", |p| p.threshold = -0.1),
             ("threshold", |p| p.threshold = Real::NAN),
-            ("tolerance", |p| p.tolerance = Real::INFINITY),
-            ("min_half_extent", |p| p.min_half_extent = -1.0),
+            ("tolerance_m", |p| p.tolerance_m = Real::INFINITY),
+            ("min_half_extent_m", |p| p.min_half_extent_m = -1.0),
             ("region_margin", |p| p.region_margin = Real::NAN),
             ("face_to_max_deviation_deg", |p| p.face_to_max_deviation_deg = 0.0),
             ("face_to_max_deviation_deg", |p| {
@@ -504,10 +508,10 @@ mod tests {
                 p.face_to_mesh_rays = RelationParams::MAX_FACE_TO_MESH_RAYS + 1
             }),
             ("face_to_mesh_rays", |p| p.face_to_mesh_rays = u32::MAX),
-            ("middle_of_sigma", |p| p.middle_of_sigma = 0.0),
+            ("middle_of_sigma_m", |p| p.middle_of_sigma_m = 0.0),
             ("surround_angle_weight", |p| p.surround_angle_weight = -0.5),
-            ("middle_of_room_base_sigma", |p| {
-                p.middle_of_room_base_sigma = Real::INFINITY
+            ("middle_of_room_base_sigma_m", |p| {
+                p.middle_of_room_base_sigma_m = Real::INFINITY
             }),
             ("middle_of_room_size_weight", |p| {
                 p.middle_of_room_size_weight = Real::NAN
@@ -516,9 +520,9 @@ mod tests {
                 p.corner_perpendicular_threshold = 2.0
             }),
             ("corner_min_inside_room", |p| p.corner_min_inside_room = Real::NAN),
-            ("far", |p| p.far.min = Real::INFINITY),
-            ("on_wall", |p| p.on_wall.max = Real::NAN),
-            ("against_wall", |p| p.against_wall.sigma = Real::INFINITY),
+            ("far", |p| p.far.min_m = Real::INFINITY),
+            ("on_wall", |p| p.on_wall.max_m = Real::NAN),
+            ("against_wall", |p| p.against_wall.sigma_m = Real::INFINITY),
         ];
         for (name, mutate) in cases {
             let mut p = RelationParams::default();
@@ -542,7 +546,7 @@ mod tests {
     #[test]
     fn partial_json_fills_defaults() {
         let p: RelationParams = serde_json::from_str(
-            r#"{"on_top_plane":"centre_plane","near":{"min":0.4,"max":1.2,"sigma":0.2}}"#,
+            r#"{"on_top_plane":"centre_plane","near":{"min_m":0.4,"max_m":1.2,"sigma_m":0.2}}"#,
         )
         .unwrap();
         assert_eq!(p.on_top_plane, OnTopPlane::CentrePlane);
@@ -552,7 +556,7 @@ mod tests {
         // The unbounded end of `far` survives a round trip as null.
         let json = serde_json::to_string(&RelationParams::reference()).unwrap();
         assert!(
-            json.contains(r#""far":{"min":4.0,"max":null,"sigma":0.25}"#),
+            json.contains(r#""far":{"min_m":4.0,"max_m":null,"sigma_m":0.25}"#),
             "{json}"
         );
         let back: RelationParams = serde_json::from_str(&json).unwrap();

@@ -494,7 +494,7 @@ mod tests {
             Err(RelationError::NoArchitecture { .. })
         ));
         let bad = RelationParams {
-            middle_of_sigma: -1.0,
+            middle_of_sigma_m: -1.0,
             ..Default::default()
         };
         assert!(SceneRelations::new(bad).is_err());

@@ -97,7 +97,7 @@ fn arch_relations() -> impl Iterator<Item = Relation> {
 
 /// Surface area over volume of a box: the Lipschitz constant of its volume fractions.
 fn area_over_volume(o: &Obb, p: &RelationParams) -> Real {
-    let h = o.half_extents.map(|v| v.max(p.min_half_extent));
+    let h = o.half_extents.map(|v| v.max(p.min_half_extent_m));
     (h.x * h.y + h.y * h.z + h.z * h.x) / (h.x * h.y * h.z)
 }
 

@@ -28,7 +28,7 @@ pub struct RunPlan {
     /// another plan or VLM in the same folder.
     pub digest: String,
     /// The resolved plan, as a plan file writes it (`preset`, `metrics`, `params`, `read`,
-    /// `limits`, `time_budget_seconds`; `sceneeval_eval::EvaluationPlan` reads it back). Kept
+    /// `limits`, `time_budget_s`; `sceneeval_eval::EvaluationPlan` reads it back). Kept
     /// as JSON here, so that reading results does not need the evaluator.
     pub plan: serde_json::Value,
     /// The VLM that answered the run's questions, when one was used.

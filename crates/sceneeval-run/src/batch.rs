@@ -349,7 +349,7 @@ impl<'a> Batch<'a> {
         let row = scene.name.annotation_row(self.options.annotations?)?;
         let mut digest = annotation_digest(row);
         let plan = self.evaluator.plan();
-        if let (true, MatchingMethod::File { path }) = (plan.has_fidelity(), &plan.fidelity.matching) {
+        if let (true, MatchingMethod::File(path)) = (plan.has_fidelity(), &plan.fidelity.matching) {
             digest = matching_file_digest(&digest, &matching_file_for(path, scene.name.as_str()));
         }
         Some((row, digest))

@@ -83,7 +83,7 @@ pub enum EnsembleError {
         first: PathBuf,
         /// The run that differs.
         run: PathBuf,
-        /// The plan field, as a plan file names it (`params.collision.contact_tolerance`).
+        /// The plan field, as a plan file names it (`params.collision.contact_tolerance_m`).
         field: String,
         /// Its value in the first run (JSON).
         first_value: String,
@@ -369,7 +369,7 @@ fn without_judge(plan: &EvaluationPlan, like: &EvaluationPlan) -> EvaluationPlan
     let mut p = plan.clone();
     p.preset = like.preset;
     p.limits = like.limits;
-    p.time_budget_seconds = like.time_budget_seconds;
+    p.time_budget_s = like.time_budget_s;
     p.read.strict = like.read.strict;
     p.fidelity.matching = like.fidelity.matching.clone();
     p.fidelity.size_aware_matching = like.fidelity.size_aware_matching;
@@ -432,7 +432,7 @@ fn check_same(sources: &[Source]) -> Result<(), EnsembleError> {
                 });
             }
         }
-        let from_file = |s: &Source| matches!(s.parsed.fidelity.matching, MatchingMethod::File { .. });
+        let from_file = |s: &Source| matches!(s.parsed.fidelity.matching, MatchingMethod::File(_));
         if from_file(first) || from_file(other) {
             continue;
         }
@@ -894,11 +894,11 @@ mod tests {
         assert!(ensemble(&[a.clone(), b], &out()).is_ok());
         // A geometry parameter may not.
         let mut other = p.clone();
-        other.params.collision.contact_tolerance += 0.01;
+        other.params.collision.contact_tolerance_m += 0.01;
         let c = run(root.path(), "c", &other, &v, 0.5);
         let err = ensemble(&[a.clone(), c], &out()).unwrap_err();
         assert!(
-            matches!(&err, EnsembleError::PlansDiffer { field, .. } if field == "params.collision.contact_tolerance"),
+            matches!(&err, EnsembleError::PlansDiffer { field, .. } if field == "params.collision.contact_tolerance_m"),
             "{err}"
         );
         assert!(

@@ -159,7 +159,7 @@ fn scenes(n: usize) -> tempfile::TempDir {
 fn plan(budget: Option<f64>) -> EvaluationPlan {
     EvaluationPlan {
         metrics: vec![Metric::Accessibility],
-        time_budget_seconds: budget,
+        time_budget_s: budget,
         ..EvaluationPlan::default()
     }
 }

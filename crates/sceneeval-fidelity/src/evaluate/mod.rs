@@ -281,7 +281,7 @@ impl FidelityEvaluator {
                 };
                 match_by_vlm(scene, categories, session, views, self.params.size_aware_matching).await
             }
-            MatchingMethod::File { path } => {
+            MatchingMethod::File(path) => {
                 let file = crate::matching::matching_file_for(path, res.scene_name);
                 read_matching_file(&file, scene, categories)
             }

@@ -51,7 +51,7 @@ pub struct ReadOptions {
     /// What to do about architecture.
     pub architecture: ArchitectureMode,
     /// Height of the simple architecture's walls (the reference's 3 m).
-    pub simple_wall_height: Real,
+    pub simple_wall_height_m: Real,
     /// Where the simple architecture's floor goes.
     pub simple_floor: SimpleFloorHeight,
     /// Refuse a file with keys the sceneState format does not have
@@ -66,7 +66,7 @@ impl Default for ReadOptions {
     fn default() -> Self {
         ReadOptions {
             architecture: ArchitectureMode::default(),
-            simple_wall_height: 3.0,
+            simple_wall_height_m: 3.0,
             simple_floor: SimpleFloorHeight::default(),
             strict: false,
         }
@@ -901,7 +901,7 @@ fn assemble_rooms(
 
 /// The reference's simple architecture: a floor over the objects' plan bounds and four walls
 /// along its edges (`wall_0` at max y, `wall_1` at min x, `wall_2` at min y, `wall_3` at max
-/// x), `simple_wall_height` high, in a room `room` with floor id `floor`.
+/// x), `simple_wall_height_m` high, in a room `room` with floor id `floor`.
 fn simple_architecture(
     doc: &Doc<'_>,
     objects: &[SceneObject],
@@ -937,7 +937,7 @@ fn simple_architecture(
                 floor[a],
                 floor[b],
                 z,
-                options.simple_wall_height,
+                options.simple_wall_height_m,
                 0.0,
             )
         })

@@ -65,7 +65,7 @@ def relation(
 
     reference=True selects every reference-parity switch (RelationParams::reference);
     any other keyword sets one parameter by its name in relation_params(), e.g.
-    side_of_margin=0.3 or near=(0.4, 1.2, 0.2) (min, max, sigma).
+    side_of_margin=0.3 or near=(0.4, 1.2, 0.2) (min_m, max_m, sigma_m).
 
     Raises ValueError for an unknown name, a missing or extra operand or argument, a NaN or
     infinite number, or a bad parameter, with the message `sceneeval relate` gives.

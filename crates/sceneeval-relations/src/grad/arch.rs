@@ -150,7 +150,7 @@ pub fn middle_of_room(target: &ObjectGeom<'_>, room: &Room, params: &RelationPar
     let o = e.x.max(e.y);
     let ratio_open = r > 0.0 && 1.0 - o / r > 0.0;
     let ratio = if r > 0.0 { (1.0 - o / r).max(0.0) } else { 0.0 };
-    let base = params.middle_of_room_base_sigma;
+    let base = params.middle_of_room_base_sigma_m;
     let sigma = base * (params.middle_of_room_size_weight * o + params.middle_of_room_ratio_weight * ratio);
     if sigma <= 0.0 {
         return result(score, BoxGrad::ZERO, target);

@@ -23,7 +23,7 @@ use crate::{ObjectGeom, RelationError, RelationParams};
 pub fn middle_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> PairGrad {
     let score = crate::middle_of(target, anchor, params);
     let d = target.obb.center - anchor.obb.center;
-    let s2 = params.middle_of_sigma * params.middle_of_sigma;
+    let s2 = params.middle_of_sigma_m * params.middle_of_sigma_m;
     let d_target = BoxGrad {
         center: Vector3::new(d.x, d.y, 0.0) * (-score / s2),
         ..BoxGrad::ZERO

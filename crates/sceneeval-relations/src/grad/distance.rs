@@ -25,11 +25,11 @@ use crate::{ObjectGeom, RelationParams};
 #[inline]
 pub(crate) fn band_slope(band: &DistanceBand, d: Real) -> (Real, Real) {
     let score = band.score(d);
-    let s2 = band.sigma * band.sigma;
-    let slope = if d < band.min {
-        score * (band.min - d) / s2
-    } else if d > band.max {
-        -score * (d - band.max) / s2
+    let s2 = band.sigma_m * band.sigma_m;
+    let slope = if d < band.min_m {
+        score * (band.min_m - d) / s2
+    } else if d > band.max_m {
+        -score * (d - band.max_m) / s2
     } else {
         0.0
     };
@@ -88,7 +88,7 @@ fn band_pair(
     let (x, y) = distance_views(target, anchor, params);
     if target.mesh.is_some() || anchor.mesh.is_some() {
         let (lo, hi) = distance_bounds(&x, &y);
-        if lo >= band.min && hi <= band.max {
+        if lo >= band.min_m && hi <= band.max_m {
             return PairGrad {
                 score: 1.0,
                 ..PairGrad::default()

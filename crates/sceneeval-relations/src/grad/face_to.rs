@@ -66,7 +66,7 @@ impl Frame {
     fn new(a: &Obb, b: &Obb, prism: bool, params: &RelationParams) -> Frame {
         let rt = a.rotation.inverse();
         let free = |k: usize| {
-            if a.half_extents[k] >= params.min_half_extent {
+            if a.half_extents[k] >= params.min_half_extent_m {
                 1.0
             } else {
                 0.0
@@ -317,7 +317,7 @@ impl HitSink for Recorder<'_> {
         }
         let plan_view = self.plan_view;
         let h = effective_half(a, self.params);
-        let free = |k: usize| a.half_extents[k] >= self.params.min_half_extent;
+        let free = |k: usize| a.half_extents[k] >= self.params.min_half_extent_m;
         // dt for an origin moving by `d_origin` and a direction turning by `d_front`.
         let dt = |d_origin: Vector3, d_front: Vector3| -hit.normal.dot(&(d_origin + d_front * hit.toi)) / nf;
         let z = Vector3::z();

@@ -61,7 +61,7 @@ pub(crate) fn volume_grad(
     }
     // The flat-box floor: a half extent below it does not move the box.
     let d_half = Vector3::from_fn(|k, _| {
-        if obb.half_extents[k] >= params.min_half_extent {
+        if obb.half_extents[k] >= params.min_half_extent_m {
             m.box_area[k]
         } else {
             0.0
@@ -89,7 +89,7 @@ pub(crate) fn as_fraction(
     let value = (v / full).clamp(0.0, 1.0);
     let mut d = *dv * (1.0 / full);
     for k in 0..3 {
-        if obb.half_extents[k] >= params.min_half_extent {
+        if obb.half_extents[k] >= params.min_half_extent_m {
             d.half_extents[k] = (dv.half_extents[k] - v / h[k]) / full;
         }
     }
@@ -178,7 +178,7 @@ fn pair_fraction(
 /// assert!((g.anchor.half_extents.x - 5.0).abs() < 1e-9);
 /// ```
 pub fn inside_of(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &RelationParams) -> PairGrad {
-    pair_fraction(target, anchor, inside_box(anchor.obb, params.tolerance), params)
+    pair_fraction(target, anchor, inside_box(anchor.obb, params.tolerance_m), params)
 }
 
 /// [`crate::outside_of`] and its gradient (the negated gradient of `inside_of`).
@@ -198,7 +198,7 @@ pub fn side_of(
     side: Side,
     params: &RelationParams,
 ) -> PairGrad {
-    let region = side_region_box(anchor.obb, side, false, params.side_of_margin, params.tolerance);
+    let region = side_region_box(anchor.obb, side, false, params.side_of_margin, params.tolerance_m);
     pair_fraction(target, anchor, region, params)
 }
 
@@ -227,7 +227,7 @@ pub fn long_short_side_of(
     };
     let inframe = BoxInFrame::new(target.obb, &b.rotation, &b.center, params);
     let side = |s: Side| {
-        let (region, jac) = side_region_box(b, s, true, params.region_margin, params.tolerance);
+        let (region, jac) = side_region_box(b, s, true, params.region_margin, params.tolerance_m);
         region_fraction_grad(&inframe, target.obb, &region, &jac, params)
     };
     let (x, y) = (side(first), side(second));
@@ -244,7 +244,7 @@ pub fn on_top(target: &ObjectGeom<'_>, anchor: &ObjectGeom<'_>, params: &Relatio
         Side::Top,
         from_centre,
         params.region_margin,
-        params.tolerance,
+        params.tolerance_m,
     );
     pair_fraction(target, anchor, region, params)
 }
