@@ -160,6 +160,34 @@ fn three_judges_voted_and_read_by_summarize_compare_and_report() {
     assert!(table.contains("ensemble"), "{table}");
     sceneeval().arg("report").arg(&ens).assert().success();
     assert!(ens.join("report/index.html").is_file());
+    // The report pages show the views the VLM was shown, as on a run's: the first run's views
+    // and matching are the ensemble's, copied with its geometry.
+    for scene in ["scene_2", "scene_8"] {
+        let kept: Vec<String> = std::fs::read_dir(runs[0].join(scene).join("views"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".png"))
+            .collect();
+        assert!(!kept.is_empty(), "{scene}: the run kept no views");
+        let page = std::fs::read_to_string(ens.join("report/scenes").join(format!("{scene}.html"))).unwrap();
+        assert!(!page.contains("id=\"no-views\""), "{scene}");
+        for name in &kept {
+            assert!(
+                page.contains(&format!("<img src=\"../../{scene}/views/{name}\"")),
+                "{scene} {name}"
+            );
+            assert_eq!(
+                std::fs::read(ens.join(scene).join("views").join(name)).unwrap(),
+                std::fs::read(runs[0].join(scene).join("views").join(name)).unwrap(),
+                "{scene} {name}"
+            );
+        }
+        assert_eq!(
+            std::fs::read(ens.join(scene).join("matching.json")).unwrap(),
+            std::fs::read(runs[0].join(scene).join("matching.json")).unwrap(),
+            "{scene}"
+        );
+    }
 
     // Two judges that disagree on both ATR specs: ties, null and unanswered.
     let tie = root.join("tie");

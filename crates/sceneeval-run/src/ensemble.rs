@@ -220,7 +220,9 @@ struct Source {
 ///
 /// Written: `plan.json` (the first run's plan, the sources), `<scene>/eval.json` with the
 /// `ensemble` section (the runs and each spec's votes) and the summaries, atomically, under
-/// the output folder's lock.
+/// the output folder's lock; and, from the first run as its geometry is, each scene's kept
+/// files (`views/*.png`, the views shown to the VLM; `diagnostics/*.png`; `matching.json`), so
+/// that the report of the ensemble shows them as a run's does.
 ///
 /// # Errors
 /// [`EnsembleError`].
@@ -274,6 +276,11 @@ pub fn ensemble(runs: &[PathBuf], options: &EnsembleOptions<'_>) -> Result<Ensem
         differences.extend(diffs.into_iter().map(|d| (record.scene.clone(), d)));
         let path = out.join(scene).join(RECORD_FILE);
         record.write(&path).map_err(RunError::from)?;
+        // A scene's folder is named by the scene: only a plain name is followed to copy from.
+        let mut parts = Path::new(scene).components();
+        if let (Some(std::path::Component::Normal(_)), None) = (parts.next(), parts.next()) {
+            copy_scene_files(&first.path.join(scene), &out.join(scene))?;
+        }
         records.push(record);
     }
     let summary = Summary::from_records(&records, options.annotations).with_plan(first.parsed.preset, digest);
@@ -285,6 +292,59 @@ pub fn ensemble(runs: &[PathBuf], options: &EnsembleOptions<'_>) -> Result<Ensem
         ties,
         summary,
     })
+}
+
+/// The files of a scene's folder that an ensemble copies from its first run (the matching its
+/// verdicts were made on), beside [`SCENE_IMAGE_DIRS`].
+const SCENE_FILES: [&str; 1] = [sceneeval_fidelity::MATCHING_FILE];
+
+/// The folders of a scene's images that an ensemble copies from its first run, their PNG files
+/// only: the object views shown to the VLM and the diagnostic images.
+const SCENE_IMAGE_DIRS: [&str; 2] = ["views", "diagnostics"];
+
+/// Copies a scene's kept files ([`SCENE_FILES`], the PNGs of [`SCENE_IMAGE_DIRS`]) from the
+/// first run's scene folder `from` into `to`, each atomically. Only regular files are copied:
+/// a symbolic link (which could lead out of the run) is skipped with a warning, and what the
+/// run did not keep is not an error.
+fn copy_scene_files(from: &Path, to: &Path) -> Result<(), RunError> {
+    let mut files: Vec<(PathBuf, PathBuf)> = SCENE_FILES
+        .iter()
+        .map(|f| (from.join(f), to.join(f)))
+        .collect();
+    for dir in SCENE_IMAGE_DIRS {
+        let entries = match std::fs::read_dir(from.join(dir)) {
+            Ok(entries) => entries,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+            Err(e) => return Err(RunError::file(from.join(dir), e)),
+        };
+        let mut names = Vec::new();
+        for entry in entries {
+            let entry = entry.map_err(|e| RunError::file(from.join(dir), e))?;
+            let name = entry.file_name();
+            if Path::new(&name).extension().is_some_and(|x| x.eq_ignore_ascii_case("png")) {
+                names.push(name);
+            }
+        }
+        names.sort();
+        files.extend(names.into_iter().map(|n| (from.join(dir).join(&n), to.join(dir).join(&n))));
+    }
+    for (source, target) in files {
+        match std::fs::symlink_metadata(&source) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+            Err(e) => return Err(RunError::file(source, e)),
+            Ok(meta) if !meta.is_file() => {
+                tracing::warn!(file = %source.display(), "not a regular file: not copied into the ensemble");
+                continue;
+            }
+            Ok(_) => {}
+        }
+        let mut bytes = Vec::new();
+        sceneeval_files::open_regular(&source)
+            .and_then(|mut f| std::io::Read::read_to_end(&mut f, &mut bytes))
+            .map_err(|e| RunError::file(&source, e))?;
+        sceneeval_files::write_atomic(&target, &bytes).map_err(|e| RunError::file(&target, e))?;
+    }
+    Ok(())
 }
 
 /// The scene name of a record, as the ensemble keys scenes.
@@ -856,6 +916,42 @@ mod tests {
         // The summary averages the scenes: CNT (50 + 100) / 2 = 75.
         assert_eq!(done.summary.groups[0].cnt, Some(75.0));
         assert!(out.join("summary.csv").is_file());
+    }
+
+    /// Each scene's views, diagnostic images and `matching.json` are the first run's, copied
+    /// byte for byte; another run's are not, nor anything but PNGs in the image folders, nor a
+    /// symbolic link; a scene whose first run kept nothing gets nothing.
+    #[test]
+    fn the_first_runs_views_diagnostics_and_matching_are_copied() {
+        let root = tempfile::tempdir().unwrap();
+        let p = plan();
+        let v = [Some(true); 3];
+        let (a, b) = (run(root.path(), "a", &p, &v, 0.5), run(root.path(), "b", &p, &v, 0.5));
+        let put = |path: PathBuf, bytes: &[u8]| {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, bytes).unwrap();
+        };
+        put(a.join("scene_1/views/front_bed.png"), b"front of a");
+        put(a.join("scene_1/views/notes.txt"), b"not an image");
+        put(a.join("scene_1/diagnostics/navigability.png"), b"grid of a");
+        put(a.join("scene_1/matching.json"), b"{\"matching of\": \"a\"}");
+        put(b.join("scene_1/views/front_bed.png"), b"front of b");
+        put(b.join("scene_1/views/size_bed.png"), b"size of b");
+        put(b.join("scene_1/matching.json"), b"{\"matching of\": \"b\"}");
+        put(root.path().join("outside.png"), b"outside the run");
+        #[cfg(unix)]
+        std::os::unix::fs::symlink(root.path().join("outside.png"), a.join("scene_1/views/link.png")).unwrap();
+        let out = root.path().join("ens");
+        ensemble(&[a, b], &options(out.clone())).unwrap();
+        let read = |rel: &str| std::fs::read(out.join(rel)).ok();
+        assert_eq!(read("scene_1/views/front_bed.png").as_deref(), Some(&b"front of a"[..]));
+        assert_eq!(read("scene_1/diagnostics/navigability.png").as_deref(), Some(&b"grid of a"[..]));
+        assert_eq!(read("scene_1/matching.json").as_deref(), Some(&b"{\"matching of\": \"a\"}"[..]));
+        for absent in ["scene_1/views/size_bed.png", "scene_1/views/notes.txt", "scene_1/views/link.png"] {
+            assert_eq!(read(absent), None, "{absent}");
+        }
+        assert!(!out.join("scene_2/views").exists());
+        assert!(!out.join("scene_2/matching.json").exists());
     }
 
     #[test]
