@@ -3,7 +3,7 @@
 //! (`docs/judge.md`, "Judge"). The items, their order and the sample are the report crate's
 //! (`sceneeval::report::judge`); the label file is written by its locked, durable writer
 //! (`sceneeval::report::label_writer`); the server is the command line's local page server
-//! (`crate::server`); this module is the page (`judge/page.html`, `judge/app.js`,
+//! (`crate::server`); this module is the page (`judge/body.html`, `judge/app.js`,
 //! `judge/app.css`, shipped in the binary) and its API:
 //!
 //! | route | request | response |
@@ -33,10 +33,13 @@ use sceneeval::report::{RecordedScenes, Run, outlined_top_view};
 use sceneeval::scene::Scene;
 use serde::{Deserialize, Serialize};
 
-use crate::server::{Api, ApiError, Asset, Listener, NoParams, Raw};
+use crate::server::{Api, ApiError, Asset, Listener, NoParams, Page, Raw};
 
-/// The page; its script and style sheet.
-const PAGE: &str = include_str!("judge/page.html");
+/// The page (its head is the page server's, [`Page::html`]); its script and style sheet.
+const PAGE: Page = Page {
+    title: "sceneeval: judge the fidelity specs",
+    body: include_str!("judge/body.html"),
+};
 const ASSETS: [Asset; 2] = Asset::page_files(include_bytes!("judge/app.js"), include_bytes!("judge/app.css"));
 
 /// The seed of `--sample` unless `--seed` is given.
@@ -420,7 +423,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         args.annotator,
         args.out.display()
     ))?;
-    let state = listener.serve_page(PAGE, &ASSETS, api(), state, args.no_open)?;
+    let state = listener.serve_page(&PAGE, &ASSETS, api(), state, args.no_open)?;
     crate::print_stdout(&format!(
         "stopped: {} of {} specs judged by {}; {} verdicts written to {} this session\n",
         state.judged(),

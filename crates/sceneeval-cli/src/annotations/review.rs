@@ -3,7 +3,7 @@
 //! (`sceneeval::annotate::review::ReviewStore`); the server is the command line's local page
 //! server (`crate::server`: 127.0.0.1 only, Host, token and Origin checks, JSON bodies with a
 //! size limit, strict security headers, hostile clients and Ctrl-C); this module is the page
-//! (`review/page.html`, `review/app.js`, `review/app.css`, shipped in the binary) and its API:
+//! (`review/body.html`, `review/app.js`, `review/app.css`, shipped in the binary) and its API:
 //!
 //! | route | request | response |
 //! |---|---|---|
@@ -32,10 +32,13 @@ use sceneeval::vlm::tasks::AnnotatedDescription;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::server::{Api, ApiError, Asset, Listener, NoParams};
+use crate::server::{Api, ApiError, Asset, Listener, NoParams, Page};
 
-/// The page; its script and style sheet.
-const PAGE: &str = include_str!("review/page.html");
+/// The page (its head is the page server's, [`Page::html`]); its script and style sheet.
+const PAGE: Page = Page {
+    title: "sceneeval: review annotations",
+    body: include_str!("review/body.html"),
+};
 const ASSETS: [Asset; 2] =
     Asset::page_files(include_bytes!("review/app.js"), include_bytes!("review/app.css"));
 
@@ -193,7 +196,7 @@ pub fn review(args: ReviewArgs) -> anyhow::Result<ExitCode> {
         store.candidates().len(),
         store.accepted_file().display()
     ))?;
-    let store = listener.serve_page(PAGE, &ASSETS, api(), store, args.no_open)?;
+    let store = listener.serve_page(&PAGE, &ASSETS, api(), store, args.no_open)?;
     let states = store.candidates().iter().fold([0usize; 3], |mut n, c| {
         n[c.state as usize] += 1;
         n

@@ -405,7 +405,7 @@ mod tests {
 
     fn shared() -> Shared<u32> {
         let site = Site {
-            html: PAGE,
+            html: PAGE.to_owned(),
             assets: vec![Asset {
                 path: "/app.js",
                 content_type: "text/javascript; charset=utf-8",

@@ -65,6 +65,32 @@ pub const CLIENT_SCRIPT: Asset = Asset {
 /// How long requests being handled may take to finish after Ctrl-C.
 pub const SHUTDOWN_GRACE: Duration = Duration::from_secs(2);
 
+/// A page's HTML: its title and its `<body>` element; [`Page::html`] writes the document
+/// around them, the same head for every page (the token's slot, the style sheet, the client
+/// script and the page's script, at the paths [`Asset::page_files`] and [`CLIENT_SCRIPT`]
+/// serve).
+#[derive(Debug, Clone, Copy)]
+pub struct Page {
+    /// The document's title (trusted text, written as it is).
+    pub title: &'static str,
+    /// The `<body>...</body>` element, with its line end.
+    pub body: &'static str,
+}
+
+impl Page {
+    /// The whole document: the doctype, the head, the body.
+    pub fn html(&self) -> String {
+        format!(
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+             <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+             <meta name=\"sceneeval-token\" content=\"{TOKEN_SLOT}\">\n<title>{}</title>\n\
+             <link rel=\"stylesheet\" href=\"/app.css\">\n<script src=\"{}\" defer></script>\n\
+             <script src=\"/app.js\" defer></script>\n</head>\n{}</html>\n",
+            self.title, CLIENT_SCRIPT.path, self.body
+        )
+    }
+}
+
 /// A static file of a page (`/app.js`, `/app.css`).
 #[derive(Debug, Clone, Copy)]
 pub struct Asset {
@@ -128,7 +154,7 @@ impl Default for Limits {
 /// the limits it is served with.
 pub struct Site<S> {
     /// The HTML served at `/` and `/index.html`.
-    pub html: &'static str,
+    pub html: String,
     /// The static files.
     pub assets: Vec<Asset>,
     /// The routes under `/api/`.
@@ -184,14 +210,14 @@ impl Listener {
     }
 
     /// A page's whole session: opens the page in the user's browser unless `no_open`, then
-    /// serves the page `html` with its `assets` and `api` under the default [`Limits`] until
-    /// Ctrl-C, and returns the state.
+    /// serves `page` with its `assets` and `api` under the default [`Limits`] until Ctrl-C,
+    /// and returns the state.
     ///
     /// # Errors
     /// As [`Listener::serve`].
     pub fn serve_page<S: Send + 'static>(
         self,
-        html: &'static str,
+        page: &Page,
         assets: &[Asset],
         api: Api<S>,
         state: S,
@@ -201,7 +227,7 @@ impl Listener {
             open_in_browser(&self.url());
         }
         let site = Site {
-            html,
+            html: page.html(),
             assets: assets.to_vec(),
             api,
             limits: Limits::default(),
@@ -250,5 +276,28 @@ pub fn open_in_browser(url: &str) {
     {
         Ok(_) => tracing::info!(opener, "page opened"),
         Err(e) => tracing::warn!(opener, error = %e, "cannot open a browser; open the printed URL"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every page's document is this head (written out by hand) around the page's body: the
+    /// token's slot, the style sheet, the client script and the page's script.
+    #[test]
+    fn a_page_is_the_one_head_around_its_body() {
+        let page = Page {
+            title: "sceneeval: a page",
+            body: "<body>\n<p>x</p>\n</body>\n",
+        };
+        assert_eq!(
+            page.html(),
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+             <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+             <meta name=\"sceneeval-token\" content=\"{{TOKEN}}\">\n<title>sceneeval: a page</title>\n\
+             <link rel=\"stylesheet\" href=\"/app.css\">\n<script src=\"/sceneeval-api.js\" defer></script>\n\
+             <script src=\"/app.js\" defer></script>\n</head>\n<body>\n<p>x</p>\n</body>\n</html>\n"
+        );
     }
 }
