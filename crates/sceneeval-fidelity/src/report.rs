@@ -44,6 +44,49 @@ pub struct FidelityReport {
 }
 
 impl FidelityReport {
+    /// The report of these metrics' results (`None`: the metric did not run), its summary
+    /// counted from their scores, without a matching summary, VLM usage, views or warnings:
+    /// the one way a report is put together, by the evaluation (which adds those) and by hand.
+    ///
+    /// ```
+    /// use sceneeval_fidelity::{CntSpec, FidelityReport, MetricResult, RelationMapping, SpecCount};
+    /// let eq_1 = || SpecCount { quantifier: "eq".into(), quantity: 1 };
+    /// let cnt = MetricResult::new(
+    ///     vec![
+    ///         CntSpec::new("eq,1,bed", eq_1(), "bed", vec!["bed_0".into()], Some(true)),
+    ///         CntSpec::new("eq,1,lamp", eq_1(), "lamp", Vec::new(), Some(false)),
+    ///     ],
+    ///     |s| s.satisfied,
+    ///     "no specs",
+    /// );
+    /// let report = FidelityReport::of_results(RelationMapping::Lexicon, Some(cnt), None, None, None);
+    /// assert_eq!(report.summary.cnt, Some(0.5));
+    /// assert_eq!(report.cnt.as_ref().unwrap().message, "1/2 requirements are satisfied.");
+    /// ```
+    #[must_use]
+    pub fn of_results(
+        relation_mapping: RelationMapping,
+        cnt: Option<MetricResult<CntSpec>>,
+        atr: Option<MetricResult<AtrSpec>>,
+        oor: Option<MetricResult<OorSpec>>,
+        oar: Option<MetricResult<OarSpec>>,
+    ) -> Self {
+        let mut report = FidelityReport {
+            matching: None,
+            relation_mapping,
+            cnt,
+            atr,
+            oor,
+            oar,
+            summary: FidelitySummary::default(),
+            vlm_usage: None,
+            views_rendered: 0,
+            warnings: Vec::new(),
+        };
+        report.rescore();
+        report
+    }
+
     /// Each spec of `metric` as written in the annotation, with its verdict (`None`: no
     /// verdict), in the order of the metric's `specs` (a spec's position there is its index in
     /// label files); empty when the metric did not run.
@@ -220,8 +263,10 @@ pub struct MetricResult<T> {
 
 impl<T> MetricResult<T> {
     /// The result of `specs`, each with its verdict (`verdict`: `None` when it has none
-    /// because an answer is missing).
-    pub(crate) fn new(specs: Vec<T>, verdict: impl Fn(&T) -> Option<bool>, empty_message: &str) -> Self {
+    /// because an answer is missing), counted as the evaluation counts (and
+    /// [`FidelityReport::revote`] recounts): satisfied specs over the specs with a verdict;
+    /// `empty_message` is the message when there are no specs.
+    pub fn new(specs: Vec<T>, verdict: impl Fn(&T) -> Option<bool>, empty_message: &str) -> Self {
         let total = specs.len();
         let s = specs.iter().filter(|x| verdict(x) == Some(true)).count();
         let unanswered = specs.iter().filter(|x| verdict(x).is_none()).count();
@@ -285,6 +330,30 @@ pub struct CntSpec {
     pub unanswered: Option<String>,
     /// Whether the count satisfies the quantifier; `null` when undecided (see `unanswered`).
     pub satisfied: Option<bool>,
+}
+
+impl CntSpec {
+    /// The spec written `spec` (its quantifier and quantity `count`, its `category`) with the
+    /// `objects` matched to the category (so many are counted) and its verdict; without a
+    /// reason for a missing verdict (set `unanswered` when `satisfied` is `None`).
+    #[must_use]
+    pub fn new(
+        spec: impl Into<String>,
+        count: SpecCount,
+        category: impl Into<String>,
+        objects: Vec<String>,
+        satisfied: Option<bool>,
+    ) -> Self {
+        CntSpec {
+            spec: spec.into(),
+            count,
+            category: category.into(),
+            count_in_scene: objects.len() as u64,
+            objects,
+            unanswered: None,
+            satisfied,
+        }
+    }
 }
 
 /// The VLM's verdict on one instance and attribute.
@@ -492,35 +561,16 @@ mod tests {
     use super::*;
 
     fn cnt(spec: &str, satisfied: Option<bool>) -> CntSpec {
-        CntSpec {
-            spec: spec.to_owned(),
-            count: SpecCount {
-                quantifier: "eq".into(),
-                quantity: 1,
-            },
-            category: "bed".into(),
-            objects: Vec::new(),
-            count_in_scene: 1,
-            unanswered: None,
-            satisfied,
-        }
+        let count = SpecCount {
+            quantifier: "eq".into(),
+            quantity: 1,
+        };
+        CntSpec::new(spec, count, "bed", vec!["bed_0".into()], satisfied)
     }
 
     fn report(specs: Vec<CntSpec>) -> FidelityReport {
-        let mut r = FidelityReport {
-            matching: None,
-            relation_mapping: RelationMapping::Lexicon,
-            cnt: Some(MetricResult::new(specs, |s| s.satisfied, "none")),
-            atr: None,
-            oor: None,
-            oar: None,
-            summary: FidelitySummary::default(),
-            vlm_usage: None,
-            views_rendered: 0,
-            warnings: Vec::new(),
-        };
-        r.rescore();
-        r
+        let cnt = MetricResult::new(specs, |s| s.satisfied, "none");
+        FidelityReport::of_results(RelationMapping::Lexicon, Some(cnt), None, None, None)
     }
 
     fn vote(v: Option<bool>) -> Revote {

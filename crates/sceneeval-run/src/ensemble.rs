@@ -307,10 +307,7 @@ const SCENE_IMAGE_DIRS: [&str; 2] = ["views", "diagnostics"];
 /// a symbolic link (which could lead out of the run) is skipped with a warning, and what the
 /// run did not keep is not an error.
 fn copy_scene_files(from: &Path, to: &Path) -> Result<(), RunError> {
-    let mut files: Vec<(PathBuf, PathBuf)> = SCENE_FILES
-        .iter()
-        .map(|f| (from.join(f), to.join(f)))
-        .collect();
+    let mut files: Vec<(PathBuf, PathBuf)> = SCENE_FILES.iter().map(|f| (from.join(f), to.join(f))).collect();
     for dir in SCENE_IMAGE_DIRS {
         let entries = match std::fs::read_dir(from.join(dir)) {
             Ok(entries) => entries,
@@ -321,12 +318,19 @@ fn copy_scene_files(from: &Path, to: &Path) -> Result<(), RunError> {
         for entry in entries {
             let entry = entry.map_err(|e| RunError::file(from.join(dir), e))?;
             let name = entry.file_name();
-            if Path::new(&name).extension().is_some_and(|x| x.eq_ignore_ascii_case("png")) {
+            if Path::new(&name)
+                .extension()
+                .is_some_and(|x| x.eq_ignore_ascii_case("png"))
+            {
                 names.push(name);
             }
         }
         names.sort();
-        files.extend(names.into_iter().map(|n| (from.join(dir).join(&n), to.join(dir).join(&n))));
+        files.extend(
+            names
+                .into_iter()
+                .map(|n| (from.join(dir).join(&n), to.join(dir).join(&n))),
+        );
     }
     for (source, target) in files {
         match std::fs::symlink_metadata(&source) {
@@ -747,59 +751,34 @@ fn placement_difference(a: &SceneReport, b: &SceneReport, metric: Metric) -> Opt
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sceneeval_fidelity::{CntSpec, FidelitySummary, MetricResult, RelationMapping, SpecCount};
+    use sceneeval_fidelity::{CntSpec, MetricResult, RelationMapping, SpecCount};
     use sceneeval_plausibility::{PlausibilityReport, PlausibilitySummary};
     use sceneeval_results::{FileDigest, Fingerprint, JudgeModel, RECORD_SCHEMA, TOOL_VERSION};
 
     const SPECS: [&str; 3] = ["eq,1,bed", "eq,2,nightstand", "ge,1,lamp"];
 
-    /// A CNT result with these verdicts, counted by hand: `satisfied` yes votes of `decided`.
-    fn cnt(verdicts: &[Option<bool>], satisfied: usize, decided: usize) -> MetricResult<CntSpec> {
-        MetricResult {
-            message: format!("{satisfied}/{decided} requirements are satisfied."),
-            satisfied: Some(satisfied),
-            total: verdicts.len(),
-            unanswered: verdicts.len() - decided,
-            score: (decided > 0).then(|| satisfied as f64 / decided as f64),
-            not_judged: None,
-            specs: SPECS
-                .iter()
-                .zip(verdicts)
-                .map(|(spec, v)| CntSpec {
-                    spec: (*spec).to_owned(),
-                    count: SpecCount {
-                        quantifier: "eq".into(),
-                        quantity: 1,
-                    },
-                    category: "bed".into(),
-                    objects: Vec::new(),
-                    count_in_scene: 1,
+    /// A CNT result of `SPECS` with these verdicts.
+    fn cnt(verdicts: &[Option<bool>]) -> MetricResult<CntSpec> {
+        let specs = SPECS
+            .iter()
+            .zip(verdicts)
+            .map(|(spec, v)| {
+                let count = SpecCount {
+                    quantifier: "eq".into(),
+                    quantity: 1,
+                };
+                CntSpec {
                     unanswered: v.is_none().then(|| "no answer".to_owned()),
-                    satisfied: *v,
-                })
-                .collect(),
-        }
+                    ..CntSpec::new(*spec, count, "bed", vec!["bed_0".into()], *v)
+                }
+            })
+            .collect();
+        MetricResult::new(specs, |s| s.satisfied, "no specs")
     }
 
     fn record(scene: &str, digest: &str, verdicts: &[Option<bool>], sup: f64) -> SceneRecord {
-        let satisfied = verdicts.iter().filter(|v| **v == Some(true)).count();
-        let decided = verdicts.iter().filter(|v| v.is_some()).count();
-        let result = cnt(verdicts, satisfied, decided);
-        let fidelity = FidelityReport {
-            matching: None,
-            relation_mapping: RelationMapping::Lexicon,
-            summary: FidelitySummary {
-                cnt: result.score,
-                ..FidelitySummary::default()
-            },
-            cnt: Some(result),
-            atr: None,
-            oor: None,
-            oar: None,
-            vlm_usage: None,
-            views_rendered: 0,
-            warnings: Vec::new(),
-        };
+        let fidelity =
+            FidelityReport::of_results(RelationMapping::Lexicon, Some(cnt(verdicts)), None, None, None);
         let geometry = PlausibilityReport::of_summary(
             None,
             vec![sceneeval_plausibility::Metric::Support],
@@ -926,7 +905,10 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let p = plan();
         let v = [Some(true); 3];
-        let (a, b) = (run(root.path(), "a", &p, &v, 0.5), run(root.path(), "b", &p, &v, 0.5));
+        let (a, b) = (
+            run(root.path(), "a", &p, &v, 0.5),
+            run(root.path(), "b", &p, &v, 0.5),
+        );
         let put = |path: PathBuf, bytes: &[u8]| {
             std::fs::create_dir_all(path.parent().unwrap()).unwrap();
             std::fs::write(path, bytes).unwrap();
@@ -940,14 +922,28 @@ mod tests {
         put(b.join("scene_1/matching.json"), b"{\"matching of\": \"b\"}");
         put(root.path().join("outside.png"), b"outside the run");
         #[cfg(unix)]
-        std::os::unix::fs::symlink(root.path().join("outside.png"), a.join("scene_1/views/link.png")).unwrap();
+        std::os::unix::fs::symlink(root.path().join("outside.png"), a.join("scene_1/views/link.png"))
+            .unwrap();
         let out = root.path().join("ens");
         ensemble(&[a, b], &options(out.clone())).unwrap();
         let read = |rel: &str| std::fs::read(out.join(rel)).ok();
-        assert_eq!(read("scene_1/views/front_bed.png").as_deref(), Some(&b"front of a"[..]));
-        assert_eq!(read("scene_1/diagnostics/navigability.png").as_deref(), Some(&b"grid of a"[..]));
-        assert_eq!(read("scene_1/matching.json").as_deref(), Some(&b"{\"matching of\": \"a\"}"[..]));
-        for absent in ["scene_1/views/size_bed.png", "scene_1/views/notes.txt", "scene_1/views/link.png"] {
+        assert_eq!(
+            read("scene_1/views/front_bed.png").as_deref(),
+            Some(&b"front of a"[..])
+        );
+        assert_eq!(
+            read("scene_1/diagnostics/navigability.png").as_deref(),
+            Some(&b"grid of a"[..])
+        );
+        assert_eq!(
+            read("scene_1/matching.json").as_deref(),
+            Some(&b"{\"matching of\": \"a\"}"[..])
+        );
+        for absent in [
+            "scene_1/views/size_bed.png",
+            "scene_1/views/notes.txt",
+            "scene_1/views/link.png",
+        ] {
             assert_eq!(read(absent), None, "{absent}");
         }
         assert!(!out.join("scene_2/views").exists());

@@ -27,13 +27,14 @@ impl FidelityEvaluator {
                 // The count is n plus any of the unknown objects.
                 let satisfied = verdict_over(&c.count, CountRange::between(n, n + unknown.count()));
                 CntSpec {
-                    spec: text.clone(),
-                    count: spec_count(&c.count),
-                    category: c.category.clone(),
-                    objects: ids(scene, &objs),
-                    count_in_scene: n,
                     unanswered: satisfied.is_none().then(|| unknown.reason()),
-                    satisfied,
+                    ..CntSpec::new(
+                        text.as_str(),
+                        spec_count(&c.count),
+                        c.category.as_str(),
+                        ids(scene, &objs),
+                        satisfied,
+                    )
                 }
             })
             .collect();

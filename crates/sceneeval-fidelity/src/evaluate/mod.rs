@@ -36,7 +36,7 @@ use sceneeval_scene::Scene;
 use sceneeval_vlm::{Session, Vlm};
 
 use crate::matching::{MatchingRecord, match_by_labels, match_by_vlm, read_matching_file};
-use crate::report::{FidelityReport, FidelitySummary, MatchingSummary, SpecCount};
+use crate::report::{FidelityReport, MatchingSummary, SpecCount};
 use crate::views::ObjectViews;
 use crate::{FidelityError, FidelityMetric, FidelityParams, MatchingMethod};
 use undecided::Unknown;
@@ -239,23 +239,17 @@ impl FidelityEvaluator {
         let oor = kept(FidelityMetric::Oor, oor, &mut failures);
         let oar = kept(FidelityMetric::Oar, oar, &mut failures);
         let matching = matching.ok();
-        let mut report = FidelityReport {
+        let report = FidelityReport {
             matching: matching.as_ref().map(|m| MatchingSummary {
                 source: m.source,
                 message: m.matching.message(scene.objects().len()),
                 unanswered: m.unanswered.len(),
             }),
-            relation_mapping: self.params.relation_mapping,
-            cnt,
-            atr,
-            oor,
-            oar,
-            summary: FidelitySummary::default(),
             vlm_usage: res.session.map(|s| s.usage()),
             views_rendered: res.views.map_or(0, |v| v.made()),
             warnings,
+            ..FidelityReport::of_results(self.params.relation_mapping, cnt, atr, oor, oar)
         };
-        report.rescore();
         FidelityOutcome {
             report,
             matching,
