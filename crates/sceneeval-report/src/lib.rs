@@ -76,4 +76,4 @@ pub use report::{
     DEFAULT_DIR, FILES_DIR, INDEX, NoTopView, RecordedScenes, ReportOptions, SCENES_DIR, Written,
     write_report,
 };
-pub use run::{Description, Run, Unreadable, groups, metrics_in, scene_values, summary_columns};
+pub use run::{Description, Run, Unreadable, metrics_in, scene_values, summary_columns};

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use sceneeval_annotation::Annotations;
 use sceneeval_files::ErrorChain;
 use sceneeval_results::{
-    ALL_SCENES, GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneName, SceneRecord, SceneReport,
-    Summary, UNANNOTATED,
+    GroupSummary, Metric, RECORD_FILE, SUMMARY_SCENES_CSV, SceneName, SceneRecord, SceneReport, Summary,
+    difficulty_groups,
 };
 
 use crate::ReportError;
@@ -255,7 +255,7 @@ impl Run {
     /// it.
     pub fn summary(&self) -> Vec<GroupSummary> {
         let names: Vec<&str> = self.records.iter().map(|r| r.scene.as_str()).collect();
-        groups(&names, |s| self.difficulty(s))
+        difficulty_groups(&names, |s| self.difficulty(s))
             .into_iter()
             .map(|(group, scenes)| {
                 let records = scenes.iter().filter_map(|s| self.record(s));
@@ -344,38 +344,6 @@ pub fn scene_values(record: &SceneRecord) -> GroupSummary {
     group_summary(record.scene.as_str(), std::iter::once(record))
 }
 
-/// The groups of `scenes`: [`ALL_SCENES`], then one per difficulty (easy, medium, hard, others
-/// by name) and [`UNANNOTATED`] for scenes without one when some have one; each with its scenes
-/// in the given order.
-pub fn groups<'s, 'd>(
-    scenes: &[&'s str],
-    difficulty: impl Fn(&str) -> Option<&'d str>,
-) -> Vec<(String, Vec<&'s str>)> {
-    let mut out = vec![(ALL_SCENES.to_owned(), scenes.to_vec())];
-    let mut by: BTreeMap<(u8, String), Vec<&str>> = BTreeMap::new();
-    let mut none = Vec::new();
-    for &s in scenes {
-        match difficulty(s) {
-            Some(d) => {
-                let rank = match d {
-                    "easy" => 0,
-                    "medium" => 1,
-                    "hard" => 2,
-                    _ => 3,
-                };
-                by.entry((rank, d.to_owned())).or_default().push(s);
-            }
-            None => none.push(s),
-        }
-    }
-    let any = !by.is_empty();
-    out.extend(by.into_iter().map(|((_, d), s)| (d, s)));
-    if any && !none.is_empty() {
-        out.push((UNANNOTATED.to_owned(), none));
-    }
-    out
-}
-
 /// Scene name to difficulty from a run's `summary_scenes.csv` (columns `scene` and
 /// `difficulty`).
 fn read_difficulties(path: &Path) -> Result<BTreeMap<String, String>, ReportError> {
@@ -417,21 +385,5 @@ mod tests {
         let columns: Vec<&str> = summary_columns().into_iter().map(|(c, _)| c).collect();
         let first = header.iter().position(|c| *c == columns[0]).unwrap_or_default();
         assert_eq!(columns, header[first..first + columns.len()]);
-    }
-
-    #[test]
-    fn groups_in_difficulty_order_with_the_unannotated_last() {
-        let d = |s: &str| match s {
-            "a" => Some("hard"),
-            "b" => Some("easy"),
-            "c" => Some("weird"),
-            _ => None,
-        };
-        let g = groups(&["a", "b", "c", "x"], d);
-        let names: Vec<&str> = g.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["all", "easy", "hard", "weird", "unannotated"]);
-        assert_eq!(g[0].1, ["a", "b", "c", "x"]);
-        // Without any difficulty, only the group of every scene.
-        assert_eq!(groups(&["x"], |_| None).len(), 1);
     }
 }

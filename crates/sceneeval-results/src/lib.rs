@@ -67,6 +67,6 @@ pub use report::{
 pub use run_plan::{JudgeModel, RUN_PLAN_FILE, RUN_PLAN_SCHEMA, RunPlan, SourceRun};
 pub use summary::{
     ALL_SCENES, GroupSummary, LEGEND, SUMMARY_CSV, SUMMARY_MD, SUMMARY_SCENES_CSV, SceneRow, Summary,
-    UNANNOTATED,
+    UNANNOTATED, difficulty_groups,
 };
 pub use timing::{SceneTiming, TIMING_SCHEMA};

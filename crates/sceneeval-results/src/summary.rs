@@ -1,10 +1,11 @@
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
 use sceneeval_files::csv_cell;
 use serde::{Deserialize, Serialize};
 
-use sceneeval_annotation::Annotations;
+use sceneeval_annotation::{Annotations, Difficulty};
 use sceneeval_fidelity::FidelitySummary;
 use sceneeval_files::ErrorChain;
 use sceneeval_plausibility::PlausibilitySummary;
@@ -25,6 +26,49 @@ pub const SUMMARY_SCENES_CSV: &str = "summary_scenes.csv";
 pub const ALL_SCENES: &str = "all";
 /// The group of scenes that have no annotation row when annotations were given.
 pub const UNANNOTATED: &str = "unannotated";
+
+/// `items` grouped as every table of a run groups its scenes: [`ALL_SCENES`] (every item), then
+/// one group per difficulty `difficulty` gives, in the order of [`Difficulty`] (easy, medium,
+/// hard, then others by name), then [`UNANNOTATED`] for the items without one when some have
+/// one; each group with its items in the given order. The summaries, the report's overview and
+/// `compare` group by it.
+///
+/// ```
+/// use sceneeval_results::difficulty_groups;
+/// let d = |s: &str| match s { "a" => Some("hard"), "b" => Some("easy"), "c" => Some("weird"), _ => None };
+/// let groups = difficulty_groups(&["a", "b", "c", "x"], d);
+/// let names: Vec<&str> = groups.iter().map(|(n, _)| n.as_str()).collect();
+/// assert_eq!(names, ["all", "easy", "hard", "weird", "unannotated"]);
+/// assert_eq!(groups[0].1, ["a", "b", "c", "x"]);
+/// assert_eq!(groups[1].1, ["b"]);
+/// // Without any difficulty, only the group of every item.
+/// assert_eq!(difficulty_groups(&["x"], |_| None::<&str>).len(), 1);
+/// ```
+pub fn difficulty_groups<T: Copy, D: AsRef<str>>(
+    items: &[T],
+    difficulty: impl Fn(T) -> Option<D>,
+) -> Vec<(String, Vec<T>)> {
+    let mut out = vec![(ALL_SCENES.to_owned(), items.to_vec())];
+    let mut by: BTreeMap<(Difficulty, String), Vec<T>> = BTreeMap::new();
+    let mut none = Vec::new();
+    for &item in items {
+        match difficulty(item) {
+            Some(d) => {
+                let d = d.as_ref();
+                by.entry((Difficulty::parse(d), d.to_owned()))
+                    .or_default()
+                    .push(item);
+            }
+            None => none.push(item),
+        }
+    }
+    let any = !by.is_empty();
+    out.extend(by.into_iter().map(|((_, d), items)| (d, items)));
+    if any && !none.is_empty() {
+        out.push((UNANNOTATED.to_owned(), none));
+    }
+    out
+}
 
 /// The paper's plausibility table (Table 2, and Table 6 by difficulty): one row per group of
 /// scenes, each column the macro-average over the group's evaluated scenes, in percent.
@@ -216,32 +260,11 @@ impl Summary {
                 Some(row.difficulty.as_str().to_owned())
             })
             .collect();
-        let mut groups = vec![GroupSummary::of(ALL_SCENES, records.iter().copied())];
-        let mut names: Vec<String> = labels.iter().flatten().cloned().collect();
-        let rank = |n: &str| match n {
-            "easy" => 0,
-            "medium" => 1,
-            "hard" => 2,
-            _ => 3,
-        };
-        names.sort_by(|a, b| rank(a).cmp(&rank(b)).then_with(|| a.cmp(b)));
-        names.dedup();
-        for name in &names {
-            let members = records
-                .iter()
-                .zip(&labels)
-                .filter(|(_, l)| l.as_deref() == Some(name.as_str()))
-                .map(|(r, _)| *r);
-            groups.push(GroupSummary::of(name, members));
-        }
-        if !names.is_empty() && labels.iter().any(Option::is_none) {
-            let members = records
-                .iter()
-                .zip(&labels)
-                .filter(|(_, l)| l.is_none())
-                .map(|(r, _)| *r);
-            groups.push(GroupSummary::of(UNANNOTATED, members));
-        }
+        let indices: Vec<usize> = (0..records.len()).collect();
+        let groups = difficulty_groups(&indices, |i| labels[i].as_deref())
+            .into_iter()
+            .map(|(name, members)| GroupSummary::of(&name, members.into_iter().map(|i| records[i])))
+            .collect();
         let scenes = records
             .iter()
             .zip(&labels)

@@ -40,7 +40,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
 use sceneeval_fidelity::FidelityReport;
-use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneName};
+use sceneeval_results::{Better, GroupSummary, Metric, Outcome, SceneName, difficulty_groups};
 use sceneeval_stats::bootstrap::{Bootstrap, DEFAULT_RESAMPLES};
 
 pub use paired::{PairComparison, PairedRow, Pairing, SceneDifference, VerdictRow};
@@ -49,7 +49,7 @@ pub use rank::{RankBy, competition_ranks};
 pub(crate) use text::{Emphasis, arrow as text_arrow, average, scenes, standing_order};
 
 use crate::ReportError;
-use crate::run::{Run, group_summary, groups, metrics_in, scene_order, scene_values, summary_columns};
+use crate::run::{Run, group_summary, metrics_in, scene_order, scene_values, summary_columns};
 
 /// How to compare.
 #[derive(Debug, Clone, PartialEq)]
@@ -337,7 +337,7 @@ pub fn compare(runs: &[Run], options: &CompareOptions) -> Result<Comparison, Rep
     };
     let difficulty = difficulties(runs, &scenes, &mut notes);
     let names: Vec<&str> = scenes.iter().map(String::as_str).collect();
-    let mut grouped = groups(&names, |s| difficulty.get(s).copied());
+    let mut grouped = difficulty_groups(&names, |s| difficulty.get(s).copied());
     if !options.by_difficulty {
         grouped.truncate(1);
     } else if grouped.len() == 1 {

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use sceneeval_results::{Better, GroupSummary, Metric, Outcome, Summary};
+use sceneeval_results::{Better, GroupSummary, Metric, Outcome, Summary, difficulty_groups};
 
 use super::chart::{GROUP_COLOURS, bars, strips};
 use super::scene::problem_keys;
@@ -12,7 +12,7 @@ use super::topview::Problem;
 use super::{legend, num_cell, page};
 use crate::compare::text_arrow;
 use crate::escape::html;
-use crate::run::{Run, groups as scene_groups, scene_of, scene_values};
+use crate::run::{Run, scene_of, scene_values};
 
 /// Whether a scene's value of a column is not the best possible: below 100 % where higher is
 /// better, above 0 % where lower is better.
@@ -147,7 +147,7 @@ fn distributions(b: &mut String, run: &Run, columns: &[(&'static str, Metric)]) 
          id=\"distributions\">",
     );
     let names: Vec<&str> = run.records.iter().map(scene_of).collect();
-    let groups = scene_groups(&names, |s| run.difficulty(s));
+    let groups = difficulty_groups(&names, |s| run.difficulty(s));
     let values: BTreeMap<&str, (bool, GroupSummary)> = run
         .records
         .iter()
