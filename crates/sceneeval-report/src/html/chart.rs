@@ -28,11 +28,7 @@ pub(crate) fn bars(columns: &[(&str, Better)], groups: &[(&str, Vec<Option<f64>>
     let per_block = groups.len() as f64 * (BAR + GAP) - GAP + BLOCK_GAP;
     let height = TOP + columns.len() as f64 * per_block;
     let width = LABEL + PLOT + VALUE;
-    let mut out = format!(
-        "<svg class=\"chart\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {width} {height}\" \
-         width=\"{width}\" height=\"{height}\" role=\"img\" aria-label=\"metric values in percent\" \
-         font-family=\"system-ui, sans-serif\" font-size=\"11\">"
-    );
+    let mut out = svg_start("chart", width, height, "metric values in percent");
     for tick in [0.0, 25.0, 50.0, 75.0, 100.0] {
         grid_line(&mut out, LABEL + PLOT * tick / 100.0, TOP - 4.0, height, tick);
     }
@@ -78,6 +74,16 @@ pub(crate) fn bars(columns: &[(&str, Better)], groups: &[(&str, Vec<Option<f64>>
     }
     out.push_str("</svg>");
     out
+}
+
+/// The opening tag of a chart of class `class`, `width` by `height` units, described by
+/// `label` (HTML-escaped by the caller) for screen readers; every chart's text in one font.
+fn svg_start(class: &str, width: f64, height: f64, label: &str) -> String {
+    format!(
+        "<svg class=\"{class}\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {width} {height}\" \
+         width=\"{width}\" height=\"{height}\" role=\"img\" aria-label=\"{label}\" \
+         font-family=\"system-ui, sans-serif\" font-size=\"11\">"
+    )
 }
 
 /// A vertical grid line at `x` from `top` to `bottom`, labelled `percent` % above the plot.
@@ -129,13 +135,12 @@ pub(crate) fn strips(name: &str, better: Better, rows: &[(&str, Vec<(&str, f64)>
     let x_of = |v: f64| STRIP_LABEL + STRIP_PLOT * (v - lo) / (hi - lo);
     let height = STRIP_TOP + rows.len() as f64 * STRIP_ROW;
     let width = STRIP_LABEL + STRIP_PLOT + STRIP_RIGHT;
-    let mut out = format!(
-        "<svg class=\"strips\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {width} {height}\" \
-         width=\"{width}\" height=\"{height}\" role=\"img\" aria-label=\"{} {} per scene, in percent\" \
-         font-family=\"system-ui, sans-serif\" font-size=\"11\">",
+    let label = format!(
+        "{} {} per scene, in percent",
         escape::html(name),
         text_arrow(better)
     );
+    let mut out = svg_start("strips", width, height, &label);
     let mut tick = lo;
     while tick <= hi {
         grid_line(&mut out, x_of(tick), STRIP_TOP - 4.0, height, tick);
