@@ -5,6 +5,8 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use sceneeval_files::ErrorChain;
+
 const USAGE: &str = "usage: sceneeval-fixtures [--out DIR]\n\n\
     Writes procedural assets, sceneState scenes, expected answers and annotation rows into DIR\n\
     (default: the workspace's fixtures/ folder). The output is byte-identical on every run.\n";
@@ -59,13 +61,7 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) => {
-            let mut msg = format!("error: {e}");
-            let mut source = std::error::Error::source(&e);
-            while let Some(s) = source {
-                msg.push_str(&format!("\n  caused by: {s}"));
-                source = s.source();
-            }
-            let _ = writeln!(std::io::stderr(), "{msg}");
+            let _ = writeln!(std::io::stderr(), "error: {:#}", ErrorChain::new(&e));
             ExitCode::FAILURE
         }
     }
