@@ -5,7 +5,7 @@
 //! corners, and degenerate loops (fewer than three points) are handled as points or segments
 //! where the function says so.
 
-use crate::{Point2, Real};
+use crate::{Point2, Real, na};
 
 /// Twice the signed area of the triangle `a b c` (positive counter-clockwise).
 #[inline]
@@ -119,8 +119,13 @@ pub fn convex_contains(poly: &[Point2], p: &Point2, eps: Real) -> bool {
     }
 }
 
-/// Distance from `p` to the segment `a b`.
-pub fn point_segment_distance(p: &Point2, a: &Point2, b: &Point2) -> Real {
+/// Distance from `p` to the segment `a b`, in the plane (`Point2`) or in space (`Point3`: the
+/// solids' edge tree measures with it too).
+pub fn point_segment_distance<const D: usize>(
+    p: &na::Point<Real, D>,
+    a: &na::Point<Real, D>,
+    b: &na::Point<Real, D>,
+) -> Real {
     let ab = b - a;
     let len2 = ab.norm_squared();
     let t = if len2 > 0.0 {

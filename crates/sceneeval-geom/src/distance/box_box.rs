@@ -1,7 +1,6 @@
 //! Distance between two solid boxes: exact bounds first, GJK when they do not meet.
 
-use super::{ClosestPoints, gjk_placed};
-use crate::parry_adapter::point_from_parry;
+use super::{ClosestPoints, gjk_from_box};
 use crate::{Obb, Point3, Real};
 
 /// The gap between box `b` and the bounding box of `a` in `b`'s frame: a lower bound on the
@@ -95,14 +94,9 @@ pub(crate) fn box_box_closest(a: &Obb, b: &Obb) -> ClosestPoints {
 
 /// GJK between the two cuboids.
 fn gjk_boxes(a: &Obb, b: &Obb) -> ClosestPoints {
-    let (pa, ca) = a.to_parry();
+    let (pa, _) = a.to_parry();
     let (pb, cb) = b.to_parry();
-    let (distance, points) = gjk_placed(&pa.inv_mul(&pb), &ca, &cb);
-    let pose = a.pose();
-    ClosestPoints {
-        distance,
-        points: points.map(|(p, q)| (pose * point_from_parry(p), pose * point_from_parry(q))),
-    }
+    gjk_from_box(a, &pa.inv_mul(&pb), &cb)
 }
 
 #[cfg(test)]

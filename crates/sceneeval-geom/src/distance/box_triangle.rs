@@ -1,7 +1,6 @@
 //! Distance between a solid box and a triangle.
 
-use super::{ClosestPoints, gjk_placed, parry_triangle};
-use crate::parry_adapter::point_from_parry;
+use super::{ClosestPoints, gjk_from_box, parry_triangle};
 use crate::{Obb, Point3, Real};
 
 /// Distance between a solid box and a world triangle.
@@ -11,14 +10,9 @@ pub(crate) fn box_triangle(b: &Obb, tri: &[Point3; 3]) -> Real {
 
 /// [`box_triangle`] with a pair of closest points (the box's first).
 pub(crate) fn box_triangle_closest(b: &Obb, tri: &[Point3; 3]) -> ClosestPoints {
-    let (pb, cb) = b.to_parry();
+    let (pb, _) = b.to_parry();
     // The triangle is in world coordinates: its pose relative to the cuboid is pb^-1.
-    let (distance, points) = gjk_placed(&pb.inverse(), &cb, &parry_triangle(tri));
-    let pose = b.pose();
-    ClosestPoints {
-        distance,
-        points: points.map(|(p, q)| (pose * point_from_parry(p), pose * point_from_parry(q))),
-    }
+    gjk_from_box(b, &pb.inverse(), &parry_triangle(tri))
 }
 
 #[cfg(test)]

@@ -39,8 +39,8 @@ pub(crate) use tree::DistanceTree;
 use crate::parry::math::{DEFAULT_EPSILON, Pose, Vector};
 use crate::parry::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use crate::parry::shape::{SupportMap, Triangle};
-use crate::parry_adapter::point_to_parry;
-use crate::{Point3, Real};
+use crate::parry_adapter::{point_from_parry, point_to_parry};
+use crate::{Obb, Point3, Real};
 
 /// The distance between two shapes with a pair of points realising it: the answer of the
 /// `closest_points` queries ([`crate::Obb::closest_points_to_obb`],
@@ -115,6 +115,18 @@ fn gjk_placed<G1: SupportMap, G2: SupportMap>(
         GJKResult::ClosestPoints(p1, p2, _) => ((p1 - p2).length(), Some((p1, p2))),
         // parry's answer for GJK's other outcomes.
         _ => (0.0, None),
+    }
+}
+
+/// GJK between the box `b` and the convex shape `other` placed by `pos` in the box's frame
+/// ([`gjk_placed`]), with the closest points in world coordinates (the box's first).
+fn gjk_from_box<G: SupportMap>(b: &Obb, pos: &Pose, other: &G) -> ClosestPoints {
+    let (_, cuboid) = b.to_parry();
+    let (distance, points) = gjk_placed(pos, &cuboid, other);
+    let pose = b.pose();
+    ClosestPoints {
+        distance,
+        points: points.map(|(p, q)| (pose * point_from_parry(p), pose * point_from_parry(q))),
     }
 }
 

@@ -2,6 +2,7 @@
 //! winding number's gradient over a ball, so that one winding number decides the side of a
 //! whole ball that misses the surface.
 
+use crate::planar::point_segment_distance;
 use crate::{Point3, Real, Vector3};
 
 use super::LEAF_SIZE;
@@ -129,15 +130,4 @@ fn box_distance(lo: &Point3, hi: &Point3, p: &Point3) -> Real {
         s += d * d;
     }
     s.sqrt()
-}
-
-fn point_segment_distance(p: &Point3, a: &Point3, b: &Point3) -> Real {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * t)).norm()
 }
