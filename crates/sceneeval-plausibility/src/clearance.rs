@@ -10,7 +10,7 @@ use crate::error::{check_non_negative, check_range};
 use crate::index::{BoxIndex, IndexWork, WorkCounter};
 use crate::objects::{DEFAULT_WALKABLE_HEIGHT, ObjectInfo};
 use crate::plane::{area3, clip_half_space};
-use crate::raster::{Storage, check_raster};
+use crate::raster::{Storage, check_raster, chord};
 use crate::{Deadline, PlausibilityError};
 
 /// Parameters of the opening-clearance metric (reference yaml `OpeningClearanceMetric`).
@@ -415,7 +415,6 @@ impl OcclusionMap {
     /// projection onto the `(u, w)` plane.
     pub(crate) fn fill(&self, poly: &[Point3], mut f: impl FnMut(usize)) {
         let pts: Vec<Point2> = poly.iter().map(|p| Point2::new(p.x, p.z)).collect();
-        let n = pts.len();
         let (lo_w, hi_w) = pts
             .iter()
             .fold((Real::INFINITY, Real::NEG_INFINITY), |(a, b), p| {
@@ -429,24 +428,9 @@ impl OcclusionMap {
         let j1 = (j1 as usize).min(self.nw - 1);
         for j in j0..=j1 {
             let w = self.w0 + (j as Real + 0.5) * self.pw;
-            let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
-            for k in 0..n {
-                let (a, b) = (pts[k], pts[(k + 1) % n]);
-                if w < a.y.min(b.y) || w > a.y.max(b.y) {
-                    continue;
-                }
-                if a.y == b.y {
-                    lo = lo.min(a.x.min(b.x));
-                    hi = hi.max(a.x.max(b.x));
-                } else {
-                    let x = a.x + (w - a.y) / (b.y - a.y) * (b.x - a.x);
-                    lo = lo.min(x);
-                    hi = hi.max(x);
-                }
-            }
-            if lo > hi {
+            let Some((lo, hi)) = chord(&pts, w) else {
                 continue;
-            }
+            };
             let i0 = (((lo - self.u0) / self.pu - 0.5).ceil().max(0.0)) as usize;
             let i1 = ((hi - self.u0) / self.pu - 0.5).floor();
             if i1 < 0.0 {

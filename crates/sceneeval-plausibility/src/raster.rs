@@ -322,13 +322,16 @@ impl Grid {
     }
 }
 
-/// Where the horizontal line at `y` crosses the closed convex polygon: `[x0, x1]`.
-fn chord(poly: &[Point2], y: Real) -> Option<(Real, Real)> {
+/// Where the horizontal line at `y` crosses the closed convex polygon: `[x0, x1]` (`None`
+/// when it misses it). The rasters of this module and the openings' clearance pixels
+/// (`clearance`) fill rows with it.
+pub(crate) fn chord(poly: &[Point2], y: Real) -> Option<(Real, Real)> {
     let n = poly.len();
     let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
     for k in 0..n {
         let (a, b) = (poly[k], poly[(k + 1) % n]);
-        if (a.y - y) * (b.y - y) > 0.0 {
+        // Compared, not multiplied: a product of two tiny differences could round to 0.
+        if y < a.y.min(b.y) || y > a.y.max(b.y) {
             continue;
         }
         if a.y == b.y {
