@@ -38,15 +38,23 @@ pub struct Args {
     pub strict: bool,
 }
 
+/// Reads the sceneState file `scene` with the asset folders `assets` (`--assets` specs),
+/// refusing keys the format does not have when `strict`: how `inspect` and `render` load the
+/// scene they are given. The asset library comes back too (the renderer draws from it).
+pub(crate) fn load_scene(
+    scene: &Path,
+    assets: &[String],
+    strict: bool,
+) -> anyhow::Result<(AssetLibrary, Scene)> {
+    let library = AssetLibrary::from_specs(assets).context("invalid --assets")?;
+    let loaded = read_scene_state(scene, &library, &ReadOptions::default().with_strict(strict))
+        .with_context(|| format!("cannot load scene {}", scene.display()))?;
+    Ok((library, loaded))
+}
+
 /// Runs the subcommand.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let library = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
-    let scene = read_scene_state(
-        &args.scene,
-        &library,
-        &ReadOptions::default().with_strict(args.strict),
-    )
-    .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
+    let (library, scene) = load_scene(&args.scene, &args.assets, args.strict)?;
     tracing::info!(
         objects = scene.objects().len(),
         rooms = scene.rooms().len(),

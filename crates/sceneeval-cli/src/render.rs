@@ -8,7 +8,6 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use sceneeval::io::{AssetLibrary, ReadOptions, read_scene_state};
 use sceneeval::render::{RenderSettings, Renderer, View, ViewKind, write_png};
 
 /// Arguments of `sceneeval render`.
@@ -51,13 +50,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if args.render_size == 0 {
         bail!("--render-size must be at least 1");
     }
-    let library = AssetLibrary::from_specs(&args.assets).context("invalid --assets")?;
-    let scene = read_scene_state(
-        &args.scene,
-        &library,
-        &ReadOptions::default().with_strict(args.strict),
-    )
-    .with_context(|| format!("cannot load scene {}", args.scene.display()))?;
+    let (library, scene) = crate::inspect::load_scene(&args.scene, &args.assets, args.strict)?;
     let ids: Vec<String> = match args.objects {
         Some(ids) => {
             let unknown: Vec<&str> = ids
