@@ -5,14 +5,13 @@
 
 use std::path::PathBuf;
 
-use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use sceneeval::report::compare::{FailedScenes, Pairing, RankBy};
 use sceneeval::report::{CompareOptions, Comparison, Run, compare as compare_runs};
 use serde::Serialize;
 
 use crate::convert::to_python;
-use crate::errors::{chain, detached, scene_error, value_error};
+use crate::errors::{chain, detached, scene_error, user_warning as warn, value_error};
 
 /// A run's value in one column of one table (`compare --format csv` without `--paired`).
 #[derive(Debug, Serialize)]
@@ -56,12 +55,6 @@ fn run_rows(c: &Comparison) -> Vec<RunRow<'_>> {
         }
     }
     out
-}
-
-fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
-    let category = py.get_type::<PyUserWarning>();
-    let message = std::ffi::CString::new(message).map_err(|e| value_error(e.to_string()))?;
-    PyErr::warn(py, &category, &message, 1)
 }
 
 /// Compares the runs (output folders of `evaluate`) as `sceneeval compare` does.

@@ -4,7 +4,7 @@
 use std::error::Error;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use pyo3::exceptions::{PyException, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyException, PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use sceneeval::EvalError;
 use sceneeval::relations::RelationError;
@@ -27,6 +27,14 @@ pub fn chain(e: &(dyn Error + 'static)) -> String {
 /// A `ValueError` for a bad argument.
 pub fn value_error(message: impl Into<String>) -> PyErr {
     PyValueError::new_err(message.into())
+}
+
+/// Issues a Python `UserWarning` with `message` (a note of the computation: the comparison's,
+/// the ensemble's geometry differences).
+pub fn user_warning(py: Python<'_>, message: &str) -> PyResult<()> {
+    let category = py.get_type::<PyUserWarning>();
+    let message = std::ffi::CString::new(message).map_err(|e| value_error(e.to_string()))?;
+    PyErr::warn(py, &category, &message, 1)
 }
 
 /// A relation query that was wrong: always the caller's argument, so a `ValueError`.

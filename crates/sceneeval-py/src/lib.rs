@@ -26,6 +26,8 @@
 //! - `compare(runs, *, paired=False, against_first=False, ci=None, alpha=0.05, rank="tested",
 //!   failed="skip", ...)` ([`compare`]): `sceneeval compare` through `sceneeval-report`, the
 //!   rows as dicts (`paired=True`: the paired differences, Wilcoxon and Holm, McNemar).
+//! - `ensemble(runs, out, *, annotations=None)` ([`ensemble`]): `sceneeval ensemble` through
+//!   `sceneeval_run::ensemble`, the same run folder; what the command prints as a dict.
 //! - `sceneeval.stats` ([`stats`]): Cohen's and Fleiss' kappa, bootstrap intervals, paired
 //!   differences with the Wilcoxon test, Holm, McNemar and majority votes from `sceneeval-stats`.
 //!
@@ -46,6 +48,7 @@
 pub mod agreement;
 pub mod compare;
 pub mod convert;
+pub mod ensemble;
 pub mod errors;
 pub mod relations;
 pub mod run;
@@ -61,6 +64,8 @@ mod _sceneeval {
     use crate::agreement::agreement;
     #[pymodule_export]
     use crate::compare::compare;
+    #[pymodule_export]
+    use crate::ensemble::ensemble;
     #[pymodule_export]
     use crate::errors::SceneEvalError;
     #[pymodule_export]

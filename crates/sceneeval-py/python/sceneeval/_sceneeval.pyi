@@ -340,6 +340,28 @@ def compare(
     message starts with the keyword).
     """
 
+def ensemble(
+    runs: Sequence[PathLike],
+    out: PathLike,
+    *,
+    annotations: Optional[PathLike] = None,
+) -> Dict[str, Any]:
+    """Combines runs made with different judges on the same scenes into one run folder `out`, as
+    `sceneeval ensemble RUN... --out OUT` does (docs/judge.md, "Ensembles of judges"): every
+    text-fidelity verdict is the majority of the runs' (a tie or no verdict: `None`, counted as
+    unanswered), the scores recounted; geometry, views and matching are the first run's.
+    `annotations` (the runs' annotation file) adds the summary's rows per difficulty.
+
+    Returns a dict: `runs` (the runs' names, in vote order), `scenes`, `ties` (specs whose runs
+    tied), `differences` (one dict per scene and geometry metric in which a run differs from
+    the first: `scene`, `metric`, `run`, `detail`; each also a UserWarning) and `summary` (the
+    summary written, as `evaluate` returns it).
+
+    Raises ValueError for fewer than two runs, SceneEvalError when a run cannot be read, the
+    runs differ in more than the judge (the message names the runs and what differs) or the
+    folder cannot be written.
+    """
+
 def evaluate(
     scenes: PathLike,
     *,
