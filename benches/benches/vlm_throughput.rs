@@ -82,7 +82,7 @@ fn run(latency: Duration, concurrency: usize, threads: usize, scenes: &Path) -> 
         seed: None,
         max_tokens: None,
         token_limit_field: None,
-        timeout: None,
+        timeout_s: None,
         rpm: None,
         tpm: None,
     });

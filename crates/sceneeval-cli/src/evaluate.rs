@@ -69,8 +69,8 @@ pub struct Args {
     pub metrics: Option<Vec<Metric>>,
     /// Wall-time budget per scene in seconds, overriding the plan's (default 600); a scene
     /// over it is recorded as failed and the run goes on. 0 means no budget.
-    #[arg(long, value_name = "SECONDS")]
-    pub time_budget: Option<f64>,
+    #[arg(long = "time-budget-s", alias = "time-budget", value_name = "SECONDS")]
+    pub time_budget_s: Option<f64>,
     /// Evaluate every scene again, even those whose earlier result still matches.
     #[arg(long)]
     pub force: bool,
@@ -120,7 +120,7 @@ impl Args {
                 plan: self.plan.clone(),
                 preset: self.preset,
                 metrics: self.metrics.clone(),
-                time_budget_seconds: self.time_budget,
+                time_budget_s: self.time_budget_s,
                 matching: self.matching.clone(),
                 relation_mapping: self.relation_mapping.clone(),
             },
@@ -134,20 +134,31 @@ impl Args {
     }
 }
 
-/// The option of `sceneeval evaluate` that sets `field`: the request's name for it
-/// ([`RequestField::path`], the one table) as an option (`vlm.max_tokens` is
-/// `--vlm-max-tokens`), but for the four the command line names otherwise.
+/// The request fields `sceneeval evaluate` does not name `--` + the kebab-case of their path
+/// ([`RequestField::path`]), with the name it gives each and why. Every other field is
+/// set by the option of its path (`vlm.max_tokens` by `--vlm-max-tokens`, `time_budget_s` by
+/// `--time-budget-s`).
+pub const OPTION_EXCEPTIONS: [(RequestField, &str, &str); 3] = [
+    (RequestField::Scenes, "SCENES", "the positional argument"),
+    (
+        RequestField::Vlm,
+        "--vlm-base-url",
+        "the VLM options as a whole: the option that makes a run use a VLM",
+    ),
+    (
+        RequestField::VlmRenderSize,
+        "--render-size",
+        "every command that renders names its image side --render-size (render, settle)",
+    ),
+];
+
+/// The option of `sceneeval evaluate` that sets `field`: `--` and the kebab-case of the
+/// request's name for it ([`RequestField::path`], the one table: `vlm.max_tokens` is
+/// `--vlm-max-tokens`), but for the [`OPTION_EXCEPTIONS`].
 pub fn option_name(field: RequestField) -> Cow<'static, str> {
-    match field {
-        // The positional argument.
-        RequestField::Scenes => "SCENES".into(),
-        // The unit is in the option's help.
-        RequestField::TimeBudget => "--time-budget".into(),
-        // The size of every render of the command, not only the VLM's.
-        RequestField::VlmRenderSize => "--render-size".into(),
-        // The VLM options as a whole: the one that makes a run use a VLM.
-        RequestField::Vlm => "--vlm-base-url".into(),
-        other => format!("--{}", other.path().replace(['.', '_'], "-")).into(),
+    match OPTION_EXCEPTIONS.iter().find(|(f, _, _)| *f == field) {
+        Some((_, name, _)) => Cow::Borrowed(name),
+        None => format!("--{}", field.path().replace(['.', '_'], "-")).into(),
     }
 }
 
@@ -493,57 +504,121 @@ fn print_dry_run(dry: &sceneeval::DryRun) {
 
 #[cfg(test)]
 mod tests {
-    use clap::CommandFactory;
+    use clap::{CommandFactory, Parser};
 
     use super::*;
 
-    /// Every request field names an option `sceneeval evaluate` has (or its positional
-    /// argument), and the generated names are the command line's spelling.
+    /// A value of `field` on the command line, and the JSON the request holds for it.
+    fn sample(field: RequestField) -> (&'static str, serde_json::Value) {
+        use serde_json::json;
+        match field {
+            RequestField::Scenes => ("elsewhere", json!("elsewhere")),
+            RequestField::Assets => ("p=dir", json!(["p=dir"])),
+            RequestField::Out => ("o2", json!("o2")),
+            RequestField::Annotations => ("a.csv", json!("a.csv")),
+            RequestField::Plan => ("full", json!("full")),
+            RequestField::Preset => ("reference", json!("reference")),
+            RequestField::Metrics => ("cnt", json!(["cnt"])),
+            RequestField::TimeBudget => ("30", json!(30.0)),
+            RequestField::Matching => ("labels", json!("labels")),
+            RequestField::RelationMapping => ("lexicon", json!("lexicon")),
+            RequestField::Threads => ("3", json!(3)),
+            RequestField::Vlm | RequestField::VlmBaseUrl => ("http://h/v1", json!("http://h/v1")),
+            RequestField::VlmModel => ("m2", json!("m2")),
+            RequestField::VlmApiKeyEnv => ("K", json!("K")),
+            RequestField::VlmCache => ("c", json!("c")),
+            RequestField::VlmConcurrency => ("7", json!(7)),
+            RequestField::VlmRenderSize => ("256", json!(256)),
+            RequestField::VlmDetail => ("high", json!("high")),
+            RequestField::VlmTemperature => ("0.5", json!(0.5)),
+            RequestField::VlmSeed => ("9", json!(9)),
+            RequestField::VlmMaxTokens => ("300", json!(300)),
+            RequestField::VlmTokenLimitField => ("max_completion_tokens", json!("max_completion_tokens")),
+            RequestField::VlmTimeout => ("12", json!(12.0)),
+            RequestField::VlmRpm => ("500", json!(500)),
+            RequestField::VlmTpm => ("40000", json!(40000)),
+            other => panic!("no sample value for {other:?}"),
+        }
+    }
+
+    /// The request `sceneeval evaluate ARGS` makes, as JSON (parsed by the real command line).
+    fn request_of(args: &[&str]) -> serde_json::Value {
+        let argv = ["sceneeval", "evaluate"].iter().chain(args);
+        let cli = crate::Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{args:?}: {e}"));
+        let crate::Command::Evaluate(evaluate) = cli.command else {
+            panic!("not evaluate");
+        };
+        serde_json::to_value(evaluate.request().unwrap()).unwrap()
+    }
+
+    /// The JSON at a request field's path.
+    fn at(request: &serde_json::Value, field: RequestField) -> &serde_json::Value {
+        let path = field.path();
+        match path.strip_prefix("vlm.") {
+            Some(key) => &request["vlm"][key],
+            None if field == RequestField::Vlm => &request["vlm"]["base_url"],
+            None if matches!(
+                field,
+                RequestField::Plan
+                    | RequestField::Preset
+                    | RequestField::Metrics
+                    | RequestField::TimeBudget
+                    | RequestField::Matching
+                    | RequestField::RelationMapping
+            ) =>
+            {
+                &request["plan"][path]
+            }
+            None => &request[path],
+        }
+    }
+
+    /// Every request field is set by the option `option_name` gives it, parsed by the real
+    /// `sceneeval evaluate` command: the value given to that option is the value at the
+    /// field's path in the request it makes.
     #[test]
     fn every_request_field_names_an_option_of_evaluate() {
+        let base = [
+            "scenes",
+            "--out",
+            "out",
+            "--vlm-base-url",
+            "http://b/v1",
+            "--vlm-model",
+            "m",
+        ];
         let command = crate::Cli::command();
         let evaluate = command.find_subcommand("evaluate").unwrap();
-        let longs: Vec<String> = evaluate
-            .get_arguments()
-            .filter_map(|a| a.get_long().map(|l| format!("--{l}")))
-            .collect();
-        let fields = [
-            RequestField::Assets,
-            RequestField::Out,
-            RequestField::Annotations,
-            RequestField::Plan,
-            RequestField::Preset,
-            RequestField::Metrics,
-            RequestField::TimeBudget,
-            RequestField::Matching,
-            RequestField::RelationMapping,
-            RequestField::Threads,
-            RequestField::Vlm,
-            RequestField::VlmBaseUrl,
-            RequestField::VlmModel,
-            RequestField::VlmApiKeyEnv,
-            RequestField::VlmCache,
-            RequestField::VlmConcurrency,
-            RequestField::VlmRenderSize,
-            RequestField::VlmDetail,
-            RequestField::VlmTemperature,
-            RequestField::VlmSeed,
-            RequestField::VlmMaxTokens,
-            RequestField::VlmTokenLimitField,
-            RequestField::VlmTimeout,
-            RequestField::VlmRpm,
-            RequestField::VlmTpm,
-        ];
-        for field in fields {
+        for field in RequestField::ALL {
             let name = option_name(field);
-            assert!(
-                longs.contains(&name.to_string()),
-                "{field:?}: {name} is no option of evaluate"
-            );
+            let (value, expected) = sample(field);
+            let mut args: Vec<&str> = base.to_vec();
+            if field == RequestField::Scenes {
+                args[0] = value;
+            } else {
+                assert!(name.starts_with("--"), "{field:?}: {name}");
+                match args.iter().position(|a| *a == name) {
+                    // An option of the base: its value replaced.
+                    Some(at) => args[at + 1] = value,
+                    None => args.extend([&*name, value]),
+                }
+            }
+            let request = request_of(&args);
+            assert_eq!(at(&request, field), &expected, "{field:?} through {name} {value}");
+            // The option is a visible argument of the command.
+            let arg = evaluate
+                .get_arguments()
+                .find(|a| match name.strip_prefix("--") {
+                    Some(long) => a.get_long() == Some(long),
+                    None => a.get_value_names().is_some_and(|v| v.iter().any(|v| v == &*name)),
+                })
+                .unwrap_or_else(|| panic!("{field:?}: {name} is no argument of evaluate"));
+            assert!(!arg.is_hide_set(), "{name}");
         }
+        // The exceptions are the positional argument and two options, each said why.
         assert_eq!(option_name(RequestField::Scenes), "SCENES");
-        assert_eq!(option_name(RequestField::VlmMaxTokens), "--vlm-max-tokens");
-        assert_eq!(option_name(RequestField::RelationMapping), "--relation-mapping");
-        assert_eq!(option_name(RequestField::VlmApiKeyEnv), "--vlm-api-key-env");
+        assert_eq!(option_name(RequestField::TimeBudget), "--time-budget-s");
+        assert_eq!(option_name(RequestField::VlmTimeout), "--vlm-timeout-s");
+        assert_eq!(OPTION_EXCEPTIONS.len(), 3);
     }
 }

@@ -23,8 +23,12 @@ pub struct FormatArgs {
 }
 
 impl FormatArgs {
-    /// Whether JSON is asked for (`--format json` or `--json`).
+    /// Whether JSON is asked for (`--format json` or `--json`, which prints a warning naming
+    /// `--format json`).
     pub fn json(&self) -> bool {
+        if self.json {
+            eprintln!("{}", crate::flags::old_spelling_warning("json", "format json"));
+        }
         self.json || self.format == Format::Json
     }
 }

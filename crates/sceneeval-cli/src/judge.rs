@@ -66,7 +66,7 @@ pub struct Args {
     #[arg(long, value_name = "NAME")]
     pub annotator: String,
     /// The label file (JSON Lines) verdicts are appended to; created when missing.
-    #[arg(long, value_name = "LABELS")]
+    #[arg(long, short = 'o', value_name = "LABELS")]
     pub out: PathBuf,
     /// Where the scenes' geometry is read from (the top views and the views rendered).
     #[command(flatten)]

@@ -8,7 +8,7 @@
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Subcommand};
 
 mod agreement;
 mod annotations;
@@ -16,6 +16,7 @@ mod compare;
 mod convert;
 mod ensemble;
 mod evaluate;
+mod flags;
 mod format;
 mod inspect;
 mod judge;
@@ -30,7 +31,7 @@ mod vlm;
 /// Evaluate text-conditioned 3D indoor scenes (SceneEval): convert, inspect, render, evaluate and
 /// settle scenes; summarize, compare and report runs; answer predicate queries; check, make and
 /// review annotations; check a VLM endpoint.
-#[derive(Debug, Parser)]
+#[derive(Debug, clap::Parser)]
 #[command(name = "sceneeval", version, about, long_about = None)]
 struct Cli {
     /// More log output on standard error (-v info, -vv debug, -vvv trace). `RUST_LOG` overrides.
@@ -77,8 +78,14 @@ enum Command {
 
 fn main() -> ExitCode {
     quiet_driver_probe();
-    let cli = Cli::parse();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let mut command = Cli::command();
+    let matches = command.clone().get_matches_from(&args);
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.format(&mut command).exit());
     init_logging(cli.verbose);
+    for (old, new) in flags::old_spellings(&command, &matches, &args) {
+        eprintln!("{}", flags::old_spelling_warning(&old, &new));
+    }
     let result = match cli.command {
         Command::Inspect(args) => inspect::run(args),
         Command::Convert(args) => convert::run(args),

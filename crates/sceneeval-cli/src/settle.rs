@@ -41,8 +41,8 @@ pub struct Args {
     #[arg(long, value_name = "NAME")]
     pub preset: Option<Preset>,
     /// Wall-time budget in seconds, overriding the plan's (default 600); 0 means no budget.
-    #[arg(long, value_name = "SECONDS")]
-    pub time_budget: Option<f64>,
+    #[arg(long = "time-budget-s", alias = "time-budget", value_name = "SECONDS")]
+    pub time_budget_s: Option<f64>,
     /// What is fixed in place: architectural (objects on walls and ceilings, the default),
     /// penetration (objects interpenetrating another object or the architecture), combined
     /// (both) or none. Replaces the plan's `params.stability.weld`.
@@ -73,7 +73,7 @@ impl Args {
             plan: PlanRequest {
                 plan: self.plan.clone(),
                 preset: self.preset,
-                time_budget_seconds: self.time_budget,
+                time_budget_s: self.time_budget_s,
                 ..PlanRequest::default()
             },
             weld: self.weld,

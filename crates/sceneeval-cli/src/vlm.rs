@@ -28,27 +28,20 @@ pub enum Command {
     Check(CheckArgs),
 }
 
-/// Arguments of `sceneeval vlm check`.
+/// Arguments of `sceneeval vlm check`: the endpoint options of every command that asks a VLM
+/// ([`VlmEndpointArgs`], the base URL and model required here), and `--vlm-retries`.
 #[derive(Debug, clap::Args)]
+#[command(
+    mut_arg("vlm_base_url", |a| a.required(true).alias("base-url")),
+    mut_arg("vlm_model", |a| a.required(true).alias("model")),
+    mut_arg("vlm_api_key_env", |a| a.alias("api-key-env")),
+    mut_arg("vlm_timeout_s", |a| a.alias("timeout")),
+)]
 pub struct CheckArgs {
-    /// The API base URL, e.g. https://api.openai.com/v1, http://localhost:8000/v1 (vLLM) or
-    /// http://localhost:11434/v1 (Ollama).
-    #[arg(long = "vlm-base-url", alias = "base-url", value_name = "URL")]
-    pub base_url: String,
-    /// The model name, e.g. gpt-4o-2024-08-06 or Qwen/Qwen2.5-VL-7B-Instruct.
-    #[arg(long = "vlm-model", alias = "model", value_name = "NAME")]
-    pub model: String,
-    /// The environment variable holding the API key; it must then be set. Without this option
-    /// OPENAI_API_KEY is used when set (local servers need no key).
-    #[arg(long = "vlm-api-key-env", alias = "api-key-env", value_name = "VAR")]
-    pub api_key_env: Option<String>,
-    /// What is sent with every request (the same options as `evaluate`'s).
+    /// The endpoint, the key's variable, what is sent and the timeout (the same options as
+    /// `evaluate`'s).
     #[command(flatten)]
-    pub sampling: SamplingArgs,
-    /// Seconds to wait for the answer, per attempt (default: `sceneeval::DEFAULT_VLM_TIMEOUT_SECONDS`,
-    /// as `evaluate`'s).
-    #[arg(long = "vlm-timeout", alias = "timeout", value_name = "SECS", help = timeout_help("Seconds to wait for the answer, per attempt", "as `evaluate`'s"))]
-    pub timeout: Option<f64>,
+    pub endpoint: VlmEndpointArgs,
     /// Retries after a failed attempt (429, 5xx, timeouts, connection errors); default
     /// `CHECK_MAX_RETRIES`, as the check `evaluate` makes before its first scene.
     #[arg(
@@ -63,16 +56,17 @@ pub struct CheckArgs {
     pub retries: u32,
 }
 
-/// The VLM options of the commands that ask a model (`evaluate`, `annotations annotate`,
-/// `annotations generate`): the endpoint, the key's variable, what is sent, and the client's
-/// limits. Written once here; each command maps them onto the facade's [`VlmOptions`].
+/// The options that name a VLM endpoint and what is sent to it, the same on every command that
+/// asks a VLM (`evaluate`, `settle`, `annotations annotate`, `annotations generate`,
+/// `vlm check`): written once here, each default from the facade's constants.
 #[derive(Debug, Clone, Default, clap::Args)]
-pub struct VlmArgs {
-    /// OpenAI-compatible API base URL of the VLM, e.g. https://api.openai.com/v1. The key is
-    /// read from OPENAI_API_KEY (or `--vlm-api-key-env`).
+pub struct VlmEndpointArgs {
+    /// OpenAI-compatible API base URL of the VLM, e.g. https://api.openai.com/v1,
+    /// http://localhost:8000/v1 (vLLM) or http://localhost:11434/v1 (Ollama). The key is read
+    /// from OPENAI_API_KEY (or `--vlm-api-key-env`).
     #[arg(long, value_name = "URL", requires = "vlm_model")]
     pub vlm_base_url: Option<String>,
-    /// The VLM's model name, e.g. gpt-4o-2024-08-06.
+    /// The VLM's model name, e.g. gpt-4o-2024-08-06 or Qwen/Qwen2.5-VL-7B-Instruct.
     #[arg(long, value_name = "NAME", requires = "vlm_base_url")]
     pub vlm_model: Option<String>,
     /// The environment variable holding the VLM's API key; it must then be set. Without this
@@ -82,20 +76,53 @@ pub struct VlmArgs {
     /// What is sent with every VLM request.
     #[command(flatten)]
     pub vlm_sampling: SamplingArgs,
+    /// Seconds one VLM request (each attempt) may take (default:
+    /// `sceneeval::DEFAULT_VLM_TIMEOUT_SECONDS`); in `evaluate` the scene's time budget bounds
+    /// the whole wait for the VLM, retries included.
+    #[arg(long = "vlm-timeout-s", alias = "vlm-timeout", value_name = "SECONDS", requires = "vlm_base_url", help = format!(
+        "Seconds one VLM request (each attempt) may take (default {DEFAULT_VLM_TIMEOUT_SECONDS}, at most {MAX_VLM_TIMEOUT_SECONDS}); in `evaluate` and `settle` the time budget (--time-budget-s) bounds the whole wait for the VLM, retries included."
+    ))]
+    pub vlm_timeout_s: Option<f64>,
+}
+
+impl VlmEndpointArgs {
+    /// The facade's VLM options these make (`None` without `--vlm-base-url`), every option
+    /// they do not set at its default.
+    ///
+    /// # Errors
+    /// A sampling option without `--vlm-base-url`.
+    pub fn options(&self) -> anyhow::Result<Option<VlmOptions>> {
+        match (&self.vlm_base_url, &self.vlm_model) {
+            (Some(base_url), Some(model)) => Ok(Some(VlmOptions {
+                api_key_env: self.vlm_api_key_env.clone(),
+                timeout_s: self.vlm_timeout_s,
+                ..self.vlm_sampling.options(base_url, model)
+            })),
+            _ => {
+                if let Some(option) = self.vlm_sampling.first_given() {
+                    bail!("{option} sets what is sent to the VLM; it needs --vlm-base-url and --vlm-model");
+                }
+                Ok(None)
+            }
+        }
+    }
+}
+
+/// The VLM options of the commands that ask a model many times (`evaluate`, `settle`,
+/// `annotations annotate`, `annotations generate`): the endpoint ([`VlmEndpointArgs`]) and the
+/// client's limits and cache. Written once here; each command maps them onto the facade's
+/// [`VlmOptions`].
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct VlmArgs {
+    /// The endpoint, the key's variable, what is sent and the timeout.
+    #[command(flatten)]
+    pub endpoint: VlmEndpointArgs,
     /// VLM requests in flight at once over the whole run (default
     /// `sceneeval::DEFAULT_VLM_CONCURRENCY`), whatever the number of threads.
     #[arg(long, value_name = "N", requires = "vlm_base_url", help = format!(
         "VLM requests in flight at once over the whole run (default {DEFAULT_VLM_CONCURRENCY}), whatever the number of threads: scenes waiting for the VLM leave the CPU to others. Halved when the server answers 429 (too many requests), grown back after successes."
     ))]
     pub vlm_concurrency: Option<usize>,
-    /// Seconds one VLM request (each attempt) may take (default:
-    /// `sceneeval::DEFAULT_VLM_TIMEOUT_SECONDS`); in `evaluate` the scene's time budget bounds
-    /// the whole wait for the VLM, retries included.
-    #[arg(long, value_name = "SECS", requires = "vlm_base_url", help = timeout_help(
-        "Seconds one VLM request (each attempt) may take",
-        "in `evaluate` the scene's time budget (--time-budget) bounds the whole wait for the VLM, retries included",
-    ))]
-    pub vlm_timeout: Option<f64>,
     /// Cap on VLM requests per minute (default none): requests are spaced 60 s / N apart.
     #[arg(long, value_name = "N", requires = "vlm_base_url")]
     pub vlm_rpm: Option<u32>,
@@ -115,23 +142,13 @@ impl VlmArgs {
     /// # Errors
     /// A sampling option without `--vlm-base-url`.
     pub fn options(&self) -> anyhow::Result<Option<VlmOptions>> {
-        match (&self.vlm_base_url, &self.vlm_model) {
-            (Some(base_url), Some(model)) => Ok(Some(VlmOptions {
-                api_key_env: self.vlm_api_key_env.clone(),
-                cache: self.vlm_cache.clone(),
-                concurrency: self.vlm_concurrency,
-                timeout: self.vlm_timeout,
-                rpm: self.vlm_rpm,
-                tpm: self.vlm_tpm,
-                ..self.vlm_sampling.options(base_url, model)
-            })),
-            _ => {
-                if let Some(option) = self.vlm_sampling.first_given() {
-                    bail!("{option} sets what is sent to the VLM; it needs --vlm-base-url and --vlm-model");
-                }
-                Ok(None)
-            }
-        }
+        Ok(self.endpoint.options()?.map(|options| VlmOptions {
+            cache: self.vlm_cache.clone(),
+            concurrency: self.vlm_concurrency,
+            rpm: self.vlm_rpm,
+            tpm: self.vlm_tpm,
+            ..options
+        }))
     }
 }
 
@@ -161,12 +178,6 @@ pub struct SamplingArgs {
         value_name = "max_tokens|max_completion_tokens"
     )]
     pub token_limit_field: Option<String>,
-}
-
-/// The help of a VLM timeout option: `what`, its default ([`DEFAULT_VLM_TIMEOUT_SECONDS`],
-/// written once) and `then`.
-fn timeout_help(what: &str, then: &str) -> String {
-    format!("{what} (default {DEFAULT_VLM_TIMEOUT_SECONDS}, at most {MAX_VLM_TIMEOUT_SECONDS}); {then}.")
 }
 
 /// The help of a `--render-size` option of the VLM's object views: its default
@@ -212,7 +223,7 @@ impl SamplingArgs {
             seed: self.seed.map(|Sent(s)| s),
             max_tokens: self.max_tokens,
             token_limit_field: self.token_limit_field.clone(),
-            timeout: None,
+            timeout_s: None,
             rpm: None,
             tpm: None,
         }
@@ -250,11 +261,10 @@ pub fn run(command: Command) -> anyhow::Result<ExitCode> {
 }
 
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    let options = VlmOptions {
-        api_key_env: args.api_key_env.clone(),
-        timeout: args.timeout,
-        ..args.sampling.options(&args.base_url, &args.model)
+    let Some(options) = args.endpoint.options()? else {
+        bail!("vlm check needs --vlm-base-url and --vlm-model");
     };
+    let model = options.model.clone();
     let mut config = options
         .config()
         .map_err(|error| OptionError::new(error, crate::evaluate::option_name))?;
@@ -264,7 +274,7 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     let answers = pollster::block_on(session.ask(&EndpointCheck::new())).with_context(|| {
         format!(
             "the endpoint check failed for model {:?} at {}",
-            args.model,
+            model,
             vlm.inner().url()
         )
     })?;
@@ -283,7 +293,7 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             crate::print_stdout(&format!(
                 "ok: {} answers model {:?} with structured output and sees images (it called the {TEST_IMAGE_COLOUR} square {:?}{}).\n",
                 vlm.inner().url(),
-                args.model,
+                model,
                 answer.colour,
                 if attempt > 1 {
                     ", after one invalid answer"
@@ -360,7 +370,7 @@ mod tests {
             &["annotations", "annotate"],
             &["annotations", "generate"],
         ] {
-            assert!(help(command, "vlm_timeout").contains(&timeout), "{command:?}");
+            assert!(help(command, "vlm_timeout_s").contains(&timeout), "{command:?}");
             assert!(
                 help(command, "vlm_concurrency").contains(&format!("(default {DEFAULT_VLM_CONCURRENCY})")),
                 "{command:?}"
@@ -369,7 +379,7 @@ mod tests {
         for command in ["evaluate", "settle"] {
             assert!(help(&[command], "render_size").contains(&size), "{command}");
         }
-        assert!(help(&["vlm", "check"], "timeout").contains(&timeout));
+        assert!(help(&["vlm", "check"], "vlm_timeout_s").contains(&timeout));
         assert_eq!(
             default(&["vlm", "check"], "retries"),
             [CHECK_MAX_RETRIES.to_string()]

@@ -68,7 +68,11 @@ fn writes_the_requested_views_with_inspect_ids_as_file_names() {
         .args(["--views", "top", "--size", "8"])
         .assert()
         .success()
-        .stderr(predicate::str::contains("1 image written to"));
+        .stderr(predicate::str::contains("1 image written to"))
+        // The option's old name works and says so.
+        .stderr(predicate::str::contains(
+            "warning: --size is the old name of --render-size",
+        ));
 }
 
 #[test]
@@ -80,7 +84,7 @@ fn every_object_by_default() {
     render()
         .arg("--out")
         .arg(out.path())
-        .args(["--views", "surroundings", "--size", "16"])
+        .args(["--views", "surroundings", "--render-size", "16"])
         .assert()
         .success()
         .stderr(predicate::str::contains("9 images written"));
@@ -128,7 +132,7 @@ fn a_missing_driver_names_the_packages_to_install() {
         .env("WGPU_BACKEND", "dx12")
         .arg("--out")
         .arg(out.path())
-        .args(["--views", "top", "--size", "8"])
+        .args(["--views", "top", "--render-size", "8"])
         .assert()
         .failure()
         .stderr(
@@ -151,7 +155,7 @@ fn a_successful_render_prints_no_driver_noise() {
         .env_remove("XDG_RUNTIME_DIR")
         .env_remove("WAYLAND_DISPLAY")
         .env_remove("NODEVICE_SELECT")
-        .args(["--views", "top", "--size", "32", "--out"])
+        .args(["--views", "top", "--render-size", "32", "--out"])
         .arg(out.path())
         .assert()
         .success();

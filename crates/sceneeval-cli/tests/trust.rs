@@ -235,7 +235,7 @@ fn failures_print_the_scene_file_and_the_whole_cause_chain() {
 fn a_scene_over_its_time_budget_fails_alone_and_the_run_goes_on() {
     let (root, scenes, assets) = setup();
     let out = root.path().join("out");
-    evaluate(&scenes, &assets, &out, &["--time-budget", "0.000000001"])
+    evaluate(&scenes, &assets, &out, &["--time-budget-s", "0.000000001"])
         .failure()
         .stderr(predicate::str::contains("time budget of"))
         .stderr(predicate::str::contains(
@@ -245,9 +245,13 @@ fn a_scene_over_its_time_budget_fails_alone_and_the_run_goes_on() {
     assert_eq!(rec["status"], "failed");
     assert!(rec["error"].as_str().unwrap().contains("time budget"), "{rec}");
     assert!(out.join("summary.md").is_file());
-    // A generous budget: both evaluate (failed records are always retried).
+    // A generous budget: both evaluate (failed records are always retried). Given by the
+    // option's old name, which still works and says so.
     evaluate(&scenes, &assets, &out, &["--time-budget", "600"])
         .success()
+        .stderr(predicate::str::contains(
+            "warning: --time-budget is the old name of --time-budget-s; it still works, but use --time-budget-s",
+        ))
         .stderr(predicate::str::contains("evaluated because failed before: 2"));
 }
 
@@ -262,7 +266,7 @@ fn a_closed_pipe_ends_the_command_quietly() {
         .arg(fixtures().join("scenes/scene_0.json"))
         .arg("--assets")
         .arg(format!("fixture={}", fixtures().join("assets").display()))
-        .arg("--json")
+        .args(["--format", "json"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()

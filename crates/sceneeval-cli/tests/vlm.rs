@@ -42,7 +42,7 @@ async fn check(base_url: String, extra: &[&str], key_var: Option<(&str, &str)>) 
             &base_url,
             "--vlm-model",
             "test-vlm",
-            "--vlm-timeout",
+            "--vlm-timeout-s",
             "5",
         ])
         .args(&extra)
@@ -137,6 +137,10 @@ async fn an_unreachable_endpoint_fails_with_the_reason() {
     assert_eq!(code, 1);
     assert!(stderr.contains("error: the endpoint check failed"), "{stderr}");
     assert!(stderr.contains("could not reach"), "{stderr}");
+    assert!(
+        stderr.contains("warning: --retries is the old name of --vlm-retries"),
+        "{stderr}"
+    );
 }
 
 #[tokio::test]

@@ -137,12 +137,12 @@ fn vlm_options_with_a_plan_that_asks_no_vlm_are_reported_unused_and_still_checke
         &scenes,
         &fixtures().join("assets"),
         out.path(),
-        &[&vlm[..], &["--vlm-timeout", "0"]].concat(),
+        &[&vlm[..], &["--vlm-timeout-s", "0"]].concat(),
     )
     .failure();
     let err = stderr(bad.get_output());
     assert!(
-        err.contains("--vlm-timeout: 0 is not a number of seconds above 0"),
+        err.contains("--vlm-timeout-s: 0 is not a number of seconds above 0"),
         "{err}"
     );
 }

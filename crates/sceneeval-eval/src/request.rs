@@ -63,9 +63,10 @@ pub struct PlanRequest {
     /// The metrics to run, replacing the plan's.
     #[serde(default)]
     pub metrics: Option<Vec<Metric>>,
-    /// The wall-time budget per scene in seconds; 0 means no budget.
+    /// The wall-time budget per scene in seconds; 0 means no budget (`time_budget_seconds` in
+    /// earlier versions: every name of a quantity ends in its unit, `_s` for seconds).
     #[serde(default)]
-    pub time_budget_seconds: Option<f64>,
+    pub time_budget_s: Option<f64>,
     /// Object matching: `vlm`, `labels`, or a matching file or folder (used only when the plan
     /// runs text-fidelity metrics).
     #[serde(default)]
@@ -143,7 +144,7 @@ pub struct VlmOptions {
     /// [`DEFAULT_VLM_TIMEOUT_SECONDS`], at most [`MAX_VLM_TIMEOUT_SECONDS`]); the scene's time
     /// budget bounds the whole wait, retries included.
     #[serde(default)]
-    pub timeout: Option<f64>,
+    pub timeout_s: Option<f64>,
     /// A cap on requests per minute (default none): requests start at least 60 s / `rpm` apart.
     #[serde(default)]
     pub rpm: Option<u32>,
@@ -179,7 +180,7 @@ pub enum RequestField {
     Preset,
     /// [`PlanRequest::metrics`].
     Metrics,
-    /// [`PlanRequest::time_budget_seconds`].
+    /// [`PlanRequest::time_budget_s`].
     TimeBudget,
     /// [`PlanRequest::matching`].
     Matching,
@@ -211,7 +212,7 @@ pub enum RequestField {
     VlmMaxTokens,
     /// [`VlmOptions::token_limit_field`].
     VlmTokenLimitField,
-    /// [`VlmOptions::timeout`].
+    /// [`VlmOptions::timeout_s`].
     VlmTimeout,
     /// [`VlmOptions::rpm`].
     VlmRpm,
@@ -220,6 +221,37 @@ pub enum RequestField {
 }
 
 impl RequestField {
+    /// Every field, in the order of the request (the one table front ends name their options
+    /// and keywords from).
+    pub const ALL: [RequestField; 26] = [
+        RequestField::Scenes,
+        RequestField::Assets,
+        RequestField::Out,
+        RequestField::Annotations,
+        RequestField::Plan,
+        RequestField::Preset,
+        RequestField::Metrics,
+        RequestField::TimeBudget,
+        RequestField::Matching,
+        RequestField::RelationMapping,
+        RequestField::Threads,
+        RequestField::Vlm,
+        RequestField::VlmBaseUrl,
+        RequestField::VlmModel,
+        RequestField::VlmApiKeyEnv,
+        RequestField::VlmCache,
+        RequestField::VlmConcurrency,
+        RequestField::VlmRenderSize,
+        RequestField::VlmDetail,
+        RequestField::VlmTemperature,
+        RequestField::VlmSeed,
+        RequestField::VlmMaxTokens,
+        RequestField::VlmTokenLimitField,
+        RequestField::VlmTimeout,
+        RequestField::VlmRpm,
+        RequestField::VlmTpm,
+    ];
+
     /// The field's path in the request.
     pub const fn path(self) -> &'static str {
         match self {
@@ -230,7 +262,7 @@ impl RequestField {
             RequestField::Plan => "plan",
             RequestField::Preset => "preset",
             RequestField::Metrics => "metrics",
-            RequestField::TimeBudget => "time_budget_seconds",
+            RequestField::TimeBudget => "time_budget_s",
             RequestField::Matching => "matching",
             RequestField::RelationMapping => "relation_mapping",
             RequestField::Threads => "threads",
@@ -246,7 +278,7 @@ impl RequestField {
             RequestField::VlmSeed => "vlm.seed",
             RequestField::VlmMaxTokens => "vlm.max_tokens",
             RequestField::VlmTokenLimitField => "vlm.token_limit_field",
-            RequestField::VlmTimeout => "vlm.timeout",
+            RequestField::VlmTimeout => "vlm.timeout_s",
             RequestField::VlmRpm => "vlm.rpm",
             RequestField::VlmTpm => "vlm.tpm",
         }
@@ -449,7 +481,7 @@ impl PlanRequest {
         if let Some(metrics) = &self.metrics {
             plan.metrics.clone_from(metrics);
         }
-        if let Some(b) = self.time_budget_seconds {
+        if let Some(b) = self.time_budget_s {
             if !(b.is_finite() && b >= 0.0) {
                 return Err(EvalError::request(
                     RequestField::TimeBudget,
@@ -541,7 +573,7 @@ impl VlmOptions {
             ));
         }
         config.max_concurrent_requests = concurrency;
-        let timeout = self.timeout.unwrap_or(DEFAULT_VLM_TIMEOUT_SECONDS);
+        let timeout = self.timeout_s.unwrap_or(DEFAULT_VLM_TIMEOUT_SECONDS);
         if !(timeout.is_finite() && timeout > 0.0 && timeout <= MAX_VLM_TIMEOUT_SECONDS) {
             return Err(EvalError::request(
                 RequestField::VlmTimeout,
@@ -935,18 +967,69 @@ mod tests {
         assert!(text.contains("YAML plan files are not read"), "{text}");
     }
 
+    /// `RequestField::ALL` is the table: every key a request serialises (every option set) is
+    /// the path of one field of it, and no two fields share a path.
+    #[test]
+    fn every_request_key_is_the_path_of_one_field() {
+        let paths: Vec<&str> = RequestField::ALL.iter().map(|f| f.path()).collect();
+        let mut distinct = paths.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), paths.len(), "{paths:?}");
+        let plan = PlanRequest {
+            plan: Some("full".into()),
+            preset: Some(Preset::Reference),
+            metrics: Some(vec![Metric::Cnt]),
+            time_budget_s: Some(30.0),
+            matching: Some("labels".into()),
+            relation_mapping: Some("lexicon".into()),
+        };
+        let vlm = VlmOptions {
+            base_url: "http://127.0.0.1:9/v1".into(),
+            model: "m".into(),
+            api_key_env: Some("KEY".into()),
+            cache: Some("cache".into()),
+            concurrency: Some(2),
+            render_size: Some(256),
+            detail: Some("high".into()),
+            temperature: Some(None),
+            seed: Some(Some(7)),
+            max_tokens: Some(300),
+            token_limit_field: Some("max_tokens".into()),
+            timeout_s: Some(30.0),
+            rpm: Some(500),
+            tpm: Some(30_000),
+        };
+        let keys_of = |value: serde_json::Value, prefix: &str| -> Vec<String> {
+            value
+                .as_object()
+                .unwrap()
+                .keys()
+                .map(|k| format!("{prefix}{k}"))
+                .collect()
+        };
+        let mut keys = keys_of(serde_json::to_value(&plan).unwrap(), "");
+        keys.extend(keys_of(serde_json::to_value(&vlm).unwrap(), "vlm."));
+        assert_eq!(keys.len(), 6 + 14);
+        for key in &keys {
+            assert!(paths.contains(&key.as_str()), "{key} is no RequestField's path");
+        }
+        assert!(keys.contains(&"time_budget_s".to_owned()));
+        assert!(keys.contains(&"vlm.timeout_s".to_owned()));
+    }
+
     #[test]
     fn metrics_and_time_budget_override_the_plan() {
         let mut r = PlanRequest::named("geometry");
         r.metrics = Some(vec![Metric::Collision]);
-        r.time_budget_seconds = Some(0.0);
+        r.time_budget_s = Some(0.0);
         let p = r.resolve(false, false).unwrap().plan;
         assert_eq!(p.metrics, vec![Metric::Collision]);
         assert_eq!(p.time_budget_s, None);
-        r.time_budget_seconds = Some(30.0);
+        r.time_budget_s = Some(30.0);
         assert_eq!(r.resolve(false, false).unwrap().plan.time_budget_s, Some(30.0));
         for bad in [f64::NAN, -1.0, f64::INFINITY] {
-            r.time_budget_seconds = Some(bad);
+            r.time_budget_s = Some(bad);
             assert_eq!(
                 r.resolve(false, false).unwrap_err().request_field(),
                 Some(RequestField::TimeBudget)

@@ -30,10 +30,15 @@ pub fn keyword(field: RequestField) -> Cow<'static, str> {
 /// The keyword arguments of earlier versions of `evaluate` and `evaluation_request`, with the
 /// field whose request name ([`keyword`]) replaced each. They still work, with a
 /// `DeprecationWarning` naming the new keyword.
-pub const RENAMED: [(&str, RequestField); 2] = [
+pub const RENAMED: [(&str, RequestField); 3] = [
     ("scenes_dir", RequestField::Scenes),
     ("time_budget", RequestField::TimeBudget),
+    ("time_budget_seconds", RequestField::TimeBudget),
 ];
+
+/// The keys of the `vlm=` dict of earlier versions, with the field whose request name replaced
+/// each. They still work, with a `DeprecationWarning` naming the new key.
+pub const RENAMED_VLM_KEYS: [(&str, RequestField); 1] = [("timeout", RequestField::VlmTimeout)];
 
 /// The values of the renamed keywords in `kwargs` (the `**kwargs` of `function`), each with a
 /// `DeprecationWarning` naming its new keyword.
@@ -45,7 +50,7 @@ fn renamed<'py>(
     py: Python<'py>,
     function: &str,
     kwargs: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Vec<(RequestField, Bound<'py, PyAny>)>> {
+) -> PyResult<Vec<(RequestField, String, Bound<'py, PyAny>)>> {
     let Some(kwargs) = kwargs else {
         return Ok(Vec::new());
     };
@@ -64,30 +69,32 @@ fn renamed<'py>(
         ))
         .map_err(|e| value_error(e.to_string()))?;
         PyErr::warn(py, &category, &message, 1)?;
-        values.push((field, value));
+        values.push((field, key, value));
     }
     Ok(values)
 }
 
 /// `given` (the argument under its request name) or the value of its old name in `old`; a
-/// `TypeError` when both are given.
+/// `TypeError` when both, or two old names of it, are given.
 fn given_or_renamed<'py, T: FromPyObjectOwned<'py>>(
     function: &str,
     field: RequestField,
     given: Option<T>,
-    old: &[(RequestField, Bound<'py, PyAny>)],
+    old: &[(RequestField, String, Bound<'py, PyAny>)],
 ) -> PyResult<Option<T>> {
-    let Some((_, value)) = old.iter().find(|(f, _)| *f == field) else {
+    let mut olds = old.iter().filter(|(f, _, _)| *f == field);
+    let Some((_, name, value)) = olds.next() else {
         return Ok(given);
     };
     if given.is_some() {
-        let (name, _) = RENAMED
-            .iter()
-            .find(|(_, f)| *f == field)
-            .copied()
-            .unwrap_or(("", field));
         return Err(PyTypeError::new_err(format!(
             "{function}() got {}= and its old name {name}=: give {0}= only",
+            keyword(field)
+        )));
+    }
+    if let Some((_, other, _)) = olds.next() {
+        return Err(PyTypeError::new_err(format!(
+            "{function}() got {name}= and {other}=, two old names of {}=: give {0}= only",
             keyword(field)
         )));
     }
@@ -198,9 +205,31 @@ pub fn asset_specs(assets: Option<BTreeMap<String, PathBuf>>) -> Vec<String> {
 }
 
 /// The `vlm=` dict as the request's VLM options: the keys are the fields of
-/// [`VlmOptions`] (unknown keys are refused); `cache` may be any path-like.
+/// [`VlmOptions`] (unknown keys are refused); `cache` may be any path-like. A key of earlier
+/// versions ([`RENAMED_VLM_KEYS`]) is read as its new one, with a `DeprecationWarning`.
 pub(crate) fn vlm_options(vlm: &Bound<'_, PyDict>) -> PyResult<VlmOptions> {
     let rest = vlm.copy()?;
+    for (old, field) in RENAMED_VLM_KEYS {
+        let Some(value) = rest.get_item(old)? else {
+            continue;
+        };
+        let new = field.path().strip_prefix("vlm.").unwrap_or(field.path());
+        if rest.contains(new)? {
+            return Err(PyTypeError::new_err(format!(
+                "vlm has \"{new}\" and its old name \"{old}\": give \"{new}\" only"
+            )));
+        }
+        let py = vlm.py();
+        let category = py.get_type::<PyDeprecationWarning>();
+        let message = std::ffi::CString::new(format!(
+            "vlm[\"{old}\"] is deprecated: use {} (the request's name, as `sceneeval evaluate --print-request` shows it)",
+            keyword(field)
+        ))
+        .map_err(|e| value_error(e.to_string()))?;
+        PyErr::warn(py, &category, &message, 1)?;
+        rest.del_item(old)?;
+        rest.set_item(new, value)?;
+    }
     let cache: Option<PathBuf> = match rest.get_item("cache")? {
         Some(c) if !c.is_none() => Some(
             c.extract()
@@ -232,7 +261,7 @@ fn request(
     metrics: Option<Vec<String>>,
     matching: Option<PathBuf>,
     relation_mapping: Option<&str>,
-    time_budget_seconds: Option<f64>,
+    time_budget_s: Option<f64>,
     vlm: Option<&Bound<'_, PyDict>>,
     force: bool,
     threads: Option<usize>,
@@ -242,8 +271,7 @@ fn request(
     let old = renamed(py, function, old)?;
     let scenes = given_or_renamed(function, RequestField::Scenes, scenes, &old)?
         .ok_or_else(|| PyTypeError::new_err(format!("{function}() missing 1 required argument: 'scenes'")))?;
-    let time_budget_seconds =
-        given_or_renamed(function, RequestField::TimeBudget, time_budget_seconds, &old)?;
+    let time_budget_s = given_or_renamed(function, RequestField::TimeBudget, time_budget_s, &old)?;
     let matching = matching
         .map(|m| {
             m.into_os_string()
@@ -261,7 +289,7 @@ fn request(
             plan,
             preset,
             metrics: metrics_of(metrics)?,
-            time_budget_seconds,
+            time_budget_s,
             matching,
             relation_mapping: relation_mapping.map(str::to_owned),
         },
@@ -278,7 +306,7 @@ fn request(
 /// `sceneeval evaluate --print-request` prints for the same options. Nothing is read or run.
 /// dry_run is accepted as evaluate() takes it; it is not part of the request.
 #[pyfunction]
-#[pyo3(signature = (scenes=None, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget_seconds=None, vlm=None, force=false, threads=None, strict=false, dry_run=false, **renamed))]
+#[pyo3(signature = (scenes=None, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget_s=None, vlm=None, force=false, threads=None, strict=false, dry_run=false, **renamed))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluation_request<'py>(
     py: Python<'py>,
@@ -291,7 +319,7 @@ pub fn evaluation_request<'py>(
     metrics: Option<Vec<String>>,
     matching: Option<PathBuf>,
     relation_mapping: Option<&str>,
-    time_budget_seconds: Option<f64>,
+    time_budget_s: Option<f64>,
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
@@ -312,7 +340,7 @@ pub fn evaluation_request<'py>(
         metrics,
         matching,
         relation_mapping,
-        time_budget_seconds,
+        time_budget_s,
         vlm.as_ref(),
         force,
         threads,
@@ -382,16 +410,16 @@ struct Incomplete {
 /// metrics: run only these metrics (names or summary columns, e.g. "collision", "OOB", "cnt"),
 /// as --metrics. matching: "vlm", "labels" or a matching file or folder in
 /// the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
-/// as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget_seconds:
-/// seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
+/// as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget_s:
+/// seconds per scene, as --time-budget-s (a scene over it is recorded as failed; 0: no budget).
 /// vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
 /// dict with base_url and model (required), api_key_env (the variable holding the key, which
 /// must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
 /// concurrency (4: requests in flight over the whole run, whatever the threads; halved on a 429
 /// and grown back), render_size (512, the object views shown), detail ("low"), temperature (0;
 /// None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens,
-/// token_limit_field ("max_tokens" or "max_completion_tokens"), timeout (60: seconds per
-/// request attempt; time_budget_seconds bounds a scene's whole wait for the VLM), rpm and tpm (caps on
+/// token_limit_field ("max_tokens" or "max_completion_tokens"), timeout_s (60: seconds per
+/// request attempt; time_budget_s bounds a scene's whole wait for the VLM), rpm and tpm (caps on
 /// requests and estimated tokens per minute; none by default). The dict is checked whatever the
 /// plan; VLM settings a plan without text-fidelity metrics does not use are reported with a
 /// UserWarning. Before the first scene evaluated, one small request checks the endpoint: an
@@ -419,10 +447,11 @@ struct Incomplete {
 /// Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
 /// ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
 /// with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`). The keywords are the
-/// request's names (`sceneeval evaluate --print-request`); scenes_dir and time_budget, their
-/// names in earlier versions, still work with a DeprecationWarning.
+/// request's names (`sceneeval evaluate --print-request`); scenes_dir, time_budget and
+/// time_budget_seconds, and vlm["timeout"], their names in earlier versions, still work with a
+/// DeprecationWarning.
 #[pyfunction]
-#[pyo3(signature = (scenes=None, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget_seconds=None, vlm=None, force=false, threads=None, strict=false, dry_run=false, **renamed))]
+#[pyo3(signature = (scenes=None, *, assets, out, annotations=None, plan=None, preset=None, metrics=None, matching=None, relation_mapping=None, time_budget_s=None, vlm=None, force=false, threads=None, strict=false, dry_run=false, **renamed))]
 #[allow(clippy::too_many_arguments)] // The keyword arguments of `sceneeval.evaluate`.
 pub fn evaluate<'py>(
     py: Python<'py>,
@@ -435,7 +464,7 @@ pub fn evaluate<'py>(
     metrics: Option<Vec<String>>,
     matching: Option<PathBuf>,
     relation_mapping: Option<&str>,
-    time_budget_seconds: Option<f64>,
+    time_budget_s: Option<f64>,
     vlm: Option<Bound<'py, PyDict>>,
     force: bool,
     threads: Option<usize>,
@@ -455,7 +484,7 @@ pub fn evaluate<'py>(
         metrics,
         matching,
         relation_mapping,
-        time_budget_seconds,
+        time_budget_s,
         vlm.as_ref(),
         force,
         threads,

@@ -159,9 +159,9 @@ def test_matching_relation_mapping_and_time_budget_as_the_cli(sceneeval_bin, sce
                            relation_mapping="vlm2")
 
     # A scene over its time budget is recorded as failed; the run goes on.
-    run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "budget", time_budget_seconds=1e-9)
+    run = sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "budget", time_budget_s=1e-9)
     assert run["failed"] == 3
     assert "time budget" in run["failures"][0]["error"]
     for bad in (-1.0, float("nan"), float("inf")):
-        with pytest.raises(ValueError, match=r"^time_budget_seconds: .* is not a number of seconds \(0 for no budget\)"):
-            sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "e", time_budget_seconds=bad)
+        with pytest.raises(ValueError, match=r"^time_budget_s: .* is not a number of seconds \(0 for no budget\)"):
+            sceneeval.evaluate(scenes_dir, assets=assets, out=tmp_path / "e", time_budget_s=bad)

@@ -80,6 +80,6 @@ def test_importing_turns_off_mesas_device_select_layer_unless_set():
 def test_the_documented_vlm_defaults_are_the_rust_constants():
     # The defaults are written once, in Rust; the docstring quotes them and must not drift.
     doc = words(inspect.getdoc(sceneeval.evaluate))
-    assert f"timeout ({sceneeval.DEFAULT_VLM_TIMEOUT_SECONDS:g}:" in doc
+    assert f"timeout_s ({sceneeval.DEFAULT_VLM_TIMEOUT_SECONDS:g}:" in doc
     assert f"concurrency ({sceneeval.DEFAULT_VLM_CONCURRENCY}:" in doc
     assert f"render_size ({sceneeval.DEFAULT_RENDER_SIZE}," in doc

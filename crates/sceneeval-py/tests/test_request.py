@@ -15,20 +15,20 @@ CASES = [
     ([], {}),
     (["--plan", "full", "--annotations", "a.csv", "--preset", "reference"],
      {"plan": "full", "annotations": "a.csv", "preset": "reference"}),
-    (["--plan", "collision,oob", "--metrics", "collision,COL_ob,cnt", "--time-budget", "30",
+    (["--plan", "collision,oob", "--metrics", "collision,COL_ob,cnt", "--time-budget-s", "30",
       "--matching", "labels", "--relation-mapping", "lexicon", "--force", "--threads", "2", "--strict"],
-     {"plan": "collision,oob", "metrics": ["collision", "COL_ob", "cnt"], "time_budget_seconds": 30,
+     {"plan": "collision,oob", "metrics": ["collision", "COL_ob", "cnt"], "time_budget_s": 30,
       "matching": "labels", "relation_mapping": "lexicon", "force": True, "threads": 2, "strict": True}),
     (["--plan", "full", "--annotations", "a.csv", "--vlm-base-url", "http://127.0.0.1:9/v1",
       "--vlm-model", "m", "--vlm-api-key-env", "MY_KEY", "--vlm-concurrency", "16", "--render-size", "256",
       "--vlm-cache", "cache", "--vlm-detail", "high", "--vlm-temperature", "none", "--vlm-seed", "7",
       "--vlm-max-tokens", "300", "--vlm-token-limit-field", "max_completion_tokens",
-      "--vlm-timeout", "30", "--vlm-rpm", "500", "--vlm-tpm", "30000"],
+      "--vlm-timeout-s", "30", "--vlm-rpm", "500", "--vlm-tpm", "30000"],
      {"plan": "full", "annotations": "a.csv",
       "vlm": {"base_url": "http://127.0.0.1:9/v1", "model": "m", "api_key_env": "MY_KEY", "concurrency": 16,
               "render_size": 256, "cache": "cache", "detail": "high", "temperature": None, "seed": 7,
               "max_tokens": 300, "token_limit_field": "max_completion_tokens",
-              "timeout": 30, "rpm": 500, "tpm": 30000}}),
+              "timeout_s": 30, "rpm": 500, "tpm": 30000}}),
 ]
 
 
@@ -69,16 +69,31 @@ def test_the_keywords_are_the_request_names():
 
 
 def test_the_old_keyword_names_warn_and_still_work():
-    new = sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget_seconds=30)
+    new = sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget_s=30)
+    assert new["plan"]["time_budget_s"] == 30
     with pytest.warns(DeprecationWarning, match=r"^scenes_dir= is deprecated: pass scenes= "):
-        old = sceneeval.evaluation_request(scenes_dir="scenes", out="out", assets={}, time_budget_seconds=30)
+        old = sceneeval.evaluation_request(scenes_dir="scenes", out="out", assets={}, time_budget_s=30)
     assert old == new
-    with pytest.warns(DeprecationWarning, match=r"^time_budget= is deprecated: pass time_budget_seconds= "):
-        old = sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget=30)
-    assert old == new
-    with pytest.warns(DeprecationWarning), pytest.raises(TypeError, match=r"time_budget_seconds= and its old name time_budget="):
+    for name in ("time_budget", "time_budget_seconds"):
+        with pytest.warns(DeprecationWarning, match=rf"^{name}= is deprecated: pass time_budget_s= "):
+            old = sceneeval.evaluation_request("scenes", out="out", assets={}, **{name: 30})
+        assert old == new
+        with pytest.warns(DeprecationWarning), pytest.raises(TypeError, match=rf"time_budget_s= and its old name {name}="):
+            sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget_s=3, **{name: 3})
+    with pytest.warns(DeprecationWarning), pytest.raises(TypeError, match=r"two old names of time_budget_s="):
         sceneeval.evaluation_request("scenes", out="out", assets={}, time_budget=3, time_budget_seconds=3)
     with pytest.raises(TypeError, match=r"unexpected keyword argument 'time_budgets'"):
         sceneeval.evaluation_request("scenes", out="out", assets={}, time_budgets=3)
     with pytest.raises(TypeError, match=r"missing 1 required argument: 'scenes'"):
         sceneeval.evaluation_request(out="out", assets={})
+
+
+def test_the_old_vlm_timeout_key_warns_and_still_works():
+    vlm = {"base_url": "http://127.0.0.1:9/v1", "model": "m"}
+    new = sceneeval.evaluation_request("scenes", out="out", assets={}, vlm={**vlm, "timeout_s": 30})
+    assert new["vlm"]["timeout_s"] == 30 and "timeout" not in new["vlm"]
+    with pytest.warns(DeprecationWarning, match=r'^vlm\["timeout"\] is deprecated: use vlm\["timeout_s"\] '):
+        old = sceneeval.evaluation_request("scenes", out="out", assets={}, vlm={**vlm, "timeout": 30})
+    assert old == new
+    with pytest.raises(TypeError, match=r'vlm has "timeout_s" and its old name "timeout"'):
+        sceneeval.evaluation_request("scenes", out="out", assets={}, vlm={**vlm, "timeout": 3, "timeout_s": 3})

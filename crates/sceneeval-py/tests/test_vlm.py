@@ -195,7 +195,7 @@ def test_bad_vlm_settings_raise_before_any_request(scene_8, tmp_path, server, mo
         ({**base, "api_key_env": "SCENEEVAL_UNSET_KEY_VAR"}, r'^vlm\["api_key_env"\]: no API key: .*SCENEEVAL_UNSET_KEY_VAR: is not set or empty'),
         ({**base, "base_url": "localhost:9"}, r'^vlm\["base_url"\]: cannot set up the VLM client: .*base URL'),
         ({**base, "cache": 3}, r'vlm\["cache"\] must be a path'),
-        ({**base, "timeout": 0}, r'^vlm\["timeout"\]: 0 is not a number of seconds above 0'),
+        ({**base, "timeout_s": 0}, r'^vlm\["timeout_s"\]: 0 is not a number of seconds above 0'),
         ({**base, "rpm": 0}, r'^vlm\["rpm"\]: must be at least 1 request per minute'),
         ({**base, "tpm": 0}, r'^vlm\["tpm"\]: must be at least 1 token per minute'),
     ]:

@@ -499,7 +499,7 @@ mod tests {
             seed: None,
             max_tokens: None,
             token_limit_field: None,
-            timeout: Some(30.0),
+            timeout_s: Some(30.0),
             rpm: None,
             tpm: Some(30_000),
         });

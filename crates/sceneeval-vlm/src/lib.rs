@@ -81,8 +81,8 @@ pub use vlm::Vlm;
 
 /// How long one request to a model (each HTTP attempt, reading the reply included) may take
 /// before it is abandoned and retried, unless the caller says otherwise: 60 s, written once
-/// for the HTTP client's default, `sceneeval evaluate --vlm-timeout`, `vlm check` and Python's
-/// `vlm["timeout"]`.
+/// for the HTTP client's default, `sceneeval evaluate --vlm-timeout-s`, `vlm check` and
+/// Python's `vlm["timeout_s"]`.
 pub const DEFAULT_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(60);
 
 /// Requests to one model in flight at once, over every task using it, unless the caller says

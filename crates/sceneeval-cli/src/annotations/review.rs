@@ -49,9 +49,10 @@ pub struct ReviewArgs {
     /// FILE.rejected.jsonl are reviewed too.
     pub file: PathBuf,
     /// Where accepted rows go (default: FILE with `.accepted` before the extension); rejected
-    /// ones go to ACCEPTED.rejected.jsonl with the reviewer's reason.
-    #[arg(long, value_name = "OUT")]
-    pub accepted: Option<PathBuf>,
+    /// ones go to OUT.rejected.jsonl with the reviewer's reason. (`--accepted` is its old
+    /// name.)
+    #[arg(long, short = 'o', alias = "accepted", value_name = "FILE")]
+    pub out: Option<PathBuf>,
     /// The port on 127.0.0.1 (0: a random free port).
     #[arg(long, default_value_t = 0, value_name = "P")]
     pub port: u16,
@@ -186,7 +187,7 @@ fn no_content() -> ApiError {
 /// Runs `annotations review`: serves the page until Ctrl-C, then prints where the decisions
 /// are.
 pub fn review(args: ReviewArgs) -> anyhow::Result<ExitCode> {
-    let store = ReviewStore::open(&args.file, args.accepted.as_deref())
+    let store = ReviewStore::open(&args.file, args.out.as_deref())
         .map_err(|e| anyhow!("{:#}", ErrorChain::new(&e)))?;
     let listener = Listener::bind(args.port)?;
     let url = listener.url();

@@ -15,7 +15,7 @@ __version__: str
 OBJECT_OBJECT_RELATIONS: List[str]
 OBJECT_ARCHITECTURE_RELATIONS: List[str]
 DEFAULT_VLM_TIMEOUT_SECONDS: float
-"""Seconds one VLM request attempt may take unless ``vlm["timeout"]`` says otherwise."""
+"""Seconds one VLM request attempt may take unless ``vlm["timeout_s"]`` says otherwise."""
 DEFAULT_VLM_CONCURRENCY: int
 """VLM requests in flight at once over a run unless ``vlm["concurrency"]`` says otherwise."""
 DEFAULT_RENDER_SIZE: int
@@ -373,7 +373,7 @@ def evaluate(
     metrics: Optional[Sequence[str]] = None,
     matching: Optional[PathLike] = None,
     relation_mapping: Optional[str] = None,
-    time_budget_seconds: Optional[float] = None,
+    time_budget_s: Optional[float] = None,
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
@@ -393,16 +393,16 @@ def evaluate(
     metrics: run only these metrics (names or summary columns, e.g. "collision", "OOB", "cnt"),
     as --metrics. matching: "vlm", "labels" or a matching file or folder in
     the reference's obj_matching_result.json shape (`<folder>/<scene>/obj_matching_result.json`),
-    as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget_seconds:
-    seconds per scene, as --time-budget (a scene over it is recorded as failed; 0: no budget).
+    as --matching; relation_mapping: "vlm" or "lexicon", as --relation-mapping. time_budget_s:
+    seconds per scene, as --time-budget-s (a scene over it is recorded as failed; 0: no budget).
     vlm: the OpenAI-compatible endpoint the text-fidelity metrics ask, as the --vlm-* options: a
     dict with base_url and model (required), api_key_env (the variable holding the key, which
     must then be set; default OPENAI_API_KEY when set), cache (default out/vlm-cache),
     concurrency (4: requests in flight over the whole run, whatever the threads; halved on a 429
     and grown back), render_size (512, the object views shown), detail ("low"), temperature (0;
     None sends none, as OpenAI's reasoning models need), seed (42; None sends none), max_tokens,
-    token_limit_field ("max_tokens" or "max_completion_tokens"), timeout (60: seconds per
-    request attempt; time_budget_seconds bounds a scene's whole wait for the VLM), rpm and tpm (caps on
+    token_limit_field ("max_tokens" or "max_completion_tokens"), timeout_s (60: seconds per
+    request attempt; time_budget_s bounds a scene's whole wait for the VLM), rpm and tpm (caps on
     requests and estimated tokens per minute; none by default). The dict is checked whatever the
     plan; VLM settings a plan without text-fidelity metrics does not use are reported with a
     UserWarning. Before the first scene evaluated, one small request checks the endpoint: an
@@ -430,8 +430,9 @@ def evaluate(
     Raises SceneEvalError when the folder, the annotations or the output cannot be used, and
     ValueError for a bad plan, preset, metric, assets mapping or vlm dict; the message starts
     with the keyword at fault (`plan: ...`, `vlm["detail"]: ...`). The keywords are the
-    request's names (`sceneeval evaluate --print-request`); scenes_dir and time_budget, their
-    names in earlier versions, still work with a DeprecationWarning.
+    request's names (`sceneeval evaluate --print-request`); scenes_dir, time_budget and
+    time_budget_seconds, and vlm["timeout"], their names in earlier versions, still work with a
+    DeprecationWarning.
     """
 
 def evaluation_request(
@@ -445,7 +446,7 @@ def evaluation_request(
     metrics: Optional[Sequence[str]] = None,
     matching: Optional[PathLike] = None,
     relation_mapping: Optional[str] = None,
-    time_budget_seconds: Optional[float] = None,
+    time_budget_s: Optional[float] = None,
     vlm: Optional[Mapping[str, Any]] = None,
     force: bool = False,
     threads: Optional[int] = None,
