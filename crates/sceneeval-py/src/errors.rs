@@ -4,7 +4,7 @@
 use std::error::Error;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use pyo3::exceptions::{PyException, PyRuntimeError, PyUserWarning, PyValueError};
+use pyo3::exceptions::{PyDeprecationWarning, PyException, PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use sceneeval::EvalError;
 use sceneeval::relations::RelationError;
@@ -29,12 +29,23 @@ pub fn value_error(message: impl Into<String>) -> PyErr {
     PyValueError::new_err(message.into())
 }
 
-/// Issues a Python `UserWarning` with `message` (a note of the computation: the comparison's,
-/// the ensemble's geometry differences).
-pub fn user_warning(py: Python<'_>, message: &str) -> PyResult<()> {
-    let category = py.get_type::<PyUserWarning>();
+/// Issues a Python warning of `category` with `message`, as `warnings.warn(message, category,
+/// stacklevel)` does (1: the line that called into the package).
+fn warn<T: pyo3::PyTypeInfo>(py: Python<'_>, message: &str, stacklevel: i32) -> PyResult<()> {
     let message = std::ffi::CString::new(message).map_err(|e| value_error(e.to_string()))?;
-    PyErr::warn(py, &category, &message, 1)
+    PyErr::warn(py, &py.get_type::<T>(), &message, stacklevel)
+}
+
+/// Issues a Python `UserWarning` with `message` (a note of the computation: the comparison's,
+/// the ensemble's geometry differences, a run's warnings).
+pub fn user_warning(py: Python<'_>, message: &str) -> PyResult<()> {
+    warn::<PyUserWarning>(py, message, 1)
+}
+
+/// Issues a Python `DeprecationWarning` with `message` (an old name, and the one to use),
+/// `stacklevel` as `warnings.warn`'s.
+pub fn deprecation_warning(py: Python<'_>, message: &str, stacklevel: i32) -> PyResult<()> {
+    warn::<PyDeprecationWarning>(py, message, stacklevel)
 }
 
 /// A relation query that was wrong: always the caller's argument, so a `ValueError`.

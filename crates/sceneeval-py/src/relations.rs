@@ -20,7 +20,7 @@ use sceneeval::relations::{
 use sceneeval::scene::{Room, RoomSpec};
 
 use crate::convert::{row_groups, rows, to_json};
-use crate::errors::{chain, detached, relation_error, value_error};
+use crate::errors::{chain, deprecation_warning, detached, relation_error, value_error};
 
 /// The columns of a box row: centre x, y, z, half extents x, y, z, yaw.
 pub const BOX_COLUMNS: usize = 7;
@@ -268,13 +268,9 @@ fn renamed_read(
     })?;
     for (old, new) in renamed {
         let (old, new) = (old.trim_start_matches(AT), new.trim_start_matches(AT));
-        let message =
-            std::ffi::CString::new(format!("{old} is deprecated: write {new} (the unit-suffix rule)"))
-                .map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(
+        deprecation_warning(
             py,
-            &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
-            &message,
+            &format!("{old} is deprecated: write {new} (the unit-suffix rule)"),
             1,
         )?;
     }

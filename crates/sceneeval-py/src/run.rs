@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyUserWarning};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sceneeval::{
@@ -15,7 +15,7 @@ use sceneeval::{
 use serde::Serialize;
 
 use crate::convert::{to_json, to_python};
-use crate::errors::{SceneEvalError, chain, detached, value_error};
+use crate::errors::{SceneEvalError, chain, deprecation_warning, detached, user_warning, value_error};
 
 /// The keyword of `sceneeval.evaluate` that sets `field`: the request's own name for it
 /// ([`RequestField::path`], the one table), `vlm["key"]` for a key of the `vlm=` dict.
@@ -62,13 +62,14 @@ fn renamed<'py>(
                 "{function}() got an unexpected keyword argument '{key}'"
             )));
         };
-        let category = py.get_type::<PyDeprecationWarning>();
-        let message = std::ffi::CString::new(format!(
-            "{key}= is deprecated: pass {}= (the request's name, as `sceneeval evaluate --print-request` shows it)",
-            keyword(field)
-        ))
-        .map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(py, &category, &message, 1)?;
+        deprecation_warning(
+            py,
+            &format!(
+                "{key}= is deprecated: pass {}= (the request's name, as `sceneeval evaluate --print-request` shows it)",
+                keyword(field)
+            ),
+            1,
+        )?;
         values.push((field, key, value));
     }
     Ok(values)
@@ -168,12 +169,13 @@ pub fn plan_and_preset(
                 preset.unwrap_or_default()
             )));
         }
-        let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
-        let message = std::ffi::CString::new(format!(
-            "plan={name:?} is a preset name: pass preset={name:?} (plan= takes geometry, full, a metric list or a plan file)"
-        ))
-        .map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(py, &category, &message, 2)?;
+        deprecation_warning(
+            py,
+            &format!(
+                "plan={name:?} is a preset name: pass preset={name:?} (plan= takes geometry, full, a metric list or a plan file)"
+            ),
+            2,
+        )?;
         return Ok((None, Some(as_preset)));
     }
     Ok((plan.map(str::to_owned), given))
@@ -219,14 +221,14 @@ pub(crate) fn vlm_options(vlm: &Bound<'_, PyDict>) -> PyResult<VlmOptions> {
                 "vlm has \"{new}\" and its old name \"{old}\": give \"{new}\" only"
             )));
         }
-        let py = vlm.py();
-        let category = py.get_type::<PyDeprecationWarning>();
-        let message = std::ffi::CString::new(format!(
-            "vlm[\"{old}\"] is deprecated: use {} (the request's name, as `sceneeval evaluate --print-request` shows it)",
-            keyword(field)
-        ))
-        .map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(py, &category, &message, 1)?;
+        deprecation_warning(
+            vlm.py(),
+            &format!(
+                "vlm[\"{old}\"] is deprecated: use {} (the request's name, as `sceneeval evaluate --print-request` shows it)",
+                keyword(field)
+            ),
+            1,
+        )?;
         rest.del_item(old)?;
         rest.set_item(new, value)?;
     }
@@ -493,9 +495,7 @@ pub fn evaluate<'py>(
     )?;
     let prepared = detached(py, || request.prepare().map_err(|e| run_error(&e)))?;
     for warning in prepared.warnings() {
-        let category = py.get_type::<PyUserWarning>();
-        let message = std::ffi::CString::new(warning.as_str()).map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(py, &category, &message, 1)?;
+        user_warning(py, warning)?;
     }
     if dry_run {
         let dry = detached(py, || Ok::<_, PyErr>(prepared.dry_run()))?;
@@ -511,9 +511,7 @@ pub fn evaluate<'py>(
         .fallback()
         .map(|f| format!("no VLM configured (the Python package runs without one): {f}"));
     if let Some(note) = &note {
-        let category = py.get_type::<PyUserWarning>();
-        let message = std::ffi::CString::new(note.as_str()).map_err(|e| value_error(e.to_string()))?;
-        PyErr::warn(py, &category, &message, 1)?;
+        user_warning(py, note)?;
     }
     let outcome = detached(py, || prepared.run(&|_| {}).map_err(|e| run_error(&e)))?;
     let failures = outcome

@@ -19,7 +19,9 @@ use sceneeval::scene::{Category, Room, Scene, SceneObject};
 use sceneeval::{EvaluationPlan, Evaluator, ObjectPlacement, PlanRequest, SceneInputs, SettleRequest};
 
 use crate::convert::{rows, to_json, to_python};
-use crate::errors::{chain, detached, eval_error, relation_error, scene_error, value_error};
+use crate::errors::{
+    chain, deprecation_warning, detached, eval_error, relation_error, scene_error, value_error,
+};
 use crate::relations::{BOX_COLUMNS, obbs_from_rows, relation_params, room_from_json, room_spec};
 use crate::run::{asset_specs, metrics_of, plan_and_preset, request_error, vlm_options};
 
@@ -267,13 +269,6 @@ fn finite_pose(center: &[f64; 3], yaw: f64, what: &str) -> PyResult<()> {
     Ok(())
 }
 
-/// A `DeprecationWarning` with `message`, pointing at the caller's line.
-fn deprecated(py: Python<'_>, message: &str) -> PyResult<()> {
-    let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
-    let message = std::ffi::CString::new(message).map_err(|e| value_error(e.to_string()))?;
-    PyErr::warn(py, &category, &message, 1)
-}
-
 #[pymethods]
 impl PyScene {
     /// A scene of box objects in one room or several.
@@ -307,9 +302,10 @@ impl PyScene {
                     "give the scene's name once, as name= (id= is its old spelling)",
                 ));
             }
-            deprecated(
+            deprecation_warning(
                 py,
                 "Scene.from_boxes(id=...) is deprecated: pass name= (scene_id means the benchmark id)",
+                1,
             )?;
         }
         let name = name.or(id);
@@ -376,9 +372,10 @@ impl PyScene {
     /// id, `12`; the name is the file stem).
     #[getter]
     fn id(&self, py: Python<'_>) -> PyResult<Option<String>> {
-        deprecated(
+        deprecation_warning(
             py,
             "Scene.id is deprecated: use Scene.name (scene_id means the benchmark id)",
+            1,
         )?;
         Ok(self.name())
     }
